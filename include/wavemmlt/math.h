@@ -1,0 +1,81 @@
+// Small vector math shared by every layer: plain structs, inline, no allocation.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace wmlt {
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvPi = 0.31830988618379067154f;
+constexpr float kInv2Pi = 0.15915494309189533577f;
+
+struct Vec3 {
+    float x = 0, y = 0, z = 0;
+    constexpr Vec3() = default;
+    constexpr Vec3(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
+    constexpr explicit Vec3(float v) : x(v), y(v), z(v) {}
+    float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+    float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+};
+
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
+inline Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+inline Vec3 operator*(float s, Vec3 a) { return {a.x * s, a.y * s, a.z * s}; }
+inline Vec3 operator/(Vec3 a, float s) { float r = 1.0f / s; return a * r; }
+inline Vec3& operator+=(Vec3& a, Vec3 b) { a = a + b; return a; }
+inline Vec3& operator*=(Vec3& a, Vec3 b) { a = a * b; return a; }
+inline Vec3& operator*=(Vec3& a, float s) { a = a * s; return a; }
+
+inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(Vec3 a, Vec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline float lengthSquared(Vec3 a) { return dot(a, a); }
+inline Vec3 normalize(Vec3 a) { return a / length(a); }
+inline float maxComponent(Vec3 a) { return std::max(a.x, std::max(a.y, a.z)); }
+inline Vec3 vmin(Vec3 a, Vec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
+inline Vec3 vmax(Vec3 a, Vec3 b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+inline bool isBlack(Vec3 a) { return a.x == 0 && a.y == 0 && a.z == 0; }
+inline bool isFinite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+// Rec. 709 luminance of linear RGB.
+inline float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+// Orthonormal basis around a unit normal n (Duff et al. 2017, "Building an
+// orthonormal basis, revisited").
+struct Frame {
+    Vec3 s, t, n;
+    static Frame fromNormal(Vec3 n) {
+        float sign = std::copysign(1.0f, n.z);
+        float a = -1.0f / (sign + n.z);
+        float b = n.x * n.y * a;
+        Frame f;
+        f.s = {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
+        f.t = {b, sign + n.y * n.y * a, -n.y};
+        f.n = n;
+        return f;
+    }
+    Vec3 toLocal(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
+    Vec3 toWorld(Vec3 v) const { return s * v.x + t * v.y + n * v.z; }
+};
+
+// 3x4 affine transform (rows), used by the scene loader.
+struct Affine {
+    float m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    Vec3 point(Vec3 p) const {
+        return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
+                m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
+                m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
+    }
+    Vec3 vector(Vec3 v) const {
+        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+                m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+                m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+    }
+};
+
+}  // namespace wmlt

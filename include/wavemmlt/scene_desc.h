@@ -1,0 +1,119 @@
+// The scene as the XML file describes it (../shared/spec/scene-format.md), after
+// validation, with meshes loaded and transformed to world space and images read.
+// Plain data; src/scene/ builds the renderable Scene from it.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "wavemmlt/image.h"
+#include "wavemmlt/math.h"
+
+namespace wmlt {
+
+enum class TracerKind : uint8_t { MMLT, BPT, LT, PT };
+
+struct Settings {
+    int width = 512, height = 512;
+    int samples = 4;          // N: N x N samples (MMLT: mutations) per pixel
+    int threads = 0;          // 0: all hardware threads
+    TracerKind tracer = TracerKind::MMLT;
+    int maxPathLength = 10;   // segments, camera to light
+    int minPathLength = 1;
+    float probLarge = 0.3f;
+    std::string output = "render.exr";  // as written in the file (quotes stripped)
+    std::string envMap;                 // resolved path, empty when none
+};
+
+struct CameraDesc {
+    Vec3 position{0, 0, 0}, lookAt{0, 0, 1}, up{0, 1, 0};
+    float fovDegrees = 45;  // full angle across the shorter image side
+    bool dof = false;
+    float focalLength = 1;  // focus distance
+    float fStop = 1;        // aperture radius = focalLength / (2 fStop)
+};
+
+enum class MaterialKind : uint8_t { Matte, Glossy, Reflective, Dielectric };
+
+struct MaterialDesc {
+    int id = 0;
+    MaterialKind kind = MaterialKind::Matte;
+    Vec3 diffuse{0.5f};   // Matte, Glossy
+    Vec3 specular{0.0f};  // Glossy
+    float shininess = 0;  // Glossy exponent n
+    Vec3 reflect{1.0f};   // Reflective, Dielectric
+    Vec3 refract{1.0f};   // Dielectric
+    float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
+    int texture = -1;     // index into SceneDesc::textures, -1: none
+    int bump = -1;        // index into SceneDesc::textures, -1: none
+};
+
+enum class TextureKind : uint8_t { Checker, ImageFile, Marble };
+
+struct TextureDesc {
+    int id = 0;
+    TextureKind kind = TextureKind::Checker;
+    Vec3 colour1{0.0f}, colour2{1.0f}, colour3{0.5f};
+    float repeatU = 1, repeatV = 1;
+    Image image;  // ImageFile: linear RGB
+};
+
+// How a shape maps surface points to (u, v) (scene-format.md, "UV coordinates").
+enum class UvKind : uint8_t { None, Plane, Sphere, Mesh };
+
+struct TriangleMesh {
+    std::vector<Vec3> positions;    // world space
+    std::vector<Vec3> normals;      // world space, per vertex; empty: use face normals
+    std::vector<float> uvs;         // 2 per vertex; empty: (0, 0)
+    std::vector<uint32_t> indices;  // 3 per triangle
+};
+
+enum class ShapeKind : uint8_t { Mesh, Sphere };
+
+struct ShapeDesc {
+    std::string id;     // the element's ID
+    int line = 0;       // line of the element in the scene file
+    ShapeKind kind = ShapeKind::Mesh;
+    UvKind uv = UvKind::None;
+    int material = -1;  // index into SceneDesc::materials; -1 for lights
+    int light = -1;     // index into SceneDesc::lights; -1 for non-emitters
+    TriangleMesh mesh;  // Mesh (planes and rectangle lights are two triangles)
+    Vec3 center;        // Sphere, world space
+    float radius = 0;   // Sphere, world space
+    Affine toWorld;     // object to world (for sphere and plane uv)
+    Affine toLocal;     // world to object
+};
+
+enum class LightKind : uint8_t { Rect, Sphere };
+
+struct LightDesc {
+    LightKind kind = LightKind::Rect;
+    Vec3 radiance{1.0f};  // Intensity * Colour
+    int shape = -1;       // index into SceneDesc::shapes
+};
+
+struct SceneDesc {
+    std::string path;  // the scene file, "" for the built-in scene
+    Settings settings;
+    CameraDesc camera;
+    std::vector<MaterialDesc> materials;
+    std::vector<TextureDesc> textures;
+    std::vector<ShapeDesc> shapes;
+    std::vector<LightDesc> lights;
+    Image envMap;  // empty (0 x 0) when none
+    std::vector<std::string> warnings;  // "file:line: ..." ready to print
+};
+
+// Loads and validates a scene file. Throws InputError("file:line: problem").
+SceneDesc loadScene(const std::string& path);
+// The same from XML text in memory; `name` is used in messages, `baseDir` resolves
+// relative file names (OBJ, images).
+SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
+                              const std::string& baseDir);
+
+// Loads a Wavefront OBJ (triangulating polygons) in its own coordinates.
+// Throws InputError("file:line: problem") on a missing file, bad data, indices out
+// of range, or no faces.
+TriangleMesh loadObj(const std::string& path, bool smoothShading);
+
+}  // namespace wmlt

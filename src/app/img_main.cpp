@@ -1,0 +1,2 @@
+// Placeholder: replaced by the wavemmlt-img tool.
+int main() { return 0; }

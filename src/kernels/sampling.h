@@ -1,0 +1,64 @@
+// Warps from [0,1)^2 to directions and points, each with its pdf (pbrt-v4 ch. 2 and A.5).
+#pragma once
+#include "wavemmlt/math.h"
+
+namespace wmlt {
+
+// Concentric map of the unit square to the unit disc (Shirley and Chiu 1997).
+inline void sampleConcentricDisk(float u1, float u2, float& x, float& y) {
+    float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
+    if (a == 0 && b == 0) { x = y = 0; return; }
+    float r, phi;
+    if (std::fabs(a) > std::fabs(b)) { r = a; phi = (kPi / 4) * (b / a); }
+    else { r = b; phi = kPi / 2 - (kPi / 4) * (a / b); }
+    x = r * std::cos(phi);
+    y = r * std::sin(phi);
+}
+
+// Cosine-weighted hemisphere around +z: pdf = cos(theta) / pi.
+inline Vec3 sampleCosineHemisphere(float u1, float u2) {
+    float x, y;
+    sampleConcentricDisk(u1, u2, x, y);
+    float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
+    return {x, y, z};
+}
+inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
+
+// Uniform direction on the unit sphere: pdf = 1 / (4 pi).
+inline Vec3 sampleUniformSphere(float u1, float u2) {
+    float z = 1.0f - 2.0f * u1;
+    float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    float phi = 2.0f * kPi * u2;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPi);
+
+// Direction around +z with density (n + 1) / (2 pi) cos^n(theta) (Phong lobe).
+inline Vec3 samplePowerCosine(float n, float u1, float u2) {
+    float cosTheta = std::pow(1.0f - u1, 1.0f / (n + 1.0f));  // 1 - u1 in (0, 1]
+    float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    float phi = 2.0f * kPi * u2;
+    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+inline float powerCosinePdf(float n, float cosTheta) {
+    return cosTheta > 0 ? (n + 1.0f) * kInv2Pi * std::pow(cosTheta, n) : 0.0f;
+}
+
+// Uniform point on a triangle, as barycentrics (b0, b1) (Heitz 2019 is more uniform;
+// this is the square-root warp of pbrt-v3 and Osada et al. 2002).
+inline void sampleUniformTriangle(float u1, float u2, float& b0, float& b1) {
+    float su = std::sqrt(u1);
+    b0 = 1.0f - su;
+    b1 = u2 * su;
+}
+
+// Power heuristic with exponent beta (Veach 1997, eq. 9.13); beta = 1 is the balance heuristic.
+inline float powerHeuristic(float pdfA, float pdfB, float beta = 2.0f) {
+    if (pdfA <= 0) return 0.0f;
+    if (!(pdfB > 0)) return 1.0f;
+    float r = pdfB / pdfA;  // ratio form: no overflow for large pdfs
+    if (beta == 2.0f) return 1.0f / (1.0f + r * r);
+    return 1.0f / (1.0f + std::pow(r, beta));
+}
+
+}  // namespace wmlt
