@@ -1,2 +1,135 @@
-// Placeholder: replaced by the command-line front end.
-int main() { return 0; }
+// wavemmlt: the command-line renderer.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "app/cli.h"
+#include "app/progress.h"
+#include "scene/features.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/render.h"
+
+namespace wmlt { extern const char* const kDefaultSceneXml; }
+
+namespace {
+
+std::atomic<bool> gCancel{false};
+
+void onInterrupt(int) {
+    gCancel = true;
+    std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+const char* tracerName(wmlt::TracerKind t) {
+    static const char* names[] = {"mmlt", "bpt", "lt", "pt"};
+    return names[int(t)];
+}
+
+// The folder of an output path must exist and be writable before hours of rendering.
+void checkOutputPath(const std::string& path, bool image) {
+    if (image && !wmlt::isWritableImageExtension(path))
+        throw wmlt::InputError(path, 0, "unknown image format (use .exr, .pfm or .png)");
+    size_t slash = path.find_last_of('/');
+    std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    if (access(dir.c_str(), W_OK) != 0)
+        throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': " + std::strerror(errno));
+}
+
+void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
+    std::ostringstream o;
+    const wmlt::RenderStats& st = r.stats;
+    o << "{\n  \"tracer\": \"" << st.tracer << "\",\n  \"seconds\": " << st.seconds
+      << ",\n  \"threads\": " << st.threads << ",\n  \"spp\": " << st.spp
+      << ",\n  \"width\": " << s.width << ",\n  \"height\": " << s.height
+      << ",\n  \"rays_intersect\": " << st.raysIntersect << ",\n  \"rays_occluded\": " << st.raysOccluded
+      << ",\n  \"mrays_per_second\": " << st.mraysPerSecond()
+      << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
+      << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false")
+      << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
+    std::string tmp = path + ".tmp-" + std::to_string(getpid());
+    {
+        std::ofstream f(tmp);
+        f << o.str();
+        if (!f) throw wmlt::InputError(path, 0, "cannot write statistics");
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw wmlt::InputError(path, 0, std::string("cannot write statistics: ") + std::strerror(errno));
+    }
+}
+
+int run(int argc, char** argv) {
+    using namespace wmlt;
+    CommandLine cl = parseCommandLine(argc, argv);
+    if (cl.help) { std::cout << usageText(); return 0; }
+    if (cl.version) { std::cout << "wavemmlt " << WAVEMMLT_VERSION << "\n"; return 0; }
+
+    SceneDesc scene = cl.scenePath.empty()
+        ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
+        : loadScene(cl.scenePath);
+    applyCommandLine(cl, scene.settings);
+    if (!cl.quiet)
+        for (const std::string& w : scene.warnings) std::cerr << "warning: " << w << "\n";
+    if (cl.describe) {
+        std::cout << deriveFeatures(scene).describe();
+        return 0;
+    }
+
+    std::vector<std::string> outputs = cl.outputs;
+    if (outputs.empty()) outputs.push_back(scene.settings.output);
+    for (const std::string& o : outputs) checkOutputPath(o, true);
+    if (!cl.statsPath.empty()) checkOutputPath(cl.statsPath, false);
+
+    const Settings& s = scene.settings;
+    RenderOptions opt;
+    opt.tracer = s.tracer;
+    opt.spp = cl.spp ? *cl.spp : s.samples * s.samples;
+    opt.strataPerAxis = strataForSpp(opt.spp);
+    opt.timeBudget = cl.timeBudget.value_or(0.0);
+    opt.threads = s.threads;
+    opt.seed = cl.seed;
+    opt.minPathLength = s.minPathLength;
+    opt.maxPathLength = s.maxPathLength;
+    opt.cancel = &gCancel;
+    Progress progress(cl.quiet);
+    opt.progress = [&](double f) { progress.update(f); };
+    std::signal(SIGINT, onInterrupt);
+
+    Settings settings = s;
+    RenderResult r = render(std::move(scene), opt);
+    progress.finish();
+    for (const std::string& o : outputs) writeImage(o, r.image, cl.exposure);
+    if (!cl.statsPath.empty()) writeStats(cl.statsPath, r, settings);
+    if (!cl.quiet)
+        std::fprintf(stderr, "%s: %llu spp in %.2f s, %.2f Mrays/s%s\n", tracerName(opt.tracer),
+                     (unsigned long long)r.stats.spp, r.stats.seconds, r.stats.mraysPerSecond(),
+                     r.stats.cancelled ? " (interrupted: image so far saved)" : "");
+    if (r.stats.samplesNonfiniteDiscarded && !cl.quiet)
+        std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were discarded\n",
+                     (unsigned long long)r.stats.samplesNonfiniteDiscarded);
+    return r.stats.cancelled ? 130 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const wmlt::InputError& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "error: out of memory\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "error: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -35,8 +35,11 @@ constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPi);
 
 // Direction around +z with density (n + 1) / (2 pi) cos^n(theta) (Phong lobe).
 inline Vec3 samplePowerCosine(float n, float u1, float u2) {
-    float cosTheta = std::pow(1.0f - u1, 1.0f / (n + 1.0f));  // 1 - u1 in (0, 1]
-    float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    // cos = (1 - u1)^(1/(n+1)); 1 - cos via expm1/log1p so that sin stays accurate when
+    // cos rounds to 1 in float (large n).
+    float oneMinusCos = -std::expm1(std::log1p(-u1) / (n + 1.0f));
+    float cosTheta = 1.0f - oneMinusCos;
+    float sinTheta = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
     float phi = 2.0f * kPi * u2;
     return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
@@ -59,6 +62,18 @@ inline float powerHeuristic(float pdfA, float pdfB, float beta = 2.0f) {
     float r = pdfB / pdfA;  // ratio form: no overflow for large pdfs
     if (beta == 2.0f) return 1.0f / (1.0f + r * r);
     return 1.0f / (1.0f + std::pow(r, beta));
+}
+// Power heuristic weight of strategy i among n strategies (one sample each):
+// pdfs[i]^beta / sum_j pdfs[j]^beta, in ratio form as above.
+inline float powerHeuristicN(const float* pdfs, int n, int i, float beta = 2.0f) {
+    if (!(pdfs[i] > 0)) return 0.0f;
+    float sum = 0;
+    for (int j = 0; j < n; ++j) {
+        if (!(pdfs[j] > 0)) continue;
+        float r = pdfs[j] / pdfs[i];
+        sum += beta == 2.0f ? r * r : std::pow(r, beta);
+    }
+    return 1.0f / sum;
 }
 
 }  // namespace wmlt

@@ -1,0 +1,150 @@
+// Path-tracing throughput against Embree's ceiling, thread scaling and peak memory.
+//
+//   build/wavemmlt_bench [scene.xml ...] [--spp N]
+//
+// With no scene, runs ../shared/scenes/bunny/bunny.xml and dragon/dragon-full.xml
+// (read from the shared folder beside the checkout; says so when they are missing).
+// For each scene and each thread count (1, then all):
+//   ceiling  - the same number of rays as the path tracer traced, incoherent diffuse
+//              bounce rays from first hits in pixel order, traced by a bare
+//              rtcIntersect1M loop in batches of 4096 (no shading);
+//   pt       - the path tracer's rays (closest + shadow) per second;
+//   ratio    - pt / ceiling, both measured in this run.
+#include <sys/resource.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "kernels/rng.h"
+#include "kernels/sampling.h"
+#include "scene/scene.h"
+#include "stages/path_tracer.h"
+#include "stages/surface.h"
+#include "stages/trace.h"
+#include "wavemmlt/error.h"
+
+using namespace wmlt;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double peakMemoryMiB() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_maxrss / 1024.0;
+}
+
+// Incoherent rays: camera rays' first hits, each continued in a cosine-distributed
+// direction about its normal, in pixel order (what a wavefront's first bounce traces).
+std::vector<RTCRayHit> makeBounceRays(const Scene& scene, size_t count) {
+    const Camera& cam = scene.camera;
+    std::vector<RTCRayHit> rays;
+    rays.reserve(count);
+    std::vector<RTCRayHit> primary(4096);
+    uint32_t sample = 0;
+    while (rays.size() < count) {
+        size_t n = 0;
+        for (int y = 0; y < cam.height && n < primary.size(); ++y)
+            for (int x = 0; x < cam.width && n < primary.size(); ++x) {
+                uint64_t key = sampleKey(99, uint32_t(y * cam.width + x), sample);
+                Vec3 o, d;
+                generateCameraRay(cam, x + sampleDimension(key, 0), y + sampleDimension(key, 1), 0.5f, 0.5f, o, d);
+                setRayHit(primary[n++], o, d);
+            }
+        traceClosest(scene.rtc, primary.data(), n, true);
+        for (size_t i = 0; i < n && rays.size() < count; ++i) {
+            if (primary[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+            SurfacePoint sp = surfaceAt(scene, primary[i]);
+            uint64_t key = sampleKey(7, uint32_t(i), sample);
+            Vec3 d0(primary[i].ray.dir_x, primary[i].ray.dir_y, primary[i].ray.dir_z);
+            Vec3 n = dot(sp.ng, d0) < 0 ? sp.ng : -sp.ng;
+            Vec3 w = Frame::fromNormal(n).toWorld(sampleCosineHemisphere(sampleDimension(key, 2), sampleDimension(key, 3)));
+            RTCRayHit rh;
+            setRayHit(rh, scene.offsetRayOrigin(sp.p, n, w), w);
+            rays.push_back(rh);
+        }
+        ++sample;
+        if (sample > 64 && rays.empty()) break;
+    }
+    return rays;
+}
+
+double ceilingRaysPerSecond(const Scene& scene, std::vector<RTCRayHit> rays) {
+    const size_t batch = 4096, batches = (rays.size() + batch - 1) / batch;
+    std::vector<RTCRayHit> work = rays;
+    auto t0 = Clock::now();
+    tbb::parallel_for(size_t(0), batches, [&](size_t b) {
+        size_t begin = b * batch, n = std::min(batch, rays.size() - begin);
+        traceClosest(scene.rtc, work.data() + begin, n, false);
+    });
+    return double(rays.size()) / seconds(t0);
+}
+
+void benchScene(const std::string& path, int spp) {
+    std::ifstream probe(path);
+    if (!probe) {
+        std::printf("%s: missing (the benchmark reads it from ../shared/scenes/); skipped\n", path.c_str());
+        return;
+    }
+    SceneDesc desc = loadScene(path);
+    auto t0 = Clock::now();
+    const int all = tbb::info::default_concurrency();
+    std::unique_ptr<Scene> scene = Scene::build(std::move(desc), all);
+    double build = seconds(t0);
+    size_t tris = 0;
+    for (const ShapeDesc& s : scene->desc.shapes) tris += s.mesh.indices.size() / 3;
+    std::printf("\n%s: %zu triangles, %dx%d, BVH build %.2f s\n", path.c_str(), tris, scene->camera.width,
+                scene->camera.height, build);
+    std::printf("%-8s %12s %12s %12s %8s\n", "threads", "pt Mrays/s", "ceil Mrays/s", "pt/ceiling", "pt s");
+    double pt1 = 0;
+    for (int threads : {1, all}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        RenderOptions opt;
+        opt.spp = spp;
+        opt.strataPerAxis = 1;
+        opt.minPathLength = scene->desc.settings.minPathLength;
+        opt.maxPathLength = scene->desc.settings.maxPathLength;
+        RenderResult r = renderPathTracing(*scene, opt);
+        double rays = double(r.stats.raysIntersect + r.stats.raysOccluded);
+        double pt = rays / r.stats.seconds;
+        double ceiling = ceilingRaysPerSecond(*scene, makeBounceRays(*scene, size_t(rays)));
+        if (threads == 1) pt1 = pt;
+        std::printf("%-8d %12.2f %12.2f %12.2f %8.2f\n", threads, pt * 1e-6, ceiling * 1e-6, pt / ceiling,
+                    r.stats.seconds);
+        if (threads == all && all > 1)
+            std::printf("scaling 1 -> %d threads: %.2fx\n", all, pt / pt1);
+        if (all == 1) break;
+    }
+    std::printf("peak memory so far: %.0f MiB\n", peakMemoryMiB());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> scenes;
+    int spp = 4;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--spp") && i + 1 < argc) spp = std::atoi(argv[++i]);
+        else scenes.push_back(argv[i]);
+    }
+    if (scenes.empty()) {
+        std::string root = std::string(WAVEMMLT_SOURCE_DIR) + "/../shared/scenes/";
+        scenes = {root + "bunny/bunny.xml", root + "dragon/dragon-full.xml"};
+    }
+    try {
+        for (const std::string& s : scenes) benchScene(s, spp);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
+    }
+    return 0;
+}

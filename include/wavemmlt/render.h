@@ -1,0 +1,53 @@
+// The public entry point: render a scene with one of the tracers.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "wavemmlt/image.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+struct RenderOptions {
+    TracerKind tracer = TracerKind::PT;
+    int spp = 16;              // samples per pixel
+    int strataPerAxis = 4;     // n: pixels are stratified n x n; n * n divides spp
+    double timeBudget = 0;     // seconds; > 0: render rounds of spp samples until spent
+    int threads = 0;           // 0: all hardware threads
+    uint64_t seed = 0;
+    int minPathLength = 1, maxPathLength = 10;
+    // Set from another thread (e.g. a SIGINT handler) to stop early; the image so far
+    // is returned, each pixel averaged over the samples it received.
+    const std::atomic<bool>* cancel = nullptr;
+    // Called now and then with the fraction done in [0, 1] (never with a time budget's
+    // unknown total: then with the fraction of the budget spent).
+    std::function<void(double)> progress;
+};
+
+struct RenderStats {
+    std::string tracer;
+    double seconds = 0;
+    int threads = 0;
+    uint64_t spp = 0;                 // samples per pixel completed (minimum over pixels)
+    uint64_t raysIntersect = 0, raysOccluded = 0;
+    uint64_t samplesNonfiniteDiscarded = 0;
+    bool cancelled = false;
+    double mraysPerSecond() const { return seconds > 0 ? (raysIntersect + raysOccluded) / seconds * 1e-6 : 0; }
+};
+
+struct RenderResult {
+    Image image;
+    RenderStats stats;
+    std::string featuresJson;
+};
+
+// Throws InputError for settings it cannot render (and "not implemented yet" for the
+// tracers a later version adds).
+RenderResult render(SceneDesc scene, const RenderOptions& options);
+
+// The largest n with n * n dividing spp: the stratification grid for spp samples.
+int strataForSpp(int spp);
+
+}  // namespace wmlt

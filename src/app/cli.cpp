@@ -1,0 +1,107 @@
+#include "app/cli.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "wavemmlt/error.h"
+
+namespace wmlt {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& msg) { throw InputError("wavemmlt: " + msg); }
+
+long long parseInt(const std::string& opt, const std::string& v, long long lo, long long hi) {
+    errno = 0;
+    char* end = nullptr;
+    long long x = std::strtoll(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || errno == ERANGE)
+        fail(opt + ": '" + v + "' is not a whole number");
+    if (x < lo || x > hi)
+        fail(opt + ": " + v + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return x;
+}
+
+double parseReal(const std::string& opt, const std::string& v, double lo, double hi) {
+    char* end = nullptr;
+    double x = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(x)) fail(opt + ": '" + v + "' is not a number");
+    if (x < lo || x > hi) fail(opt + ": " + v + " is out of range");
+    return x;
+}
+
+}  // namespace
+
+std::string usageText() {
+    return
+        "usage: wavemmlt [scene.xml] [options]\n"
+        "Renders the scene (the built-in default scene when none is given).\n"
+        "Options override the scene's Settings:\n"
+        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (only pt so far)\n"
+        "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N)\n"
+        "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
+        "  --threads N              worker threads (0: all)\n"
+        "  --seed N                 random seed (same seed: same image, for any --threads)\n"
+        "  --width N, --height N    image size\n"
+        "  --max-length N, --min-length N   path lengths (segments) to render, 1..64\n"
+        "  -o FILE                  output image, .exr/.pfm/.png (repeatable; default: the scene's Output)\n"
+        "  --exposure E             PNG exposure: pixels are scaled by 2^E before sRGB\n"
+        "  --stats FILE.json        write render statistics\n"
+        "  --describe               print the scene's feature set and exit\n"
+        "  --quiet                  no progress or warnings\n"
+        "  --help, --version\n"
+        "Ctrl-C saves the image so far and exits with status 130. Bad input exits with 2.\n";
+}
+
+CommandLine parseCommandLine(int argc, char** argv) {
+    CommandLine cl;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) fail(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") cl.help = true;
+        else if (a == "--version") cl.version = true;
+        else if (a == "--describe") cl.describe = true;
+        else if (a == "--quiet" || a == "-q") cl.quiet = true;
+        else if (a == "--tracer") {
+            std::string v = value();
+            if (v == "pt") cl.tracer = TracerKind::PT;
+            else if (v == "lt") cl.tracer = TracerKind::LT;
+            else if (v == "bpt") cl.tracer = TracerKind::BPT;
+            else if (v == "mmlt") cl.tracer = TracerKind::MMLT;
+            else fail("--tracer: '" + v + "' is not one of pt, lt, bpt, mmlt");
+        }
+        else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
+        else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);
+        else if (a == "--threads") cl.threads = int(parseInt(a, value(), 0, 4096));
+        else if (a == "--seed") cl.seed = uint64_t(parseInt(a, value(), 0, (1LL << 62)));
+        else if (a == "--width") cl.width = int(parseInt(a, value(), 1, 16384));
+        else if (a == "--height") cl.height = int(parseInt(a, value(), 1, 16384));
+        else if (a == "--max-length") cl.maxLength = int(parseInt(a, value(), 1, 64));
+        else if (a == "--min-length") cl.minLength = int(parseInt(a, value(), 1, 64));
+        else if (a == "-o" || a == "--output") cl.outputs.push_back(value());
+        else if (a == "--exposure") cl.exposure = float(parseReal(a, value(), -64, 64));
+        else if (a == "--stats") cl.statsPath = value();
+        else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "' (see --help)");
+        else if (cl.scenePath.empty()) cl.scenePath = a;
+        else fail("more than one scene given ('" + cl.scenePath + "', '" + a + "')");
+    }
+    return cl;
+}
+
+void applyCommandLine(const CommandLine& cl, Settings& s) {
+    if (cl.tracer) s.tracer = *cl.tracer;
+    if (cl.threads) s.threads = *cl.threads;
+    if (cl.width) s.width = *cl.width;
+    if (cl.height) s.height = *cl.height;
+    if (cl.maxLength) s.maxPathLength = *cl.maxLength;
+    if (cl.minLength) s.minPathLength = *cl.minLength;
+    if (s.minPathLength > s.maxPathLength)
+        fail("the minimum path length " + std::to_string(s.minPathLength) + " exceeds the maximum " +
+             std::to_string(s.maxPathLength));
+}
+
+}  // namespace wmlt

@@ -1,0 +1,30 @@
+// The command line of `wavemmlt`: parsed into plain options, checked before any work.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+struct CommandLine {
+    std::string scenePath;  // empty: the built-in default scene
+    std::optional<TracerKind> tracer;
+    std::optional<int> spp, threads, width, height, maxLength, minLength;
+    std::optional<double> timeBudget;
+    uint64_t seed = 0;
+    std::vector<std::string> outputs;
+    std::string statsPath;
+    float exposure = 0;
+    bool describe = false, quiet = false, help = false, version = false;
+};
+
+// Throws InputError("wavemmlt: ...") on an unknown option or a bad value.
+CommandLine parseCommandLine(int argc, char** argv);
+std::string usageText();
+
+// Applies the command line over the scene's Settings and checks the result.
+void applyCommandLine(const CommandLine& cl, Settings& s);
+
+}  // namespace wmlt

@@ -1,0 +1,92 @@
+// Emitters: one-sided rectangles, spheres emitting outward (scene-format.md, "Lights").
+// Emitted radiance is uniform over the surface and over directions. Sampling functions
+// return solid-angle pdfs as seen from a reference point (next-event estimation);
+// the environment map is sampled by EnvMapSampler (envmap.h).
+#pragma once
+#include "kernels/sampling.h"
+
+namespace wmlt {
+
+enum class LightType : uint8_t { Rect, Sphere, Env };
+
+struct Light {
+    LightType type = LightType::Rect;
+    Vec3 L{0.0f};            // emitted radiance
+    Vec3 corner, e1, e2, n;  // Rect: corner + s e1 + t e2, unit normal on the emitting side
+    Vec3 center;             // Sphere
+    float radius = 0;
+    float area = 0;
+};
+
+struct LightSample {
+    Vec3 p;         // point on the light
+    Vec3 wi;        // unit direction from the reference point to p
+    float dist = 0; // distance to p (infinite lights: +inf)
+    Vec3 Le;        // radiance arriving along -wi
+    float pdf = 0;  // solid angle
+};
+
+// Emitted radiance leaving a rect light's point in direction w (towards the viewer).
+inline Vec3 rectLe(const Light& l, Vec3 w) { return dot(w, l.n) > 0 ? l.L : Vec3(0.0f); }
+
+// Area-uniform point on the rectangle; pdf_w = dist^2 / (cos_l * area) (pbrt-v4 eq. 4.9).
+inline bool sampleRectLight(const Light& l, Vec3 ref, float u1, float u2, LightSample& s) {
+    s.p = l.corner + l.e1 * u1 + l.e2 * u2;
+    Vec3 d = s.p - ref;
+    float dist2 = lengthSquared(d);
+    if (!(dist2 > 0)) return false;
+    s.dist = std::sqrt(dist2);
+    s.wi = d / s.dist;
+    float cosL = -dot(s.wi, l.n);
+    if (cosL <= 0) return false;  // the back of a one-sided light
+    s.Le = l.L;
+    s.pdf = dist2 / (cosL * l.area);
+    return std::isfinite(s.pdf);
+}
+inline float rectLightPdf(const Light& l, Vec3 ref, Vec3 pLight) {
+    Vec3 d = pLight - ref;
+    float dist2 = lengthSquared(d);
+    float cosL = -dot(d, l.n) / std::sqrt(dist2);
+    return cosL > 0 ? dist2 / (cosL * l.area) : 0.0f;
+}
+
+// Spheres are sampled uniformly in the cone they subtend (pbrt-v3 14.2.2): a better
+// estimator than area sampling, whose back half never reaches the reference point.
+// 1 - cos(theta_max) is computed as sin^2 / (1 + cos) to stay exact for far spheres.
+inline float sphereConeSolidAngle(const Light& l, Vec3 ref) {
+    float d2 = lengthSquared(l.center - ref);
+    float r2 = l.radius * l.radius;
+    if (d2 <= r2) return 0.0f;  // inside: the outward emission never reaches ref
+    float sin2 = r2 / d2;
+    float cosMax = std::sqrt(std::max(0.0f, 1.0f - sin2));
+    return 2.0f * kPi * (sin2 / (1.0f + cosMax));
+}
+inline float sphereLightPdf(const Light& l, Vec3 ref) {
+    float omega = sphereConeSolidAngle(l, ref);
+    return omega > 0 ? 1.0f / omega : 0.0f;
+}
+inline bool sampleSphereLight(const Light& l, Vec3 ref, float u1, float u2, LightSample& s) {
+    float omega = sphereConeSolidAngle(l, ref);
+    if (!(omega > 0)) return false;
+    Vec3 toC = l.center - ref;
+    float dc = length(toC);
+    Frame f = Frame::fromNormal(toC / dc);
+    float oneMinusCosMax = omega / (2.0f * kPi);
+    float cosTheta = 1.0f - u1 * oneMinusCosMax;
+    float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    float phi = 2.0f * kPi * u2;
+    s.wi = f.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta});
+    // Nearest intersection with the sphere along wi.
+    float b = dot(s.wi, toC);
+    float h2 = l.radius * l.radius - (dc * dc - b * b);
+    s.dist = b - std::sqrt(std::max(0.0f, h2));
+    s.p = ref + s.wi * s.dist;
+    s.Le = l.L;
+    s.pdf = 1.0f / omega;
+    return s.dist > 0;
+}
+
+// Power (flux) of a light, used to choose lights in proportion to it.
+inline float lightPower(const Light& l) { return kPi * l.area * luminance(l.L); }
+
+}  // namespace wmlt

@@ -1,0 +1,61 @@
+#include "scene/features.h"
+
+#include <sstream>
+
+namespace wmlt {
+
+SceneFeatures deriveFeatures(const SceneDesc& d) {
+    SceneFeatures f;
+    // Only materials that some shape uses count: an unused shader costs nothing.
+    for (const ShapeDesc& s : d.shapes) {
+        if (s.material < 0) continue;
+        const MaterialDesc& m = d.materials[s.material];
+        f.material[int(m.kind)] = true;
+        if (m.texture >= 0 && (m.kind == MaterialKind::Matte || m.kind == MaterialKind::Glossy))
+            f.textures = true;
+        if (m.bump >= 0) f.bump = true;
+        if (s.kind == ShapeKind::Sphere) f.spheres = true;
+        if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
+    }
+    for (const LightDesc& l : d.lights)
+        (l.kind == LightKind::Rect ? f.rectLights : f.sphereLights) = true;
+    f.envMap = d.envMap.width > 0;
+    f.depthOfField = d.camera.dof;
+    f.needUv = f.textures || f.bump;
+    f.delta = f.has(MaterialKind::Reflective) || f.has(MaterialKind::Dielectric);
+    return f;
+}
+
+static const char* kMaterialNames[4] = {"matte", "glossy", "reflective", "dielectric"};
+
+std::string SceneFeatures::describe() const {
+    std::ostringstream o;
+    o << "materials:";
+    for (int k = 0; k < 4; ++k)
+        if (material[k]) o << ' ' << kMaterialNames[k];
+    o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "")
+      << (envMap ? " environment-map" : "") << "\n";
+    o << "textures: " << (textures ? "yes" : "no") << "\n";
+    o << "bump mapping: " << (bump ? "yes" : "no") << "\n";
+    o << "depth of field: " << (depthOfField ? "yes" : "no") << "\n";
+    o << "smooth normals: " << (smoothNormals ? "yes" : "no") << "\n";
+    o << "sphere geometry: " << (spheres ? "yes" : "no") << "\n";
+    o << "delta lobes: " << (delta ? "yes" : "no") << "\n";
+    return o.str();
+}
+
+std::string SceneFeatures::json() const {
+    std::ostringstream o;
+    o << "{\"materials\": [";
+    bool first = true;
+    for (int k = 0; k < 4; ++k)
+        if (material[k]) { o << (first ? "" : ", ") << '"' << kMaterialNames[k] << '"'; first = false; }
+    auto b = [](bool v) { return v ? "true" : "false"; };
+    o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
+      << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures)
+      << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
+      << ", \"smooth_normals\": " << b(smoothNormals) << "}";
+    return o.str();
+}
+
+}  // namespace wmlt

@@ -1,0 +1,31 @@
+// A scene's feature set: decided once when the scene is built, it selects which stages
+// and kernels run and which per-path state exists ("model only what a scene requires").
+#pragma once
+#include <string>
+
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+struct SceneFeatures {
+    bool material[4] = {false, false, false, false};  // indexed by MaterialKind
+    bool textures = false;      // some Matte/Glossy has a Texture
+    bool bump = false;          // some shader has a Bump
+    bool envMap = false;
+    bool depthOfField = false;
+    bool rectLights = false, sphereLights = false;
+    bool smoothNormals = false; // some mesh interpolates vertex normals
+    bool spheres = false;       // sphere geometry (not lights)
+    bool needUv = false;        // textures or bump: the surface stage computes (u, v)
+    bool delta = false;         // a Reflective or Dielectric material exists
+
+    bool has(MaterialKind k) const { return material[int(k)]; }
+    // Human-readable listing for `wavemmlt --describe`.
+    std::string describe() const;
+    // The same as a JSON object (for --stats).
+    std::string json() const;
+};
+
+SceneFeatures deriveFeatures(const SceneDesc& desc);
+
+}  // namespace wmlt

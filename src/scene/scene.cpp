@@ -1,0 +1,158 @@
+#include "scene/scene.h"
+
+#include <string>
+
+#include "wavemmlt/error.h"
+
+namespace wmlt {
+
+namespace {
+
+void embreeError(void*, RTCError code, const char* str) {
+    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(code)) + ": " +
+                             (str ? str : ""));
+}
+
+RTCGeometry buildMesh(RTCDevice device, const TriangleMesh& m) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+        v[3 * i] = m.positions[i].x; v[3 * i + 1] = m.positions[i].y; v[3 * i + 2] = m.positions[i].z;
+    }
+    auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), m.indices.size() / 3));
+    std::copy(m.indices.begin(), m.indices.end(), idx);
+    return g;
+}
+
+RTCGeometry buildSphere(RTCDevice device, Vec3 c, float r) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    v[0] = c.x; v[1] = c.y; v[2] = c.z; v[3] = r;
+    return g;
+}
+
+// A rectangle light from the loader's two triangles: the corner opposite the shared
+// diagonal and the two edges leaving it span the rectangle.
+Light rectLight(const TriangleMesh& m, Vec3 L) {
+    const Vec3* p = m.positions.data();
+    uint32_t a = m.indices[0], b = m.indices[1], c = m.indices[2];
+    auto inSecond = [&](uint32_t i) {
+        for (int k = 3; k < 6; ++k) {
+            Vec3 q = p[m.indices[k]];
+            if (q.x == p[i].x && q.y == p[i].y && q.z == p[i].z) return true;
+        }
+        return false;
+    };
+    uint32_t corner = a, o1 = b, o2 = c;
+    if (!inSecond(b) && inSecond(a)) { corner = b; o1 = c; o2 = a; }
+    else if (!inSecond(c) && inSecond(a)) { corner = c; o1 = a; o2 = b; }
+    Light l;
+    l.type = LightType::Rect;
+    l.L = L;
+    l.corner = p[corner];
+    l.e1 = p[o1] - p[corner];
+    l.e2 = p[o2] - p[corner];
+    Vec3 ng = cross(p[b] - p[a], p[c] - p[a]);  // the loader's winding: the emitting side
+    Vec3 n = cross(l.e1, l.e2);
+    l.area = length(n);
+    l.n = n / l.area;
+    if (dot(l.n, ng) < 0) l.n = -l.n;
+    return l;
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
+    std::unique_ptr<Scene> s(new Scene());
+    s->desc = std::move(desc);
+    const SceneDesc& d = s->desc;
+    s->features = deriveFeatures(d);
+    s->camera = makeCamera(d.camera, d.settings.width, d.settings.height);
+
+    std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
+    s->device = rtcNewDevice(config.c_str());
+    if (!s->device) throw std::runtime_error("cannot create the Embree device");
+    rtcSetDeviceErrorFunction(s->device, embreeError, nullptr);
+    s->rtc = rtcNewScene(s->device);
+    rtcSetSceneBuildQuality(s->rtc, RTC_BUILD_QUALITY_HIGH);
+
+    Vec3 lo(INFINITY), hi(-INFINITY);
+    s->geoms.resize(d.shapes.size());
+    for (size_t i = 0; i < d.shapes.size(); ++i) {
+        const ShapeDesc& sh = d.shapes[i];
+        GeomRecord& r = s->geoms[i];
+        r.kind = sh.kind;
+        r.uv = sh.uv;
+        r.material = sh.material;
+        r.light = sh.light;
+        r.toLocal = sh.toLocal;
+        r.toWorld = sh.toWorld;
+        RTCGeometry g;
+        if (sh.kind == ShapeKind::Mesh) {
+            r.mesh = &sh.mesh;
+            for (Vec3 p : sh.mesh.positions) { lo = vmin(lo, p); hi = vmax(hi, p); }
+            g = buildMesh(s->device, sh.mesh);
+        } else {
+            r.center = sh.center;
+            r.radius = sh.radius;
+            lo = vmin(lo, sh.center - Vec3(sh.radius));
+            hi = vmax(hi, sh.center + Vec3(sh.radius));
+            g = buildSphere(s->device, sh.center, sh.radius);
+        }
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(s->rtc, g, unsigned(i));
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(s->rtc);
+    if (!(lo.x <= hi.x)) lo = hi = Vec3(0.0f);
+    s->boundsMin = lo;
+    s->boundsMax = hi;
+    s->center = (lo + hi) * 0.5f;
+    s->radius = std::max(0.5f * length(hi - lo), 1e-6f);
+    s->epsilonScale = 1e-6f * s->radius;
+
+    for (const LightDesc& ld : d.lights) {
+        const ShapeDesc& sh = d.shapes[ld.shape];
+        Light l;
+        if (ld.kind == LightKind::Rect) {
+            l = rectLight(sh.mesh, ld.radiance);
+        } else {
+            l.type = LightType::Sphere;
+            l.L = ld.radiance;
+            l.center = sh.center;
+            l.radius = sh.radius;
+            l.area = 4.0f * kPi * sh.radius * sh.radius;
+        }
+        s->lights.push_back(l);
+    }
+    std::vector<float> power;
+    for (const Light& l : s->lights) power.push_back(lightPower(l));
+    if (s->features.envMap) {
+        s->env.build(d.envMap);
+        Light l;
+        l.type = LightType::Env;
+        s->envLight = int(s->lights.size());
+        s->lights.push_back(l);
+        // Flux through the scene's bounding sphere: pi * L_avg * 4 pi R^2.
+        power.push_back(kPi * s->env.meanLuminance * 4.0f * kPi * s->radius * s->radius);
+    }
+    if (s->lights.empty()) throw InputError(d.path, 0, "the scene has no light and no environment map");
+    float total = 0;
+    for (float p : power) total += p;
+    if (!(total > 0)) for (float& p : power) p = 1.0f;  // all black: choose uniformly
+    s->lightDistribution = Distribution1D(power);
+    total = 0;
+    for (float p : power) total += p;
+    for (float p : power) s->lightPmf.push_back(p / total);
+    return s;
+}
+
+Scene::~Scene() {
+    if (rtc) rtcReleaseScene(rtc);
+    if (device) rtcReleaseDevice(device);
+}
+
+}  // namespace wmlt

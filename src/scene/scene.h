@@ -1,0 +1,65 @@
+// The renderable scene: the description, the Embree BVH over every shape, the lights as
+// kernel data, the camera, and the feature set. Built once; read-only while rendering.
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <vector>
+
+#include "kernels/camera.h"
+#include "kernels/distribution.h"
+#include "kernels/envmap.h"
+#include "kernels/lights.h"
+#include "scene/features.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+// What the stages need to know about the shape an Embree geomID names.
+struct GeomRecord {
+    ShapeKind kind = ShapeKind::Mesh;
+    UvKind uv = UvKind::None;
+    int material = -1;  // -1: an emitter
+    int light = -1;     // index into Scene::lights, -1: not an emitter
+    const TriangleMesh* mesh = nullptr;
+    Vec3 center;
+    float radius = 0;
+    Affine toLocal, toWorld;
+};
+
+class Scene {
+public:
+    // Takes the description; `threads` is the number of worker threads (0: all).
+    static std::unique_ptr<Scene> build(SceneDesc desc, int threads = 0);
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    SceneDesc desc;
+    SceneFeatures features;
+    Camera camera;
+    RTCDevice device = nullptr;
+    RTCScene rtc = nullptr;
+    std::vector<GeomRecord> geoms;  // by geomID
+    // Lights: the scene's emitters, then the environment map (if any) as the last one.
+    std::vector<Light> lights;
+    std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)
+    Distribution1D lightDistribution;
+    int envLight = -1;              // index of the environment light, -1: none
+    EnvMapSampler env;
+    Vec3 boundsMin, boundsMax, center;
+    float radius = 1;               // bounding sphere of the scene's geometry
+    float epsilonScale = 1e-4f;     // ray offsets scale with the scene's size
+
+    // Offset along the normal to leave a surface towards w without self-intersection.
+    Vec3 offsetRayOrigin(Vec3 p, Vec3 n, Vec3 w) const {
+        float mag = std::max(std::max(std::fabs(p.x), std::fabs(p.y)), std::fabs(p.z));
+        float eps = 2e-5f * mag + epsilonScale;
+        return dot(n, w) >= 0 ? p + n * eps : p - n * eps;
+    }
+
+private:
+    Scene() = default;
+};
+
+}  // namespace wmlt

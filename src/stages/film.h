@@ -1,0 +1,33 @@
+// The film: per-pixel sums (double) and sample counts, box filter. Each pixel's samples
+// are added in a fixed order by the stages, so the image is the same for any threads.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "wavemmlt/image.h"
+
+namespace wmlt {
+
+struct Film {
+    int width = 0, height = 0;
+    std::vector<double> sum;       // 3 per pixel
+    std::vector<uint32_t> count;   // samples per pixel
+
+    Film(int w, int h) : width(w), height(h), sum(size_t(w) * h * 3, 0.0), count(size_t(w) * h, 0) {}
+    void add(uint32_t pixel, Vec3 L) {
+        double* s = &sum[size_t(pixel) * 3];
+        s[0] += L.x; s[1] += L.y; s[2] += L.z;
+        ++count[pixel];
+    }
+    // Mean of each pixel's samples (black where a pixel has none).
+    Image resolve() const {
+        Image img(width, height);
+        for (size_t i = 0; i < count.size(); ++i) {
+            double inv = count[i] ? 1.0 / count[i] : 0.0;
+            for (int c = 0; c < 3; ++c) img.rgb[i * 3 + c] = float(sum[i * 3 + c] * inv);
+        }
+        return img;
+    }
+};
+
+}  // namespace wmlt

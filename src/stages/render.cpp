@@ -1,0 +1,31 @@
+// render(): builds the scene once and hands it to the chosen tracer.
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "stages/path_tracer.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/render.h"
+
+namespace wmlt {
+
+int strataForSpp(int spp) {
+    int n = 1;
+    for (int k = 1; k * k <= spp; ++k)
+        if (spp % (k * k) == 0) n = k;
+    return n;
+}
+
+RenderResult render(SceneDesc desc, const RenderOptions& opt) {
+    if (opt.tracer != TracerKind::PT) {
+        static const char* names[] = {"mmlt", "bpt", "lt", "pt"};
+        throw InputError(std::string("tracer '") + names[int(opt.tracer)] + "' is not implemented yet (use --tracer pt)");
+    }
+    int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
+    RenderResult r = renderPathTracing(*scene, opt);
+    r.stats.threads = threads;
+    return r;
+}
+
+}  // namespace wmlt

@@ -1,0 +1,116 @@
+#include "stages/surface.h"
+
+#include "kernels/bump.h"
+
+namespace wmlt {
+
+namespace {
+
+// Partial derivatives of p with respect to (u, v) on a triangle (pbrt-v4 6.5.3); an
+// arbitrary tangent frame where the triangle has no usable (u, v).
+void triangleDerivatives(const TriangleMesh& m, const uint32_t* tri, Vec3 ns, Vec3& dpdu, Vec3& dpdv) {
+    if (!m.uvs.empty()) {
+        const float* uv = m.uvs.data();
+        float du02 = uv[2 * tri[0]] - uv[2 * tri[2]], dv02 = uv[2 * tri[0] + 1] - uv[2 * tri[2] + 1];
+        float du12 = uv[2 * tri[1]] - uv[2 * tri[2]], dv12 = uv[2 * tri[1] + 1] - uv[2 * tri[2] + 1];
+        Vec3 dp02 = m.positions[tri[0]] - m.positions[tri[2]], dp12 = m.positions[tri[1]] - m.positions[tri[2]];
+        float det = du02 * dv12 - dv02 * du12;
+        if (std::fabs(det) > 1e-12f) {
+            float inv = 1.0f / det;
+            dpdu = (dp02 * dv12 - dp12 * dv02) * inv;
+            dpdv = (dp12 * du02 - dp02 * du12) * inv;
+            if (lengthSquared(cross(dpdu, dpdv)) > 0) return;
+        }
+    }
+    Frame f = Frame::fromNormal(ns);
+    dpdu = f.s;
+    dpdv = f.t;
+}
+
+// The sphere's (u, v) of surfaceAt: u = 0.5 + phi / 2pi, v = 1 - theta / pi.
+void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv) {
+    float phi = std::atan2(local.z, local.x);
+    float cosT = std::clamp(local.y, -1.0f, 1.0f), sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
+    float r = g.radius;
+    dpdu = g.toWorld.vector(Vec3(-std::sin(phi), 0, std::cos(phi)) * (2.0f * kPi * r * sinT));
+    dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), -sinT, cosT * std::sin(phi)) * (-kPi * r));
+}
+
+void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
+    const MaterialDesc& m = scene.desc.materials[sp.material];
+    if (m.bump < 0) return;
+    sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
+}
+
+}  // namespace
+
+SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
+    const GeomRecord& g = scene.geoms[rh.hit.geomID];
+    SurfacePoint sp;
+    sp.material = g.material;
+    sp.light = g.light;
+    Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+    if (g.kind == ShapeKind::Sphere) {
+        Vec3 p = o + d * rh.ray.tfar;
+        sp.ng = normalize(p - g.center);
+        sp.p = g.center + sp.ng * g.radius;  // re-projected onto the sphere
+        sp.ns = sp.ng;
+        if (scene.features.needUv) {
+            Vec3 l = normalize(g.toLocal.vector(sp.ng));
+            // Longitude from +x towards +z, latitude with v = 1 at the north pole (+y).
+            sp.u = 0.5f + std::atan2(l.z, l.x) * kInv2Pi;
+            sp.v = 1.0f - std::acos(std::clamp(l.y, -1.0f, 1.0f)) * kInvPi;
+            if (scene.features.bump && sp.material >= 0) {
+                Vec3 dpdu, dpdv;
+                sphereDerivatives(g, l, dpdu, dpdv);
+                applyBump(scene, sp, dpdu, dpdv);
+            }
+        }
+        return sp;
+    }
+    const TriangleMesh& m = *g.mesh;
+    const uint32_t* tri = &m.indices[size_t(rh.hit.primID) * 3];
+    Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+    float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
+    sp.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 n = cross(p1 - p0, p2 - p0);
+    float len = length(n);
+    sp.ng = len > 0 ? n / len : normalize(Vec3(-rh.hit.Ng_x, -rh.hit.Ng_y, -rh.hit.Ng_z));
+    sp.ns = sp.ng;
+    if (!m.normals.empty()) {
+        Vec3 ns = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
+        float l2 = lengthSquared(ns);
+        if (l2 > 0) {
+            ns = ns / std::sqrt(l2);
+            sp.ns = dot(ns, sp.ng) < 0 ? -ns : ns;
+        }
+    }
+    if (scene.features.needUv && !m.uvs.empty()) {
+        const float* uv = m.uvs.data();
+        sp.u = uv[2 * tri[0]] * b0 + uv[2 * tri[1]] * b1 + uv[2 * tri[2]] * b2;
+        sp.v = uv[2 * tri[0] + 1] * b0 + uv[2 * tri[1] + 1] * b1 + uv[2 * tri[2] + 1] * b2;
+    }
+    if (scene.features.bump && sp.material >= 0) {
+        Vec3 dpdu, dpdv;
+        triangleDerivatives(m, tri, sp.ns, dpdu, dpdv);
+        applyBump(scene, sp, dpdu, dpdv);
+    }
+    return sp;
+}
+
+BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp) {
+    const MaterialDesc& m = scene.desc.materials[sp.material];
+    BsdfParams b;
+    b.kind = m.kind;
+    b.diffuse = m.diffuse;
+    b.specular = m.specular;
+    b.shininess = m.shininess;
+    b.reflect = m.reflect;
+    b.refract = m.refract;
+    b.eta = m.iorInside / m.iorOutside;
+    if (scene.features.textures && m.texture >= 0)
+        b.diffuse = b.diffuse * evalTexture(scene.desc.textures[m.texture], sp.u, sp.v, sp.p);
+    return b;
+}
+
+}  // namespace wmlt

@@ -1,0 +1,27 @@
+// The surface stage: turns Embree hits into shading data (position, normals, frame,
+// material with its texture applied). Shared by every tracer.
+#pragma once
+#include <embree3/rtcore.h>
+
+#include "kernels/bsdf.h"
+#include "scene/scene.h"
+
+namespace wmlt {
+
+struct SurfacePoint {
+    Vec3 p;       // on the surface
+    Vec3 ng;      // geometric normal, unit, outward (the loader's winding; spheres: outward)
+    Vec3 ns;      // shading normal, unit, on ng's side
+    float u = 0, v = 0;
+    int material = -1;
+    int light = -1;
+};
+
+// Geometry of a hit (rh must have hit something).
+SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh);
+
+// The material of a hit with textures applied (the scene's features decide, per scene,
+// whether textures are looked up at all).
+BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp);
+
+}  // namespace wmlt
