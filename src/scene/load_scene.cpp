@@ -1,0 +1,584 @@
+// The XML scene loader: reads and validates a scene file (../shared/spec/scene-format.md)
+// into a SceneDesc. Every problem is one InputError "file:line: <element>: problem";
+// unknown elements and attributes are errors; warnings go to SceneDesc::warnings.
+// Choices where the spec is silent are marked "(choice)".
+#include <algorithm>
+#include <cctype>
+#include <cfloat>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <pugixml.hpp>
+#include <string>
+#include <vector>
+
+#include "scene/transform.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+namespace {
+
+using Node = pugi::xml_node;
+using Names = std::vector<const char*>;
+
+bool in(const Names& names, const char* s) {
+    return std::any_of(names.begin(), names.end(), [&](const char* n) { return std::string(n) == s; });
+}
+std::string join(const Names& names) {
+    std::string s;
+    for (const char* n : names) s += (s.empty() ? "" : ", ") + std::string(n);
+    return s;
+}
+
+// The children of a container element, by name: each at most once (choice: a repeated
+// element is an error, as a repeated property is in Mitsuba).
+struct Kids {
+    std::vector<Node> nodes;
+    Node operator[](const char* name) const {
+        for (Node n : nodes)
+            if (std::string(n.name()) == name) return n;
+        return Node();
+    }
+};
+
+class Loader {
+public:
+    Loader(const std::string& xml, const std::string& file, const std::string& baseDir)
+        : xml_(xml), file_(file), base_(baseDir) {
+        lineStarts_.push_back(0);
+        for (size_t i = 0; i < xml.size(); ++i)
+            if (xml[i] == '\n') lineStarts_.push_back(i + 1);
+    }
+    SceneDesc run();
+
+private:
+    const std::string& xml_;
+    std::string file_, base_;
+    std::vector<size_t> lineStarts_;
+    Node root_;
+    SceneDesc s_;
+    std::map<int, int> shaderIndex_, textureIndex_, shaderLine_, textureLine_;
+    std::map<std::string, int> geometryLine_, lightLine_;
+
+    int lineOfOffset(ptrdiff_t off) const {
+        if (off < 0) return 0;
+        return int(std::upper_bound(lineStarts_.begin(), lineStarts_.end(), size_t(off)) - lineStarts_.begin());
+    }
+    int line(Node n) const { return lineOfOffset(n.offset_debug()); }
+    // "Geometry ID="3": Radius": the element and the top-level element holding it.
+    std::string what(Node n) const {
+        Node p = n.parent();
+        std::string s = (p && p != root_ && p.type() == pugi::node_element) ? what(p) + ": " : "";
+        s += n.name();
+        if (p == root_ && n.attribute("ID")) s += std::string(" ID=\"") + n.attribute("ID").value() + "\"";
+        return s;
+    }
+    [[noreturn]] void fail(Node n, const std::string& msg) const { throw InputError(file_, line(n), what(n) + ": " + msg); }
+    void warn(Node n, const std::string& msg) {
+        s_.warnings.push_back(InputError(file_, line(n), what(n) + ": " + msg).what());
+    }
+    std::string resolve(const std::string& name) const {
+        std::filesystem::path p(name);
+        if (p.is_relative() && !base_.empty()) p = std::filesystem::path(base_) / p;
+        return p.lexically_normal().string();
+    }
+
+    // "--" may not occur inside a comment (XML 1.0, 2.5); pugixml does not check it. A
+    // comment ended by "->" that runs on to the next "-->" would hide elements.
+    void checkComments(Node n) const {
+        for (Node c : n.children()) {
+            if (c.type() == pugi::node_comment && std::string(c.value()).find("--") != std::string::npos)
+                throw InputError(file_, line(c), "not well-formed XML: \"--\" inside a comment (a comment ended by \"->\"?)");
+            checkComments(c);
+        }
+    }
+
+    // ---- structure checks ----
+    void attrs(Node n, const Names& allowed) const {
+        for (pugi::xml_attribute a : n.attributes())
+            if (!in(allowed, a.name()))
+                fail(n, std::string("unknown attribute \"") + a.name() + "\"" +
+                            (allowed.empty() ? "" : " (expected " + join(allowed) + ")"));
+    }
+    void noText(Node n) const {
+        for (Node c : n.children())
+            if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata)
+                fail(n, std::string("unexpected text \"") + c.value() + "\"");
+    }
+    // A leaf element with exactly the attributes `allowed`.
+    void leaf(Node n, const Names& allowed) const {
+        attrs(n, allowed);
+        noText(n);
+        for (Node c : n.children())
+            if (c.type() == pugi::node_element) fail(c, std::string("unknown element inside <") + n.name() + ">");
+    }
+    Kids kids(Node parent, const Names& allowed) const {
+        noText(parent);
+        Kids k;
+        for (Node c : parent.children()) {
+            if (c.type() != pugi::node_element) continue;
+            if (!in(allowed, c.name())) fail(c, "unknown element (expected one of " + join(allowed) + ")");
+            if (Node prev = k[c.name()]) fail(c, "given twice (first on line " + std::to_string(line(prev)) + ")");
+            k.nodes.push_back(c);
+        }
+        return k;
+    }
+    Node need(const Kids& k, Node parent, const char* name) const {
+        Node n = k[name];
+        if (!n) fail(parent, std::string("missing required element <") + name + ">");
+        return n;
+    }
+    std::string attr(Node n, const char* a) const {
+        pugi::xml_attribute at = n.attribute(a);
+        if (!at) fail(n, std::string("missing attribute \"") + a + "\"");
+        return at.value();
+    }
+
+    // ---- values ----
+    // A finite number that fits a float, the whole attribute (trimmed) consumed:
+    // "1.5x", "nan", "inf", "1e39" are rejected. from_chars is locale-independent.
+    double number(Node n, const char* a, bool integer = false) const {
+        std::string t = attr(n, a);
+        size_t b = t.find_first_not_of(" \t\r\n"), e = t.find_last_not_of(" \t\r\n");
+        t = b == std::string::npos ? "" : t.substr(b, e - b + 1);
+        const char* p = t.data();
+        const char* end = p + t.size();
+        if (p != end && *p == '+' && p + 1 != end && p[1] != '-') ++p;
+        double v = 0;
+        std::from_chars_result r{};
+        if (integer) {
+            long long i = 0;
+            r = std::from_chars(p, end, i);
+            v = double(i);
+        } else {
+            r = std::from_chars(p, end, v);
+        }
+        if (r.ec != std::errc() || r.ptr != end || p == end || !std::isfinite(v) || std::fabs(v) > FLT_MAX)
+            fail(n, std::string(a) + "=\"" + n.attribute(a).value() + "\" is not " +
+                        (integer ? "an integer" : "a finite number"));
+        return v;
+    }
+    double ranged(Node n, const char* a, double v, bool ok, const std::string& rule) const {
+        if (!ok) fail(n, std::string(a) + "=\"" + n.attribute(a).value() + "\" is out of range (" + rule + ")");
+        return v;
+    }
+    double value(Node n) const { leaf(n, {"value"}); return number(n, "value"); }
+    double positive(Node n) const { double v = value(n); return ranged(n, "value", v, v > 0, "must be > 0"); }
+    int integer(Node n, long long lo, long long hi) const {
+        leaf(n, {"value"});
+        double v = number(n, "value", true);
+        return int(ranged(n, "value", v, v >= lo && v <= hi,
+                          std::to_string(lo) + " to " + std::to_string(hi)));
+    }
+    Vec3 xyz(Node n) const {
+        leaf(n, {"x", "y", "z"});
+        return Vec3(float(number(n, "x")), float(number(n, "y")), float(number(n, "z")));
+    }
+    // Colours: linear RGB in [0, 1]; `t` is ignored (spec, "Shaders").
+    Vec3 colour(Node n) const {
+        leaf(n, {"r", "g", "b", "t"});
+        Vec3 c;
+        const char* names[3] = {"r", "g", "b"};
+        for (int i = 0; i < 3; ++i) {
+            double v = number(n, names[i]);
+            c[i] = float(ranged(n, names[i], v, v >= 0 && v <= 1, "0 to 1"));
+        }
+        return c;
+    }
+    std::string name(Node n) const {
+        leaf(n, {"name"});
+        std::string s = attr(n, "name");
+        if (s.empty()) fail(n, "name is empty");
+        return s;
+    }
+    std::string type(Node n, const Names& types) const {
+        std::string t = attr(n, "Type");
+        if (!in(types, t.c_str())) fail(n, "Type=\"" + t + "\" is not one of " + join(types));
+        return t;
+    }
+    Image image(Node n, const std::string& path) const {
+        Image img;
+        try { img = readImage(path); } catch (const InputError& e) { fail(n, e.what()); }
+        if (img.width <= 0 || img.height <= 0) fail(n, path + ": the image is empty (0 x 0)");
+        return img;
+    }
+
+    // An integer ID, unique among `lines` (ID -> line of its element).
+    int uniqueId(Node n, std::map<int, int>& lines, int lo, const char* kind) const {
+        const double id = number(n, "ID", true);
+        ranged(n, "ID", id, id >= lo && id <= INT32_MAX, std::string(kind) + " IDs are >= " + std::to_string(lo));
+        if (lines.count(int(id)))
+            fail(n, "ID " + std::to_string(int(id)) + " is already used by the " + kind + " on line " +
+                        std::to_string(lines[int(id)]));
+        lines[int(id)] = line(n);
+        return int(id);
+    }
+    // Plane and rectangle light: Width x Depth, both > 0.
+    void rect(const Kids& k, Node n, ShapeDesc& sh) const;
+    // Sphere and sphere light: Radius > 0 times the (uniform) scale.
+    void sphere(Node radius, float scale, ShapeDesc& sh) const {
+        sh.kind = ShapeKind::Sphere;
+        sh.uv = UvKind::Sphere;
+        sh.center = sh.toWorld.point(Vec3(0.0f));
+        sh.radius = float(positive(radius)) * scale;
+    }
+
+    void settings(Node n);
+    void camera(Node n);
+    void texture(Node n);
+    void shader(Node n);
+    void textureRef(Node n, int& slot) const;
+    void transform(const Kids& k, ShapeDesc& sh, Vec3& scale) const;
+    void geometry(Node n);
+    void light(Node n);
+};
+
+// A Width x Depth rectangle in the local xz-plane, normal +y, in world space. The corners
+// are wound counter-clockwise seen from +y, so the geometric normal cross(p1 - p0, p2 - p0)
+// points along the transformed +y (a positive scale keeps it so): the renderer relies on
+// this for the side a rectangle light emits on. uv = (x / Width + 0.5, z / Depth + 0.5).
+TriangleMesh rectangle(float w, float d, const Affine& toWorld) {
+    TriangleMesh m;
+    const float hx = 0.5f * w, hz = 0.5f * d;
+    const Vec3 local[4] = {{-hx, 0, -hz}, {-hx, 0, hz}, {hx, 0, hz}, {hx, 0, -hz}};
+    for (const Vec3& p : local) {
+        m.positions.push_back(toWorld.point(p));
+        m.uvs.push_back(p.x / w + 0.5f);
+        m.uvs.push_back(p.z / d + 0.5f);
+    }
+    m.indices = {0, 1, 2, 0, 2, 3};
+    return m;
+}
+
+void Loader::rect(const Kids& k, Node n, ShapeDesc& sh) const {
+    const float w = float(positive(need(k, n, "Width"))), d = float(positive(need(k, n, "Depth")));
+    sh.mesh = rectangle(w, d, sh.toWorld);
+    sh.uv = UvKind::Plane;
+}
+
+void Loader::settings(Node n) {
+    attrs(n, {});
+    Kids k = kids(n, {"Width", "Height", "Sample", "Thread", "Tracer", "MaxPathLength",
+                      "MinPathLength", "ProbLarge", "Output", "EnvMap"});
+    Settings& st = s_.settings;
+    if (Node c = k["Width"]) st.width = integer(c, 1, 16384);
+    if (Node c = k["Height"]) st.height = integer(c, 1, 16384);
+    if (Node c = k["Sample"]) st.samples = integer(c, 1, 4096);  // (choice) N <= 4096
+    if (Node c = k["Thread"]) st.threads = integer(c, 0, 4096);  // (choice) 0 = all
+    if (Node c = k["Tracer"]) {
+        std::string t = name(c);
+        std::transform(t.begin(), t.end(), t.begin(), [](unsigned char ch) { return char(std::toupper(ch)); });
+        if (t == "MMLT") st.tracer = TracerKind::MMLT;
+        else if (t == "BPT") st.tracer = TracerKind::BPT;
+        else if (t == "LT") st.tracer = TracerKind::LT;
+        else if (t == "PT") st.tracer = TracerKind::PT;
+        else fail(c, "name=\"" + std::string(c.attribute("name").value()) + "\" is not one of MMLT, BPT, LT, PT");
+    }
+    if (Node c = k["MaxPathLength"]) st.maxPathLength = integer(c, 1, 64);
+    if (Node c = k["MinPathLength"]) st.minPathLength = integer(c, 1, 64);
+    if (st.minPathLength > st.maxPathLength)
+        fail(k["MinPathLength"] ? k["MinPathLength"] : k["MaxPathLength"],
+             "MinPathLength " + std::to_string(st.minPathLength) + " is greater than MaxPathLength " +
+                 std::to_string(st.maxPathLength));
+    if (Node c = k["ProbLarge"]) {
+        double p = value(c);
+        st.probLarge = float(ranged(c, "value", p, p > 0 && p <= 1, "0 < p <= 1"));
+    }
+    if (Node c = k["Output"]) {
+        // Surrounding quotes (the appendix's "'render.png'") are stripped.
+        std::string o = name(c);
+        if (o.size() >= 2 && (o[0] == '"' || o[0] == '\'') && o.back() == o[0]) o = o.substr(1, o.size() - 2);
+        if (o.empty()) fail(c, "name is empty");
+        if (!isWritableImageExtension(o)) fail(c, "\"" + o + "\": the extension must be .exr, .pfm or .png");
+        st.output = o;
+    }
+    if (Node c = k["EnvMap"]) {
+        // (choice) any format readImage reads; the spec names .exr and .hdr.
+        st.envMap = resolve(name(c));
+        s_.envMap = image(c, st.envMap);
+    }
+}
+
+void Loader::camera(Node n) {
+    attrs(n, {"Type", "ID"});
+    if (n.attribute("Type")) type(n, {"Camera"});  // (choice) Type may be omitted
+    Kids k = kids(n, {"Position", "LookAt", "Up", "FOV", "DOF", "F-Length", "F-Stop"});
+    CameraDesc& c = s_.camera;
+    c.position = xyz(need(k, n, "Position"));
+    Node look = need(k, n, "LookAt");
+    c.lookAt = xyz(look);
+    if (Node u = k["Up"]) c.up = xyz(u);
+    Node fov = need(k, n, "FOV");
+    double f = value(fov);
+    c.fovDegrees = float(ranged(fov, "value", f, f > 0 && f < 180, "0 < FOV < 180"));
+    if (Node d = k["DOF"]) c.dof = integer(d, 0, 1) == 1;
+    // F-Length and F-Stop are read always but need to be > 0 only with DOF on.
+    Node fl = c.dof ? need(k, n, "F-Length") : k["F-Length"];
+    Node fs = c.dof ? need(k, n, "F-Stop") : k["F-Stop"];
+    if (fl) c.focalLength = float(c.dof ? positive(fl) : value(fl));
+    if (fs) c.fStop = float(c.dof ? positive(fs) : value(fs));
+    // (choice) a camera with no direction or an Up along it is an error.
+    Vec3 fwd = c.lookAt - c.position;
+    if (lengthSquared(fwd) == 0) fail(look, "LookAt equals Position");
+    if (lengthSquared(c.up) == 0 || length(cross(normalize(fwd), normalize(c.up))) < 1e-6f)
+        fail(k["Up"] ? k["Up"] : n, "Up is zero or parallel to the viewing direction");
+}
+
+void Loader::texture(Node n) {
+    attrs(n, {"Type", "ID"});
+    std::string t = type(n, {"Checker", "ImageFile", "Marble"});
+    TextureDesc tx;
+    tx.id = uniqueId(n, textureLine_, 1, "Texture");
+    Kids k;
+    if (t == "Checker") {
+        tx.kind = TextureKind::Checker;
+        k = kids(n, {"Colour1", "Colour2", "Repeat"});
+        tx.colour1 = colour(need(k, n, "Colour1"));
+        tx.colour2 = colour(need(k, n, "Colour2"));
+    } else if (t == "ImageFile") {
+        tx.kind = TextureKind::ImageFile;
+        k = kids(n, {"File", "Repeat"});
+        Node f = need(k, n, "File");
+        tx.image = image(f, resolve(name(f)));
+    } else {
+        tx.kind = TextureKind::Marble;
+        k = kids(n, {"Colour1", "Colour2", "Colour3"});
+        tx.colour1 = colour(need(k, n, "Colour1"));
+        tx.colour2 = colour(need(k, n, "Colour2"));
+        tx.colour3 = colour(need(k, n, "Colour3"));
+    }
+    if (Node r = k["Repeat"]) {  // (choice) optional, default 1 1; > 0
+        leaf(r, {"u", "v"});
+        double u = number(r, "u"), v = number(r, "v");
+        tx.repeatU = float(ranged(r, "u", u, u > 0, "must be > 0"));
+        tx.repeatV = float(ranged(r, "v", v, v > 0, "must be > 0"));
+    }
+    textureIndex_[tx.id] = int(s_.textures.size());
+    s_.textures.push_back(std::move(tx));
+}
+
+// `Texture value=ID` / `Bump value=ID`: 0 is none; otherwise the texture must exist.
+void Loader::textureRef(Node n, int& slot) const {
+    int id = integer(n, 0, INT32_MAX);
+    if (id == 0) { slot = -1; return; }
+    auto it = textureIndex_.find(id);
+    if (it == textureIndex_.end()) fail(n, "texture " + std::to_string(id) + " is not defined");
+    slot = it->second;
+}
+
+void Loader::shader(Node n) {
+    attrs(n, {"Type", "ID"});
+    std::string t = type(n, {"Matte", "Glossy", "Reflective", "Dielectric"});
+    MaterialDesc m;
+    m.id = uniqueId(n, shaderLine_, 0, "Shader");  // (choice) integers >= 0
+    Kids k;
+    if (t == "Matte") {
+        m.kind = MaterialKind::Matte;
+        k = kids(n, {"Diffuse", "Ambient", "Texture", "Bump"});
+        m.diffuse = colour(need(k, n, "Diffuse"));
+    } else if (t == "Glossy") {
+        m.kind = MaterialKind::Glossy;
+        k = kids(n, {"Diffuse", "Specular", "Shininess", "Ambient", "Texture", "Bump"});
+        m.diffuse = colour(need(k, n, "Diffuse"));
+        Node sp = need(k, n, "Specular");
+        m.specular = colour(sp);
+        Node sh = need(k, n, "Shininess");
+        double e = value(sh);
+        m.shininess = float(ranged(sh, "value", e, e >= 0, "must be >= 0"));
+        for (int i = 0; i < 3; ++i)  // energy conservation (tolerance for decimal rounding)
+            if (m.diffuse[i] + m.specular[i] > 1.0f + 1e-6f)
+                fail(sp, "Diffuse + Specular exceeds 1 in the " + std::string(i == 0 ? "red" : i == 1 ? "green" : "blue") +
+                             " channel (it would create energy)");
+    } else if (t == "Reflective") {
+        m.kind = MaterialKind::Reflective;
+        k = kids(n, {"Reflect", "Ambient", "Bump"});
+        m.reflect = colour(need(k, n, "Reflect"));
+    } else {
+        m.kind = MaterialKind::Dielectric;
+        k = kids(n, {"Reflect", "Refract", "iIOR", "oIOR", "Ambient", "Bump"});
+        if (Node r = k["Reflect"]) m.reflect = colour(r);  // (choice) optional, default 1
+        if (Node r = k["Refract"]) m.refract = colour(r);
+        Node ii = need(k, n, "iIOR"), oi = need(k, n, "oIOR");
+        m.iorInside = float(positive(ii));
+        m.iorOutside = float(positive(oi));
+        if (m.iorInside == m.iorOutside) {
+            warn(oi, "iIOR equals oIOR (" + std::string(oi.attribute("value").value()) +
+                         "): oIOR is taken as 1");
+            m.iorOutside = 1.0f;
+        }
+    }
+    if (Node a = k["Ambient"])
+        if (!isBlack(colour(a))) warn(a, "Ambient is not black: ignored (it is not physical)");
+    if (Node tx = k["Texture"]) textureRef(tx, m.texture);
+    if (Node b = k["Bump"]) textureRef(b, m.bump);
+    shaderIndex_[m.id] = int(s_.materials.size());
+    s_.materials.push_back(m);
+}
+
+// Position, Rotation (optional, default 0: choice) and Scale (Geometry only, > 0: choice,
+// so that no transform mirrors a surface and flips its winding).
+void Loader::transform(const Kids& k, ShapeDesc& sh, Vec3& scale) const {
+    Vec3 pos, rot;
+    scale = Vec3(1.0f);
+    if (Node p = k["Position"]) pos = xyz(p);
+    if (Node r = k["Rotation"]) rot = xyz(r);
+    if (Node s = k["Scale"]) {
+        leaf(s, {"x", "y", "z", "value"});
+        const bool uniform = bool(s.attribute("value"));
+        if (uniform && (s.attribute("x") || s.attribute("y") || s.attribute("z")))
+            fail(s, "give either value or x, y and z, not both");
+        const char* names[4] = {"x", "y", "z", "value"};
+        for (int i = 0; i < 3; ++i) {
+            const char* a = uniform ? names[3] : names[i];
+            double v = number(s, a);
+            scale[i] = float(ranged(s, a, v, v > 0, "must be > 0"));
+        }
+    }
+    objectTransform(pos, rot, scale, sh.toWorld, sh.toLocal);
+}
+
+void Loader::geometry(Node n) {
+    attrs(n, {"Type", "ID"});
+    std::string t = type(n, {"Plane", "Sphere", "ObjFile"});
+    ShapeDesc sh;
+    sh.id = attr(n, "ID");
+    sh.line = line(n);
+    if (sh.id.empty()) fail(n, "ID is empty");
+    if (geometryLine_.count(sh.id))
+        fail(n, "ID \"" + sh.id + "\" is already used by the Geometry on line " + std::to_string(geometryLine_[sh.id]));
+    Names allowed = {"Position", "Rotation", "Scale", "Shader"};
+    if (t == "Plane") allowed.insert(allowed.end(), {"Width", "Depth"});
+    else if (t == "Sphere") allowed.push_back("Radius");
+    else allowed.insert(allowed.end(), {"File", "SmoothShading"});
+    Kids k = kids(n, allowed);
+    Vec3 scale;
+    transform(k, sh, scale);
+    Node sref = need(k, n, "Shader");
+    int sid = integer(sref, 0, INT32_MAX);
+    auto it = shaderIndex_.find(sid);
+    if (it == shaderIndex_.end()) fail(sref, "Shader " + std::to_string(sid) + " is not defined");
+    sh.material = it->second;
+    if (t == "Plane") {
+        rect(k, n, sh);
+    } else if (t == "Sphere") {
+        Node r = need(k, n, "Radius");
+        if (scale.x != scale.y || scale.y != scale.z) fail(k["Scale"], "a sphere's Scale must be uniform");
+        sphere(r, scale.x, sh);
+    } else {
+        Node f = need(k, n, "File");
+        const std::string path = resolve(name(f));
+        const bool smooth = k["SmoothShading"] ? integer(k["SmoothShading"], 0, 1) == 1 : false;  // (choice) default 0
+        try { sh.mesh = loadObj(path, smooth); } catch (const InputError& e) { fail(f, e.what()); }
+        meshToWorld(sh.mesh, sh.toWorld, sh.toLocal);
+        sh.uv = sh.mesh.uvs.empty() ? UvKind::None : UvKind::Mesh;
+    }
+    geometryLine_[sh.id] = sh.line;
+    s_.shapes.push_back(std::move(sh));
+}
+
+void Loader::light(Node n) {
+    attrs(n, {"Type", "ID"});
+    std::string t = type(n, {"Area", "Sphere"});
+    ShapeDesc sh;
+    sh.line = line(n);
+    if (n.attribute("ID")) {  // (choice) a light's ID is optional
+        sh.id = n.attribute("ID").value();
+        if (lightLine_.count(sh.id))
+            warn(n, "ID \"" + sh.id + "\" is also used by the Light on line " + std::to_string(lightLine_[sh.id]) +
+                        " (accepted: nothing refers to light IDs)");
+        else lightLine_[sh.id] = sh.line;
+    }
+    Names allowed = {"Position", "Rotation", "Radius", "Intensity", "Colour"};
+    if (t == "Area") allowed.insert(allowed.end(), {"Width", "Depth"});
+    Kids k = kids(n, allowed);
+    Vec3 scale;
+    transform(k, sh, scale);
+    LightDesc l;
+    const bool isRect = k["Width"] || k["Depth"];
+    if (isRect && k["Radius"]) fail(n, "give either Width and Depth (a rectangle) or Radius (a sphere), not both");
+    if (!isRect && !k["Radius"]) fail(n, "missing required element <Width> and <Depth> (a rectangle) or <Radius> (a sphere)");
+    if (isRect) rect(k, n, sh);  // emits on the side of its normal
+    else sphere(k["Radius"], 1.0f, sh);
+    l.kind = isRect ? LightKind::Rect : LightKind::Sphere;
+    Node inten = need(k, n, "Intensity");
+    double i = value(inten);
+    ranged(inten, "value", i, i >= 0, "must be >= 0");
+    Vec3 c = k["Colour"] ? colour(k["Colour"]) : Vec3(1.0f);  // (choice) default white
+    l.radiance = c * float(i);
+    if (!isFinite(l.radiance)) fail(inten, "Intensity * Colour is not finite");
+    if (isBlack(l.radiance)) warn(n, "emits nothing (Intensity * Colour is black)");
+    sh.light = int(s_.lights.size());
+    l.shape = int(s_.shapes.size());
+    s_.lights.push_back(l);
+    s_.shapes.push_back(std::move(sh));
+}
+
+SceneDesc Loader::run() {
+    pugi::xml_document doc;
+    pugi::xml_parse_result r = doc.load_buffer(xml_.data(), xml_.size(), pugi::parse_default | pugi::parse_comments, pugi::encoding_utf8);
+    if (r.status == pugi::status_bad_comment) {
+        // pugixml stops at the end of the file: name the comment that never ends (the
+        // appendix's damaged "->" endings), the first "<!--" with no "-->" after it.
+        for (size_t b = xml_.find("<!--"), e = 0; b != std::string::npos; b = xml_.find("<!--", e + 3)) {
+            if ((e = xml_.find("-->", b + 4)) == std::string::npos)
+                throw InputError(file_, lineOfOffset(ptrdiff_t(b)), "not well-formed XML: comment not closed by \"-->\"");
+        }
+    }
+    if (!r) throw InputError(file_, lineOfOffset(r.offset), std::string("not well-formed XML: ") + r.description());
+    checkComments(doc);
+    for (Node c : doc.children()) {
+        if (c.type() == pugi::node_element && !root_ && std::string(c.name()) == "Scene") root_ = c;
+        else if (c.type() == pugi::node_element) fail(c, "unexpected element: the file holds one <Scene>");
+    }
+    if (!root_) throw InputError(file_, 0, "no <Scene> element");
+    attrs(root_, {});
+    noText(root_);
+    const Names top = {"Settings", "Camera", "Geometry", "Light", "Shader", "Texture"};
+    std::vector<Node> settings, cameras, textures, shaders, objects;
+    for (Node c : root_.children()) {
+        if (c.type() != pugi::node_element) continue;
+        const std::string nm = c.name();
+        if (!in(top, c.name())) fail(c, "unknown element (expected one of " + join(top) + ")");
+        if (nm == "Settings") settings.push_back(c);
+        else if (nm == "Camera") cameras.push_back(c);
+        else if (nm == "Texture") textures.push_back(c);
+        else if (nm == "Shader") shaders.push_back(c);
+        else objects.push_back(c);  // Geometry and Light, in file order
+    }
+    if (settings.size() > 1) fail(settings[1], "given twice (first on line " + std::to_string(line(settings[0])) + ")");
+    if (cameras.size() > 1) fail(cameras[1], "a second camera (the first is on line " + std::to_string(line(cameras[0])) + ")");
+    if (cameras.empty()) fail(root_, "missing required element <Camera>");
+    // Referenced elements first, so references may point forward in the file.
+    if (!settings.empty()) this->settings(settings[0]);
+    for (Node t : textures) texture(t);
+    for (Node s : shaders) shader(s);
+    camera(cameras[0]);
+    for (Node o : objects) std::string(o.name()) == "Geometry" ? geometry(o) : light(o);
+    return std::move(s_);
+}
+
+}  // namespace
+
+SceneDesc loadSceneFromString(const std::string& xml, const std::string& name, const std::string& baseDir) {
+    return Loader(xml, name, baseDir).run();
+}
+
+SceneDesc loadScene(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw InputError(path, 0, "cannot open the scene file");
+    std::string xml;
+    char buf[1 << 16];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) xml.append(buf, n);
+    const bool bad = std::ferror(f);
+    std::fclose(f);
+    if (bad) throw InputError(path, 0, "cannot read the scene file");
+    SceneDesc s = loadSceneFromString(xml, path, std::filesystem::path(path).parent_path().string());
+    s.path = path;
+    return s;
+}
+
+}  // namespace wmlt
