@@ -127,9 +127,18 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
                 if (isBlack(f) || isBlack(ls.Le)) continue;
                 float lightPdf = ls.pdf * pmf;
                 float w = powerHeuristic(lightPdf, B::pdf(b.bsdf[h], wo, wi));
+                // Aim from the offset origin at the light point itself: the direction from
+                // the surface point would pass beside it by up to the offset, into the light.
                 Vec3 origin = scene.offsetRayOrigin(b.p[h], b.ng[h], ls.wi);
-                float tfar = std::isinf(ls.dist) ? INFINITY : length(ls.p - origin) * (1.0f - 1e-4f);
-                setRay(b.shadow[n], origin, ls.wi, 0.0f, tfar);
+                Vec3 dir = ls.wi;
+                float tfar = INFINITY;
+                if (!std::isinf(ls.dist)) {
+                    Vec3 toLight = ls.p - origin;
+                    float dist = length(toLight);
+                    dir = toLight / dist;
+                    tfar = dist * (1.0f - 1e-4f);
+                }
+                setRay(b.shadow[n], origin, dir, 0.0f, tfar);
                 b.shadowSlot[n] = slot;
                 b.shadowL[n] = b.beta[path] * f * ls.Le * (w / lightPdf);
                 ++n;

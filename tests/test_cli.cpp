@@ -1,0 +1,426 @@
+// The `wavemmlt` command line, run as a separate process: determinism across thread
+// counts, exit status 2 with "file:line" messages on bad input (and no output file),
+// early checks before rendering, --describe/--help/--version, the --stats JSON, Ctrl-C
+// (exit 130 with the image so far saved), time budgets, and the built-in scene.
+#include <catch2/catch.hpp>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "wavemmlt/image.h"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBin = WAVEMMLT_BIN;
+const std::string kData = WAVEMMLT_TEST_DATA;
+const std::string kSmall = " --width 64 --height 48 --quiet";
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static int count = 0;
+        path = fs::temp_directory_path() / ("wmlt-cli-test-" + std::to_string(getpid()) + "-" + std::to_string(count++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path / name, std::ios::binary) << text;
+        return file(name);
+    }
+};
+
+std::string readFile(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+struct Run {
+    int status = -1;  // exit status, or -1 when killed by a signal
+    std::string out, err;
+    double seconds = 0;
+};
+
+// Runs `wavemmlt <args>` through the shell, capturing stdout and stderr in files.
+Run run(const std::string& args, const TempDir& dir) {
+    const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+    const std::string cmd = quote(kBin) + " " + args + " > " + quote(out) + " 2> " + quote(err);
+    auto t0 = Clock::now();
+    int st = std::system(cmd.c_str());
+    Run r;
+    r.seconds = secondsSince(t0);
+    r.status = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+    r.out = readFile(out);
+    r.err = readFile(err);
+    return r;
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// A minimal strict JSON checker (RFC 8259 grammar; no semantic checks) that also
+// collects the keys of the top-level object.
+struct JsonChecker {
+    const std::string& s;
+    size_t i = 0;
+    int depth = 0;
+    std::set<std::string> topKeys;
+    explicit JsonChecker(const std::string& text) : s(text) {}
+    void ws() { while (i < s.size() && (s[i] == ' ' || s[i] == '\n' || s[i] == '\r' || s[i] == '\t')) ++i; }
+    bool lit(const char* w) {
+        size_t n = std::string(w).size();
+        if (s.compare(i, n, w) != 0) return false;
+        i += n;
+        return true;
+    }
+    bool str(std::string* outStr = nullptr) {
+        if (i >= s.size() || s[i] != '"') return false;
+        ++i;
+        std::string v;
+        while (i < s.size() && s[i] != '"') {
+            if (static_cast<unsigned char>(s[i]) < 0x20) return false;
+            if (s[i] == '\\') {
+                ++i;
+                if (i >= s.size() || !contains("\"\\/bfnrtu", std::string(1, s[i]))) return false;
+            }
+            v += s[i++];
+        }
+        if (i >= s.size()) return false;
+        ++i;
+        if (outStr) *outStr = v;
+        return true;
+    }
+    bool num() {
+        size_t j = i;
+        if (i < s.size() && s[i] == '-') ++i;
+        if (i >= s.size() || !isdigit(static_cast<unsigned char>(s[i]))) return false;
+        if (s[i] == '0') ++i;
+        else while (i < s.size() && isdigit(static_cast<unsigned char>(s[i]))) ++i;
+        if (i < s.size() && s[i] == '.') {
+            ++i;
+            if (i >= s.size() || !isdigit(static_cast<unsigned char>(s[i]))) return false;
+            while (i < s.size() && isdigit(static_cast<unsigned char>(s[i]))) ++i;
+        }
+        if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+            ++i;
+            if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+            if (i >= s.size() || !isdigit(static_cast<unsigned char>(s[i]))) return false;
+            while (i < s.size() && isdigit(static_cast<unsigned char>(s[i]))) ++i;
+        }
+        return i > j;
+    }
+    bool value() {
+        ws();
+        if (i >= s.size()) return false;
+        bool ok;
+        if (s[i] == '{') ok = object();
+        else if (s[i] == '[') ok = array();
+        else if (s[i] == '"') ok = str();
+        else if (s[i] == 't') ok = lit("true");
+        else if (s[i] == 'f') ok = lit("false");
+        else if (s[i] == 'n') ok = lit("null");
+        else ok = num();
+        ws();
+        return ok;
+    }
+    bool object() {
+        ++i;
+        ++depth;
+        ws();
+        if (i < s.size() && s[i] == '}') { ++i; --depth; return true; }
+        while (true) {
+            ws();
+            std::string key;
+            if (!str(&key)) return false;
+            if (depth == 1) topKeys.insert(key);
+            ws();
+            if (i >= s.size() || s[i] != ':') return false;
+            ++i;
+            if (!value()) return false;
+            if (i < s.size() && s[i] == ',') { ++i; continue; }
+            if (i < s.size() && s[i] == '}') { ++i; --depth; return true; }
+            return false;
+        }
+    }
+    bool array() {
+        ++i;
+        ws();
+        if (i < s.size() && s[i] == ']') { ++i; return true; }
+        while (true) {
+            if (!value()) return false;
+            if (i < s.size() && s[i] == ',') { ++i; continue; }
+            if (i < s.size() && s[i] == ']') { ++i; return true; }
+            return false;
+        }
+    }
+    bool document() {
+        ws();
+        if (i >= s.size() || s[i] != '{') return false;
+        if (!value()) return false;
+        return i == s.size();
+    }
+};
+
+// Lines 1-3 of every small scene; a body starts on line 4.
+const std::string kHead =
+    "<Scene>\n"
+    "<Camera Type=\"Camera\"><Position x=\"0\" y=\"0\" z=\"-5\"/><LookAt x=\"0\" y=\"0\" z=\"0\"/><FOV value=\"45\"/></Camera>\n"
+    "<Shader Type=\"Matte\" ID=\"0\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/></Shader>\n";
+const std::string kLight =
+    "<Light Type=\"Area\" ID=\"l\"><Position x=\"0\" y=\"3\" z=\"0\"/><Radius value=\"0.5\"/>"
+    "<Intensity value=\"5\"/><Colour r=\"1\" g=\"1\" b=\"1\"/></Light>\n";
+
+// Bad input: exit 2, "error: <file>:<line>: ..." naming `fragment`, no output file.
+void requireBadScene(const std::string& name, const std::string& body, int line, const std::string& fragment) {
+    TempDir dir;
+    std::string scene = dir.write(name, kHead + body + "\n" + kLight + "</Scene>\n");
+    std::string out = dir.file("out.pfm");
+    Run r = run(quote(scene) + kSmall + " -o " + quote(out), dir);
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "error: "));
+    CHECK(contains(r.err, name + ":" + std::to_string(line) + ":"));
+    CHECK(contains(r.err, fragment));
+    CHECK_FALSE(fs::exists(out));
+}
+
+bool allFinite(const wmlt::Image& im) {
+    for (float v : im.rgb)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+double meanValue(const wmlt::Image& im) {
+    double s = 0;
+    for (float v : im.rgb) s += v;
+    return im.rgb.empty() ? 0 : s / im.rgb.size();
+}
+
+}  // namespace
+
+TEST_CASE("cli: the same seed gives byte-identical images with 1 and 2 threads", "[cli]") {
+    TempDir dir;
+    for (const std::string& scene : {std::string(), quote(kData + "/scenes/bitterli-cornell/bitterli-cornell-256.xml")}) {
+        std::string a = dir.file("t1.pfm"), b = dir.file("t2.pfm");
+        Run r1 = run(scene + kSmall + " --spp 16 --seed 7 --threads 1 -o " + quote(a), dir);
+        Run r2 = run(scene + kSmall + " --spp 16 --seed 7 --threads 2 -o " + quote(b), dir);
+        INFO("scene " << (scene.empty() ? "built-in" : scene) << "; stderr: " << r1.err << r2.err);
+        REQUIRE(r1.status == 0);
+        REQUIRE(r2.status == 0);
+        std::string da = readFile(a), db = readFile(b);
+        REQUIRE(da.size() > 64 * 48 * 12);
+        CHECK(da == db);
+        // A different seed gives a different image (the seed is used).
+        std::string c = dir.file("t3.pfm");
+        REQUIRE(run(scene + kSmall + " --spp 16 --seed 8 --threads 2 -o " + quote(c), dir).status == 0);
+        CHECK(readFile(c) != da);
+    }
+}
+
+TEST_CASE("cli: bad scenes exit 2 naming file and line, and write nothing", "[cli]") {
+    SECTION("unknown element") { requireBadScene("unknown.xml", "<Frobnicate value=\"1\"/>", 4, "Frobnicate"); }
+    SECTION("dangling Shader ID") {
+        requireBadScene("dangling.xml", "<Geometry Type=\"Sphere\" ID=\"s\"><Radius value=\"1\"/><Shader value=\"7\"/></Geometry>",
+                        4, "7");
+    }
+    SECTION("missing OBJ") {
+        requireBadScene("missingobj.xml",
+                        "<Geometry Type=\"ObjFile\" ID=\"m\"><File name=\"nothere.obj\"/><SmoothShading value=\"0\"/>"
+                        "<Shader value=\"0\"/></Geometry>",
+                        4, "nothere.obj");
+    }
+    SECTION("missing scene file") {
+        TempDir dir;
+        std::string out = dir.file("out.pfm");
+        Run r = run(quote(dir.file("no-such-scene.xml")) + kSmall + " -o " + quote(out), dir);
+        INFO("stderr: " << r.err);
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, "error: "));
+        CHECK(contains(r.err, "no-such-scene.xml"));
+        CHECK_FALSE(fs::exists(out));
+    }
+}
+
+TEST_CASE("cli: an output in a missing folder exits 2 before rendering", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("missing-folder/out.pfm");
+    // 4096 spp would take far longer than the bound below if rendering started.
+    Run r = run(kSmall + " --spp 4096 -o " + quote(out), dir);
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "missing-folder"));
+    CHECK(r.seconds < 5.0);
+    CHECK_FALSE(fs::exists(out));
+    // The same for a --stats file.
+    std::string img = dir.file("ok.pfm");
+    Run s = run(kSmall + " --spp 4096 -o " + quote(img) + " --stats " + quote(dir.file("nope/stats.json")), dir);
+    INFO("stderr: " << s.err);
+    CHECK(s.status == 2);
+    CHECK(contains(s.err, "nope"));
+    CHECK(s.seconds < 5.0);
+    CHECK_FALSE(fs::exists(img));
+}
+
+TEST_CASE("cli: bad options exit 2", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("out.pfm");
+    Run a = run("--no-such-option" + kSmall + " -o " + quote(out), dir);
+    CHECK(a.status == 2);
+    CHECK(contains(a.err, "--no-such-option"));
+    Run b = run("--spp abc" + kSmall + " -o " + quote(out), dir);
+    CHECK(b.status == 2);
+    CHECK(contains(b.err, "--spp"));
+    CHECK(contains(b.err, "abc"));
+    Run c = run("--spp" , dir);  // a missing value
+    CHECK(c.status == 2);
+    Run d = run("--tracer bpt" + kSmall + " -o " + quote(out), dir);
+    INFO("stderr: " << d.err);
+    CHECK(d.status == 2);
+    CHECK(contains(d.err, "not implemented"));
+    CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("cli: --describe, --help and --version exit 0", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("out.pfm");
+    Run d = run("--describe -o " + quote(out), dir);
+    INFO("stdout: " << d.out << "\nstderr: " << d.err);
+    CHECK(d.status == 0);
+    CHECK(contains(d.out, "materials:"));
+    CHECK(contains(d.out, "lights:"));
+    CHECK_FALSE(fs::exists(out));  // describes, does not render
+    // The Cornell box uses matte only and one rectangle light.
+    Run c = run("--describe " + quote(kData + "/scenes/bitterli-cornell/bitterli-cornell-256.xml"), dir);
+    INFO("cornell: " << c.out);
+    CHECK(c.status == 0);
+    CHECK(contains(c.out, "materials: matte\n"));
+    CHECK(contains(c.out, "lights: rect\n"));
+    Run h = run("--help", dir);
+    CHECK(h.status == 0);
+    CHECK(contains(h.out, "usage"));
+    Run v = run("--version", dir);
+    CHECK(v.status == 0);
+    CHECK(contains(v.out, "wavemmlt"));
+}
+
+TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
+    TempDir dir;
+    std::string stats = dir.file("stats.json"), out = dir.file("out.pfm");
+    Run r = run(kSmall + " --spp 4 --threads 2 -o " + quote(out) + " --stats " + quote(stats), dir);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    std::string text = readFile(stats);
+    INFO("stats: " << text);
+    JsonChecker j(text);
+    REQUIRE(j.document());
+    for (const char* key : {"tracer", "seconds", "threads", "spp", "rays_intersect", "rays_occluded",
+                            "mrays_per_second", "samples_nonfinite_discarded", "scene_features"})
+        CHECK(j.topKeys.count(key) == 1);
+    CHECK(contains(text, "\"tracer\": \"pt\""));
+    CHECK(contains(text, "\"threads\": 2"));
+    CHECK(contains(text, "\"spp\": 4"));
+}
+
+TEST_CASE("cli: Ctrl-C saves the image so far and exits 130", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("interrupted.pfm");
+    std::vector<std::string> args = {kBin, "--width", "64", "--height", "48", "--time", "60", "--quiet", "-o", out};
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    // The child starts with SIGINT's default action even if this process ignores it.
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    sigset_t def;
+    sigemptyset(&def);
+    sigaddset(&def, SIGINT);
+    posix_spawnattr_setsigdefault(&attr, &def);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
+    pid_t pid = 0;
+    REQUIRE(posix_spawn(&pid, kBin.c_str(), nullptr, &attr, argv.data(), environ) == 0);
+    posix_spawnattr_destroy(&attr);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    REQUIRE(kill(pid, SIGINT) == 0);
+    auto t0 = Clock::now();
+    int status = 0;
+    pid_t done = 0;
+    while ((done = waitpid(pid, &status, WNOHANG)) == 0 && secondsSince(t0) < 10)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (done == 0) {  // still running: stop it, then fail
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        FAIL("wavemmlt did not exit within 10 s of SIGINT");
+    }
+    double exitSeconds = secondsSince(t0);
+    INFO("exit " << exitSeconds << " s after SIGINT");
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 130);
+    CHECK(exitSeconds < 3.0);
+    REQUIRE(fs::exists(out));
+    wmlt::Image im = wmlt::readImage(out);
+    CHECK(im.width == 64);
+    CHECK(im.height == 48);
+    CHECK(allFinite(im));
+    CHECK(meanValue(im) > 0);
+}
+
+TEST_CASE("cli: --time 2 ends within 2 s + 10%", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("timed.pfm"), stats = dir.file("timed.json");
+    Run r = run(kSmall + " --time 2 -o " + quote(out) + " --stats " + quote(stats), dir);
+    INFO("stderr: " << r.err << "\nstats: " << readFile(stats));
+    REQUIRE(r.status == 0);
+    CHECK(r.seconds <= 2.2);
+    CHECK(r.seconds >= 1.9);  // the budget is spent, not skipped
+    wmlt::Image im = wmlt::readImage(out);
+    CHECK(im.width == 64);
+    CHECK(allFinite(im));
+    CHECK(meanValue(im) > 0);
+}
+
+TEST_CASE("cli: the built-in scene renders to .exr and .png at once", "[cli]") {
+    TempDir dir;
+    std::string exr = dir.file("render.exr"), png = dir.file("render.png");
+    Run r = run(kSmall + " --spp 4 -o " + quote(exr) + " -o " + quote(png), dir);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    wmlt::Image a = wmlt::readImage(exr), b = wmlt::readImage(png);
+    CHECK(a.width == 64);
+    CHECK(a.height == 48);
+    CHECK(b.width == 64);
+    CHECK(b.height == 48);
+    CHECK(allFinite(a));
+    CHECK(meanValue(a) > 0);
+    CHECK(meanValue(b) > 0);
+}
