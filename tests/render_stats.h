@@ -196,17 +196,22 @@ inline ZTestResult zTest(const std::vector<double>& value, const std::vector<dou
                          const std::vector<double>& se, const std::vector<double>& dof, double p = 1e-4,
                          double exactRelTol = 1e-5) {
     ZTestResult r;
-    r.n = value.size();
+    // Elements with se == 0 (no variance: e.g. pixels that see only a constant sky) are
+    // checked for an exact match and left out of the statistics of z.
+    r.n = 0;
     double sumZ2 = 0, sumZ = 0;
     bool exactOk = true;
     for (size_t i = 0; i < value.size(); ++i) {
         double z;
         if (se[i] > 0) {
             z = tToZ((value[i] - expected[i]) / se[i], dof[i]);
+            ++r.n;
         } else {
             bool ok = std::fabs(value[i] - expected[i]) <= exactRelTol * std::max(1e-30, std::fabs(expected[i]));
             exactOk = exactOk && ok;
-            z = ok ? 0 : std::numeric_limits<double>::infinity();
+            if (ok) continue;
+            z = std::numeric_limits<double>::infinity();
+            ++r.n;
         }
         if (!std::isfinite(value[i])) z = std::numeric_limits<double>::infinity();
         sumZ2 += z * z;
@@ -219,7 +224,7 @@ inline ZTestResult zTest(const std::vector<double>& value, const std::vector<dou
             r.worstSe = se[i];
         }
     }
-    double n = double(r.n);
+    double n = double(std::max<size_t>(r.n, 1));
     r.meanZ2 = sumZ2 / n;
     r.meanZ = sumZ / n;
     const double q = p / 3;  // each of the three checks

@@ -7,12 +7,17 @@
 //     lengths, against the geometric series of the enclosure.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "kernels/camera.h"
 #include "render_stats.h"
+#include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -196,5 +201,63 @@ TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengt
             CHECK(std::fabs(z) <= bound);
         }
         ++caseIndex;
+    }
+}
+
+// ---- 3. environment furnace ---------------------------------------------------------
+// A Matte sphere under a constant environment map of radiance Le: a convex object sees
+// only the environment, so every point of it has radiance rho * Le (paths of length 2),
+// and the background Le (length 1). Exercises environment sampling, its solid-angle pdf
+// (the 2 pi^2 sin(theta) Jacobian) and the MIS weights between it and BSDF sampling.
+TEST_CASE("environment furnace: a Matte sphere under a constant sky", "[render][analytic]") {
+    const double Le[3] = {0.5, 1.0, 2.0}, rho[3] = {0.8, 0.5, 0.3};
+    const int W = 32, H = 32;
+    std::string dir = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
+                      "/wmlt-envfurnace-" + std::to_string(getpid());
+    std::filesystem::create_directories(dir);
+    Image sky(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) sky.set(x, y, Vec3(float(Le[0]), float(Le[1]), float(Le[2])));
+    writeImage(dir + "/sky.pfm", sky);
+    const std::string xml = R"(<Scene>
+  <Settings><Width value="32"/><Height value="32"/><MaxPathLength value="64"/>
+    <MinPathLength value="1"/><EnvMap name="sky.pfm"/></Settings>
+  <Camera Type="Camera"><Position x="0" y="0.3" z="-4"/><LookAt x="0" y="0" z="0"/><FOV value="40"/></Camera>
+  <Shader Type="Matte" ID="0"><Diffuse r="0.8" g="0.5" b="0.3"/></Shader>
+  <Geometry Type="Sphere" ID="ball"><Position x="0" y="0" z="0"/><Radius value="1"/><Shader value="0"/></Geometry>
+</Scene>
+)";
+    SceneDesc desc = loadSceneFromString(xml, "envfurnace.xml", dir);
+    // Expected: per pixel, the fraction of its footprint covered by the sphere (16 x 16
+    // quadrature through the camera model) mixes rho * Le and Le.
+    Camera cam = makeCamera(desc.camera, W, H);
+    std::vector<double> cover(W * H, 0.0);
+    const int q = 16;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int hits = 0;
+            for (int j = 0; j < q; ++j)
+                for (int i = 0; i < q; ++i) {
+                    Vec3 o, d;
+                    generateCameraRay(cam, x + (i + 0.5f) / q, y + (j + 0.5f) / q, 0.5f, 0.5f, o, d);
+                    float b = dot(o, d), c = dot(o, o) - 1.0f;
+                    hits += (b * b - c > 0 && -b > 0) ? 1 : 0;
+                }
+            cover[y * W + x] = double(hits) / (q * q);
+        }
+    const int K = 12, spp = 16;
+    rstats::RunStats runs[3];
+    for (int k = 0; k < K; ++k) {
+        RenderResult r = render(desc, options(spp, 9100 + k, 1, 64));
+        REQUIRE(r.stats.samplesNonfiniteDiscarded == 0);
+        for (int c = 0; c < 3; ++c) runs[c].add(rstats::channel(r.image, c));
+    }
+    std::filesystem::remove_all(dir);
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> expected(W * H);
+        for (int i = 0; i < W * H; ++i) expected[i] = Le[c] * (cover[i] * rho[c] + (1 - cover[i]));
+        rstats::ZTestResult z = rstats::zTest(runs[c], expected, 1e-4 / 3);
+        INFO("channel " << c << ": " << z.describe());
+        CHECK(z.pass);
     }
 }
