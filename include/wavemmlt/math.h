@@ -19,6 +19,8 @@ struct Vec3 {
     float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
 };
 
+static_assert(sizeof(Vec3) == 12, "Vec3 arrays are shared with Embree as FLOAT3");
+
 inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
