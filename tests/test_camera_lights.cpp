@@ -158,7 +158,7 @@ TEST_CASE("sphere light: cone sampling lands on the sphere, pdf uniform over the
     CHECK_FALSE(sampleSphereLight(l, l.center, 0.3f, 0.3f, s));
 }
 
-TEST_CASE("counter-based random numbers are in [0,1) and uncorrelated across keys", "[rng]") {
+TEST_CASE("counter-based random numbers lie in the unit interval and are uncorrelated across keys", "[rng]") {
     double sum = 0;
     const int n = 100000;
     for (int i = 0; i < n; ++i) {

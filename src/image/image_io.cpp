@@ -1,0 +1,214 @@
+// readImage / writeImage: dispatch on the extension, the sRGB curve, PNG and JPEG through
+// stb_image (Debian's libstb.so provides the implementation), the write-to-a-temporary-
+// name-then-rename protocol. EXR is in exr.cpp, PFM in pfm.cpp, Radiance HDR in hdr.cpp.
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "image/image_formats.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+
+namespace wmlt {
+
+// IEC 61966-2-1 (the exact piecewise curve, evaluated in double). Values below the
+// linear segment's start continue the linear segment (no clamping here).
+float srgbToLinear(float v) {
+    double x = v;
+    if (!(x > 0.04045)) return float(x / 12.92);  // also NaN -> NaN
+    return float(std::pow((x + 0.055) / 1.055, 2.4));
+}
+
+float linearToSrgb(float v) {
+    double x = v;
+    if (!(x > 0.0031308)) return float(x * 12.92);
+    return float(1.055 * std::pow(x, 1.0 / 2.4) - 0.055);
+}
+
+namespace imageio {
+
+void checkSize(const std::string& path, int64_t w, int64_t h) {
+    if (w <= 0 || h <= 0)
+        throw InputError(path, 0, "empty image (" + std::to_string(w) + " x " + std::to_string(h) + " pixels)");
+    if (w > kMaxDimension || h > kMaxDimension || w * h > kMaxPixels)
+        throw InputError(path, 0, "image size " + std::to_string(w) + " x " + std::to_string(h) +
+                                      " is too large (corrupt header?)");
+}
+
+void checkReadable(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) throw InputError(path, 0, "cannot open: is a directory");
+    if (::access(path.c_str(), R_OK) != 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+}
+
+}  // namespace imageio
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+    size_t slash = path.find_last_of('/');
+    size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string ext = path.substr(dot);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+// The whole file, or an InputError naming the path and the system's reason.
+std::string readFileBytes(const std::string& path) {
+    imageio::checkReadable(path);
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+    std::string bytes;
+    char buf[1 << 16];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, n);
+    bool bad = std::ferror(f) != 0;
+    int err = errno;
+    std::fclose(f);
+    if (bad) throw InputError(path, 0, std::string("read error: ") + std::strerror(err));
+    return bytes;
+}
+
+std::string stbReason() {
+    const char* r = stbi_failure_reason();
+    return (r && *r) ? std::string(r) : std::string("corrupt or truncated data");
+}
+
+// PNG and JPEG (8 or 16 bits, 1-4 channels; alpha is ignored): sRGB -> linear RGB.
+Image readStb(const std::string& path, const char* format) {
+    std::string bytes = readFileBytes(path);
+    if (bytes.empty()) throw InputError(path, 0, "empty file");
+    if (bytes.size() > size_t(INT32_MAX)) throw InputError(path, 0, "file too large");
+    auto data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    int len = int(bytes.size());
+    int w = 0, h = 0, comp = 0;
+    // PNG: check IHDR's size ourselves (stb_image refuses huge images too, but then
+    // reports "unknown image type").
+    if (bytes.size() >= 24 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 && bytes.compare(12, 4, "IHDR") == 0) {
+        auto be32 = [&](size_t o) {
+            return (uint32_t(data[o]) << 24) | (uint32_t(data[o + 1]) << 16) | (uint32_t(data[o + 2]) << 8) |
+                   uint32_t(data[o + 3]);
+        };
+        imageio::checkSize(path, be32(16), be32(20));
+    }
+    if (!stbi_info_from_memory(data, len, &w, &h, &comp))
+        throw InputError(path, 0, std::string("not a readable ") + format + " file (" + stbReason() + ")");
+    imageio::checkSize(path, w, h);
+    Image img(w, h);
+    const size_t n = size_t(w) * size_t(h);
+    auto toRgb = [&](auto* px, int c, auto lin) {
+        for (size_t i = 0; i < n; ++i) {
+            const auto* p = px + i * size_t(c);
+            float r, g, b;
+            if (c <= 2) r = g = b = lin(p[0]);
+            else { r = lin(p[0]); g = lin(p[1]); b = lin(p[2]); }
+            img.rgb[3 * i] = r; img.rgb[3 * i + 1] = g; img.rgb[3 * i + 2] = b;
+        }
+    };
+    if (stbi_is_16_bit_from_memory(data, len)) {
+        stbi_us* px = stbi_load_16_from_memory(data, len, &w, &h, &comp, 0);
+        if (!px) throw InputError(path, 0, std::string("cannot decode ") + format + " data (" + stbReason() + ")");
+        toRgb(px, comp, [](stbi_us v) { return srgbToLinear(float(v) / 65535.0f); });
+        stbi_image_free(px);
+    } else {
+        stbi_uc* px = stbi_load_from_memory(data, len, &w, &h, &comp, 0);
+        if (!px) throw InputError(path, 0, std::string("cannot decode ") + format + " data (" + stbReason() + ")");
+        static const auto lut = [] {
+            std::vector<float> t(256);
+            for (int i = 0; i < 256; ++i) t[i] = srgbToLinear(float(i) / 255.0f);
+            return t;
+        }();
+        toRgb(px, comp, [](stbi_uc v) { return lut[v]; });
+        stbi_image_free(px);
+    }
+    return img;
+}
+
+struct WriteSink {
+    std::FILE* f;
+    bool failed = false;
+};
+
+void writePng(std::FILE* f, const Image& img, float exposure) {
+    const float scale = std::exp2(exposure);
+    std::vector<unsigned char> bytes(size_t(img.width) * size_t(img.height) * 3);
+    for (size_t i = 0; i < bytes.size(); ++i) {
+        float s = linearToSrgb(img.rgb[i] * scale);
+        if (!(s > 0)) s = 0;  // also NaN
+        if (s > 1) s = 1;
+        bytes[i] = static_cast<unsigned char>(s * 255.0f + 0.5f);
+    }
+    WriteSink sink{f};
+    auto write = [](void* ctx, void* data, int size) {
+        auto* s = static_cast<WriteSink*>(ctx);
+        if (std::fwrite(data, 1, size_t(size), s->f) != size_t(size)) s->failed = true;
+    };
+    if (!stbi_write_png_to_func(write, &sink, img.width, img.height, 3, bytes.data(), img.width * 3))
+        throw std::runtime_error("PNG encoder failed");
+    if (sink.failed) throw std::runtime_error(std::strerror(errno));
+}
+
+}  // namespace
+
+bool isWritableImageExtension(const std::string& path) {
+    std::string ext = lowerExtension(path);
+    return ext == ".exr" || ext == ".pfm" || ext == ".png";
+}
+
+Image readImage(const std::string& path) {
+    std::string ext = lowerExtension(path);
+    if (ext == ".exr") return imageio::readExr(path);
+    if (ext == ".pfm") return imageio::readPfm(path);
+    if (ext == ".hdr" || ext == ".rgbe" || ext == ".pic") return imageio::readHdr(path);
+    if (ext == ".png") return readStb(path, "PNG");
+    if (ext == ".jpg" || ext == ".jpeg") return readStb(path, "JPEG");
+    throw InputError(path, 0,
+                     "unknown image extension '" + ext + "' (readable: .exr, .pfm, .hdr, .png, .jpg, .jpeg)");
+}
+
+void writeImage(const std::string& path, const Image& image, float exposure) {
+    std::string ext = lowerExtension(path);
+    if (!isWritableImageExtension(path))
+        throw InputError(path, 0, "cannot write: unknown image extension '" + ext + "' (writable: .exr, .pfm, .png)");
+    if (image.width <= 0 || image.height <= 0 ||
+        image.rgb.size() != size_t(image.width) * size_t(image.height) * 3)
+        throw InputError(path, 0, "cannot write an empty or malformed image (" + std::to_string(image.width) +
+                                      " x " + std::to_string(image.height) + ")");
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw InputError("cannot write " + path + ": " + std::strerror(errno));
+    try {
+        if (ext == ".png") {
+            writePng(f, image, exposure);
+        } else if (ext == ".pfm") {
+            imageio::writePfm(f, image);
+        } else {  // .exr: OpenEXR opens the (already created) temporary file itself
+            std::fclose(f);
+            f = nullptr;
+            imageio::writeExr(tmp, image);
+        }
+        if (f) {
+            errno = 0;
+            bool bad = std::fflush(f) != 0 || std::ferror(f) != 0;
+            int err = errno;
+            if (std::fclose(f) != 0 && !bad) { bad = true; err = errno; }
+            f = nullptr;
+            if (bad) throw std::runtime_error(err ? std::strerror(err) : "write error");
+        }
+        if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(std::strerror(errno));
+    } catch (const std::exception& e) {
+        if (f) std::fclose(f);
+        std::remove(tmp.c_str());
+        throw InputError("cannot write " + path + ": " + e.what());
+    }
+}
+
+}  // namespace wmlt

@@ -1,0 +1,106 @@
+// Textures (scene-format.md, "Textures"): pure, deterministic functions of (u, v) and the
+// world position p. Checker and image lookups are inline; the marble is in texture.cpp.
+//  - Checker: colour1 where floor(2 u') + floor(2 v') is even, colour2 elsewhere, with
+//    (u', v') = (u * repeatU, v * repeatV): a 2 x 2 grid per unit of scaled (u, v).
+//  - ImageFile: bilinear lookup, wrapping (repeat) in both directions; (u', v') mod 1,
+//    v = 0 is the image's BOTTOM row (pbrt's convention), pixel centres at half-integers.
+//  - Marble: a solid texture of p (Repeat is not used): Perlin's improved gradient noise
+//    (Perlin 2002) with a permutation table made here by a seeded Fisher-Yates shuffle,
+//    turbulence(q) = sum_{i<6} |noise(2^i q)| / 2^i, and
+//    t = 0.5 + 0.5 sin(kMarbleStripes * p.x + kMarbleTurbulence * turbulence(kMarbleFrequency * p)),
+//    colour1 -> colour2 over t in [0, 0.5], colour2 -> colour3 over [0.5, 1]
+//    (Shirley and Morley 2000, "Realistic Ray Tracing", 2nd ed.).
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "wavemmlt/math.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+// Marble: bands across x with a period of 2 pi / 8 = 0.79 units, bent by turbulence
+// whose coarsest octave has features ~0.7 units across: visible, wavy veins on objects
+// about 1 unit wide.
+constexpr float kMarbleStripes = 8.0f;
+constexpr float kMarbleFrequency = 1.5f;
+constexpr float kMarbleTurbulence = 3.0f;
+constexpr int kMarbleOctaves = 6;
+
+namespace texture_detail {
+
+// A permutation of 0..255 (repeated twice), from a Fisher-Yates shuffle driven by
+// SplitMix64 (Steele et al. 2014) at a fixed seed: deterministic on every platform.
+constexpr std::array<uint8_t, 512> makePermutation() {
+    std::array<uint8_t, 512> p{};
+    for (int i = 0; i < 256; ++i) p[i] = uint8_t(i);
+    uint64_t s = 0x9e3779b97f4a7c15ULL * 2024u;
+    for (int i = 255; i > 0; --i) {
+        s += 0x9e3779b97f4a7c15ULL;
+        uint64_t z = s;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        z ^= z >> 31;
+        int j = int(z % uint64_t(i + 1));
+        uint8_t t = p[i];
+        p[i] = p[j];
+        p[j] = t;
+    }
+    for (int i = 0; i < 256; ++i) p[256 + i] = p[i];
+    return p;
+}
+inline constexpr std::array<uint8_t, 512> kPerm = makePermutation();
+
+}  // namespace texture_detail
+
+// Perlin's improved noise, in about [-1, 1]; 0 on integer lattice points and for
+// non-finite input. (Out of line, in texture.cpp, like the rest of the marble: one
+// compiled copy, so every call site gets bit-identical results.)
+float perlinNoise(Vec3 p);
+// sum_{i < octaves} |noise(2^i p)| / 2^i.
+float turbulence(Vec3 p, int octaves = kMarbleOctaves);
+// The marble's blend parameter t in [0, 1] at world position p.
+float marbleParameter(Vec3 p);
+// colour1 -> colour2 -> colour3, piecewise linearly in marbleParameter(p).
+Vec3 marbleColour(const TextureDesc& t, Vec3 p);
+
+// Bilinear lookup with wrapping in both directions; v = 0 is the bottom row.
+inline Vec3 lookupBilinearWrap(const Image& img, float u, float v) {
+    if (img.width <= 0 || img.height <= 0) return Vec3(0.0f);
+    if (!std::isfinite(u)) u = 0;
+    if (!std::isfinite(v)) v = 0;
+    u -= std::floor(u);
+    v -= std::floor(v);
+    const float fx = u * float(img.width) - 0.5f;
+    const float fy = (1.0f - v) * float(img.height) - 0.5f;
+    const float x0f = std::floor(fx), y0f = std::floor(fy);
+    const float tx = fx - x0f, ty = fy - y0f;
+    auto wrap = [](int i, int n) { i %= n; return i < 0 ? i + n : i; };
+    const int x0 = wrap(int(x0f), img.width), x1 = wrap(int(x0f) + 1, img.width);
+    const int y0 = wrap(int(y0f), img.height), y1 = wrap(int(y0f) + 1, img.height);
+    return img.at(x0, y0) * ((1 - tx) * (1 - ty)) + img.at(x1, y0) * (tx * (1 - ty)) +
+           img.at(x0, y1) * ((1 - tx) * ty) + img.at(x1, y1) * (tx * ty);
+}
+
+inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
+    switch (t.kind) {
+        case TextureKind::Checker: {
+            const float cu = std::floor(2.0f * u * t.repeatU), cv = std::floor(2.0f * v * t.repeatV);
+            const bool oddU = std::fmod(cu, 2.0f) != 0, oddV = std::fmod(cv, 2.0f) != 0;
+            return oddU == oddV ? t.colour1 : t.colour2;
+        }
+        case TextureKind::ImageFile:
+            return lookupBilinearWrap(t.image, u * t.repeatU, v * t.repeatV);
+        case TextureKind::Marble:
+            return marbleColour(t, p);
+    }
+    return Vec3(0.0f);
+}
+
+// Height for bump mapping: the Rec. 709 luminance of the texture.
+inline float textureHeight(const TextureDesc& t, float u, float v, Vec3 p) {
+    return luminance(evalTexture(t, u, v, p));
+}
+
+}  // namespace wmlt
