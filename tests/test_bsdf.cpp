@@ -12,6 +12,7 @@ namespace {
 constexpr double kMinP = 1e-3;
 constexpr double kDeg = M_PI / 180;
 
+bool close(double a, double b, double rel = 1e-6) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)); }
 Vec3 dirAt(double thetaDeg, double phiDeg) {
     double t = thetaDeg * kDeg, p = phiDeg * kDeg;
     return Vec3(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)), float(std::cos(t)));
@@ -146,13 +147,17 @@ TEST_CASE("Matte and Glossy are reciprocal", "[bsdf][reciprocity]") {
     std::vector<BsdfParams> ms = glossyCases();
     ms.push_back(matte(Vec3(0.3f, 0.6f, 0.9f)));
     chi2::Pcg32 g(7);
+    int bad = 0, nonzero = 0;
     for (const BsdfParams& m : ms)
         for (int i = 0; i < 20000; ++i) {
             Vec3 wo = sampleUniformSphere(g.uniform(), g.uniform()), wi = sampleUniformSphere(g.uniform(), g.uniform());
             if (i % 2) wi = normalize(Vec3(-wo.x, -wo.y, wo.z) + 0.01f * wi);  // near the lobe's peak
             Vec3 a = bsdfF(m, wo, wi), b = bsdfF(m, wi, wo);
-            for (int c = 0; c < 3; ++c) REQUIRE(a[c] == Approx(b[c]).epsilon(1e-6).margin(1e-30));
+            for (int c = 0; c < 3; ++c) bad += !(a[c] == b[c] || close(a[c], b[c]));
+            nonzero += a[1] > 0;
         }
+    CHECK(bad == 0);
+    CHECK(nonzero > 50000);  // half of the pairs share a hemisphere
 }
 
 TEST_CASE("BSDF pdfs integrate to one over the sphere", "[bsdf][pdf]") {
@@ -165,7 +170,6 @@ TEST_CASE("BSDF pdfs integrate to one over the sphere", "[bsdf][pdf]") {
         CHECK(s == Approx(1.0).epsilon(1e-5));
     }
     for (const BsdfParams& m : glossyCases()) {
-        if (m.shininess > 1e4f) continue;
         for (double th : {0.0, 30.0, 70.0, 85.0, 89.0, 160.0}) {
             Vec3 wo = dirAt(th, 25), r(-wo.x, -wo.y, wo.z);
             double s = 0;
@@ -182,15 +186,15 @@ TEST_CASE("BSDF pdfs integrate to one over the sphere", "[bsdf][pdf]") {
 
 TEST_CASE("Matte sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
     BsdfParams m = matte(Vec3(0.5f));
-    int k = 0;
+    int k = 0, mismatches = 0;
     for (double th : {0.0, 70.0, 120.0}) {
         Vec3 wo = dirAt(th, 30);
         auto sample = [&](chi2::Pcg32& g, Vec3& w) {
             BsdfSample s;
             float ul = g.uniform(), u1 = g.uniform(), u2 = g.uniform();
             if (!bsdfSample(m, wo, ul, u1, u2, TransportMode::Radiance, s)) return false;
-            REQUIRE(s.f[0] == Approx(bsdfF(m, wo, s.wi)[0]).epsilon(1e-6));
-            REQUIRE(s.pdf == Approx(bsdfPdf(m, wo, s.wi)).epsilon(1e-6));
+            // the sample's f and pdf are those of bsdfF and bsdfPdf
+            mismatches += !close(s.f[0], bsdfF(m, wo, s.wi)[0]) || !close(s.pdf, bsdfPdf(m, wo, s.wi));
             w = s.wi;
             return true;
         };
@@ -199,12 +203,12 @@ TEST_CASE("Matte sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
         INFO("theta " << th << " " << chi2::describe(r));
         CHECK(r.pValue > kMinP);
     }
+    CHECK(mismatches == 0);
 }
 
 TEST_CASE("Glossy sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
-    int k = 0;
+    int k = 0, mismatches = 0;
     for (const BsdfParams& m : glossyCases()) {
-        if (m.shininess > 1e4f) continue;
         for (double th : {0.0, 40.0, 75.0, 88.0, 135.0}) {
             Vec3 wo = dirAt(th, 200), axis(-wo.x, -wo.y, wo.z);
             auto sample = [&](chi2::Pcg32& g, Vec3& w) {
@@ -212,9 +216,8 @@ TEST_CASE("Glossy sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
                 float ul = g.uniform(), u1 = g.uniform(), u2 = g.uniform();
                 if (!bsdfSample(m, wo, ul, u1, u2, TransportMode::Radiance, s)) return false;
                 Vec3 f = bsdfF(m, wo, s.wi);
-                for (int c = 0; c < 3; ++c) REQUIRE(s.f[c] == Approx(f[c]).epsilon(1e-6));
-                REQUIRE(s.pdf == Approx(bsdfPdf(m, wo, s.wi)).epsilon(1e-6));
-                REQUIRE(!s.delta);
+                for (int c = 0; c < 3; ++c) mismatches += !close(s.f[c], f[c]);
+                mismatches += !close(s.pdf, bsdfPdf(m, wo, s.wi)) || s.delta;
                 w = s.wi;
                 return true;
             };
@@ -226,6 +229,7 @@ TEST_CASE("Glossy sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
             CHECK(r.pValue > kMinP);
         }
     }
+    CHECK(mismatches == 0);
 }
 
 TEST_CASE("Glossy is robust at extreme exponents and grazing angles", "[bsdf]") {
@@ -327,24 +331,22 @@ TEST_CASE("Dielectric: Snell's law, reflection probability = F, TIR", "[bsdf][de
             INFO("eta " << eta << " theta " << th << " F " << F);
             const int N = 20000;
             chi2::Pcg32 g(900 + k++);
-            int nRefl = 0;
+            int nRefl = 0, bad = 0;
             for (int i = 0; i < N; ++i) {
                 BsdfSample s;
-                REQUIRE(dielectricSample(m, wo, g.uniform(), TransportMode::Importance, s));
-                REQUIRE(s.delta);
-                REQUIRE(length(s.wi) == Approx(1.0f).epsilon(1e-5));
-                if (s.wi.z * wo.z > 0) {  // reflection
+                bad += !dielectricSample(m, wo, g.uniform(), TransportMode::Importance, s) || !s.delta ||
+                       std::fabs(length(s.wi) - 1) > 1e-5f;
+                if (s.wi.z * wo.z > 0) {  // reflection: exact mirror, pdf F
                     ++nRefl;
-                    REQUIRE((s.wi.x == -wo.x && s.wi.y == -wo.y && s.wi.z == wo.z));
-                    REQUIRE(s.pdf == Approx(F).epsilon(1e-6));
-                } else {  // refraction: n_o sin_o = n_i sin_i, opposite azimuth
+                    bad += s.wi.x != -wo.x || s.wi.y != -wo.y || s.wi.z != wo.z || !close(s.pdf, F);
+                } else {  // refraction: n_o sin_o = n_i sin_i, opposite azimuth, pdf 1 - F
                     double sinO = std::sqrt(double(wo.x) * wo.x + double(wo.y) * wo.y);
                     double sinI = std::sqrt(double(s.wi.x) * s.wi.x + double(s.wi.y) * s.wi.y);
-                    REQUIRE(nO * sinO == Approx(nI * sinI).margin(1e-6));
-                    REQUIRE(wo.x * s.wi.x + wo.y * s.wi.y <= 0);
-                    REQUIRE(s.pdf == Approx(1 - F).epsilon(1e-5));
+                    bad += std::fabs(nO * sinO - nI * sinI) > 1e-6 || wo.x * s.wi.x + wo.y * s.wi.y > 0 ||
+                           !close(s.pdf, 1 - F, 1e-5);
                 }
             }
+            CHECK(bad == 0);
             // Binomial: fraction of reflections = F within 5 standard errors.
             CHECK(std::fabs(double(nRefl) / N - F) <= 5 * std::sqrt(F * (1 - F) / N) + 1e-9);
             double sinCrit = 1 / eta;  // only from inside (wo.z < 0)

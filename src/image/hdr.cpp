@@ -17,26 +17,8 @@
 namespace wmlt {
 namespace imageio {
 
-namespace {
-
-std::string readAll(const std::string& path) {
-    checkReadable(path);
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-    std::string bytes;
-    char buf[1 << 16];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, n);
-    bool bad = std::ferror(f) != 0;
-    std::fclose(f);
-    if (bad) throw InputError(path, 0, "read error");
-    return bytes;
-}
-
-}  // namespace
-
 Image readHdr(const std::string& path) {
-    const std::string bytes = readAll(path);
+    const std::string bytes = readFileBytes(path);
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
     const size_t size = bytes.size();
     size_t pos = 0;

@@ -24,6 +24,9 @@ void checkSize(const std::string& path, int64_t w, int64_t h);
 // Throws InputError(path, "cannot open: <reason>") unless path names a readable file.
 void checkReadable(const std::string& path);
 
+// The whole file, or an InputError naming the path and the system's reason.
+std::string readFileBytes(const std::string& path);
+
 Image readExr(const std::string& path);
 void writeExr(const std::string& tmpPath, const Image& image);
 

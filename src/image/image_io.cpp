@@ -48,22 +48,10 @@ void checkReadable(const std::string& path) {
     if (::access(path.c_str(), R_OK) != 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
 }
 
-}  // namespace imageio
-
-namespace {
-
-std::string lowerExtension(const std::string& path) {
-    size_t slash = path.find_last_of('/');
-    size_t dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
-}
 
 // The whole file, or an InputError naming the path and the system's reason.
 std::string readFileBytes(const std::string& path) {
-    imageio::checkReadable(path);
+    checkReadable(path);
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
     std::string bytes;
@@ -77,6 +65,20 @@ std::string readFileBytes(const std::string& path) {
     return bytes;
 }
 
+}  // namespace imageio
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+    size_t slash = path.find_last_of('/');
+    size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string ext = path.substr(dot);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+
 std::string stbReason() {
     const char* r = stbi_failure_reason();
     return (r && *r) ? std::string(r) : std::string("corrupt or truncated data");
@@ -84,7 +86,7 @@ std::string stbReason() {
 
 // PNG and JPEG (8 or 16 bits, 1-4 channels; alpha is ignored): sRGB -> linear RGB.
 Image readStb(const std::string& path, const char* format) {
-    std::string bytes = readFileBytes(path);
+    std::string bytes = imageio::readFileBytes(path);
     if (bytes.empty()) throw InputError(path, 0, "empty file");
     if (bytes.size() > size_t(INT32_MAX)) throw InputError(path, 0, "file too large");
     auto data = reinterpret_cast<const stbi_uc*>(bytes.data());
