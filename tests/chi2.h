@@ -197,13 +197,13 @@ struct SphereBins {
     }
     // Integral of pdf(w) over each bin (solid angle measure: sin(theta) dtheta dphi).
     template <class Pdf>
-    std::vector<double> integrate(const Pdf& pdf, double eps = 1e-7) const {
+    std::vector<double> integrate(const Pdf& pdf, double eps = 1e-7, int depth = 8) const {
         std::vector<double> out(count());
         for (size_t it = 0; it + 1 < thetaEdges.size(); ++it)
             for (int ip = 0; ip < nPhi; ++ip)
                 out[it * nPhi + ip] = adaptiveSimpson2D(
                     [&](double th, double ph) { return double(pdf(dir(th, ph))) * std::sin(th); },
-                    thetaEdges[it], thetaEdges[it + 1], 2 * M_PI * ip / nPhi, 2 * M_PI * (ip + 1) / nPhi, eps);
+                    thetaEdges[it], thetaEdges[it + 1], 2 * M_PI * ip / nPhi, 2 * M_PI * (ip + 1) / nPhi, eps, depth);
         return out;
     }
 };

@@ -78,6 +78,18 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->rtc = rtcNewScene(s->device);
     rtcSetSceneBuildQuality(s->rtc, RTC_BUILD_QUALITY_HIGH);
 
+    for (const MaterialDesc& m : d.materials) {
+        BsdfParams b;
+        b.kind = m.kind;
+        b.diffuse = m.diffuse;
+        b.specular = m.specular;
+        b.shininess = m.shininess;
+        b.reflect = m.reflect;
+        b.refract = m.refract;
+        b.eta = m.iorInside / m.iorOutside;
+        s->materials.push_back(b);
+    }
+
     Vec3 lo(INFINITY), hi(-INFINITY);
     s->geoms.resize(d.shapes.size());
     for (size_t i = 0; i < d.shapes.size(); ++i) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "kernels/bsdf.h"
 #include "kernels/camera.h"
 #include "kernels/distribution.h"
 #include "kernels/envmap.h"
@@ -41,6 +42,7 @@ public:
     RTCDevice device = nullptr;
     RTCScene rtc = nullptr;
     std::vector<GeomRecord> geoms;  // by geomID
+    std::vector<BsdfParams> materials;  // by material index, before textures
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;
     std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)

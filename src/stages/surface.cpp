@@ -99,15 +99,8 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
 }
 
 BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp) {
+    BsdfParams b = scene.materials[sp.material];
     const MaterialDesc& m = scene.desc.materials[sp.material];
-    BsdfParams b;
-    b.kind = m.kind;
-    b.diffuse = m.diffuse;
-    b.specular = m.specular;
-    b.shininess = m.shininess;
-    b.reflect = m.reflect;
-    b.refract = m.refract;
-    b.eta = m.iorInside / m.iorOutside;
     if (scene.features.textures && m.texture >= 0)
         b.diffuse = b.diffuse * evalTexture(scene.desc.textures[m.texture], sp.u, sp.v, sp.p);
     return b;
