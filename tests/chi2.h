@@ -199,11 +199,17 @@ struct SphereBins {
     template <class Pdf>
     std::vector<double> integrate(const Pdf& pdf, double eps = 1e-7, int depth = 8) const {
         std::vector<double> out(count());
+        // Simpson samples the bin's edges; nudge them inwards by 1e-9 of the bin so that a
+        // pdf discontinuous on an edge (the horizon) is sampled on the bin's own side.
+        auto in = [](double a, double b, double& a2, double& b2) { a2 = a + 1e-9 * (b - a); b2 = b - 1e-9 * (b - a); };
         for (size_t it = 0; it + 1 < thetaEdges.size(); ++it)
-            for (int ip = 0; ip < nPhi; ++ip)
+            for (int ip = 0; ip < nPhi; ++ip) {
+                double t0, t1, p0, p1;
+                in(thetaEdges[it], thetaEdges[it + 1], t0, t1);
+                in(2 * M_PI * ip / nPhi, 2 * M_PI * (ip + 1) / nPhi, p0, p1);
                 out[it * nPhi + ip] = adaptiveSimpson2D(
-                    [&](double th, double ph) { return double(pdf(dir(th, ph))) * std::sin(th); },
-                    thetaEdges[it], thetaEdges[it + 1], 2 * M_PI * ip / nPhi, 2 * M_PI * (ip + 1) / nPhi, eps, depth);
+                    [&](double th, double ph) { return double(pdf(dir(th, ph))) * std::sin(th); }, t0, t1, p0, p1, eps, depth);
+            }
         return out;
     }
 };

@@ -28,11 +28,13 @@ bool dielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, TransportMode m
         return true;
     }
     // Refraction, probability 1 - F. etaRel = n(wi's medium) / n(wo's medium).
-    float etaRel = wo.z > 0 ? m.eta : 1.0f / m.eta;
-    float cosO = absCosTheta(wo);
-    float sin2T = std::max(0.0f, 1.0f - cosO * cosO) / (etaRel * etaRel);
-    if (sin2T >= 1.0f) return false;  // unreachable: F == 1 then
-    float cosT = std::sqrt(1.0f - sin2T);
+    // cos_t^2 = (etaRel^2 - 1 + cos_o^2) / etaRel^2, in double as in fresnelDielectric
+    // (the float form 1 - sin_t^2 cancels near the critical angle).
+    double e = m.eta, d = (e - 1.0) * (e + 1.0), c = absCosTheta(wo);
+    if (wo.z < 0) { d = -d / (e * e); e = 1.0 / e; }
+    double cos2T = (d + c * c) / (e * e);
+    if (!(cos2T > 0)) return false;  // unreachable: F == 1 then
+    float etaRel = float(e), cosT = float(std::sqrt(cos2T));
     // Snell's law (pbrt-v4 eq. 9.8): wi = -wo / etaRel + (cos_o / etaRel - cos_t) n, with n
     // on wo's side; so wi.xy = -wo.xy / etaRel and wi.z = -sign(wo.z) cos_t.
     s.wi = Vec3(-wo.x / etaRel, -wo.y / etaRel, wo.z > 0 ? -cosT : cosT);
