@@ -70,12 +70,12 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     }
     const TriangleMesh& m = *g.mesh;
     const uint32_t* tri = &m.indices[size_t(rh.hit.primID) * 3];
-    Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
     float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
-    sp.p = p0 * b0 + p1 * b1 + p2 * b2;
-    Vec3 n = cross(p1 - p0, p2 - p0);
-    float len = length(n);
-    sp.ng = len > 0 ? n / len : normalize(Vec3(-rh.hit.Ng_x, -rh.hit.Ng_y, -rh.hit.Ng_z));
+    // Embree's Ng is cross(p1 - p0, p2 - p0) (the loader's outward winding), and the hit
+    // point is o + t d: the vertex positions, no longer in cache after traversal (Embree's
+    // BVH leaves hold copies), are not fetched again.
+    sp.p = o + d * rh.ray.tfar;
+    sp.ng = normalize(Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     sp.ns = sp.ng;
     if (!m.normals.empty()) {
         Vec3 ns = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
