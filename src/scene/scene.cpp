@@ -104,6 +104,11 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         RTCGeometry g;
         if (sh.kind == ShapeKind::Mesh) {
             r.mesh = &sh.mesh;
+            if (!sh.mesh.normals.empty()) {
+                r.cornerNormals.resize(sh.mesh.indices.size());
+                for (size_t c = 0; c < sh.mesh.indices.size(); ++c)
+                    r.cornerNormals[c] = sh.mesh.normals[sh.mesh.indices[c]];
+            }
             for (Vec3 p : sh.mesh.positions) { lo = vmin(lo, p); hi = vmax(hi, p); }
             g = buildMesh(s->device, s->desc.shapes[i].mesh);
         } else {

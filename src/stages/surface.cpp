@@ -77,8 +77,9 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     sp.p = o + d * rh.ray.tfar;
     sp.ng = normalize(Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     sp.ns = sp.ng;
-    if (!m.normals.empty()) {
-        Vec3 ns = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
+    if (!g.cornerNormals.empty()) {
+        const Vec3* cn = &g.cornerNormals[size_t(rh.hit.primID) * 3];
+        Vec3 ns = cn[0] * b0 + cn[1] * b1 + cn[2] * b2;
         float l2 = lengthSquared(ns);
         if (l2 > 0) {
             ns = ns / std::sqrt(l2);
