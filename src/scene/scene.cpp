@@ -8,13 +8,14 @@ namespace wmlt {
 
 namespace {
 
-void embreeError(void*, RTCError code, const char* str) {
-    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(code)) + ": " +
-                             (str ? str : ""));
+// Embree reports errors through a C callback: remember the first message (throwing
+// across Embree's C frames would be undefined), and check after building.
+void embreeError(void* user, RTCError, const char* str) {
+    auto* first = static_cast<std::string*>(user);
+    if (first->empty()) *first = str ? str : "unknown error";
 }
 
-// The mesh's own arrays are shared with Embree (no copy), so the vertices the stages
-// read after a hit are the ones traversal just touched: still in cache.
+// The mesh's own vertex and index arrays are shared with Embree: no second copy.
 RTCGeometry buildMesh(RTCDevice device, TriangleMesh& m) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     m.positions.reserve(m.positions.size() + 2);  // Embree reads vertices with 16-byte loads
@@ -74,7 +75,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
     s->device = rtcNewDevice(config.c_str());
     if (!s->device) throw std::runtime_error("cannot create the Embree device");
-    rtcSetDeviceErrorFunction(s->device, embreeError, nullptr);
+    rtcSetDeviceErrorFunction(s->device, embreeError, &s->embreeErrorMessage);
     s->rtc = rtcNewScene(s->device);
     rtcSetSceneBuildQuality(s->rtc, RTC_BUILD_QUALITY_HIGH);
 
@@ -123,6 +124,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         rtcReleaseGeometry(g);
     }
     rtcCommitScene(s->rtc);
+    if (rtcGetDeviceError(s->device) != RTC_ERROR_NONE || !s->embreeErrorMessage.empty())
+        throw std::runtime_error("Embree could not build the scene: " + s->embreeErrorMessage);
     if (!(lo.x <= hi.x)) lo = hi = Vec3(0.0f);
     s->boundsMin = lo;
     s->boundsMax = hi;

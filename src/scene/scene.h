@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "kernels/bsdf.h"
@@ -65,6 +66,7 @@ public:
 
 private:
     Scene() = default;
+    std::string embreeErrorMessage;
 };
 
 }  // namespace wmlt
