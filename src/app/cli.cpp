@@ -38,7 +38,7 @@ std::string usageText() {
         "usage: wavemmlt [scene.xml] [options]\n"
         "Renders the scene (the built-in default scene when none is given).\n"
         "Options override the scene's Settings:\n"
-        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (only pt so far)\n"
+        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (pt and lt so far)\n"
         "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N)\n"
         "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
         "  --threads N              worker threads (0: all)\n"

@@ -71,4 +71,73 @@ inline bool cameraRasterOf(const Camera& c, Vec3 w, float& px, float& py) {
     return px >= 0 && px < float(c.width) && py >= 0 && py < float(c.height);
 }
 
+// ---- Importance (pbrt-v4 5.4.1, 16.1.1; Veach 1997, 8.1) ---------------------------
+// The path tracer's pixel j is the box-filtered mean over its raster square and over the
+// lens:  I_j = (1 / A_lens) int_lens int_pixel L d(raster) dA_lens.  The image plane at
+// distance 1 has area A = (2 scaleX)(2 scaleY) and a pixel covers A / (W H) of it, so
+// d(raster) = (W H / A) dA_plane; a direction through the plane point at angle theta to
+// `forward` has d(omega) = cos^3(theta) dA_plane (also through a thin lens: the focus
+// plane is the unit plane scaled by focusDistance). Hence
+//   I_j = W H * int int We(p, w) L(p, w) cos(theta) dA_lens d(omega)  over pixel j's rays,
+//   We = 1 / (A * A_lens * cos^4(theta)),   A_lens = pi r^2 (pinhole: 1, a delta point).
+// The light tracer estimates the double integral with N = W H spp light paths; summing
+// their splats on pixel j and dividing by spp gives W H times their mean: I_j.
+inline float cameraPlaneArea(const Camera& c) { return 4.0f * c.scaleX * c.scaleY; }
+inline float cameraLensArea(const Camera& c) {
+    return c.thinLens && c.lensRadius > 0 ? kPi * c.lensRadius * c.lensRadius : 1.0f;
+}
+
+// Raster point of a ray leaving lens point `lens` in unit direction w (towards the scene):
+// through the focus plane for a thin lens (pbrt-v4 PerspectiveCamera::We). False when
+// behind the camera or outside the image. cosTheta = dot(w, forward).
+inline bool cameraRasterOfRay(const Camera& c, Vec3 lens, Vec3 w, float& px, float& py, float& cosTheta) {
+    cosTheta = dot(w, c.forward);
+    if (!(cosTheta > 0)) return false;
+    if (!c.thinLens) return cameraRasterOf(c, w, px, py);
+    Vec3 pFocus = lens + w * (c.focusDistance / cosTheta);
+    return cameraRasterOf(c, pFocus - c.position, px, py);
+}
+
+// We(lens, w): zero outside the image.
+inline float cameraWe(const Camera& c, Vec3 lens, Vec3 w) {
+    float px, py, cosTheta;
+    if (!cameraRasterOfRay(c, lens, w, px, py, cosTheta)) return 0.0f;
+    float cos2 = cosTheta * cosTheta;
+    return 1.0f / (cameraPlaneArea(c) * cameraLensArea(c) * cos2 * cos2);
+}
+
+struct CameraSample {
+    Vec3 lens;            // point on the lens (pinhole: the position)
+    Vec3 wi;              // unit, from ref to lens
+    float dist = 0;       // |lens - ref|
+    float px = 0, py = 0; // raster position
+    float We = 0;
+    float pdf = 0;        // solid angle at ref: dist^2 / (cos(theta) A_lens)
+    bool valid = false;
+};
+
+// A lens point seen from ref (uniform on the lens disc) and the importance it receives
+// (pbrt-v4 PerspectiveCamera::SampleWi). (u1, u2) are used only by a thin lens.
+inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float u2) {
+    CameraSample s;
+    s.lens = c.position;
+    if (c.thinLens && c.lensRadius > 0) {
+        float lx, ly;
+        sampleConcentricDisk(u1, u2, lx, ly);
+        s.lens = c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
+    }
+    Vec3 d = s.lens - ref;
+    float dist2 = lengthSquared(d);
+    if (!(dist2 > 0)) return s;
+    s.dist = std::sqrt(dist2);
+    s.wi = d / s.dist;
+    float cosTheta;
+    if (!cameraRasterOfRay(c, s.lens, -s.wi, s.px, s.py, cosTheta)) return s;
+    float cos2 = cosTheta * cosTheta;
+    s.We = 1.0f / (cameraPlaneArea(c) * cameraLensArea(c) * cos2 * cos2);
+    s.pdf = dist2 / (cosTheta * cameraLensArea(c));
+    s.valid = std::isfinite(s.pdf) && s.pdf > 0;
+    return s;
+}
+
 }  // namespace wmlt

@@ -89,4 +89,43 @@ inline bool sampleSphereLight(const Light& l, Vec3 ref, float u1, float u2, Ligh
 // Power (flux) of a light, used to choose lights in proportion to it.
 inline float lightPower(const Light& l) { return kPi * l.area * luminance(l.L); }
 
+// ---- Emission sampling: the start of a light subpath (scene-format.md, "Lights") ----
+// A point (area density pdfPos) and a direction (solid-angle density pdfDir about the
+// normal n); Le leaves p along dir. Infinite lights: see sampleLightEmission.
+struct LightEmission {
+    Vec3 p, n, dir;
+    Vec3 Le;
+    float pdfPos = 0, pdfDir = 0;
+};
+
+// Cosine-weighted direction about n: pdfDir = cos / pi (pbrt-v4 12.5 SampleLe).
+inline void sampleCosineAbout(Vec3 n, float u1, float u2, LightEmission& e) {
+    Vec3 w = sampleCosineHemisphere(u1, u2);
+    e.dir = normalize(Frame::fromNormal(n).toWorld(w));
+    e.pdfDir = cosineHemispherePdf(w.z);
+}
+
+// Rect: area-uniform point (pdfPos = 1 / area), cosine-weighted direction about n.
+inline bool sampleRectEmission(const Light& l, float u1, float u2, float u3, float u4, LightEmission& e) {
+    e.p = l.corner + l.e1 * u1 + l.e2 * u2;
+    e.n = l.n;
+    e.pdfPos = 1.0f / l.area;
+    sampleCosineAbout(e.n, u3, u4, e);
+    e.Le = l.L;
+    return e.pdfDir > 0;
+}
+
+// Sphere: area-uniform point on the sphere, cosine-weighted outward direction.
+inline bool sampleSphereEmission(const Light& l, float u1, float u2, float u3, float u4, LightEmission& e) {
+    e.n = sampleUniformSphere(u1, u2);
+    e.p = l.center + e.n * l.radius;
+    e.pdfPos = 1.0f / l.area;
+    sampleCosineAbout(e.n, u3, u4, e);
+    e.Le = l.L;
+    return e.pdfDir > 0;
+}
+
+// Radiance an area light's surface point with outward normal n emits in direction w.
+inline Vec3 areaLe(const Light& l, Vec3 n, Vec3 w) { return dot(w, n) > 0 ? l.L : Vec3(0.0f); }
+
 }  // namespace wmlt

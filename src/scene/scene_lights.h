@@ -35,4 +35,32 @@ inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 di
     return pdf * s.lightPmf[li];
 }
 
+// Starts a light subpath on light li (pbrt-v4 12.5; scene-format.md, "Lights"): u[0..3].
+// The environment: direction d from its importance sampling (light travels along -d),
+// origin uniform on the disc of radius R (the scene's bounding sphere) perpendicular to
+// d, centred at center + R d, outside the bounds: pdfPos = 1 / (pi R^2), n = -d.
+inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, float u2, float u3,
+                                LightEmission& e) {
+    const Light& l = s.lights[li];
+    switch (l.type) {
+        case LightType::Rect: return sampleRectEmission(l, u0, u1, u2, u3, e);
+        case LightType::Sphere: return sampleSphereEmission(l, u0, u1, u2, u3, e);
+        case LightType::Env: {
+            Vec3 d = s.env.sample(u0, u1, e.pdfDir);
+            if (!(e.pdfDir > 0)) return false;
+            float dx, dy;
+            sampleConcentricDisk(u2, u3, dx, dy);
+            Frame f = Frame::fromNormal(d);
+            const float R = s.radius;
+            e.p = s.center + (d + f.s * dx + f.t * dy) * R;
+            e.n = -d;
+            e.dir = -d;
+            e.pdfPos = 1.0f / (kPi * R * R);
+            e.Le = s.env.Le(d);
+            return true;
+        }
+    }
+    return false;
+}
+
 }  // namespace wmlt

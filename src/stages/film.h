@@ -30,4 +30,31 @@ struct Film {
     }
 };
 
+// One light-tracing contribution to a pixel.
+struct Splat {
+    uint32_t pixel;
+    Vec3 value;
+};
+
+// The light tracer's film: per-pixel sums of splats (double). Batches' splat lists are
+// added in batch order after each pass, so the image is the same for any threads.
+// resolve(spp): the sums divided by the samples per pixel (camera.h, "Importance":
+// W H spp light paths estimate W H times each pixel's box-filtered mean).
+struct SplatFilm {
+    int width = 0, height = 0;
+    std::vector<double> sum;  // 3 per pixel
+
+    SplatFilm(int w, int h) : width(w), height(h), sum(size_t(w) * h * 3, 0.0) {}
+    void add(const Splat& s) {
+        double* d = &sum[size_t(s.pixel) * 3];
+        d[0] += s.value.x; d[1] += s.value.y; d[2] += s.value.z;
+    }
+    Image resolve(uint64_t spp) const {
+        Image img(width, height);
+        double inv = spp ? 1.0 / double(spp) : 0.0;
+        for (size_t i = 0; i < sum.size(); ++i) img.rgb[i] = float(sum[i] * inv);
+        return img;
+    }
+};
+
 }  // namespace wmlt
