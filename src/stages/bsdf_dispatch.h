@@ -40,6 +40,17 @@ template <> struct BsdfOf<MaterialKind::Dielectric> {
     }
 };
 
+// A stable counting sort of n hits by material kind: kind k's hits are
+// order[kindStart[k] .. kindStart[k + 1]), in their original order.
+inline void groupByMaterialKind(const BsdfParams* bsdf, size_t n, uint32_t* order, uint32_t kindStart[5]) {
+    uint32_t count[4] = {0, 0, 0, 0};
+    for (size_t h = 0; h < n; ++h) ++count[int(bsdf[h].kind)];
+    kindStart[0] = 0;
+    for (int k = 0; k < 4; ++k) kindStart[k + 1] = kindStart[k] + count[k];
+    uint32_t next[4] = {kindStart[0], kindStart[1], kindStart[2], kindStart[3]};
+    for (size_t h = 0; h < n; ++h) order[next[int(bsdf[h].kind)]++] = uint32_t(h);
+}
+
 // Calls fn(std::integral_constant<MaterialKind, K>{}) for each of the four kinds.
 template <class Fn> void forEachMaterialKind(Fn&& fn) {
     fn(std::integral_constant<MaterialKind, MaterialKind::Matte>{});

@@ -144,12 +144,7 @@ void resolveLightHits(const Scene& scene, LtBatch& b) {
 }
 
 void groupLightHits(LtBatch& b) {
-    uint32_t count[4] = {0, 0, 0, 0};
-    for (size_t h = 0; h < b.numHits; ++h) ++count[int(b.bsdf[h].kind)];
-    b.kindStart[0] = 0;
-    for (int k = 0; k < 4; ++k) b.kindStart[k + 1] = b.kindStart[k] + count[k];
-    uint32_t next[4] = {b.kindStart[0], b.kindStart[1], b.kindStart[2], b.kindStart[3]};
-    for (size_t h = 0; h < b.numHits; ++h) b.order[next[int(b.bsdf[h].kind)]++] = uint32_t(h);
+    groupByMaterialKind(b.bsdf.data(), b.numHits, b.order.data(), b.kindStart);
 }
 
 void connectToCamera(const Scene& scene, LtBatch& b, int d) {

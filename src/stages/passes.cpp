@@ -1,0 +1,70 @@
+#include "stages/passes.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <mutex>
+
+namespace wmlt {
+
+PassSchedule makePassSchedule(int w, int h, int spp) {
+    PassSchedule s;
+    for (int y = 0; y < h; y += kTileSize)
+        for (int x = 0; x < w; x += kTileSize)
+            s.tiles.push_back({x, y, std::min(x + kTileSize, w), std::min(y + kTileSize, h), 0, 0});
+    const uint32_t perRound = uint32_t(std::max(1, spp));
+    s.samplesPerBatch = std::max<uint32_t>(1, std::min<uint32_t>(perRound, kMaxPathsPerBatch / (kTileSize * kTileSize)));
+    return s;
+}
+
+PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
+                     const std::function<void(size_t, const PtTile&)>& runBatch,
+                     const std::function<void()>& endPass) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    const bool timed = opt.timeBudget > 0;
+    const uint32_t perRound = uint32_t(std::max(1, opt.spp));
+    const size_t passesPerRound = (perRound + s.samplesPerBatch - 1) / s.samplesPerBatch;
+    const size_t totalBatches = passesPerRound * s.tiles.size();
+    std::atomic<bool> stop{false};
+    std::atomic<size_t> batchesDone{0};
+    std::mutex progressMutex;
+
+    PassResult result;
+    for (uint32_t round = 0; !stop; ++round) {
+        for (size_t pass = 0; pass < passesPerRound && !stop; ++pass) {
+            const uint32_t s0 = round * perRound + uint32_t(pass) * s.samplesPerBatch;
+            const uint32_t s1 = std::min(round * perRound + perRound, s0 + s.samplesPerBatch);
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, s.tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+                for (size_t t = r.begin(); t != r.end(); ++t) {
+                    if (stop.load(std::memory_order_relaxed)) return;
+                    if ((opt.cancel && opt.cancel->load()) || (timed && elapsed() >= opt.timeBudget)) {
+                        stop = true;
+                        return;
+                    }
+                    PtTile tile = s.tiles[t];
+                    tile.sample0 = s0;
+                    tile.sample1 = s1;
+                    runBatch(t, tile);
+                    const size_t done = ++batchesDone;
+                    if (opt.progress && progressMutex.try_lock()) {
+                        opt.progress(timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(done) / totalBatches);
+                        progressMutex.unlock();
+                    }
+                }
+            }, tbb::simple_partitioner());
+            if (stop) break;
+            if (endPass) endPass();
+            result.completedSpp = s1;
+        }
+        if (!timed) break;
+    }
+    result.seconds = elapsed();
+    result.stopped = stop;
+    return result;
+}
+
+}  // namespace wmlt

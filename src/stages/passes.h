@@ -1,0 +1,39 @@
+// The schedule both tracers share: the image is cut into 16 x 16 tiles, and a pass runs
+// one batch per tile (the tile's pixels times a range of sample indices) in parallel
+// with TBB. Passes repeat until the samples per pixel are done or, with a time budget,
+// in rounds of spp samples until the time is spent. Cancel and time are checked before
+// each batch, so a render stops within one batch of either.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "stages/pt_stages.h"
+#include "wavemmlt/render.h"
+
+namespace wmlt {
+
+constexpr int kTileSize = 16;
+constexpr uint32_t kMaxPathsPerBatch = 4096;
+
+struct PassSchedule {
+    std::vector<PtTile> tiles;
+    uint32_t samplesPerBatch = 1;  // samples per pixel in one batch (and one pass)
+    size_t pathsPerBatch() const { return size_t(kTileSize) * kTileSize * samplesPerBatch; }
+};
+
+PassSchedule makePassSchedule(int width, int height, int spp);
+
+struct PassResult {
+    uint32_t completedSpp = 0;  // samples per pixel of the passes that completed
+    double seconds = 0;
+    bool stopped = false;       // cancelled or out of time
+};
+
+// runBatch(tileIndex, tile) runs in parallel, each tile once per pass; endPass() runs on
+// the calling thread after each pass that completed (an interrupted pass gets none).
+PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
+                     const std::function<void(size_t, const PtTile&)>& runBatch,
+                     const std::function<void()>& endPass = {});
+
+}  // namespace wmlt
