@@ -261,3 +261,43 @@ TEST_CASE("environment furnace: a Matte sphere under a constant sky", "[render][
         CHECK(z.pass);
     }
 }
+
+// ---- 4. per-length statistics -------------------------------------------------------
+// RenderStats::lengthMeanLuminance splits the image's mean luminance by path length; in
+// the furnace each length has the closed form luminance(furnaceLength(k)) (every pixel
+// sees the wall). Checked for the path tracer and the light tracer; and in every run the
+// lengths add up to the image's own mean luminance.
+TEST_CASE("furnace: mean luminance by path length matches the closed form, PT and LT", "[render][analytic]") {
+    const SceneDesc desc = loadSceneFromString(kFurnaceHead, "furnace.xml", ".");
+    const int maxLength = 8, K = 12, spp = 16;
+    const TracerKind tracers[] = {TracerKind::PT, TracerKind::LT};
+    const double p = 1e-4;
+    const double bound = -rstats::normalQuantile(p / (2 * 2 * (maxLength - 1)));
+    for (TracerKind tracer : tracers) {
+        rstats::RunStats runs;
+        for (int k = 0; k < K; ++k) {
+            RenderOptions o = options(spp, 8100 + k, 1, maxLength);
+            o.tracer = tracer;
+            RenderResult r = render(desc, o);
+            REQUIRE(r.stats.lengthMeanLuminance.size() > size_t(maxLength));
+            double imageMean = 0;
+            for (int i = 0; i < r.image.width * r.image.height; ++i)
+                imageMean += luminance(r.image.at(i % r.image.width, i / r.image.width));
+            imageMean /= double(r.image.width * r.image.height);
+            double sum = 0;
+            for (int len = 1; len <= maxLength; ++len) sum += r.stats.lengthMeanLuminance[len];
+            CHECK(sum == Approx(imageMean).epsilon(1e-5));
+            CHECK(r.stats.lengthMeanLuminance[1] == 0.0);  // no pixel sees the light
+            runs.add(std::vector<double>(r.stats.lengthMeanLuminance.begin() + 2,
+                                         r.stats.lengthMeanLuminance.begin() + maxLength + 1));
+        }
+        for (int len = 2; len <= maxLength; ++len) {
+            double expected = 0.2126 * furnaceLength(len, 0) + 0.7152 * furnaceLength(len, 1) +
+                              0.0722 * furnaceLength(len, 2);
+            double z = rstats::tToZ((runs.mean(len - 2) - expected) / runs.se(len - 2), runs.dof());
+            INFO((tracer == TracerKind::PT ? "PT" : "LT") << " length " << len << ": " << runs.mean(len - 2)
+                 << " expected " << expected << " se " << runs.se(len - 2) << " z " << z);
+            CHECK(std::fabs(z) <= bound);
+        }
+    }
+}

@@ -4,11 +4,14 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "wavemmlt/image.h"
 #include "wavemmlt/scene_desc.h"
 
 namespace wmlt {
+
+constexpr int kMaxPathLength = 64;  // the scene format's limit
 
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
@@ -32,7 +35,10 @@ struct RenderStats {
     int threads = 0;
     uint64_t spp = 0;                 // samples per pixel completed (minimum over pixels)
     uint64_t raysIntersect = 0, raysOccluded = 0;
-    uint64_t samplesNonfiniteDiscarded = 0;
+    uint64_t samplesNonfiniteDiscarded = 0;  // NaN or Inf contributions, left out of the image
+    // Mean image luminance carried by paths of each length k (index k; 0 unused): the
+    // per-length split of the image's mean, which MMLT's b_k must reproduce.
+    std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
     double mraysPerSecond() const { return seconds > 0 ? (raysIntersect + raysOccluded) / seconds * 1e-6 : 0; }
 };

@@ -44,6 +44,7 @@ void checkOutputPath(const std::string& path, bool image) {
 
 void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
     std::ostringstream o;
+    o.precision(9);
     const wmlt::RenderStats& st = r.stats;
     o << "{\n  \"tracer\": \"" << st.tracer << "\",\n  \"seconds\": " << st.seconds
       << ",\n  \"threads\": " << st.threads << ",\n  \"spp\": " << st.spp
@@ -52,6 +53,11 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
       << ",\n  \"mrays_per_second\": " << st.mraysPerSecond()
       << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
       << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false")
+      << ",\n  \"mean_luminance_by_length\": {";
+    // Path length k (segments) -> the image's mean luminance carried by length-k paths.
+    for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
+        o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
+    o << "}"
       << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
     std::string tmp = path + ".tmp-" + std::to_string(getpid());
     {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "wavemmlt/image.h"
+#include "wavemmlt/render.h"
 
 namespace wmlt {
 
@@ -27,6 +28,20 @@ struct Film {
             for (int c = 0; c < 3; ++c) img.rgb[i * 3 + c] = float(sum[i * 3 + c] * inv);
         }
         return img;
+    }
+};
+
+// Luminance sums of contributions by path length, kept per batch and merged in a fixed
+// order (RenderStats::lengthMeanLuminance).
+struct PathLengthSums {
+    double lum[kMaxPathLength + 1] = {};
+    void add(int length, Vec3 c) { lum[length] += double(luminance(c)); }
+    void add(const PathLengthSums& o) { for (int k = 0; k <= kMaxPathLength; ++k) lum[k] += o.lum[k]; }
+    // Means over an image of `pixels` pixels with `spp` samples each.
+    std::vector<double> means(double pixels, double spp) const {
+        std::vector<double> m(lum, lum + kMaxPathLength + 1);
+        for (double& v : m) v = pixels * spp > 0 ? v / (pixels * spp) : 0.0;
+        return m;
     }
 };
 

@@ -19,22 +19,24 @@ namespace {
 struct TileOutput {
     std::vector<Splat> splats;
     uint64_t nonfinite = 0;
+    PathLengthSums lengths;
 };
 
 void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, LtBatch& b,
                 PtCounters& counters, TileOutput& out) {
     b.splats.clear();
     b.nonfinite = 0;
+    b.lengths = PathLengthSums();
     const bool length1 = opt.minPathLength <= 1 && opt.maxPathLength >= 1;
     // Length 1 from the environment: camera rays that escape (a point at infinity cannot
     // be connected to the lens).
     if (length1 && scene.envLight >= 0) {
         generateEnvCameraRays(scene, b, tile, opt.strataPerAxis, opt.seed);
-        traceConnections(scene, b, counters);
+        traceConnections(scene, b, 1, counters);
     }
     if (!scene.lights.empty()) {
         generateLightPaths(scene, b, tile, opt.seed, length1);
-        traceConnections(scene, b, counters);
+        traceConnections(scene, b, 1, counters);
         // Round d: the subpaths' d-th segment; a vertex after d segments connects to the
         // camera at path length k = d + 1.
         for (int d = 1; d + 1 <= opt.maxPathLength && b.numPaths > 0; ++d) {
@@ -44,7 +46,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
             groupLightHits(b);
             if (d + 1 >= opt.minPathLength) {
                 connectToCamera(scene, b, d);
-                traceConnections(scene, b, counters);
+                traceConnections(scene, b, d + 1, counters);
             }
             if (d + 2 > opt.maxPathLength) break;
             sampleLightBsdfs(scene, b, d);
@@ -53,6 +55,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
     }
     out.splats.assign(b.splats.begin(), b.splats.end());
     out.nonfinite = b.nonfinite;
+    out.lengths = b.lengths;
 }
 
 }  // namespace
@@ -68,6 +71,7 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
     });
     tbb::enumerable_thread_specific<PtCounters> counters;
     uint64_t discarded = 0;
+    PathLengthSums lengths;
     PassResult pr = runPasses(
         schedule, opt,
         [&](size_t t, const PtTile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
@@ -75,6 +79,7 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
             for (TileOutput& o : outputs) {
                 for (const Splat& s : o.splats) film.add(s);
                 discarded += o.nonfinite;
+                lengths.add(o.lengths);
                 o.splats.clear();
                 o.nonfinite = 0;
             }
@@ -90,6 +95,7 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
         res.stats.raysOccluded += c.raysOccluded;
     }
     res.stats.samplesNonfiniteDiscarded = discarded;
+    res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
     res.stats.cancelled = opt.cancel && opt.cancel->load();
     res.featuresJson = scene.features.json();
     return res;

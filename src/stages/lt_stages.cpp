@@ -108,14 +108,16 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const PtTile& t, uint64_
     b.numPaths = n;
 }
 
-void traceConnections(const Scene& scene, LtBatch& b, PtCounters& c) {
+void traceConnections(const Scene& scene, LtBatch& b, int length, PtCounters& c) {
     traceOccluded(scene.rtc, b.conn.data(), b.numConn);
     c.raysOccluded += b.numConn;
     for (size_t k = 0; k < b.numConn; ++k) {
         if (!(b.conn[k].tfar >= 0)) continue;
         const Vec3 v = b.connValue[k];
         if (!isFinite(v)) { ++b.nonfinite; continue; }
-        if (!isBlack(v)) b.splats.push_back({b.connPixel[k], v});
+        if (isBlack(v)) continue;
+        b.splats.push_back({b.connPixel[k], v});
+        b.lengths.add(length, v);
     }
     b.numConn = 0;
 }

@@ -25,8 +25,9 @@ void generateEnvCameraRays(const Scene& scene, LtBatch& b, const PtTile& tile, i
 // light's point to the camera (length 1).
 void generateLightPaths(const Scene& scene, LtBatch& b, const PtTile& tile, uint64_t seed,
                         bool connectLength1);
-// Traces the conns (rtcOccluded1M); appends the unoccluded ones to splats.
-void traceConnections(const Scene& scene, LtBatch& b, PtCounters& c);
+// Traces the conns (rtcOccluded1M); appends the unoccluded ones (all of path length
+// `length`) to splats.
+void traceConnections(const Scene& scene, LtBatch& b, int length, PtCounters& c);
 // Traces the live paths (closest hit).
 void intersectLightPaths(const Scene& scene, LtBatch& b, PtCounters& c);
 // Reads paths; writes hits for paths that hit a non-emitting surface (emitters absorb).

@@ -49,6 +49,7 @@ struct LtBatch {
 
     std::vector<Splat> splats;
     uint64_t nonfinite = 0;          // splats discarded as NaN or Inf
+    PathLengthSums lengths;          // luminance of the splats by path length
 
     void reserve(size_t n) {
         key.resize(n); betaScale.resize(n);

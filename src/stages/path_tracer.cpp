@@ -11,8 +11,16 @@ namespace wmlt {
 namespace {
 
 // One batch: every bounce of every sample of a tile's sample range.
+// What a tile's batches add up to besides the film: merged in tile order at the end.
+struct TileTotals {
+    PathLengthSums lengths;
+    uint64_t nonfinite = 0;
+};
+
 void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, PtBatch& b,
-                Film& film, PtCounters& counters, uint64_t& discarded) {
+                Film& film, PtCounters& counters, TileTotals& totals) {
+    b.nonfinite = 0;
+    b.lengths = PathLengthSums();
     generateCameraRays(scene, b, tile, opt.strataPerAxis, opt.seed);
     const size_t numSlots = b.numPaths;
     for (int depth = 1; depth <= opt.maxPathLength && b.numPaths > 0; ++depth) {
@@ -22,16 +30,15 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
         groupByMaterial(b);
         if (depth + 1 >= opt.minPathLength) {
             sampleLights(scene, b, depth);
-            traceShadows(scene, b, counters);
+            traceShadows(scene, b, depth + 1, counters);
         }
         sampleBsdfs(scene, b, depth);
         advancePaths(scene, b);
     }
     // Samples of one pixel are adjacent and added in sample order: deterministic.
-    for (size_t i = 0; i < numSlots; ++i) {
-        if (b.nonfinite[i]) { ++discarded; film.add(b.pixel[i], Vec3(0.0f)); }
-        else film.add(b.pixel[i], b.L[i]);
-    }
+    for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], b.L[i]);
+    totals.lengths.add(b.lengths);
+    totals.nonfinite += b.nonfinite;
 }
 
 }  // namespace
@@ -45,10 +52,10 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
         return b;
     });
     tbb::enumerable_thread_specific<PtCounters> counters;
-    tbb::enumerable_thread_specific<uint64_t> discarded(0);
+    std::vector<TileTotals> totals(schedule.tiles.size());
     // Each batch adds to its own tile's pixels only: no two threads touch one pixel.
-    PassResult pr = runPasses(schedule, opt, [&](size_t, const PtTile& tile) {
-        traceBatch(scene, opt, tile, batches.local(), film, counters.local(), discarded.local());
+    PassResult pr = runPasses(schedule, opt, [&](size_t t, const PtTile& tile) {
+        traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
     });
 
     RenderResult res;
@@ -60,7 +67,15 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
         res.stats.raysIntersect += c.raysIntersect;
         res.stats.raysOccluded += c.raysOccluded;
     }
-    for (uint64_t d : discarded) res.stats.samplesNonfiniteDiscarded += d;
+    PathLengthSums lengths;
+    for (const TileTotals& t : totals) {
+        lengths.add(t.lengths);
+        res.stats.samplesNonfiniteDiscarded += t.nonfinite;
+    }
+    uint64_t samples = 0;
+    for (uint32_t c : film.count) samples += c;
+    const double pixels = double(film.count.size());
+    res.stats.lengthMeanLuminance = lengths.means(pixels, pixels > 0 ? double(samples) / pixels : 0.0);
     res.stats.cancelled = opt.cancel && opt.cancel->load();
     res.featuresJson = scene.features.json();
     return res;

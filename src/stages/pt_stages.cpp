@@ -13,9 +13,11 @@ namespace {
 inline Vec3 rayOrigin(const RTCRayHit& r) { return {r.ray.org_x, r.ray.org_y, r.ray.org_z}; }
 inline Vec3 rayDir(const RTCRayHit& r) { return {r.ray.dir_x, r.ray.dir_y, r.ray.dir_z}; }
 
-inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c) {
-    if (!isFinite(c)) { b.nonfinite[slot] = 1; return; }
+// A contribution of path length `length`; NaN or Inf ones are counted and left out.
+inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
+    if (!isFinite(c)) { ++b.nonfinite; return; }
     b.L[slot] += c;
+    b.lengths.add(length, c);
 }
 
 inline bool inRange(int length, int minLength, int maxLength) {
@@ -44,7 +46,6 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const PtTile& t, int n, 
                 b.pixel[i] = pixel;
                 b.key[i] = key;
                 b.L[i] = Vec3(0.0f);
-                b.nonfinite[i] = 0;
                 b.pathSlot[i] = uint32_t(i);
                 setRayHit(b.ray[i], o, d);
                 b.beta[i] = Vec3(1.0f);
@@ -72,7 +73,7 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
                 Vec3 Le = scene.env.Le(d);
                 float w = b.prevDelta[i] ? 1.0f
                     : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, scene.envLight, rayOrigin(rh), Vec3(), d));
-                addRadiance(b, slot, b.beta[i] * Le * w);
+                addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
             continue;
         }
@@ -81,7 +82,7 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
             if (countEmission && dot(d, sp.ng) < 0) {
                 float w = b.prevDelta[i] ? 1.0f
                     : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d));
-                addRadiance(b, slot, b.beta[i] * scene.lights[sp.light].L * w);
+                addRadiance(b, slot, b.beta[i] * scene.lights[sp.light].L * w, depth);
             }
             continue;
         }
@@ -143,11 +144,11 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
     b.numShadow = n;
 }
 
-void traceShadows(const Scene& scene, PtBatch& b, PtCounters& c) {
+void traceShadows(const Scene& scene, PtBatch& b, int length, PtCounters& c) {
     traceOccluded(scene.rtc, b.shadow.data(), b.numShadow);
     c.raysOccluded += b.numShadow;
     for (size_t i = 0; i < b.numShadow; ++i)
-        if (b.shadow[i].tfar >= 0) addRadiance(b, b.shadowSlot[i], b.shadowL[i]);
+        if (b.shadow[i].tfar >= 0) addRadiance(b, b.shadowSlot[i], b.shadowL[i], length);
 }
 
 void sampleBsdfs(const Scene& scene, PtBatch& b, int depth) {

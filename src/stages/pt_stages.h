@@ -31,8 +31,9 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
 void groupByMaterial(PtBatch& b);
 // Next-event estimation: reads hits, writes shadow rays and their contributions.
 void sampleLights(const Scene& scene, PtBatch& b, int depth);
-// Traces the shadow rays; adds the unoccluded contributions to slot L.
-void traceShadows(const Scene& scene, PtBatch& b, PtCounters& c);
+// Traces the shadow rays; adds the unoccluded contributions (of path length `length`)
+// to slot L.
+void traceShadows(const Scene& scene, PtBatch& b, int length, PtCounters& c);
 // Reads hits; samples each material's BSDF; writes next* and alive (Russian roulette).
 void sampleBsdfs(const Scene& scene, PtBatch& b, int depth);
 // Compacts the surviving hits into the next round's live paths, keeping their order.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kernels/bsdf.h"
+#include "stages/film.h"
 
 namespace wmlt {
 
@@ -19,7 +20,10 @@ struct PtBatch {
     std::vector<uint32_t> pixel;
     std::vector<uint64_t> key;
     std::vector<Vec3> L;
-    std::vector<uint8_t> nonfinite;  // a contribution was NaN or Inf: the sample is discarded
+
+    // Per batch: NaN or Inf contributions (left out), luminance by path length.
+    uint64_t nonfinite = 0;
+    PathLengthSums lengths;
 
     // Live paths (index i < numPaths).
     size_t numPaths = 0;
@@ -52,7 +56,7 @@ struct PtBatch {
     std::vector<uint8_t> nextDelta;
 
     void reserve(size_t n) {
-        pixel.resize(n); key.resize(n); L.resize(n); nonfinite.resize(n);
+        pixel.resize(n); key.resize(n); L.resize(n);
         pathSlot.resize(n); ray.resize(n); beta.resize(n); prevPdf.resize(n); prevDelta.resize(n);
         hitPath.resize(n); p.resize(n); ng.resize(n); wo.resize(n); shading.resize(n);
         bsdf.resize(n); order.resize(n);
