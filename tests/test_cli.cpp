@@ -304,7 +304,7 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     CHECK(contains(b.err, "abc"));
     Run c = run("--spp" , dir);  // a missing value
     CHECK(c.status == 2);
-    Run d = run("--tracer bpt" + kSmall + " -o " + quote(out), dir);
+    Run d = run("--tracer mmlt" + kSmall + " -o " + quote(out), dir);
     INFO("stderr: " << d.err);
     CHECK(d.status == 2);
     CHECK(contains(d.err, "not implemented"));

@@ -21,6 +21,7 @@ struct RenderOptions {
     int threads = 0;           // 0: all hardware threads
     uint64_t seed = 0;
     int minPathLength = 1, maxPathLength = 10;
+    float misBeta = 2;         // BPT: power-heuristic exponent (1: the balance heuristic)
     // Set from another thread (e.g. a SIGINT handler) to stop early; the image so far
     // is returned, each pixel averaged over the samples it received.
     const std::atomic<bool>* cancel = nullptr;

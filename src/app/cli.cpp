@@ -38,7 +38,8 @@ std::string usageText() {
         "usage: wavemmlt [scene.xml] [options]\n"
         "Renders the scene (the built-in default scene when none is given).\n"
         "Options override the scene's Settings:\n"
-        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (pt and lt so far)\n"
+        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (pt, lt and bpt so far)\n"
+        "  --mis-beta B             BPT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
         "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N)\n"
         "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
         "  --threads N              worker threads (0: all)\n"
@@ -77,6 +78,7 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
         else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);
         else if (a == "--threads") cl.threads = int(parseInt(a, value(), 0, 4096));
+        else if (a == "--mis-beta") cl.misBeta = float(parseReal(a, value(), 0.5, 16));
         else if (a == "--seed") cl.seed = uint64_t(parseInt(a, value(), 0, (1LL << 62)));
         else if (a == "--width") cl.width = int(parseInt(a, value(), 1, 16384));
         else if (a == "--height") cl.height = int(parseInt(a, value(), 1, 16384));

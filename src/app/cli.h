@@ -13,6 +13,7 @@ struct CommandLine {
     std::optional<TracerKind> tracer;
     std::optional<int> spp, threads, width, height, maxLength, minLength;
     std::optional<double> timeBudget;
+    std::optional<float> misBeta;  // BPT's power-heuristic exponent
     uint64_t seed = 0;
     std::vector<std::string> outputs;
     std::string statsPath;

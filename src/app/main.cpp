@@ -101,6 +101,7 @@ int run(int argc, char** argv) {
     opt.timeBudget = cl.timeBudget.value_or(0.0);
     opt.threads = s.threads;
     opt.seed = cl.seed;
+    if (cl.misBeta) opt.misBeta = *cl.misBeta;
     opt.minPathLength = s.minPathLength;
     opt.maxPathLength = s.maxPathLength;
     opt.cancel = &gCancel;

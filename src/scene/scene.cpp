@@ -163,9 +163,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     for (float p : power) total += p;
     if (!(total > 0)) for (float& p : power) p = 1.0f;  // all black: choose uniformly
     s->lightDistribution = Distribution1D(power);
-    total = 0;
-    for (float p : power) total += p;
-    for (float p : power) s->lightPmf.push_back(p / total);
+    // The very probabilities sampleDiscrete uses, so MIS sees what sampling did.
+    for (size_t i = 0; i < power.size(); ++i) s->lightPmf.push_back(s->lightDistribution.discretePmf(int(i)));
     return s;
 }
 

@@ -2,6 +2,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "stages/bidirectional.h"
 #include "stages/light_tracer.h"
 #include "stages/path_tracer.h"
 #include "wavemmlt/error.h"
@@ -17,14 +18,16 @@ int strataForSpp(int spp) {
 }
 
 RenderResult render(SceneDesc desc, const RenderOptions& opt) {
-    if (opt.tracer != TracerKind::PT && opt.tracer != TracerKind::LT) {
+    if (opt.tracer == TracerKind::MMLT) {
         static const char* names[] = {"mmlt", "bpt", "lt", "pt"};
-        throw InputError(std::string("tracer '") + names[int(opt.tracer)] + "' is not implemented yet (use --tracer pt or lt)");
+        throw InputError(std::string("tracer '") + names[int(opt.tracer)] + "' is not implemented yet (use --tracer pt, lt or bpt)");
     }
     int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
-    RenderResult r = opt.tracer == TracerKind::LT ? renderLightTracing(*scene, opt) : renderPathTracing(*scene, opt);
+    RenderResult r = opt.tracer == TracerKind::LT    ? renderLightTracing(*scene, opt)
+                     : opt.tracer == TracerKind::BPT ? renderBidirectional(*scene, opt)
+                                                     : renderPathTracing(*scene, opt);
     r.stats.threads = threads;
     return r;
 }

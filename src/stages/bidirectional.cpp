@@ -1,0 +1,99 @@
+// The BPT driver: passes of batches (a tile of pixels times a sample range: one camera
+// subpath and one light subpath per pixel sample, keyed on (seed, pixel, sample)). The
+// camera-side strategies (t >= 2) add to the pixel's own film in sample order, as the PT
+// does; the t = 1 splats go to the batch's list, added to the splat film in tile order
+// after each pass, as the LT does. The image is their sum: deterministic for any thread
+// count.
+#include "stages/bidirectional.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "stages/bpt_stages.h"
+#include "stages/film.h"
+#include "stages/passes.h"
+
+namespace wmlt {
+
+namespace {
+
+struct TileOutput {
+    std::vector<Splat> splats;
+    uint64_t nonfinite = 0;
+    PathLengthSums lengths;
+};
+
+void walk(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, PtCounters& counters) {
+    for (bool first = true; b.numPaths > 0; first = false) {
+        intersectBptPaths(scene, b, cameraWalk && first, counters);
+        resolveBptHits(scene, b, v, cameraWalk);
+        if (b.numHits == 0) break;
+        groupBptHits(b);
+        sampleBptBsdfs(scene, b, v, cameraWalk);
+        advanceBptPaths(scene, b, v);
+    }
+}
+
+void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, BptBatch& b, Film& film,
+                PtCounters& counters, TileOutput& out) {
+    b.splats.clear();
+    b.nonfinite = 0;
+    b.lengths = PathLengthSums();
+    generateBptCameraPaths(scene, b, tile, opt.strataPerAxis, opt.seed);
+    walk(scene, b, b.cam, true, counters);
+    generateBptLightPaths(scene, b);
+    walk(scene, b, b.light, false, counters);
+    connectBpt(scene, b, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
+    for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i]);
+    out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());
+    out.nonfinite += b.nonfinite;
+    out.lengths.add(b.lengths);
+}
+
+}  // namespace
+
+RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
+    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt.spp);
+    Film film(scene.camera.width, scene.camera.height);
+    SplatFilm splatFilm(scene.camera.width, scene.camera.height);
+    std::vector<TileOutput> outputs(schedule.tiles.size());
+    tbb::enumerable_thread_specific<BptBatch> batches([&] {
+        BptBatch b;
+        b.reserve(schedule.pathsPerBatch(), opt.maxPathLength);
+        return b;
+    });
+    tbb::enumerable_thread_specific<PtCounters> counters;
+    uint64_t discarded = 0;
+    PathLengthSums lengths;
+    PassResult pr = runPasses(
+        schedule, opt,
+        [&](size_t t, const PtTile& tile) {
+            traceBatch(scene, opt, tile, batches.local(), film, counters.local(), outputs[t]);
+        },
+        [&] {  // a complete pass: its splats and totals, in tile order
+            for (TileOutput& o : outputs) {
+                for (const Splat& s : o.splats) splatFilm.add(s);
+                discarded += o.nonfinite;
+                lengths.add(o.lengths);
+                o = TileOutput();
+            }
+        });
+
+    RenderResult res;
+    res.image = film.resolve();
+    Image splats = splatFilm.resolve(pr.completedSpp);
+    for (size_t i = 0; i < res.image.rgb.size(); ++i) res.image.rgb[i] += splats.rgb[i];
+    res.stats.tracer = "bpt";
+    res.stats.seconds = pr.seconds;
+    res.stats.spp = pr.completedSpp;
+    for (const PtCounters& c : counters) {
+        res.stats.raysIntersect += c.raysIntersect;
+        res.stats.raysOccluded += c.raysOccluded;
+    }
+    res.stats.samplesNonfiniteDiscarded = discarded;
+    res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
+    res.stats.cancelled = opt.cancel && opt.cancel->load();
+    res.featuresJson = scene.features.json();
+    return res;
+}
+
+}  // namespace wmlt

@@ -1,0 +1,123 @@
+// Structure-of-arrays state of one batch of bidirectional path-tracing samples (a tile of
+// pixels times a range of sample indices: one camera subpath and one light subpath per
+// pixel sample). Groups of arrays:
+//   slots     - one per sample: pixel, random key, the camera-side radiance L (t >= 2);
+//   vertices  - per slot, fixed-capacity arrays of the camera subpath's vertices z_0 ..
+//               (capacity MaxPathLength + 1) and the light subpath's vertices y_0 ..
+//               (capacity MaxPathLength), plain data at index slot * capacity + i;
+//   paths     - the live subpaths of the current round (camera or light walk);
+//   hits      - the live subpaths that hit a scattering surface this round;
+//   conns     - connection shadow rays (s = 1, t = 1, s, t >= 2) and their contributions;
+//   splats    - t = 1 contributions, in stage order (film.h).
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "kernels/bsdf.h"
+#include "stages/film.h"
+
+namespace wmlt {
+
+// Env: a point of the environment at infinity (ng = minus the direction towards it; p on
+// the line from the neighbouring vertex, so that directions to it are exact).
+enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
+
+// The vertices of one kind of subpath for every slot of a batch.
+struct BptVertices {
+    int capacity = 0;
+    std::vector<uint8_t> count;      // per slot: vertices stored
+    std::vector<Vec3> p, ng;         // position; geometric normal (lights: emitting side)
+    std::vector<Frame> shading;      // shading frame (n = shading normal)
+    std::vector<BsdfParams> bsdf;
+    std::vector<Vec3> beta;          // throughput up to and including this vertex
+    std::vector<float> pdfFwd;       // area density from the subpath's own walk
+    std::vector<float> pdfRev;       // area density if the other side's walk produced it
+    std::vector<uint8_t> delta;      // scatters by a delta lobe (mirror, glass)
+    std::vector<BptVertexKind> kind;
+    std::vector<int16_t> light;      // Light: index into Scene::lights
+
+    void reserve(size_t slots, int cap) {
+        capacity = cap;
+        const size_t n = slots * size_t(cap);
+        count.assign(slots, 0);
+        p.resize(n); ng.resize(n); shading.resize(n); bsdf.resize(n); beta.resize(n);
+        pdfFwd.resize(n); pdfRev.resize(n); delta.resize(n); kind.resize(n); light.resize(n);
+    }
+    size_t at(uint32_t slot, int i) const { return size_t(slot) * size_t(capacity) + size_t(i); }
+};
+
+struct BptBatch {
+    // Slots.
+    size_t numSlots = 0;
+    std::vector<uint32_t> pixel;
+    std::vector<uint64_t> key;
+    std::vector<Vec3> L;             // camera-side contributions (t >= 2): the pixel's own film
+
+    BptVertices cam, light;
+
+    // Live paths of the current walk round (index i < numPaths).
+    size_t numPaths = 0;
+    std::vector<uint32_t> pathSlot;
+    std::vector<RTCRayHit> ray;
+    std::vector<float> pathPdf;      // solid-angle density of the sampled direction
+    std::vector<Vec3> pathBeta;      // throughput carried to the next vertex
+    std::vector<float> betaScale;    // light walk: max component of the initial beta (roulette)
+
+    // Surface hits (index h < numHits).
+    size_t numHits = 0;
+    std::vector<uint32_t> hitPath;
+    std::vector<uint32_t> order;
+    std::vector<BsdfParams> hitBsdf; // copy for the kind sort
+    uint32_t kindStart[5] = {0, 0, 0, 0, 0};
+    std::vector<uint8_t> alive;
+    std::vector<Vec3> nextDir;
+
+    // Connections (index c < numConn; flushed when full).
+    size_t numConn = 0, connCapacity = 0;
+    std::vector<RTCRay> conn;
+    std::vector<uint32_t> connSlot;  // camera side: slot; t = 1: raster pixel
+    std::vector<uint8_t> connSplat;  // 1: t = 1 splat
+    std::vector<uint8_t> connLength;
+    std::vector<Vec3> connValue;     // MIS-weighted, unoccluded
+
+    std::vector<Splat> splats;
+    uint64_t nonfinite = 0;
+    PathLengthSums lengths;
+
+    void reserve(size_t n, int maxLength) {
+        pixel.resize(n); key.resize(n); L.resize(n);
+        cam.reserve(n, maxLength + 1);
+        light.reserve(n, maxLength);
+        pathSlot.resize(n); ray.resize(n); pathPdf.resize(n); pathBeta.resize(n); betaScale.resize(n);
+        hitPath.resize(n); order.resize(n); hitBsdf.resize(n); alive.resize(n); nextDir.resize(n);
+        connCapacity = std::max<size_t>(n * 4, 1024);
+        conn.resize(connCapacity); connSlot.resize(connCapacity); connSplat.resize(connCapacity);
+        connLength.resize(connCapacity); connValue.resize(connCapacity);
+        splats.reserve(n);
+    }
+};
+
+// Primary sample layout of a BPT sample (keys: bptSampleKey, a stream apart from the PT's
+// and LT's). Three interleaved streams: number j of stream c is dimension 3 j + c, so the
+// light subpath reads the same dimensions whatever the camera subpath and the
+// connections use (MMLT replays them with another t).
+//   stream 0, camera subpath: j = 0-1 pixel jitter, 2-3 lens point, then camera vertex
+//     d >= 1 (after d segments) reads j = 4 + 4 (d - 1) + (0: BSDF lobe, 1-2: BSDF
+//     direction, 3: Russian roulette);
+//   stream 1, light subpath: j = 0 light choice, 1-2 point on the light, 3-4 emitted
+//     direction, then light vertex d >= 1 reads j = 5 + 4 (d - 1) + (0: lobe, 1-2:
+//     direction, 3: roulette);
+//   stream 2, connections: s = 1 at camera vertex z_{t-1} reads j = 5 t + (0: light
+//     choice, 1-2: light point); t = 1 at light vertex y_{s-1} reads j = 5 s + 3 + (0-1:
+//     lens point).
+enum BptStream : uint32_t { kBptCamera = 0, kBptLight = 1, kBptConnect = 2 };
+inline uint32_t bptDim(BptStream stream, uint32_t j) { return 3 * j + uint32_t(stream); }
+inline uint32_t bptCamVertexJ(int d, uint32_t m) { return 4 + 4 * uint32_t(d - 1) + m; }
+inline uint32_t bptLightVertexJ(int d, uint32_t m) { return 5 + 4 * uint32_t(d - 1) + m; }
+inline uint32_t bptNeeJ(int t, uint32_t m) { return 5 * uint32_t(t) + m; }
+inline uint32_t bptLensJ(int s, uint32_t m) { return 5 * uint32_t(s) + 3 + m; }
+
+}  // namespace wmlt
