@@ -52,7 +52,11 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
 }  // namespace
 
 RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
-    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt.spp);
+    // A batch stores every vertex of both subpaths: fewer samples per batch for long
+    // paths keep it near its size at MaxPathLength 10 (about 13 MB per thread).
+    const uint32_t maxPaths = std::max<uint32_t>(kTileSize * kTileSize,
+                                                 kMaxPathsPerBatch * 11 / uint32_t(opt.maxPathLength + 1));
+    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt.spp, maxPaths);
     Film film(scene.camera.width, scene.camera.height);
     SplatFilm splatFilm(scene.camera.width, scene.camera.height);
     std::vector<TileOutput> outputs(schedule.tiles.size());

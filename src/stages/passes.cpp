@@ -9,13 +9,13 @@
 
 namespace wmlt {
 
-PassSchedule makePassSchedule(int w, int h, int spp) {
+PassSchedule makePassSchedule(int w, int h, int spp, uint32_t maxPathsPerBatch) {
     PassSchedule s;
     for (int y = 0; y < h; y += kTileSize)
         for (int x = 0; x < w; x += kTileSize)
             s.tiles.push_back({x, y, std::min(x + kTileSize, w), std::min(y + kTileSize, h), 0, 0});
     const uint32_t perRound = uint32_t(std::max(1, spp));
-    s.samplesPerBatch = std::max<uint32_t>(1, std::min<uint32_t>(perRound, kMaxPathsPerBatch / (kTileSize * kTileSize)));
+    s.samplesPerBatch = std::max<uint32_t>(1, std::min<uint32_t>(perRound, maxPathsPerBatch / (kTileSize * kTileSize)));
     return s;
 }
 

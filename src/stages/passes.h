@@ -22,7 +22,8 @@ struct PassSchedule {
     size_t pathsPerBatch() const { return size_t(kTileSize) * kTileSize * samplesPerBatch; }
 };
 
-PassSchedule makePassSchedule(int width, int height, int spp);
+// maxPathsPerBatch bounds a batch's memory (at least one sample per pixel of a tile).
+PassSchedule makePassSchedule(int width, int height, int spp, uint32_t maxPathsPerBatch = kMaxPathsPerBatch);
 
 struct PassResult {
     uint32_t completedSpp = 0;  // samples per pixel of the passes that completed
