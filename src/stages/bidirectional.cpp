@@ -3,7 +3,9 @@
 // camera-side strategies (t >= 2) add to the pixel's own film in sample order, as the PT
 // does; the t = 1 splats go to the batch's list, added to the splat film in tile order
 // after each pass, as the LT does. The image is their sum: deterministic for any thread
-// count.
+// count. A render stopped mid-pass keeps that pass's camera-side samples (each pixel
+// averaged over the samples it received) and only complete passes' splats: the two
+// parts are separate estimators (MIS splits each path between them), each unbiased.
 #include "stages/bidirectional.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -78,7 +80,9 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
                 for (const Splat& s : o.splats) splatFilm.add(s);
                 discarded += o.nonfinite;
                 lengths.add(o.lengths);
-                o = TileOutput();
+                o.splats.clear();  // keeps its capacity for the next pass
+                o.nonfinite = 0;
+                o.lengths = PathLengthSums();
             }
         });
 
