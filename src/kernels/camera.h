@@ -41,6 +41,14 @@ inline Vec3 cameraPlaneDirection(const Camera& c, float px, float py) {
     return c.forward + c.right * sx + c.up * sy;
 }
 
+// Raster position of sample s of pixel (x, y): stratum s mod n^2 of the pixel's n x n
+// grid (so rounds of n^2 samples cover every stratum once), jittered by (u1, u2).
+inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, float u1, float u2, float& px, float& py) {
+    uint32_t stratum = s % (uint32_t(n) * uint32_t(n));
+    px = float(x) + (float(stratum % uint32_t(n)) + u1) / float(n);
+    py = float(y) + (float(stratum / uint32_t(n)) + u2) / float(n);
+}
+
 // Primary ray through raster point (px, py); (u1, u2) pick the lens point when the
 // camera has a thin lens (pbrt-v4 5.2.3): rays through a lens point converge on the
 // plane of focus at distance focusDistance along the view direction.

@@ -109,7 +109,6 @@ float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w) {
 
 void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& t, int n, uint64_t seed) {
     const Camera& cam = scene.camera;
-    const uint32_t strata = uint32_t(n) * uint32_t(n);
     const bool lens = cam.thinLens;
     size_t i = 0;
     for (int y = t.y0; y < t.y1; ++y)
@@ -117,9 +116,8 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& t, in
             uint32_t pixel = uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
                 uint64_t key = bptSampleKey(seed, pixel, s);
-                uint32_t stratum = s % strata;
-                float px = x + (float(stratum % n) + dim(key, kBptCamera, 0)) / float(n);
-                float py = y + (float(stratum / n) + dim(key, kBptCamera, 1)) / float(n);
+                float px, py;
+                stratifiedRasterPoint(x, y, s, n, dim(key, kBptCamera, 0), dim(key, kBptCamera, 1), px, py);
                 Vec3 o, d;
                 generateCameraRay(cam, px, py, lens ? dim(key, kBptCamera, 2) : 0.5f,
                                   lens ? dim(key, kBptCamera, 3) : 0.5f, o, d);

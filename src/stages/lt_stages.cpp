@@ -44,7 +44,6 @@ uint64_t ltSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
 
 void generateEnvCameraRays(const Scene& scene, LtBatch& b, const PtTile& t, int n, uint64_t seed) {
     const Camera& cam = scene.camera;
-    const uint32_t strata = uint32_t(n) * uint32_t(n);
     const bool lens = cam.thinLens;
     size_t i = 0;
     for (int y = t.y0; y < t.y1; ++y)
@@ -52,9 +51,8 @@ void generateEnvCameraRays(const Scene& scene, LtBatch& b, const PtTile& t, int 
             uint32_t pixel = uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
                 uint64_t key = ltSampleKey(seed, pixel, s);
-                uint32_t stratum = s % strata;
-                float px = x + (float(stratum % n) + sampleDimension(key, 7)) / float(n);
-                float py = y + (float(stratum / n) + sampleDimension(key, 8)) / float(n);
+                float px, py;
+                stratifiedRasterPoint(x, y, s, n, sampleDimension(key, 7), sampleDimension(key, 8), px, py);
                 Vec3 o, d;
                 generateCameraRay(cam, px, py, lens ? sampleDimension(key, 9) : 0.5f,
                                   lens ? sampleDimension(key, 10) : 0.5f, o, d);

@@ -28,7 +28,6 @@ inline bool inRange(int length, int minLength, int maxLength) {
 
 void generateCameraRays(const Scene& scene, PtBatch& b, const PtTile& t, int n, uint64_t seed) {
     const Camera& cam = scene.camera;
-    const uint32_t strata = uint32_t(n) * uint32_t(n);
     const bool lens = scene.features.depthOfField;
     size_t i = 0;
     for (int y = t.y0; y < t.y1; ++y)
@@ -36,9 +35,8 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const PtTile& t, int n, 
             uint32_t pixel = uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
                 uint64_t key = sampleKey(seed, pixel, s);
-                uint32_t stratum = s % strata;  // rounds of n x n strata (time budgets)
-                float px = x + (float(stratum % n) + sampleDimension(key, 0)) / float(n);
-                float py = y + (float(stratum / n) + sampleDimension(key, 1)) / float(n);
+                float px, py;
+                stratifiedRasterPoint(x, y, s, n, sampleDimension(key, 0), sampleDimension(key, 1), px, py);
                 float lu = lens ? sampleDimension(key, 2) : 0.5f;
                 float lv = lens ? sampleDimension(key, 3) : 0.5f;
                 Vec3 o, d;
