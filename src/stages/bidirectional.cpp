@@ -86,21 +86,12 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
             }
         });
 
-    RenderResult res;
+    RenderResult res = startResult("bpt", scene, opt, pr, counters);
     res.image = film.resolve();
     Image splats = splatFilm.resolve(pr.completedSpp);
     for (size_t i = 0; i < res.image.rgb.size(); ++i) res.image.rgb[i] += splats.rgb[i];
-    res.stats.tracer = "bpt";
-    res.stats.seconds = pr.seconds;
-    res.stats.spp = pr.completedSpp;
-    for (const PtCounters& c : counters) {
-        res.stats.raysIntersect += c.raysIntersect;
-        res.stats.raysOccluded += c.raysOccluded;
-    }
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
-    res.stats.cancelled = opt.cancel && opt.cancel->load();
-    res.featuresJson = scene.features.json();
     return res;
 }
 

@@ -85,19 +85,10 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
             }
         });
 
-    RenderResult res;
+    RenderResult res = startResult("lt", scene, opt, pr, counters);
     res.image = film.resolve(pr.completedSpp);
-    res.stats.tracer = "lt";
-    res.stats.seconds = pr.seconds;
-    res.stats.spp = pr.completedSpp;
-    for (const PtCounters& c : counters) {
-        res.stats.raysIntersect += c.raysIntersect;
-        res.stats.raysOccluded += c.raysOccluded;
-    }
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
-    res.stats.cancelled = opt.cancel && opt.cancel->load();
-    res.featuresJson = scene.features.json();
     return res;
 }
 

@@ -67,4 +67,19 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
     return result;
 }
 
+RenderResult startResult(const char* tracer, const Scene& scene, const RenderOptions& opt, const PassResult& pr,
+                         const tbb::enumerable_thread_specific<PtCounters>& counters) {
+    RenderResult res;
+    res.stats.tracer = tracer;
+    res.stats.seconds = pr.seconds;
+    res.stats.spp = pr.completedSpp;
+    for (const PtCounters& c : counters) {
+        res.stats.raysIntersect += c.raysIntersect;
+        res.stats.raysOccluded += c.raysOccluded;
+    }
+    res.stats.cancelled = opt.cancel && opt.cancel->load();
+    res.featuresJson = scene.features.json();
+    return res;
+}
+
 }  // namespace wmlt

@@ -4,6 +4,8 @@
 // in rounds of spp samples until the time is spent. Cancel and time are checked before
 // each batch, so a render stops within one batch of either.
 #pragma once
+#include <tbb/enumerable_thread_specific.h>
+
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -36,5 +38,10 @@ struct PassResult {
 PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
                      const std::function<void(size_t, const PtTile&)>& runBatch,
                      const std::function<void()>& endPass = {});
+
+// The statistics every tracer reports the same way: name, time, spp, ray counts (summed
+// over the threads' counters), cancellation and the scene's features.
+RenderResult startResult(const char* tracer, const Scene& scene, const RenderOptions& opt, const PassResult& pr,
+                         const tbb::enumerable_thread_specific<PtCounters>& counters);
 
 }  // namespace wmlt

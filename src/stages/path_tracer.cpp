@@ -58,15 +58,8 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
         traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
     });
 
-    RenderResult res;
+    RenderResult res = startResult("pt", scene, opt, pr, counters);
     res.image = film.resolve();
-    res.stats.tracer = "pt";
-    res.stats.seconds = pr.seconds;
-    res.stats.spp = pr.completedSpp;
-    for (const PtCounters& c : counters) {
-        res.stats.raysIntersect += c.raysIntersect;
-        res.stats.raysOccluded += c.raysOccluded;
-    }
     PathLengthSums lengths;
     for (const TileTotals& t : totals) {
         lengths.add(t.lengths);
@@ -76,8 +69,6 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     for (uint32_t c : film.count) samples += c;
     const double pixels = double(film.count.size());
     res.stats.lengthMeanLuminance = lengths.means(pixels, pixels > 0 ? double(samples) / pixels : 0.0);
-    res.stats.cancelled = opt.cancel && opt.cancel->load();
-    res.featuresJson = scene.features.json();
     return res;
 }
 
