@@ -17,6 +17,7 @@
 
 #include "chi2.h"  // gammaQ
 #include "wavemmlt/image.h"
+#include "wavemmlt/render.h"
 
 namespace rstats {
 
@@ -242,6 +243,20 @@ inline ZTestResult zTest(const RunStats& s, const std::vector<double>& expected,
     std::vector<double> v(s.size()), se(s.size()), dof(s.size(), s.dof());
     for (size_t i = 0; i < s.size(); ++i) { v[i] = s.mean(i); se[i] = s.se(i); }
     return zTest(v, expected, se, dof, p);
+}
+
+// Options for a test render: spp samples per pixel stratified as the CLI does, 2 threads.
+inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint64_t seed, int minLength,
+                                         int maxLength, int threads = 2) {
+    wmlt::RenderOptions o;
+    o.tracer = tracer;
+    o.spp = spp;
+    o.strataPerAxis = wmlt::strataForSpp(spp);
+    o.threads = threads;
+    o.seed = seed;
+    o.minPathLength = minLength;
+    o.maxPathLength = maxLength;
+    return o;
 }
 
 }  // namespace rstats

@@ -30,18 +30,6 @@ using namespace wmlt;
 
 namespace {
 
-RenderOptions options(TracerKind tracer, int spp, uint64_t seed, int minLength, int maxLength, int threads = 2) {
-    RenderOptions o;
-    o.tracer = tracer;
-    o.spp = spp;
-    o.strataPerAxis = strataForSpp(spp);
-    o.threads = threads;
-    o.seed = seed;
-    o.minPathLength = minLength;
-    o.maxPathLength = maxLength;
-    return o;
-}
-
 // z test of the difference of two sets of K-run means: se^2 = se_a^2 + se_b^2,
 // Welch-Satterthwaite degrees of freedom.
 rstats::ZTestResult compareRuns(const rstats::RunStats& a, const rstats::RunStats& b, double p, double* ratio = nullptr) {
@@ -69,8 +57,8 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_
     const int B = 8;
     rstats::RunStats pt[3], bpt[3];
     for (int k = 0; k < K; ++k) {
-        RenderResult a = render(desc, options(TracerKind::PT, spp, seed0 + k, minLength, maxLength));
-        RenderOptions ob = options(TracerKind::BPT, spp, seed0 + 500 + k, minLength, maxLength);
+        RenderResult a = render(desc, rstats::renderOptions(TracerKind::PT, spp, seed0 + k, minLength, maxLength));
+        RenderOptions ob = rstats::renderOptions(TracerKind::BPT, spp, seed0 + 500 + k, minLength, maxLength);
         ob.misBeta = misBeta;
         RenderResult b = render(desc, ob);
         REQUIRE(b.stats.tracer == "bpt");
@@ -220,12 +208,12 @@ TEST_CASE("BPT matches PT with a thin-lens camera", "[bpt][render]") {
 
 TEST_CASE("BPT: the image is bit-identical for 1 and 2 threads", "[bpt][render]") {
     const SceneDesc desc = loadSceneFromString(causticXml("8", 6), "caustic.xml", ".");
-    RenderResult a = render(desc, options(TracerKind::BPT, 4, 42, 1, 6, 1));
-    RenderResult b = render(desc, options(TracerKind::BPT, 4, 42, 1, 6, 2));
+    RenderResult a = render(desc, rstats::renderOptions(TracerKind::BPT, 4, 42, 1, 6, 1));
+    RenderResult b = render(desc, rstats::renderOptions(TracerKind::BPT, 4, 42, 1, 6, 2));
     CHECK(a.image.rgb == b.image.rgb);
     CHECK(a.stats.lengthMeanLuminance == b.stats.lengthMeanLuminance);
     CHECK(a.stats.raysOccluded == b.stats.raysOccluded);
-    RenderResult c = render(desc, options(TracerKind::BPT, 4, 43, 1, 6, 2));
+    RenderResult c = render(desc, rstats::renderOptions(TracerKind::BPT, 4, 43, 1, 6, 2));
     CHECK(a.image.rgb != c.image.rgb);
 }
 
@@ -236,8 +224,8 @@ TEST_CASE("BPT mean luminance by path length matches PT's", "[bpt][render]") {
     SceneDesc desc = cornell64(maxLength);
     rstats::RunStats pt, bpt;
     for (int k = 0; k < K; ++k) {
-        RenderResult a = render(desc, options(TracerKind::PT, spp, 3000 + k, 1, maxLength));
-        RenderResult b = render(desc, options(TracerKind::BPT, spp, 3500 + k, 1, maxLength));
+        RenderResult a = render(desc, rstats::renderOptions(TracerKind::PT, spp, 3000 + k, 1, maxLength));
+        RenderResult b = render(desc, rstats::renderOptions(TracerKind::BPT, spp, 3500 + k, 1, maxLength));
         REQUIRE(a.stats.lengthMeanLuminance.size() > size_t(maxLength));
         REQUIRE(b.stats.lengthMeanLuminance.size() > size_t(maxLength));
         CHECK(b.stats.lengthMeanLuminance[maxLength + 1] == 0.0);
@@ -263,7 +251,7 @@ TEST_CASE("BPT stays finite with extreme lights and MaxPathLength 64", "[bpt][re
         SceneDesc d = loadSceneFromString(causticXml(intensity, 64), "extreme.xml", ".");
         d.settings.width = 32;
         d.settings.height = 32;
-        RenderResult r = render(d, options(TracerKind::BPT, 4, 7, 1, 64));
+        RenderResult r = render(d, rstats::renderOptions(TracerKind::BPT, 4, 7, 1, 64));
         INFO("intensity " << intensity);
         CHECK(r.stats.samplesNonfiniteDiscarded == 0);
         double sum = 0;
@@ -274,7 +262,7 @@ TEST_CASE("BPT stays finite with extreme lights and MaxPathLength 64", "[bpt][re
         CHECK(sum > 0);
     }
     SceneDesc c = cornell64(64);
-    RenderResult r = render(c, options(TracerKind::BPT, 4, 8, 1, 64));
+    RenderResult r = render(c, rstats::renderOptions(TracerKind::BPT, 4, 8, 1, 64));
     CHECK(r.stats.samplesNonfiniteDiscarded == 0);
     for (float v : r.image.rgb) REQUIRE(std::isfinite(v));
 }

@@ -30,18 +30,6 @@ using namespace wmlt;
 
 namespace {
 
-RenderOptions options(TracerKind tracer, int spp, uint64_t seed, int minLength, int maxLength, int threads = 2) {
-    RenderOptions o;
-    o.tracer = tracer;
-    o.spp = spp;
-    o.strataPerAxis = strataForSpp(spp);
-    o.threads = threads;
-    o.seed = seed;
-    o.minPathLength = minLength;
-    o.maxPathLength = maxLength;
-    return o;
-}
-
 // Mean and standard error of f over n samples, and |mean - expected| / se as N(0, 1) z.
 struct McMean {
     double sum = 0, sumSq = 0;
@@ -67,8 +55,8 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int minLength, int max
     const int B = 8;
     rstats::RunStats pt[3], lt[3];
     for (int k = 0; k < K; ++k) {
-        RenderResult a = render(desc, options(TracerKind::PT, spp, seed0 + k, minLength, maxLength));
-        RenderResult b = render(desc, options(TracerKind::LT, spp, seed0 + 500 + k, minLength, maxLength));
+        RenderResult a = render(desc, rstats::renderOptions(TracerKind::PT, spp, seed0 + k, minLength, maxLength));
+        RenderResult b = render(desc, rstats::renderOptions(TracerKind::LT, spp, seed0 + 500 + k, minLength, maxLength));
         REQUIRE(b.stats.tracer == "lt");
         REQUIRE(b.stats.spp == uint64_t(spp));
         REQUIRE(b.stats.samplesNonfiniteDiscarded == 0);
@@ -347,7 +335,7 @@ TEST_CASE("LT: plane under a sphere light, length 2, per-pixel closed form", "[l
     const int q = 16, K = 16, spp = 64;
     rstats::RunStats runs[3];
     for (int k = 0; k < K; ++k) {
-        RenderResult res = render(desc, options(TracerKind::LT, spp, 600 + k, 2, 2));
+        RenderResult res = render(desc, rstats::renderOptions(TracerKind::LT, spp, 600 + k, 2, 2));
         REQUIRE(res.stats.samplesNonfiniteDiscarded == 0);
         for (int c = 0; c < 3; ++c) runs[c].add(rstats::channel(res.image, c));
     }
@@ -376,20 +364,20 @@ TEST_CASE("LT: plane under a sphere light, length 2, per-pixel closed form", "[l
 
 TEST_CASE("LT: the image is bit-identical for 1 and 2 threads", "[lt][render]") {
     const SceneDesc desc = loadSceneFromString(kCausticXml, "caustic.xml", ".");
-    RenderResult a = render(desc, options(TracerKind::LT, 16, 42, 1, 6, 1));
-    RenderResult b = render(desc, options(TracerKind::LT, 16, 42, 1, 6, 2));
+    RenderResult a = render(desc, rstats::renderOptions(TracerKind::LT, 16, 42, 1, 6, 1));
+    RenderResult b = render(desc, rstats::renderOptions(TracerKind::LT, 16, 42, 1, 6, 2));
     REQUIRE(a.image.rgb.size() == b.image.rgb.size());
     CHECK(a.image.rgb == b.image.rgb);
     CHECK(a.stats.raysIntersect == b.stats.raysIntersect);
     CHECK(a.stats.raysOccluded == b.stats.raysOccluded);
     CHECK(a.stats.raysIntersect > 0);
-    RenderResult c = render(desc, options(TracerKind::LT, 16, 43, 1, 6, 2));
+    RenderResult c = render(desc, rstats::renderOptions(TracerKind::LT, 16, 43, 1, 6, 2));
     CHECK(a.image.rgb != c.image.rgb);  // the seed matters
 }
 
 TEST_CASE("LT: cancelled before the first pass gives a black image and spp 0", "[lt][render]") {
     std::atomic<bool> cancel{true};
-    RenderOptions o = options(TracerKind::LT, 16, 1, 1, 6);
+    RenderOptions o = rstats::renderOptions(TracerKind::LT, 16, 1, 1, 6);
     o.cancel = &cancel;
     RenderResult r = render(loadSceneFromString(kCausticXml, "caustic.xml", "."), o);
     CHECK(r.stats.cancelled);
