@@ -2,7 +2,8 @@
 //
 //   build/wavemmlt_bench [scene.xml ...] [--spp N]
 //
-// With no scene, runs ../shared/scenes/bunny/bunny.xml and dragon/dragon-full.xml
+// With no scene, runs ../shared/scenes/bunny/bunny.xml, dragon/dragon-full.xml and
+// bitterli-cornell/bitterli-cornell-256.xml
 // (read from the shared folder beside the checkout; says so when they are missing).
 // For each scene and each thread count (1, then all):
 //   ceiling  - the same number of rays as the path tracer traced: incoherent diffuse
@@ -10,7 +11,9 @@
 //              traced by a bare rtcIntersect1M loop in batches of 4096 (no shading);
 //              also by a loop of rtcIntersect1, the other call worth measuring;
 //   pt       - the path tracer's rays (closest + shadow) per second;
-//   ratio    - pt / ceiling, both measured in this run.
+//   ratio    - pt / ceiling, both measured in this run;
+//   bpt      - bidirectional path tracing on all threads: samples/s, rays/s, and its ratio
+//              to the ceiling.
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -27,6 +30,7 @@
 #include "kernels/rng.h"
 #include "kernels/sampling.h"
 #include "scene/scene.h"
+#include "stages/bidirectional.h"
 #include "stages/path_tracer.h"
 #include "stages/surface.h"
 #include "stages/trace.h"
@@ -141,6 +145,23 @@ void benchScene(const std::string& path, int spp) {
             std::printf("scaling 1 -> %d threads: %.2fx\n", all, pt / pt1);
         if (all == 1) break;
     }
+    // BPT on all threads, same scene and spp: samples and rays per second against the
+    // same ceiling, measured right after it.
+    {
+        RenderOptions opt;
+        opt.tracer = TracerKind::BPT;
+        opt.spp = spp;
+        opt.strataPerAxis = strataForSpp(spp);
+        opt.minPathLength = scene->desc.settings.minPathLength;
+        opt.maxPathLength = scene->desc.settings.maxPathLength;
+        RenderResult r = renderBidirectional(*scene, opt);
+        double rays = double(r.stats.raysIntersect + r.stats.raysOccluded);
+        double bpt = rays / r.stats.seconds;
+        double ceiling = ceilingRaysPerSecond(*scene, pool, size_t(rays), true);
+        double samples = double(scene->camera.width) * scene->camera.height * double(r.stats.spp);
+        std::printf("bpt (%d threads): %.2f Msamples/s, %.2f Mrays/s, ceiling %.2f Mrays/s, bpt/1M %.2f, %.2f s\n", all,
+                    samples / r.stats.seconds * 1e-6, bpt * 1e-6, ceiling * 1e-6, bpt / ceiling, r.stats.seconds);
+    }
     std::printf("peak memory so far: %.0f MiB\n", peakMemoryMiB());
 }
 
@@ -155,7 +176,8 @@ int main(int argc, char** argv) {
     }
     if (scenes.empty()) {
         std::string root = std::string(WAVEMMLT_SOURCE_DIR) + "/../shared/scenes/";
-        scenes = {root + "bunny/bunny.xml", root + "dragon/dragon-full.xml"};
+        scenes = {root + "bunny/bunny.xml", root + "dragon/dragon-full.xml",
+                  root + "bitterli-cornell/bitterli-cornell-256.xml"};
     }
     try {
         for (const std::string& s : scenes) benchScene(s, spp);
