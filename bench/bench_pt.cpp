@@ -106,6 +106,17 @@ double ceilingRaysPerSecond(const Scene& scene, const std::vector<RTCRayHit>& po
     return double(batches * batch) / seconds(t0);
 }
 
+// The scene's own path lengths, spp samples per pixel stratified as the CLI does.
+RenderOptions benchOptions(const Scene& scene, TracerKind tracer, int spp) {
+    RenderOptions opt;
+    opt.tracer = tracer;
+    opt.spp = spp;
+    opt.strataPerAxis = strataForSpp(spp);
+    opt.minPathLength = scene.desc.settings.minPathLength;
+    opt.maxPathLength = scene.desc.settings.maxPathLength;
+    return opt;
+}
+
 void benchScene(const std::string& path, int spp) {
     std::ifstream probe(path);
     if (!probe) {
@@ -128,12 +139,7 @@ void benchScene(const std::string& path, int spp) {
     double pt1 = 0;
     for (int threads : {1, all}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-        RenderOptions opt;
-        opt.spp = spp;
-        opt.strataPerAxis = strataForSpp(spp);
-        opt.minPathLength = scene->desc.settings.minPathLength;
-        opt.maxPathLength = scene->desc.settings.maxPathLength;
-        RenderResult r = renderPathTracing(*scene, opt);
+        RenderResult r = renderPathTracing(*scene, benchOptions(*scene, TracerKind::PT, spp));
         double rays = double(r.stats.raysIntersect + r.stats.raysOccluded);
         double pt = rays / r.stats.seconds;
         double ceiling = ceilingRaysPerSecond(*scene, pool, size_t(rays), true);
@@ -148,13 +154,7 @@ void benchScene(const std::string& path, int spp) {
     // BPT on all threads, same scene and spp: samples and rays per second against the
     // same ceiling, measured right after it.
     {
-        RenderOptions opt;
-        opt.tracer = TracerKind::BPT;
-        opt.spp = spp;
-        opt.strataPerAxis = strataForSpp(spp);
-        opt.minPathLength = scene->desc.settings.minPathLength;
-        opt.maxPathLength = scene->desc.settings.maxPathLength;
-        RenderResult r = renderBidirectional(*scene, opt);
+        RenderResult r = renderBidirectional(*scene, benchOptions(*scene, TracerKind::BPT, spp));
         double rays = double(r.stats.raysIntersect + r.stats.raysOccluded);
         double bpt = rays / r.stats.seconds;
         double ceiling = ceilingRaysPerSecond(*scene, pool, size_t(rays), true);

@@ -8,8 +8,12 @@
 //    max |z| below the Bonferroni bound Phi^-1(1 - p / (2N)) (a few bad elements), and
 //    sqrt(N) * mean z ~ N(0, 1) (a small bias shared by all elements).
 #pragma once
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -257,6 +261,24 @@ inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint6
     o.minPathLength = minLength;
     o.maxPathLength = maxLength;
     return o;
+}
+
+// A fresh folder for a test's files: $TMPDIR (or /tmp)/wmlt-<name>-<pid>.
+inline std::string tempDir(const std::string& name) {
+    const char* tmp = std::getenv("TMPDIR");
+    std::string dir = std::string(tmp ? tmp : "/tmp") + "/wmlt-" + name + "-" + std::to_string(getpid());
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+// A 16 x 8 sky: a blue gradient above the horizon, dark ground below, a small bright sun.
+inline wmlt::Image skyWithSun() {
+    wmlt::Image sky(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            sky.set(x, y, y < 4 ? wmlt::Vec3(0.4f + 0.1f * y, 0.6f, 0.9f - 0.1f * y) : wmlt::Vec3(0.2f, 0.15f, 0.1f));
+    sky.set(5, 1, wmlt::Vec3(40.0f, 36.0f, 30.0f));
+    return sky;
 }
 
 }  // namespace rstats

@@ -268,15 +268,8 @@ TEST_CASE("BPT stays finite with extreme lights and MaxPathLength 64", "[bpt][re
 }
 
 TEST_CASE("BPT matches PT with an environment map (and a glass ball)", "[bpt][render]") {
-    std::string dir = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/wmlt-bptsky-" +
-                      std::to_string(getpid());
-    std::filesystem::create_directories(dir);
-    Image sky(16, 8);
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x)
-            sky.set(x, y, y < 4 ? Vec3(0.4f + 0.1f * y, 0.6f, 0.9f - 0.1f * y) : Vec3(0.2f, 0.15f, 0.1f));
-    sky.set(5, 1, Vec3(40.0f, 36.0f, 30.0f));  // a small sun
-    writeImage(dir + "/sky.pfm", sky);
+    std::string dir = rstats::tempDir("bptsky");
+    writeImage(dir + "/sky.pfm", rstats::skyWithSun());
     const std::string xml = R"(<Scene>
   <Settings><Width value="64"/><Height value="48"/><MaxPathLength value="4"/><EnvMap name="sky.pfm"/></Settings>
   <Camera Type="Camera"><Position x="0" y="1.2" z="-4"/><LookAt x="0" y="0.5" z="0"/><FOV value="45"/></Camera>

@@ -42,13 +42,6 @@ struct McMean {
 // Bonferroni bound at p = 1e-4 over the few MC checks of this file.
 const double kMcBound = -rstats::normalQuantile(1e-4 / (2 * 16));
 
-std::string tempDir(const std::string& name) {
-    std::string dir = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/wmlt-" + name + "-" +
-                      std::to_string(getpid());
-    std::filesystem::create_directories(dir);
-    return dir;
-}
-
 // LT against PT: K runs of each, per channel the 8 x 8 block means; z from the difference
 // of the means with se^2 = se_LT^2 + se_PT^2 and Welch-Satterthwaite degrees of freedom.
 void compareWithPt(const SceneDesc& desc, int spp, int K, int minLength, int maxLength, uint64_t seed0) {
@@ -234,7 +227,7 @@ TEST_CASE("LT emission: rect and sphere points and directions match their pdfs",
 // disc of radius R perpendicular to the direction, outside the bounding sphere; and
 // E[Le / pdfDir] = int Le dw = 8 pi, E[[in the inner half radius] / pdfPos] = pi R^2 / 4.
 TEST_CASE("LT emission: environment map directions and the disc", "[lt][lights]") {
-    std::string dir = tempDir("ltenv");
+    std::string dir = rstats::tempDir("ltenv");
     Image sky(8, 4);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) sky.set(x, y, Vec3(y < 2 ? 1.0f : 3.0f));
@@ -291,13 +284,8 @@ TEST_CASE("LT = PT: thin-lens camera (DOF 1) in the Cornell box", "[lt][render]"
 }
 
 TEST_CASE("LT = PT: environment map over a sphere on a plane", "[lt][render]") {
-    std::string dir = tempDir("ltsky");
-    Image sky(16, 8);
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x)
-            sky.set(x, y, y < 4 ? Vec3(0.4f + 0.1f * y, 0.6f, 0.9f - 0.1f * y) : Vec3(0.2f, 0.15f, 0.1f));
-    sky.set(5, 1, Vec3(40.0f, 36.0f, 30.0f));  // a small sun
-    writeImage(dir + "/sky.pfm", sky);
+    std::string dir = rstats::tempDir("ltsky");
+    writeImage(dir + "/sky.pfm", rstats::skyWithSun());
     const std::string xml = R"(<Scene>
   <Settings><Width value="64"/><Height value="48"/><MaxPathLength value="4"/><EnvMap name="sky.pfm"/></Settings>
   <Camera Type="Camera"><Position x="0" y="1.2" z="-4"/><LookAt x="0" y="0.5" z="0"/><FOV value="45"/></Camera>

@@ -212,9 +212,7 @@ TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengt
 TEST_CASE("environment furnace: a Matte sphere under a constant sky", "[render][analytic]") {
     const double Le[3] = {0.5, 1.0, 2.0}, rho[3] = {0.8, 0.5, 0.3};
     const int W = 32, H = 32;
-    std::string dir = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
-                      "/wmlt-envfurnace-" + std::to_string(getpid());
-    std::filesystem::create_directories(dir);
+    std::string dir = rstats::tempDir("envfurnace");
     Image sky(8, 4);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) sky.set(x, y, Vec3(float(Le[0]), float(Le[1]), float(Le[2])));

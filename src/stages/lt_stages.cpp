@@ -132,13 +132,7 @@ void resolveLightHits(const Scene& scene, LtBatch& b) {
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene
         SurfacePoint sp = surfaceAt(scene, rh);
         if (sp.light >= 0) continue;  // emitters are opaque and do not scatter
-        b.hitPath[h] = uint32_t(i);
-        b.p[h] = sp.p;
-        b.ng[h] = sp.ng;
-        b.wo[h] = -rayDir(rh);
-        b.shading[h] = Frame::fromNormal(sp.ns);
-        b.bsdf[h] = materialAt(scene, sp);
-        ++h;
+        recordHit(scene, b, h++, i, sp, -rayDir(rh));
     }
     b.numHits = h;
 }

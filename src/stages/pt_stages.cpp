@@ -85,13 +85,7 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
             continue;
         }
         if (depth >= maxLength) continue;  // no longer path can count
-        b.hitPath[h] = uint32_t(i);
-        b.p[h] = sp.p;
-        b.ng[h] = sp.ng;
-        b.wo[h] = -d;
-        b.shading[h] = Frame::fromNormal(sp.ns);
-        b.bsdf[h] = materialAt(scene, sp);
-        ++h;
+        recordHit(scene, b, h++, i, sp, -d);
     }
     b.numHits = h;
 }

@@ -24,4 +24,16 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh);
 // whether textures are looked up at all).
 BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp);
 
+// Writes hit h of a batch (PT, LT: the same hit arrays) from path i's surface point:
+// position, geometric normal, wo, shading frame and material.
+template <class Batch>
+inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const SurfacePoint& sp, Vec3 wo) {
+    b.hitPath[h] = uint32_t(i);
+    b.p[h] = sp.p;
+    b.ng[h] = sp.ng;
+    b.wo[h] = wo;
+    b.shading[h] = Frame::fromNormal(sp.ns);
+    b.bsdf[h] = materialAt(scene, sp);
+}
+
 }  // namespace wmlt
