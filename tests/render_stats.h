@@ -22,6 +22,7 @@
 #include "chi2.h"  // gammaQ
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
 
 namespace rstats {
 
@@ -279,6 +280,16 @@ inline wmlt::Image skyWithSun() {
             sky.set(x, y, y < 4 ? wmlt::Vec3(0.4f + 0.1f * y, 0.6f, 0.9f - 0.1f * y) : wmlt::Vec3(0.2f, 0.15f, 0.1f));
     sky.set(5, 1, wmlt::Vec3(40.0f, 36.0f, 30.0f));
     return sky;
+}
+
+// The Cornell box test copy (Tungsten's reference scene) at 64 x 64, paths up to maxLength.
+inline wmlt::SceneDesc cornell64(int maxLength) {
+    wmlt::SceneDesc d =
+        wmlt::loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/bitterli-cornell/bitterli-cornell-256.xml");
+    d.settings.width = 64;
+    d.settings.height = 64;
+    d.settings.maxPathLength = maxLength;
+    return d;
 }
 
 }  // namespace rstats

@@ -73,17 +73,8 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_
         double ratio = 0;
         rstats::ZTestResult z = compareRuns(bpt[c], pt[c], 1e-4 / 3, &ratio);
         INFO("channel " << c << ": BPT / PT image mean = " << ratio << "; " << z.describe());
-        WARN("channel " << c << ": BPT / PT image mean = " << ratio << "; " << z.describe());
         CHECK(z.pass);
     }
-}
-
-SceneDesc cornell64(int maxLength) {
-    SceneDesc d = loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/bitterli-cornell/bitterli-cornell-256.xml");
-    d.settings.width = 64;
-    d.settings.height = 64;
-    d.settings.maxPathLength = maxLength;
-    return d;
 }
 
 // A glass ball and a mirror ball above a glossy floor, lit by a sphere light: caustics
@@ -187,7 +178,7 @@ TEST_CASE("BPT MIS: a mirror vertex leaves only the strategies that avoid it", "
 // ---- 2. BPT = PT ------------------------------------------------------------------------
 
 TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render]") {
-    compareWithPt(cornell64(5), 32, 8, 5, 1000);
+    compareWithPt(rstats::cornell64(5), 32, 8, 5, 1000);
 }
 
 TEST_CASE("BPT matches PT with glossy, glass and mirror (caustics)", "[bpt][render]") {
@@ -195,11 +186,11 @@ TEST_CASE("BPT matches PT with glossy, glass and mirror (caustics)", "[bpt][rend
 }
 
 TEST_CASE("BPT matches PT with the balance heuristic (beta = 1) and MinPathLength 3", "[bpt][render]") {
-    compareWithPt(cornell64(5), 16, 8, 5, 4000, 1.0f, 3);
+    compareWithPt(rstats::cornell64(5), 16, 8, 5, 4000, 1.0f, 3);
 }
 
 TEST_CASE("BPT matches PT with a thin-lens camera", "[bpt][render]") {
-    SceneDesc d = cornell64(4);
+    SceneDesc d = rstats::cornell64(4);
     d.camera.dof = true;
     d.camera.focalLength = 5.0f;
     d.camera.fStop = 4.0f;
@@ -221,7 +212,7 @@ TEST_CASE("BPT: the image is bit-identical for 1 and 2 threads", "[bpt][render]"
 
 TEST_CASE("BPT mean luminance by path length matches PT's", "[bpt][render]") {
     const int K = 8, spp = 16, maxLength = 5;
-    SceneDesc desc = cornell64(maxLength);
+    SceneDesc desc = rstats::cornell64(maxLength);
     rstats::RunStats pt, bpt;
     for (int k = 0; k < K; ++k) {
         RenderResult a = render(desc, rstats::renderOptions(TracerKind::PT, spp, 3000 + k, 1, maxLength));
@@ -261,7 +252,7 @@ TEST_CASE("BPT stays finite with extreme lights and MaxPathLength 64", "[bpt][re
         }
         CHECK(sum > 0);
     }
-    SceneDesc c = cornell64(64);
+    SceneDesc c = rstats::cornell64(64);
     RenderResult r = render(c, rstats::renderOptions(TracerKind::BPT, 4, 8, 1, 64));
     CHECK(r.stats.samplesNonfiniteDiscarded == 0);
     for (float v : r.image.rgb) REQUIRE(std::isfinite(v));

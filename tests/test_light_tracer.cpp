@@ -78,14 +78,6 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int minLength, int max
     }
 }
 
-SceneDesc cornell64(int maxLength) {
-    SceneDesc d = loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/bitterli-cornell/bitterli-cornell-256.xml");
-    d.settings.width = 64;
-    d.settings.height = 64;
-    d.settings.maxPathLength = maxLength;
-    return d;
-}
-
 // A glass ball above a glossy floor, lit from above: the camera sees the floor with the
 // ball's caustic and its glossy reflection, but not the ball itself, which is above the
 // view: t = 1 cannot sample paths whose vertex next to the camera is specular (Veach
@@ -268,7 +260,7 @@ TEST_CASE("LT emission: environment map directions and the disc", "[lt][lights]"
 // ---- 3. LT against PT -----------------------------------------------------------------
 
 TEST_CASE("LT = PT: Cornell box at 64 x 64, lengths 1..5", "[lt][render]") {
-    compareWithPt(cornell64(5), 64, 8, 1, 5, 100);
+    compareWithPt(rstats::cornell64(5), 64, 8, 1, 5, 100);
 }
 
 TEST_CASE("LT = PT: glossy floor and a glass sphere (caustic)", "[lt][render]") {
@@ -276,7 +268,7 @@ TEST_CASE("LT = PT: glossy floor and a glass sphere (caustic)", "[lt][render]") 
 }
 
 TEST_CASE("LT = PT: thin-lens camera (DOF 1) in the Cornell box", "[lt][render]") {
-    SceneDesc d = cornell64(4);
+    SceneDesc d = rstats::cornell64(4);
     d.camera.dof = true;
     d.camera.focalLength = 5.0f;
     d.camera.fStop = 4.0f;  // aperture radius 0.625: strong blur away from the focus plane
