@@ -21,7 +21,13 @@ struct RenderOptions {
     int threads = 0;           // 0: all hardware threads
     uint64_t seed = 0;
     int minPathLength = 1, maxPathLength = 10;
-    float misBeta = 2;         // BPT: power-heuristic exponent (1: the balance heuristic)
+    float misBeta = 2;         // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
+    // MMLT (spp: mutations per pixel).
+    int chains = 65536;        // Markov chains in flight (any N >= 1)
+    int bootstrap = 0;         // bootstrap samples per path length; 0: automatic
+    float probLarge = 0.3f;    // probability of a large step, (0, 1]
+    // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
+    std::string strategyImages;
     // Set from another thread (e.g. a SIGINT handler) to stop early; the image so far
     // is returned, each pixel averaged over the samples it received.
     const std::atomic<bool>* cancel = nullptr;
