@@ -50,10 +50,18 @@ struct RenderStats {
     double mraysPerSecond() const { return seconds > 0 ? (raysIntersect + raysOccluded) / seconds * 1e-6 : 0; }
 };
 
+// One BPT strategy's image (RenderOptions::strategyImages): its share of the image
+// (MIS-weighted) and its own estimate of the length-(s + t - 1) image (unweighted).
+struct StrategyImage {
+    int s = 0, t = 0;
+    Image weighted, unweighted;
+};
+
 struct RenderResult {
     Image image;
     RenderStats stats;
     std::string featuresJson;
+    std::vector<StrategyImage> strategyImages;  // BPT with strategyImages set
 };
 
 // Throws InputError for settings it cannot render (and "not implemented yet" for the

@@ -67,6 +67,13 @@ bool glossySample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2,
 bool mirrorSample(const BsdfParams& m, Vec3 wo, BsdfSample& s);
 bool dielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, TransportMode mode, BsdfSample& s);
 
+// Shading-normal correction of the adjoint BSDF (Veach 1997, eq. 5.19; pbrt-v3 16.1):
+// |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|), wo towards the light side, wi onwards.
+inline float shadingCorrection(Vec3 wo, Vec3 wi, Vec3 ns, Vec3 ng) {
+    float den = std::fabs(dot(wo, ng)) * std::fabs(dot(wi, ns));
+    return den > 0 ? std::fabs(dot(wo, ns)) * std::fabs(dot(wi, ng)) / den : 0.0f;
+}
+
 // ---- Dispatch by kind (tests and rare paths; stages call the kind's function) ----
 inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     switch (m.kind) {

@@ -2,6 +2,8 @@
 // image side; image right = normalize(forward x up), so a camera looking along +z
 // with +y up sees +x on its left (scene-format.md, "Camera").
 #pragma once
+#include <algorithm>
+
 #include "kernels/sampling.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -43,6 +45,12 @@ inline Vec3 cameraPlaneDirection(const Camera& c, float px, float py) {
 
 // Raster position of sample s of pixel (x, y): stratum s mod n^2 of the pixel's n x n
 // grid (so rounds of n^2 samples cover every stratum once), jittered by (u1, u2).
+// The pixel holding raster point (px, py) of the image (clamped at the far edges).
+inline uint32_t rasterPixel(const Camera& cam, float px, float py) {
+    int x = std::min(int(px), cam.width - 1), y = std::min(int(py), cam.height - 1);
+    return uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
+}
+
 inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, float u1, float u2, float& px, float& py) {
     uint32_t stratum = s % (uint32_t(n) * uint32_t(n));
     px = float(x) + (float(stratum % uint32_t(n)) + u1) / float(n);

@@ -55,6 +55,17 @@ inline void sampleUniformTriangle(float u1, float u2, float& b0, float& b1) {
     b1 = u2 * su;
 }
 
+// Solid-angle density at `from` of the direction to `to`, as area density at `to`
+// (Veach 1997, eq. 8.10: p_A = p_sigma |cos theta_to| / d^2; normal n at `to`; the cosine
+// is left out for points not on a surface, such as the lens).
+inline float solidAngleToArea(float pdfSa, Vec3 from, Vec3 to, Vec3 n, bool onSurface) {
+    Vec3 d = to - from;
+    float d2 = lengthSquared(d);
+    if (!(d2 > 0)) return 0.0f;
+    float c = onSurface ? std::fabs(dot(n, d)) / std::sqrt(d2) : 1.0f;
+    return pdfSa * c / d2;
+}
+
 // Power heuristic with exponent beta (Veach 1997, eq. 9.13); beta = 1 is the balance heuristic.
 inline float powerHeuristic(float pdfA, float pdfB, float beta = 2.0f) {
     if (pdfA <= 0) return 0.0f;

@@ -10,6 +10,8 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <memory>
+
 #include "stages/bpt_stages.h"
 #include "stages/film.h"
 #include "stages/passes.h"
@@ -20,17 +22,19 @@ namespace {
 
 struct TileOutput {
     std::vector<Splat> splats;
+    std::vector<StrategySplat> strategySplats;
     uint64_t nonfinite = 0;
     PathLengthSums lengths;
 };
 
 void walk(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, PtCounters& counters) {
+    const HashedSamples u{b.key.data()};
     for (bool first = true; b.numPaths > 0; first = false) {
         intersectBptPaths(scene, b, cameraWalk && first, counters);
         resolveBptHits(scene, b, v, cameraWalk);
         if (b.numHits == 0) break;
         groupBptHits(b);
-        sampleBptBsdfs(scene, b, v, cameraWalk);
+        sampleBptBsdfs(scene, b, v, cameraWalk, u);
         advanceBptPaths(scene, b, v);
     }
 }
@@ -38,17 +42,41 @@ void walk(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, PtCo
 void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, BptBatch& b, Film& film,
                 PtCounters& counters, TileOutput& out) {
     b.splats.clear();
+    b.strategySplats.clear();
     b.nonfinite = 0;
     b.lengths = PathLengthSums();
     generateBptCameraPaths(scene, b, tile, opt.strataPerAxis, opt.seed);
     walk(scene, b, b.cam, true, counters);
-    generateBptLightPaths(scene, b);
+    generateBptLightPaths(scene, b, HashedSamples{b.key.data()});
     walk(scene, b, b.light, false, counters);
     connectBpt(scene, b, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
     for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i]);
     out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());
+    out.strategySplats.insert(out.strategySplats.end(), b.strategySplats.begin(), b.strategySplats.end());
     out.nonfinite += b.nonfinite;
     out.lengths.add(b.lengths);
+}
+
+// Each strategy's sums as images: camera-side strategies averaged over each pixel's
+// samples (as the main film), t = 1 splats divided by the samples per pixel.
+std::vector<StrategyImage> resolveStrategies(const StrategyFilms& sf, const Film& film, uint64_t spp, int minLength) {
+    std::vector<StrategyImage> out;
+    const size_t pixels = size_t(sf.width) * size_t(sf.height);
+    for (int k = std::max(1, minLength); k <= sf.maxLength; ++k)
+        for (int s = 0; s <= k; ++s) {
+            StrategyImage si{s, k + 1 - s, Image(sf.width, sf.height), Image(sf.width, sf.height)};
+            for (uint32_t p = 0; p < pixels; ++p) {
+                const double n = si.t == 1 ? double(spp) : double(film.count[p]);
+                const double inv = n > 0 ? 1.0 / n : 0.0;
+                const Vec3 w = sf.weighted[sf.at(s, k, p)], u = sf.unweighted[sf.at(s, k, p)];
+                for (int c = 0; c < 3; ++c) {
+                    si.weighted.rgb[p * 3 + c] = float(w[c] * inv);
+                    si.unweighted.rgb[p * 3 + c] = float(u[c] * inv);
+                }
+            }
+            out.push_back(std::move(si));
+        }
+    return out;
 }
 
 }  // namespace
@@ -62,9 +90,13 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     Film film(scene.camera.width, scene.camera.height);
     SplatFilm splatFilm(scene.camera.width, scene.camera.height);
     std::vector<TileOutput> outputs(schedule.tiles.size());
+    std::unique_ptr<StrategyFilms> strategyFilms;
+    if (!opt.strategyImages.empty())
+        strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
         BptBatch b;
         b.reserve(schedule.pathsPerBatch(), opt.maxPathLength);
+        b.strategyFilms = strategyFilms.get();
         return b;
     });
     tbb::enumerable_thread_specific<PtCounters> counters;
@@ -78,9 +110,11 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         [&] {  // a complete pass: its splats and totals, in tile order
             for (TileOutput& o : outputs) {
                 for (const Splat& s : o.splats) splatFilm.add(s);
+                for (const StrategySplat& s : o.strategySplats) strategyFilms->addSplat(s);
                 discarded += o.nonfinite;
                 lengths.add(o.lengths);
                 o.splats.clear();  // keeps its capacity for the next pass
+                o.strategySplats.clear();
                 o.nonfinite = 0;
                 o.lengths = PathLengthSums();
             }
@@ -92,6 +126,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     for (size_t i = 0; i < res.image.rgb.size(); ++i) res.image.rgb[i] += splats.rgb[i];
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
+    if (strategyFilms) res.strategyImages = resolveStrategies(*strategyFilms, film, pr.completedSpp, opt.minPathLength);
     return res;
 }
 

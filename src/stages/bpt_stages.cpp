@@ -11,88 +11,20 @@ namespace wmlt {
 
 namespace {
 
-inline Vec3 rayDir(const RTCRayHit& r) { return {r.ray.dir_x, r.ray.dir_y, r.ray.dir_z}; }
-
 inline float dim(uint64_t key, BptStream s, uint32_t j) { return sampleDimension(key, bptDim(s, j)); }
 
-inline uint32_t rasterPixel(const Camera& cam, float px, float py) {
-    int x = std::min(int(px), cam.width - 1), y = std::min(int(py), cam.height - 1);
-    return uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
-}
-
-// Solid-angle density at `from` towards `to` converted to area density at `to` (normal n;
-// cosine omitted for the camera, whose points are not on a surface).
-inline float toArea(float pdfSa, Vec3 from, Vec3 to, Vec3 n, bool onSurface) {
-    Vec3 d = to - from;
-    float d2 = lengthSquared(d);
-    if (!(d2 > 0)) return 0.0f;
-    float c = onSurface ? std::fabs(dot(n, d)) / std::sqrt(d2) : 1.0f;
-    return pdfSa * c / d2;
-}
-
-// Shading-normal correction of the adjoint BSDF (as in lt_stages.cpp): wo towards the
-// light side, wi onwards.
-inline float shadingCorrection(Vec3 wo, Vec3 wi, Vec3 ns, Vec3 ng) {
-    float den = std::fabs(dot(wo, ng)) * std::fabs(dot(wi, ns));
-    return den > 0 ? std::fabs(dot(wo, ns)) * std::fabs(dot(wi, ng)) / den : 0.0f;
-}
-
-// Normal of a light's point p (the emitting side).
-inline Vec3 lightNormalAt(const Light& l, Vec3 p) {
-    return l.type == LightType::Sphere ? normalize(p - l.center) : l.n;
-}
-
-// Emission position density times the choice pmf (light subpaths' y_0).
-inline float lightOriginPdf(const Scene& scene, int li) {
-    return scene.lightDistribution.discretePmf(li) / scene.lights[li].area;
-}
-
-// Emission direction density (cosine about n) towards `to`, as area density at `to`.
-inline float lightDirPdfArea(Vec3 p, Vec3 n, Vec3 to, Vec3 nTo, bool toOnSurface) {
-    Vec3 d = to - p;
-    float dist = length(d);
-    if (!(dist > 0)) return 0.0f;
-    float c = dot(n, d) / dist;
-    return c > 0 ? toArea(c * kInvPi, p, to, nTo, toOnSurface) : 0.0f;
-}
-
-// A vertex of the path being weighted, in the light-to-camera order x_0 .. x_k.
-struct PathVertex {
-    Vec3 p, ng;
-    const Frame* shading = nullptr;
-    const BsdfParams* bsdf = nullptr;
-    BptVertexKind kind = BptVertexKind::Surface;
-};
-
-// Density of scattering at v from direction wo towards wi (world, unit), solid angle.
-inline float scatterPdf(const PathVertex& v, Vec3 wo, Vec3 wi) {
-    return bsdfPdf(*v.bsdf, v.shading->toLocal(wo), v.shading->toLocal(wi));
-}
-
-inline Vec3 dirTo(Vec3 a, Vec3 b) { return normalize(b - a); }
-
-// Solid-angle density at `from` converted to the measure of vertex `to`: area for surface
-// and light points (the camera: no cosine), unchanged (solid angle) for the environment.
-inline float pdfAt(float pdfSa, Vec3 from, const PathVertex& to) {
-    if (to.kind == BptVertexKind::Env) return pdfSa;
-    return toArea(pdfSa, from, to.p, to.ng, to.kind != BptVertexKind::Camera);
-}
-
-// Density with which a light subpath starts at x0 (light li): emission position times
-// the choice pmf; the environment: its direction's density times the pmf.
-inline float originPdf(const Scene& scene, int li, const PathVertex& x0) {
-    if (x0.kind == BptVertexKind::Env)
-        return scene.lightDistribution.discretePmf(li) * scene.env.pdf(-x0.ng);
-    return lightOriginPdf(scene, li);
-}
-
-// Density of x1 as the first scattering vertex of a light subpath from x0: emitted
-// direction (cosine about the normal) as area density; the environment: the emission
-// disc's density 1 / (pi R^2) projected onto x1's surface.
-inline float emissionPdfAt(const Scene& scene, const PathVertex& x0, const PathVertex& x1) {
-    if (x0.kind == BptVertexKind::Env)
-        return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
-    return lightDirPdfArea(x0.p, x0.ng, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+// Writes slot i's camera vertex z_0 (lens point o) and its first path (direction d).
+inline void startCameraPath(const Scene& scene, BptBatch& b, size_t i, Vec3 o, Vec3 d) {
+    const size_t z0 = b.cam.at(uint32_t(i), 0);
+    b.L[i] = Vec3(0.0f);
+    b.cam.count[i] = 1;
+    b.cam.p[z0] = o;
+    b.cam.ng[z0] = scene.camera.forward;
+    b.cam.beta[z0] = Vec3(1.0f);
+    b.cam.pdfFwd[z0] = 1.0f;
+    b.cam.pdfRev[z0] = 0.0f;
+    b.cam.delta[z0] = 0;
+    b.cam.kind[z0] = BptVertexKind::Camera;
 }
 
 }  // namespace
@@ -123,16 +55,9 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& t, in
                                   lens ? dim(key, kBptCamera, 3) : 0.5f, o, d);
                 b.pixel[i] = pixel;
                 b.key[i] = key;
-                b.L[i] = Vec3(0.0f);
-                const size_t z0 = b.cam.at(uint32_t(i), 0);
-                b.cam.count[i] = 1;
-                b.cam.p[z0] = o;
-                b.cam.ng[z0] = cam.forward;
-                b.cam.beta[z0] = Vec3(1.0f);
-                b.cam.pdfFwd[z0] = 1.0f;
-                b.cam.pdfRev[z0] = 0.0f;
-                b.cam.delta[z0] = 0;
-                b.cam.kind[z0] = BptVertexKind::Camera;
+                b.cam.maxCount[i] = uint8_t(b.cam.capacity);
+                b.light.maxCount[i] = uint8_t(b.light.capacity);
+                startCameraPath(scene, b, i, o, d);
                 b.pathSlot[i] = uint32_t(i);
                 setRayHit(b.ray[i], o, d);
                 b.pathPdf[i] = cameraPdfDir(cam, o, d);
@@ -143,17 +68,43 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& t, in
     b.numPaths = i;
 }
 
-void generateBptLightPaths(const Scene& scene, BptBatch& b) {
+void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSamples& u) {
+    const Camera& cam = scene.camera;
+    const bool lens = cam.thinLens;
+    size_t n = 0;
+    for (size_t i = 0; i < b.numSlots; ++i) {
+        const uint32_t slot = uint32_t(i);
+        if (b.cam.maxCount[i] < 2) {  // t = 1: the connection samples the lens
+            b.cam.count[i] = 1;
+            b.L[i] = Vec3(0.0f);
+            continue;
+        }
+        const float px = u(slot, kBptCamera, 0) * float(cam.width), py = u(slot, kBptCamera, 1) * float(cam.height);
+        Vec3 o, d;
+        generateCameraRay(cam, px, py, lens ? u(slot, kBptCamera, 2) : 0.5f, lens ? u(slot, kBptCamera, 3) : 0.5f, o, d);
+        b.pixel[i] = rasterPixel(cam, px, py);
+        startCameraPath(scene, b, i, o, d);
+        b.pathSlot[n] = slot;
+        setRayHit(b.ray[n], o, d);
+        b.pathPdf[n] = cameraPdfDir(cam, o, d);
+        b.pathBeta[n] = Vec3(1.0f);
+        ++n;
+    }
+    b.numPaths = n;
+}
+
+template <class U>
+void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
     size_t n = 0;
     for (size_t i = 0; i < b.numSlots; ++i) {
         b.light.count[i] = 0;
-        if (scene.lights.empty() || b.light.capacity < 1) continue;
-        const uint64_t key = b.key[i];
+        if (scene.lights.empty() || b.light.maxCount[i] < 1) continue;
+        const uint32_t slot = uint32_t(i);
         float pmf;
-        int li = scene.lightDistribution.sampleDiscrete(dim(key, kBptLight, 0), &pmf);
+        int li = scene.lightDistribution.sampleDiscrete(u(slot, kBptLight, 0), &pmf);
         LightEmission e;
-        if (!(pmf > 0) || !sampleLightEmission(scene, li, dim(key, kBptLight, 1), dim(key, kBptLight, 2),
-                                               dim(key, kBptLight, 3), dim(key, kBptLight, 4), e))
+        if (!(pmf > 0) || !sampleLightEmission(scene, li, u(slot, kBptLight, 1), u(slot, kBptLight, 2),
+                                               u(slot, kBptLight, 3), u(slot, kBptLight, 4), e))
             continue;
         const bool infinite = scene.lights[li].type == LightType::Env;
         const float pdfOrigin = pmf * e.pdfPos;
@@ -169,7 +120,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b) {
         b.light.kind[y0] = infinite ? BptVertexKind::Env : BptVertexKind::Light;
         b.light.light[y0] = int16_t(li);
         if (infinite) b.light.pdfFwd[y0] = pmf * e.pdfDir;  // the direction's density
-        if (b.light.capacity < 2) continue;
+        if (b.light.maxCount[i] < 2) continue;
         Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) / (pdfOrigin * e.pdfDir));
         if (isBlack(beta) || !isFinite(beta)) continue;
         b.betaScale[i] = maxComponent(beta);
@@ -181,6 +132,8 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b) {
     }
     b.numPaths = n;
 }
+template void generateBptLightPaths(const Scene&, BptBatch&, const HashedSamples&);
+template void generateBptLightPaths(const Scene&, BptBatch&, const StoredSamples&);
 
 void intersectBptPaths(const Scene& scene, BptBatch& b, bool coherent, PtCounters& c) {
     traceClosest(scene.rtc, b.ray.data(), b.numPaths, coherent);
@@ -196,7 +149,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             // The camera path escapes to the environment: an Env vertex ends it.
             const uint32_t slot = b.pathSlot[i];
             const int idx = v.count[slot];
-            if (idx >= v.capacity) continue;
+            if (idx >= v.maxCount[slot]) continue;
             const size_t prev = v.at(slot, idx - 1), cur = v.at(slot, idx);
             const Vec3 d = rayDir(rh);
             v.count[slot] = uint8_t(idx + 1);
@@ -214,7 +167,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         if (sp.light >= 0 && !cameraWalk) continue;  // emitters absorb light subpaths
         const uint32_t slot = b.pathSlot[i];
         const int idx = v.count[slot];
-        if (idx >= v.capacity) continue;
+        if (idx >= v.maxCount[slot]) continue;
         const size_t prev = v.at(slot, idx - 1), cur = v.at(slot, idx);
         v.count[slot] = uint8_t(idx + 1);
         v.p[cur] = sp.p;
@@ -223,7 +176,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         v.beta[cur] = b.pathBeta[i];
         v.pdfFwd[cur] = v.kind[prev] == BptVertexKind::Env
                             ? b.pathPdf[i] * std::fabs(dot(sp.ng, rayDir(rh)))  // disc density projected
-                            : toArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
+                            : solidAngleToArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;
         if (sp.light >= 0) {  // camera walk: the path ends on the emitter
@@ -234,7 +187,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         v.kind[cur] = BptVertexKind::Surface;
         v.bsdf[cur] = materialAt(scene, sp);
         v.delta[cur] = isDeltaMaterial(v.bsdf[cur].kind) ? 1 : 0;
-        if (idx + 1 >= v.capacity) continue;  // no room for a further vertex
+        if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
         b.hitPath[h] = uint32_t(i);
         b.hitBsdf[h] = v.bsdf[cur];
         ++h;
@@ -246,7 +199,8 @@ void groupBptHits(BptBatch& b) {
     groupByMaterialKind(b.hitBsdf.data(), b.numHits, b.order.data(), b.kindStart);
 }
 
-void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
+template <class U>
+void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u) {
     constexpr int kRouletteDepth = 3;
     const TransportMode mode = cameraWalk ? TransportMode::Radiance : TransportMode::Importance;
     const BptStream stream = cameraWalk ? kBptCamera : kBptLight;
@@ -254,7 +208,6 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         using B = BsdfOf<decltype(kind)::value>;
         for (uint32_t k = b.kindStart[int(kind.value)]; k < b.kindStart[int(kind.value) + 1]; ++k) {
             const uint32_t h = b.order[k], path = b.hitPath[h], slot = b.pathSlot[path];
-            const uint64_t key = b.key[slot];
             const int d = v.count[slot] - 1;
             const size_t cur = v.at(slot, d), prev = v.at(slot, d - 1);
             auto j = [&](uint32_t m) { return cameraWalk ? bptCamVertexJ(d, m) : bptLightVertexJ(d, m); };
@@ -264,8 +217,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             const Vec3 woW = -rayDir(b.ray[path]);
             Vec3 wo = fr.toLocal(woW);
             BsdfSample s;
-            if (!B::sample(v.bsdf[cur], wo, dim(key, stream, j(0)), dim(key, stream, j(1)), dim(key, stream, j(2)),
-                           mode, s))
+            if (!B::sample(v.bsdf[cur], wo, u(slot, stream, j(0)), u(slot, stream, j(1)), u(slot, stream, j(2)), mode, s))
                 continue;
             if (!(s.pdf > 0) || isBlack(s.f)) continue;
             Vec3 wi = normalize(fr.toWorld(s.wi));
@@ -279,11 +231,12 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             }
             v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
                                  ? pdfRev
-                                 : toArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev], v.kind[prev] != BptVertexKind::Camera);
-            if (d >= kRouletteDepth) {
+                                 : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev],
+                                                    v.kind[prev] != BptVertexKind::Camera);
+            if (b.roulette && d >= kRouletteDepth) {
                 float q = cameraWalk ? std::min(1.0f, maxComponent(beta))
                                      : std::min(1.0f, maxComponent(beta) / b.betaScale[slot]);
-                if (!(dim(key, stream, j(3)) < q)) continue;
+                if (!(u(slot, stream, j(3)) < q)) continue;
                 beta = beta / q;
             }
             b.alive[h] = 1;
@@ -293,6 +246,8 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         }
     });
 }
+template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const HashedSamples&);
+template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const StoredSamples&);
 
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
     size_t n = 0;
@@ -308,237 +263,6 @@ void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
         ++n;
     }
     b.numPaths = n;
-}
-
-namespace {
-
-// Appends a shadow ray from `from` (normal nFrom) to `to` (normal nTo; nTo = 0: a point
-// not on a surface, the lens or a light point aimed at as the PT does) with its value.
-inline void pushConnection(const Scene& scene, BptBatch& b, Vec3 from, Vec3 nFrom, Vec3 to, Vec3 nTo,
-                           uint32_t target, bool splat, int pathLength, Vec3 value, PtCounters& c,
-                           bool infinite = false) {
-    if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
-    if (infinite) {  // towards the environment in direction `to`
-        setRay(b.conn[b.numConn], scene.offsetRayOrigin(from, nFrom, to), to, 0.0f, INFINITY);
-        b.connSlot[b.numConn] = target;
-        b.connSplat[b.numConn] = splat ? 1 : 0;
-        b.connLength[b.numConn] = uint8_t(pathLength);
-        b.connValue[b.numConn] = value;
-        ++b.numConn;
-        return;
-    }
-    Vec3 w = to - from;
-    if (!(lengthSquared(w) > 0)) return;
-    w = normalize(w);
-    Vec3 origin = scene.offsetRayOrigin(from, nFrom, w);
-    Vec3 end = isBlack(nTo) ? to : scene.offsetRayOrigin(to, nTo, -w);
-    Vec3 d = end - origin;
-    float dist = length(d);
-    if (!(dist > 0)) return;
-    setRay(b.conn[b.numConn], origin, d / dist, 0.0f, dist * (1.0f - 1e-4f));
-    b.connSlot[b.numConn] = target;
-    b.connSplat[b.numConn] = splat ? 1 : 0;
-    b.connLength[b.numConn] = uint8_t(pathLength);
-    b.connValue[b.numConn] = value;
-    ++b.numConn;
-}
-
-inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 v, int length) {
-    if (!isFinite(v)) { ++b.nonfinite; return; }
-    if (isBlack(v)) return;
-    b.L[slot] += v;
-    b.lengths.add(length, v);
-}
-
-}  // namespace
-
-void traceBptConnections(const Scene& scene, BptBatch& b, PtCounters& c) {
-    traceOccluded(scene.rtc, b.conn.data(), b.numConn);
-    c.raysOccluded += b.numConn;
-    for (size_t i = 0; i < b.numConn; ++i) {
-        if (!(b.conn[i].tfar >= 0)) continue;
-        const Vec3 v = b.connValue[i];
-        if (b.connSplat[i]) {
-            if (!isFinite(v)) { ++b.nonfinite; continue; }
-            if (isBlack(v)) continue;
-            b.splats.push_back({b.connSlot[i], v});
-            b.lengths.add(b.connLength[i], v);
-        } else {
-            addCameraSide(b, b.connSlot[i], v, b.connLength[i]);
-        }
-    }
-    b.numConn = 0;
-}
-
-void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, PtCounters& counters) {
-    const Camera& cam = scene.camera;
-    constexpr int N = kMaxPathLength + 2;
-    PathVertex x[N];
-    float pL[N], pE[N];
-    uint8_t delta[N];
-    const bool haveLights = !scene.lights.empty();
-    b.numConn = 0;
-    for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
-        const uint64_t key = b.key[slot];
-        const int nC = b.cam.count[slot], nL = b.light.count[slot];
-        for (int t = 1; t <= nC; ++t) {
-            const size_t zi = b.cam.at(slot, t - 1);
-            const BptVertexKind zKind = b.cam.kind[zi];
-            for (int s = 0; s <= std::max(nL, 1); ++s) {
-                const int k = s + t - 1;
-                if (k < std::max(1, minLength) || k > maxLength) continue;
-                // Which strategies exist for these subpaths.
-                if (s == 0 && zKind != BptVertexKind::Light && zKind != BptVertexKind::Env) continue;
-                if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || b.cam.delta[zi])) continue;
-                if (s == 1 && t >= 2 && !haveLights) continue;
-                if (s >= 2 || (s == 1 && t == 1)) {
-                    if (s > nL) continue;
-                    const size_t yi = b.light.at(slot, s - 1);
-                    if (b.light.delta[yi]) continue;
-                    if (s == 1 && b.light.kind[yi] == BptVertexKind::Env) continue;  // at infinity
-                }
-                // The path x_0 .. x_k from the stored vertices.
-                for (int i = 0; i <= k; ++i) {
-                    const BptVertices& v = i < s ? b.light : b.cam;
-                    const size_t a = i < s ? b.light.at(slot, i) : b.cam.at(slot, k - i);
-                    x[i].p = v.p[a];
-                    x[i].ng = v.ng[a];
-                    x[i].shading = &v.shading[a];
-                    x[i].bsdf = &v.bsdf[a];
-                    x[i].kind = v.kind[a];
-                    pL[i] = i < s ? v.pdfFwd[a] : v.pdfRev[a];
-                    pE[i] = i < s ? v.pdfRev[a] : v.pdfFwd[a];
-                    delta[i] = v.delta[a];
-                }
-                Vec3 value(0.0f);
-                int li = -1;
-                Frame lightFrame;
-                BsdfParams noBsdf;
-                CameraSample cs;
-                // Sample the new endpoint (s = 1, t >= 2: a light point; t = 1: a lens
-                // point) and evaluate the unweighted contribution.
-                if (s == 0) {
-                    li = b.cam.light[zi];
-                    Vec3 Le = x[0].kind == BptVertexKind::Env ? scene.env.Le(-x[0].ng)
-                                                              : areaLe(scene.lights[li], x[0].ng, dirTo(x[0].p, x[1].p));
-                    value = b.cam.beta[zi] * Le;
-                } else if (s == 1 && t >= 2) {
-                    float pmf;
-                    li = scene.lightDistribution.sampleDiscrete(dim(key, kBptConnect, bptNeeJ(t, 0)), &pmf);
-                    LightSample ls;
-                    if (!(pmf > 0) || !sampleLightFrom(scene, li, x[1].p, dim(key, kBptConnect, bptNeeJ(t, 1)),
-                                                       dim(key, kBptConnect, bptNeeJ(t, 2)), ls))
-                        continue;
-                    const bool infinite = std::isinf(ls.dist);
-                    x[0].p = ls.p;
-                    x[0].ng = infinite ? -ls.wi : lightNormalAt(scene.lights[li], ls.p);
-                    lightFrame = Frame::fromNormal(x[0].ng);
-                    x[0].shading = &lightFrame;
-                    x[0].bsdf = &noBsdf;
-                    x[0].kind = infinite ? BptVertexKind::Env : BptVertexKind::Light;
-                    pL[0] = originPdf(scene, li, x[0]);
-                    pE[0] = 0;
-                    delta[0] = 0;
-                    const Frame& fr = *x[1].shading;
-                    Vec3 wi = fr.toLocal(ls.wi);
-                    Vec3 f = bsdfF(*x[1].bsdf, fr.toLocal(dirTo(x[1].p, x[2].p)), wi) * absCosTheta(wi);
-                    value = b.cam.beta[zi] * f * ls.Le / (pmf * ls.pdf);
-                } else if (t == 1) {
-                    const size_t yi = b.light.at(slot, s - 1);
-                    cs = sampleCameraFrom(cam, x[s - 1].p, dim(key, kBptConnect, bptLensJ(s, 0)),
-                                          dim(key, kBptConnect, bptLensJ(s, 1)));
-                    if (!cs.valid) continue;
-                    x[k].p = cs.lens;
-                    x[k].ng = cam.forward;
-                    x[k].kind = BptVertexKind::Camera;
-                    delta[k] = 0;
-                    const PathVertex& y = x[s - 1];
-                    if (s == 1) {
-                        li = b.light.light[yi];
-                        Vec3 Le = areaLe(scene.lights[li], y.ng, cs.wi);
-                        value = b.light.beta[yi] * Le * (std::fabs(dot(cs.wi, y.ng)) * cs.We / cs.pdf);
-                    } else {
-                        const Frame& fr = *y.shading;
-                        Vec3 toPrev = dirTo(y.p, x[s - 2].p);
-                        Vec3 wiL = fr.toLocal(cs.wi);
-                        Vec3 f = bsdfF(*y.bsdf, wiL, fr.toLocal(toPrev));
-                        float corr = shadingCorrection(toPrev, cs.wi, fr.n, y.ng);
-                        value = b.light.beta[yi] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
-                    }
-                } else {  // s, t >= 2
-                    const size_t yi = b.light.at(slot, s - 1);
-                    const PathVertex& y = x[s - 1];
-                    const PathVertex& z = x[s];
-                    Vec3 d = z.p - y.p;
-                    float dist2 = lengthSquared(d);
-                    if (!(dist2 > 0)) continue;
-                    Vec3 w = d / std::sqrt(dist2);  // from y to z
-                    const Frame& fy = *y.shading;
-                    const Frame& fz = *z.shading;
-                    Vec3 toPrevY = dirTo(y.p, x[s - 2].p), toPrevZ = dirTo(z.p, x[s + 1].p);
-                    Vec3 wy = fy.toLocal(w), wz = fz.toLocal(-w);
-                    Vec3 f1 = bsdfF(*y.bsdf, wy, fy.toLocal(toPrevY)) * shadingCorrection(toPrevY, w, fy.n, y.ng);
-                    Vec3 f2 = bsdfF(*z.bsdf, fz.toLocal(toPrevZ), wz);
-                    float G = absCosTheta(wy) * absCosTheta(wz) / dist2;
-                    value = b.light.beta[yi] * f1 * f2 * b.cam.beta[zi] * G;
-                }
-                if (isBlack(value)) continue;
-                delta[0] = 0;
-                delta[k] = 0;
-                const bool x0Infinite = x[0].kind == BptVertexKind::Env;
-                if (!bptStrategyValid(k, s, delta, x0Infinite)) continue;
-                // Densities the other side's walk would have used at the connection.
-                if (s == 0) {
-                    pL[0] = originPdf(scene, li, x[0]);
-                    if (k >= 2) pL[1] = emissionPdfAt(scene, x[0], x[1]);
-                } else {
-                    if (t == 1)
-                        pE[s - 1] = pdfAt(cameraPdfDir(cam, x[k].p, dirTo(x[k].p, x[s - 1].p)), x[k].p, x[s - 1]);
-                    else
-                        pE[s - 1] = pdfAt(scatterPdf(x[s], dirTo(x[s].p, x[s + 1].p), dirTo(x[s].p, x[s - 1].p)),
-                                          x[s].p, x[s - 1]);
-                    if (s >= 2)
-                        pE[s - 2] = pdfAt(scatterPdf(x[s - 1], dirTo(x[s - 1].p, x[s].p), dirTo(x[s - 1].p, x[s - 2].p)),
-                                          x[s - 1].p, x[s - 2]);
-                    if (s < k) {
-                        pL[s] = s == 1 ? emissionPdfAt(scene, x[0], x[1])
-                                       : toArea(scatterPdf(x[s - 1], dirTo(x[s - 1].p, x[s - 2].p),
-                                                           dirTo(x[s - 1].p, x[s].p)),
-                                                x[s - 1].p, x[s].p, x[s].ng, true);
-                        if (s + 1 < k)
-                            pL[s + 1] = toArea(scatterPdf(x[s], dirTo(x[s].p, x[s - 1].p), dirTo(x[s].p, x[s + 1].p)),
-                                               x[s].p, x[s + 1].p, x[s + 1].ng, true);
-                    }
-                }
-                // x_0 under next-event estimation from x_1 (k = 1: s = 1 is the light
-                // subpath's own vertex connected to the camera).
-                int l0 = s == 0 ? li : (s == 1 && t >= 2) ? li : b.light.light[b.light.at(slot, 0)];
-                float pL0Nee = pL[0];
-                if (k >= 2) {
-                    Vec3 w = dirTo(x[1].p, x[0].p);
-                    if (x0Infinite) w = -x[0].ng;
-                    pL0Nee = pdfAt(lightPdfFrom(scene, l0, x[1].p, x[0].p, w), x[1].p, x[0]);
-                }
-                const float wgt = bptMisWeight(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite);
-                if (!(wgt > 0)) continue;
-                value = value * wgt;
-                if (s == 0) {
-                    addCameraSide(b, slot, value, k);
-                } else if (t == 1) {
-                    pushConnection(scene, b, x[s - 1].p, x[s - 1].ng, x[k].p, Vec3(0.0f),
-                                   rasterPixel(cam, cs.px, cs.py), true, k, value, counters);
-                } else if (s == 1) {
-                    if (x0Infinite)
-                        pushConnection(scene, b, x[1].p, x[1].ng, -x[0].ng, Vec3(0.0f), slot, false, k, value, counters, true);
-                    else
-                        pushConnection(scene, b, x[1].p, x[1].ng, x[0].p, Vec3(0.0f), slot, false, k, value, counters);
-                } else {
-                    pushConnection(scene, b, x[s - 1].p, x[s - 1].ng, x[s].p, x[s].ng, slot, false, k, value, counters);
-                }
-            }
-        }
-    }
-    traceBptConnections(scene, b, counters);
 }
 
 }  // namespace wmlt

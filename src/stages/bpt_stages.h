@@ -4,7 +4,11 @@
 //   generateBptLightPaths  -> the same rounds for the light subpaths,
 //   connectBpt (s = 0 added directly; s = 1, t = 1 and s, t >= 2 as batched shadow rays,
 //     flushed by traceBptConnections).
-// The MIS weights come from kernels/mis.h (bptMisWeight) on the per-vertex densities.
+// The stages that read primary samples are templates on their source (bpt_state.h):
+// HashedSamples for BPT, StoredSamples for MMLT's proposals, which run the same stages
+// with one strategy per slot (per-slot walk lengths, generateChainCameraPaths,
+// connectStrategies). Connections live in bpt_connect.cpp; the MIS weights come from
+// kernels/mis.h (bptMisWeight) on the per-vertex densities.
 #pragma once
 #include <cstdint>
 
@@ -24,9 +28,14 @@ float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w);
 // Writes slots (pixel, key, L = 0), camera vertex z_0 and one path per slot.
 void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& tile, int strataPerAxis,
                             uint64_t seed);
+// MMLT: camera vertex z_0 and the first path of each slot whose walk has room for more
+// than z_0 (t >= 2), the raster point u(camera, 0-1) over the whole image; writes pixel.
+// Slots' cam.maxCount (t) and numSlots are set by the caller.
+void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSamples& u);
 // Writes light vertex y_0 (Env for the environment: a point on the disc of LT's
 // emission, lt_stages.h) and one path per slot with a usable emission sample.
-void generateBptLightPaths(const Scene& scene, BptBatch& b);
+template <class U>
+void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u);
 // Traces the live paths (closest hit).
 void intersectBptPaths(const Scene& scene, BptBatch& b, bool coherent, PtCounters& c);
 // Reads paths; appends the vertex each hits to v (camera walk: an emitter ends the path
@@ -39,12 +48,48 @@ void groupBptHits(BptBatch& b);
 // Samples each hit's BSDF (mode: Radiance for the camera walk, Importance for the light
 // walk); writes the previous vertex's pdfRev, the hit vertex's delta, next* and alive.
 // d: the vertex's index in its subpath (random-number layout, roulette from d = 3).
-void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk);
+template <class U>
+void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u);
 // Compacts the surviving hits into the next round's paths.
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
+// A vertex of the path being weighted, in the light-to-camera order x_0 .. x_k.
+struct PathVertex {
+    Vec3 p, ng;
+    const Frame* shading = nullptr;
+    const BsdfParams* bsdf = nullptr;
+    BptVertexKind kind = BptVertexKind::Surface;
+};
+
+// Working memory of evaluateStrategy, kept by its caller across calls.
+struct StrategyScratch {
+    PathVertex x[kMaxPathLength + 2];
+    float pL[kMaxPathLength + 2], pE[kMaxPathLength + 2];
+    uint8_t delta[kMaxPathLength + 2];
+    Frame lightFrame;
+    BsdfParams noBsdf;
+};
+
+// One strategy's sample of a slot's subpaths.
+struct StrategySample {
+    Vec3 value;          // unweighted contribution, visibility not yet tested
+    float weight = 0;    // its MIS weight
+    bool shadowRay = false, infinite = false;  // s = 0 needs no shadow ray
+    Vec3 from, nFrom, to, nTo;  // the shadow ray's ends (infinite: `to` is a direction; nTo = 0: not on a surface)
+    uint32_t pixel = 0;  // t = 1: the raster pixel the path lands on
+};
+
+// Strategy (s, t) of slot's stored subpaths, with the connection numbers of u: the new
+// endpoint (s = 1: a light point; t = 1: a lens point), the unweighted contribution and
+// the MIS weight. False when the strategy cannot sample this path or contributes nothing.
+template <class U>
+bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, int t, const U& u, float misBeta,
+                      StrategyScratch& scratch, StrategySample& out);
 // Every strategy (s, t) with s + t - 1 in [minLength, maxLength]: s = 0 to L, the
 // others to conns (flushed through traceBptConnections when full and at the end).
 void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, PtCounters& c);
+// MMLT: the one strategy (strategyS, pathLength) of each slot; L = its MIS-weighted
+// contribution (0 when it cannot sample the path or is occluded), pixel = where it lands.
+void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, PtCounters& c);
 // Traces the conns; adds the unoccluded ones to L (camera side) or splats (t = 1).
 void traceBptConnections(const Scene& scene, BptBatch& b, PtCounters& c);
 

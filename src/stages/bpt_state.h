@@ -17,7 +17,9 @@
 #include <vector>
 
 #include "kernels/bsdf.h"
+#include "kernels/rng.h"
 #include "stages/film.h"
+#include "stages/strategy_films.h"
 
 namespace wmlt {
 
@@ -38,11 +40,13 @@ struct BptVertices {
     std::vector<uint8_t> delta;      // scatters by a delta lobe (mirror, glass)
     std::vector<BptVertexKind> kind;
     std::vector<int16_t> light;      // Light: index into Scene::lights
+    std::vector<uint8_t> maxCount;   // per slot: the walk stops at this many vertices (<= capacity)
 
     void reserve(size_t slots, int cap) {
         capacity = cap;
         const size_t n = slots * size_t(cap);
         count.assign(slots, 0);
+        maxCount.assign(slots, uint8_t(cap));
         p.resize(n); ng.resize(n); shading.resize(n); bsdf.resize(n); beta.resize(n);
         pdfFwd.resize(n); pdfRev.resize(n); delta.resize(n); kind.resize(n); light.resize(n);
     }
@@ -55,6 +59,9 @@ struct BptBatch {
     std::vector<uint32_t> pixel;
     std::vector<uint64_t> key;
     std::vector<Vec3> L;             // camera-side contributions (t >= 2): the pixel's own film
+    // One strategy per slot (MMLT): s of the slot's strategy and its path length k.
+    std::vector<uint8_t> strategyS, pathLength;
+    bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
 
     BptVertices cam, light;
 
@@ -81,21 +88,26 @@ struct BptBatch {
     std::vector<uint32_t> connSlot;  // camera side: slot; t = 1: raster pixel
     std::vector<uint8_t> connSplat;  // 1: t = 1 splat
     std::vector<uint8_t> connLength;
-    std::vector<Vec3> connValue;     // MIS-weighted, unoccluded
+    std::vector<Vec3> connValue;     // unweighted, unoccluded
+    std::vector<float> connWeight;   // its MIS weight
+    std::vector<uint8_t> connS;      // its strategy's s (strategy images)
 
     std::vector<Splat> splats;
+    StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
+    std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     uint64_t nonfinite = 0;
     PathLengthSums lengths;
 
     void reserve(size_t n, int maxLength) {
-        pixel.resize(n); key.resize(n); L.resize(n);
+        pixel.resize(n); key.resize(n); L.resize(n); strategyS.resize(n); pathLength.resize(n);
         cam.reserve(n, maxLength + 1);
         light.reserve(n, maxLength);
         pathSlot.resize(n); ray.resize(n); pathPdf.resize(n); pathBeta.resize(n); betaScale.resize(n);
         hitPath.resize(n); order.resize(n); hitBsdf.resize(n); alive.resize(n); nextDir.resize(n);
         connCapacity = std::max<size_t>(n * 4, 1024);
         conn.resize(connCapacity); connSlot.resize(connCapacity); connSplat.resize(connCapacity);
-        connLength.resize(connCapacity); connValue.resize(connCapacity);
+        connLength.resize(connCapacity); connValue.resize(connCapacity); connWeight.resize(connCapacity);
+        connS.resize(connCapacity);
         splats.reserve(n);
     }
 };
@@ -119,5 +131,46 @@ inline uint32_t bptCamVertexJ(int d, uint32_t m) { return 4 + 4 * uint32_t(d - 1
 inline uint32_t bptLightVertexJ(int d, uint32_t m) { return 5 + 4 * uint32_t(d - 1) + m; }
 inline uint32_t bptNeeJ(int t, uint32_t m) { return 5 * uint32_t(t) + m; }
 inline uint32_t bptLensJ(int s, uint32_t m) { return 5 * uint32_t(s) + 3 + m; }
+
+// Where a batch's primary samples come from: number j of stream c of slot i. Chosen once
+// per tracer (the stages are templates on it), never per number.
+// BPT: hashed from the slot's key at dimension 3 j + c (the layout above); every
+// strategy reads its own connection numbers.
+struct HashedSamples {
+    const uint64_t* key;
+    float operator()(uint32_t slot, BptStream c, uint32_t j) const {
+        return sampleDimension(key[slot], bptDim(c, j));
+    }
+    static uint32_t connectJ(int s, int t, uint32_t m) { return s == 1 && t >= 2 ? bptNeeJ(t, m) : bptLensJ(s, m); }
+};
+
+// One strategy's primary sample vector u of a path of length k (MMLT's chains), stored
+// as a row per slot: u[0] picks the strategy, then a block per stream holding its
+// numbers j = 0, 1, ... in the layout above (so a change of t leaves the light
+// subpath's numbers where they are), the connection's block holding the one
+// connection's numbers (j = 0-2). Block sizes: the most any strategy of length k reads.
+struct StrategyLayout {
+    static uint32_t cameraSize(int k) { return 4 * uint32_t(k); }                   // t = k + 1
+    static uint32_t lightSize(int k) { return std::max<uint32_t>(5, 4 * uint32_t(k) - 3); }  // s = k
+    static constexpr uint32_t kConnectSize = 3;
+    static uint32_t base(int k, BptStream c) {
+        return c == kBptCamera ? 1 : c == kBptLight ? 1 + cameraSize(k) : 1 + cameraSize(k) + lightSize(k);
+    }
+    static uint32_t size(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
+    // The numbers strategy (s, t) reads from each block (a prefix of it).
+    static uint32_t cameraUsed(int t) { return t >= 2 ? 4 * uint32_t(t) - 4 : 0; }
+    static uint32_t lightUsed(int s, int t) { return s >= 2 ? 4 * uint32_t(s) - 3 : s == 1 && t == 1 ? 5 : 0; }
+    static uint32_t connectUsed(int s, int t) { return (s == 1 && t >= 2) || t == 1 ? kConnectSize : 0; }
+};
+
+struct StoredSamples {
+    const float* u;      // slot i's row at u + i * stride
+    uint32_t stride;     // >= StrategyLayout::size of every slot's length
+    const uint8_t* length;  // slot i's path length k
+    float operator()(uint32_t slot, BptStream c, uint32_t j) const {
+        return u[size_t(slot) * stride + StrategyLayout::base(length[slot], c) + j];
+    }
+    static uint32_t connectJ(int, int, uint32_t m) { return m; }
+};
 
 }  // namespace wmlt

@@ -10,13 +10,6 @@ namespace wmlt {
 
 namespace {
 
-inline Vec3 rayDir(const RTCRayHit& r) { return {r.ray.dir_x, r.ray.dir_y, r.ray.dir_z}; }
-
-inline uint32_t rasterPixel(const Camera& cam, float px, float py) {
-    int x = std::min(int(px), cam.width - 1), y = std::min(int(py), cam.height - 1);
-    return uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
-}
-
 // Appends a camera connection from surface point p (normal ng) to the lens sample.
 inline void addConnection(const Scene& scene, LtBatch& b, Vec3 p, Vec3 ng, const CameraSample& cs, Vec3 value) {
     Vec3 origin = scene.offsetRayOrigin(p, ng, cs.wi);
@@ -27,13 +20,6 @@ inline void addConnection(const Scene& scene, LtBatch& b, Vec3 p, Vec3 ng, const
     b.connPixel[b.numConn] = rasterPixel(scene.camera, cs.px, cs.py);
     b.connValue[b.numConn] = value;
     ++b.numConn;
-}
-
-// Shading-normal correction of the adjoint BSDF (Veach 1997, eq. 5.19; pbrt-v3 16.1):
-// |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|), wo towards the light side, wi onwards.
-inline float shadingCorrection(Vec3 wo, Vec3 wi, Vec3 ns, Vec3 ng) {
-    float den = std::fabs(dot(wo, ng)) * std::fabs(dot(wi, ns));
-    return den > 0 ? std::fabs(dot(wo, ns)) * std::fabs(dot(wi, ng)) / den : 0.0f;
 }
 
 }  // namespace

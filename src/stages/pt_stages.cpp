@@ -11,8 +11,6 @@ namespace wmlt {
 namespace {
 
 inline Vec3 rayOrigin(const RTCRayHit& r) { return {r.ray.org_x, r.ray.org_y, r.ray.org_z}; }
-inline Vec3 rayDir(const RTCRayHit& r) { return {r.ray.dir_x, r.ray.dir_y, r.ray.dir_z}; }
-
 // A contribution of path length `length`; NaN or Inf ones are counted and left out.
 inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
     if (!isFinite(c)) { ++b.nonfinite; return; }

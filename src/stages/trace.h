@@ -22,6 +22,8 @@ inline void setRay(RTCRay& r, Vec3 o, Vec3 d, float tnear, float tfar) {
     r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z; r.time = 0;
     r.tfar = tfar; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
 }
+inline Vec3 rayDir(const RTCRayHit& r) { return {r.ray.dir_x, r.ray.dir_y, r.ray.dir_z}; }
+
 inline void setRayHit(RTCRayHit& rh, Vec3 o, Vec3 d) {
     setRay(rh.ray, o, d, 0.0f, INFINITY);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
