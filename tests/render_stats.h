@@ -250,6 +250,27 @@ inline ZTestResult zTest(const RunStats& s, const std::vector<double>& expected,
     return zTest(v, expected, se, dof, p);
 }
 
+// z test of the difference of two sets of K-run means: se^2 = se_a^2 + se_b^2,
+// Welch-Satterthwaite degrees of freedom.
+inline ZTestResult compareRuns(const RunStats& a, const RunStats& b, double p, double* ratio = nullptr) {
+    const size_t n = a.size();
+    const double K = a.runs;
+    std::vector<double> v(n), e(n), se(n), dof(n);
+    double sumV = 0, sumE = 0;
+    for (size_t i = 0; i < n; ++i) {
+        v[i] = a.mean(i);
+        e[i] = b.mean(i);
+        double x = a.variance(i) / K, y = b.variance(i) / K;
+        se[i] = std::sqrt(x + y);
+        double den = x * x / (K - 1) + y * y / (K - 1);
+        dof[i] = den > 0 ? (x + y) * (x + y) / den : K - 1;
+        sumV += v[i];
+        sumE += e[i];
+    }
+    if (ratio) *ratio = sumV / sumE;
+    return zTest(v, e, se, dof, p);
+}
+
 // Options for a test render: spp samples per pixel stratified as the CLI does, 2 threads.
 inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint64_t seed, int minLength,
                                          int maxLength, int threads = 2) {

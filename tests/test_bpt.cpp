@@ -30,27 +30,6 @@ using namespace wmlt;
 
 namespace {
 
-// z test of the difference of two sets of K-run means: se^2 = se_a^2 + se_b^2,
-// Welch-Satterthwaite degrees of freedom.
-rstats::ZTestResult compareRuns(const rstats::RunStats& a, const rstats::RunStats& b, double p, double* ratio = nullptr) {
-    const size_t n = a.size();
-    const double K = a.runs;
-    std::vector<double> v(n), e(n), se(n), dof(n);
-    double sumV = 0, sumE = 0;
-    for (size_t i = 0; i < n; ++i) {
-        v[i] = a.mean(i);
-        e[i] = b.mean(i);
-        double x = a.variance(i) / K, y = b.variance(i) / K;
-        se[i] = std::sqrt(x + y);
-        double den = x * x / (K - 1) + y * y / (K - 1);
-        dof[i] = den > 0 ? (x + y) * (x + y) / den : K - 1;
-        sumV += v[i];
-        sumE += e[i];
-    }
-    if (ratio) *ratio = sumV / sumE;
-    return rstats::zTest(v, e, se, dof, p);
-}
-
 // BPT against PT: K runs of each; per channel the 8 x 8 block means.
 void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_t seed0, float misBeta = 2,
                    int minLength = 1) {
@@ -71,7 +50,7 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_
     }
     for (int c = 0; c < 3; ++c) {
         double ratio = 0;
-        rstats::ZTestResult z = compareRuns(bpt[c], pt[c], 1e-4 / 3, &ratio);
+        rstats::ZTestResult z = rstats::compareRuns(bpt[c], pt[c], 1e-4 / 3, &ratio);
         INFO("channel " << c << ": BPT / PT image mean = " << ratio << "; " << z.describe());
         CHECK(z.pass);
     }
@@ -230,7 +209,7 @@ TEST_CASE("BPT mean luminance by path length matches PT's", "[bpt][render]") {
                        << pt.se(i) << ", z = " << z);
         CHECK(pt.mean(i) > 0);
     }
-    rstats::ZTestResult z = compareRuns(bpt, pt, 1e-4);
+    rstats::ZTestResult z = rstats::compareRuns(bpt, pt, 1e-4);
     INFO(z.describe());
     CHECK(z.pass);
 }
@@ -278,4 +257,74 @@ TEST_CASE("BPT matches PT with an environment map (and a glass ball)", "[bpt][re
     SceneDesc desc = loadSceneFromString(xml, "sky.xml", dir);
     compareWithPt(desc, 16, 8, 4, 6000);
     std::filesystem::remove_all(dir);
+}
+
+// ---- 6. strategy images -------------------------------------------------------------------
+
+namespace {
+
+// The strategy images of a BPT render of `desc` with MinPathLength = MaxPathLength = k.
+RenderResult renderStrategies(const SceneDesc& desc, int spp, uint64_t seed, int k) {
+    RenderOptions o = rstats::renderOptions(TracerKind::BPT, spp, seed, k, k);
+    o.strategyImages = "unused";  // render() keeps the images; only the CLI writes them
+    return render(desc, o);
+}
+
+}  // namespace
+
+TEST_CASE("BPT strategy images: the weighted ones add up to the image", "[bpt][strategies]") {
+    SceneDesc desc = rstats::cornell64(3);
+    RenderOptions o = rstats::renderOptions(TracerKind::BPT, 4, 11, 1, 3);
+    o.strategyImages = "unused";
+    RenderResult r = render(desc, o);
+    REQUIRE(r.strategyImages.size() == 2 + 3 + 4);  // (s, t) for k = 1, 2, 3
+    std::vector<double> sum(r.image.rgb.size(), 0.0);
+    for (const StrategyImage& si : r.strategyImages) {
+        REQUIRE(si.s + si.t - 1 >= 1);
+        REQUIRE(si.s + si.t - 1 <= 3);
+        for (size_t i = 0; i < sum.size(); ++i) sum[i] += si.weighted.rgb[i];
+    }
+    // Float sums per strategy against double sums per pixel: rounding only.
+    for (size_t i = 0; i < sum.size(); ++i) REQUIRE(sum[i] == Approx(r.image.rgb[i]).epsilon(1e-4).margin(1e-6));
+}
+
+TEST_CASE("BPT strategy images: each unweighted strategy estimates the same per-length image", "[bpt][strategies]") {
+    // For path lengths 2 and 3 on the Cornell box, every strategy (s, t) on its own is an
+    // unbiased estimator of the length-k image: its unweighted image over K runs against
+    // PT's with MinPathLength = MaxPathLength = k (8 x 8 block means, per channel: s = 0
+    // hits the small light rarely, so its run means need many samples each to be near normal).
+    SceneDesc desc = rstats::cornell64(3);
+    desc.settings.width = desc.settings.height = 32;
+    const int K = 8, spp = 128, B = 8;
+    for (int k = 2; k <= 3; ++k) {
+        rstats::RunStats pt;
+        std::vector<rstats::RunStats> strat(size_t(k + 1));
+        for (int run = 0; run < K; ++run) {
+            RenderResult a = render(desc, rstats::renderOptions(TracerKind::PT, spp, 100 + run, k, k));
+            std::vector<double> v;
+            for (int c = 0; c < 3; ++c) {
+                std::vector<double> m = rstats::blockMeans(a.image, B, c);
+                v.insert(v.end(), m.begin(), m.end());
+            }
+            pt.add(v);
+            RenderResult b = renderStrategies(desc, spp, 200 + run, k);
+            REQUIRE(b.strategyImages.size() == size_t(k + 1));
+            for (const StrategyImage& si : b.strategyImages) {
+                std::vector<double> u;
+                for (int c = 0; c < 3; ++c) {
+                    std::vector<double> m = rstats::blockMeans(si.unweighted, B, c);
+                    u.insert(u.end(), m.begin(), m.end());
+                }
+                strat[size_t(si.s)].add(u);
+            }
+        }
+        for (int s = 0; s <= k; ++s) {
+            double ratio = 0;
+            // p split over the 2 + 3 + 1 comparisons of this test case.
+            rstats::ZTestResult z = rstats::compareRuns(strat[size_t(s)], pt, 1e-4 / 7, &ratio);
+            INFO("k = " << k << ", s = " << s << ", t = " << k + 1 - s << ": unweighted / PT = " << ratio << "; "
+                        << z.describe());
+            CHECK(z.pass);
+        }
+    }
 }

@@ -39,8 +39,14 @@ std::string usageText() {
         "Renders the scene (the built-in default scene when none is given).\n"
         "Options override the scene's Settings:\n"
         "  --tracer pt|lt|bpt|mmlt  light transport algorithm (pt, lt and bpt so far)\n"
-        "  --mis-beta B             BPT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
-        "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N)\n"
+        "  --mis-beta B             BPT, MMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
+        "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N);\n"
+        "                           MMLT: mutations per pixel\n"
+        "  --chains N               MMLT: Markov chains in flight (default 65536)\n"
+        "  --bootstrap N            MMLT: bootstrap samples per path length (default: automatic)\n"
+        "  --p-large P              MMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
+        "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
+        "                           and _unweighted.exr (the folder is created)\n"
         "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
         "  --threads N              worker threads (0: all)\n"
         "  --seed N                 random seed (same seed: same image, for any --threads)\n"
@@ -78,6 +84,13 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
         else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);
         else if (a == "--threads") cl.threads = int(parseInt(a, value(), 0, 4096));
+        else if (a == "--chains") cl.chains = int(parseInt(a, value(), 1, 1 << 30));
+        else if (a == "--bootstrap") cl.bootstrap = int(parseInt(a, value(), 1, 1 << 30));
+        else if (a == "--p-large") {
+            cl.probLarge = float(parseReal(a, value(), 0, 1));
+            if (!(*cl.probLarge > 0)) fail("--p-large: must be greater than 0");
+        }
+        else if (a == "--strategy-images") cl.strategyImages = value();
         else if (a == "--mis-beta") cl.misBeta = float(parseReal(a, value(), 0.5, 16));
         else if (a == "--seed") cl.seed = uint64_t(parseInt(a, value(), 0, (1LL << 62)));
         else if (a == "--width") cl.width = int(parseInt(a, value(), 1, 16384));
@@ -101,6 +114,9 @@ void applyCommandLine(const CommandLine& cl, Settings& s) {
     if (cl.height) s.height = *cl.height;
     if (cl.maxLength) s.maxPathLength = *cl.maxLength;
     if (cl.minLength) s.minPathLength = *cl.minLength;
+    if (cl.probLarge) s.probLarge = *cl.probLarge;
+    if (!cl.strategyImages.empty() && s.tracer != TracerKind::BPT)
+        fail("--strategy-images needs --tracer bpt");
     if (s.minPathLength > s.maxPathLength)
         fail("the minimum path length " + std::to_string(s.minPathLength) + " exceeds the maximum " +
              std::to_string(s.maxPathLength));

@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstring>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -40,6 +41,16 @@ void checkOutputPath(const std::string& path, bool image) {
     std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
     if (access(dir.c_str(), W_OK) != 0)
         throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': " + std::strerror(errno));
+}
+
+// The --strategy-images folder: created when missing (its parent must exist).
+void prepareFolder(const std::string& dir) {
+    std::error_code ec;
+    if (!std::filesystem::exists(dir, ec) && !std::filesystem::create_directory(dir, ec))
+        throw wmlt::InputError(dir, 0, "cannot create the folder: " + ec.message());
+    if (!std::filesystem::is_directory(dir, ec)) throw wmlt::InputError(dir, 0, "not a folder");
+    if (access(dir.c_str(), W_OK) != 0)
+        throw wmlt::InputError(dir, 0, std::string("cannot write to the folder: ") + std::strerror(errno));
 }
 
 void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
@@ -102,6 +113,11 @@ int run(int argc, char** argv) {
     opt.threads = s.threads;
     opt.seed = cl.seed;
     if (cl.misBeta) opt.misBeta = *cl.misBeta;
+    if (cl.chains) opt.chains = *cl.chains;
+    if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
+    opt.probLarge = s.probLarge;
+    opt.strategyImages = cl.strategyImages;
+    if (!opt.strategyImages.empty()) prepareFolder(opt.strategyImages);
     opt.minPathLength = s.minPathLength;
     opt.maxPathLength = s.maxPathLength;
     opt.cancel = &gCancel;
@@ -113,6 +129,11 @@ int run(int argc, char** argv) {
     RenderResult r = render(std::move(scene), opt);
     progress.finish();
     for (const std::string& o : outputs) writeImage(o, r.image, cl.exposure);
+    for (const StrategyImage& si : r.strategyImages) {
+        const std::string stem = opt.strategyImages + "/s" + std::to_string(si.s) + "_t" + std::to_string(si.t);
+        writeImage(stem + "_weighted.exr", si.weighted, 0);
+        writeImage(stem + "_unweighted.exr", si.unweighted, 0);
+    }
     if (!cl.statsPath.empty()) writeStats(cl.statsPath, r, settings);
     if (!cl.quiet)
         std::fprintf(stderr, "%s: %llu spp in %.2f s, %.2f Mrays/s%s\n", tracerName(opt.tracer),

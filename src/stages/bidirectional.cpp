@@ -15,6 +15,7 @@
 #include "stages/bpt_stages.h"
 #include "stages/film.h"
 #include "stages/passes.h"
+#include "wavemmlt/error.h"
 
 namespace wmlt {
 
@@ -91,6 +92,12 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     SplatFilm splatFilm(scene.camera.width, scene.camera.height);
     std::vector<TileOutput> outputs(schedule.tiles.size());
     std::unique_ptr<StrategyFilms> strategyFilms;
+    constexpr size_t kStrategyFilmsLimit = size_t(8) << 30;
+    const size_t filmBytes = StrategyFilms::bytes(scene.camera.width, scene.camera.height, opt.maxPathLength);
+    if (!opt.strategyImages.empty() && filmBytes > kStrategyFilmsLimit)
+        throw InputError(opt.strategyImages, 0,
+                         "strategy images would need " + std::to_string(filmBytes >> 20) +
+                             " MiB (over 8 GiB): lower --max-length or the image size");
     if (!opt.strategyImages.empty())
         strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
