@@ -47,6 +47,17 @@ struct RenderStats {
     // per-length split of the image's mean, which MMLT's b_k must reproduce.
     std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
+    // MMLT, indexed by path length k (0 unused).
+    struct Mmlt {
+        std::vector<double> b;                    // bootstrap estimate of b_k (mean target)
+        std::vector<uint32_t> chains;             // chains allocated to length k
+        std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
+        uint64_t bootstrapSamples = 0;            // per length
+        uint64_t mutations = 0;                   // proposals made in total
+        uint64_t iterations = 0;                  // proposals per chain
+        uint64_t replayMismatches = 0;            // seeded chains whose replay differed (a bug)
+        uint64_t chainBytes = 0;                  // memory of the chain state
+    } mmlt;
     double mraysPerSecond() const { return seconds > 0 ? (raysIntersect + raysOccluded) / seconds * 1e-6 : 0; }
 };
 

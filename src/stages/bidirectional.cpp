@@ -28,18 +28,6 @@ struct TileOutput {
     PathLengthSums lengths;
 };
 
-void walk(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, PtCounters& counters) {
-    const HashedSamples u{b.key.data()};
-    for (bool first = true; b.numPaths > 0; first = false) {
-        intersectBptPaths(scene, b, cameraWalk && first, counters);
-        resolveBptHits(scene, b, v, cameraWalk);
-        if (b.numHits == 0) break;
-        groupBptHits(b);
-        sampleBptBsdfs(scene, b, v, cameraWalk, u);
-        advanceBptPaths(scene, b, v);
-    }
-}
-
 void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, BptBatch& b, Film& film,
                 PtCounters& counters, TileOutput& out) {
     b.splats.clear();
@@ -47,9 +35,10 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
     b.nonfinite = 0;
     b.lengths = PathLengthSums();
     generateBptCameraPaths(scene, b, tile, opt.strataPerAxis, opt.seed);
-    walk(scene, b, b.cam, true, counters);
-    generateBptLightPaths(scene, b, HashedSamples{b.key.data()});
-    walk(scene, b, b.light, false, counters);
+    const HashedSamples u{b.key.data()};
+    walkBpt(scene, b, b.cam, true, true, counters, u);
+    generateBptLightPaths(scene, b, u);
+    walkBpt(scene, b, b.light, false, false, counters, u);
     connectBpt(scene, b, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
     for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i]);
     out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());

@@ -249,6 +249,21 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const HashedSamples&);
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const StoredSamples&);
 
+template <class U>
+void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, PtCounters& counters,
+             const U& u) {
+    for (bool first = true; b.numPaths > 0; first = false) {
+        intersectBptPaths(scene, b, coherentFirst && first, counters);
+        resolveBptHits(scene, b, v, cameraWalk);
+        if (b.numHits == 0) break;
+        groupBptHits(b);
+        sampleBptBsdfs(scene, b, v, cameraWalk, u);
+        advanceBptPaths(scene, b, v);
+    }
+}
+template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, PtCounters&, const HashedSamples&);
+template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, PtCounters&, const StoredSamples&);
+
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
     size_t n = 0;
     for (size_t h = 0; h < b.numHits; ++h) {

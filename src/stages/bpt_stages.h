@@ -52,6 +52,13 @@ template <class U>
 void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u);
 // Compacts the surviving hits into the next round's paths.
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
+// The rounds of one walk (camera or light): intersect -> resolve -> group -> sample ->
+// advance until no path is alive. coherentFirst: the first round's rays are camera rays
+// in tile order.
+template <class U>
+void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, PtCounters& counters,
+             const U& u);
+
 // A vertex of the path being weighted, in the light-to-camera order x_0 .. x_k.
 struct PathVertex {
     Vec3 p, ng;

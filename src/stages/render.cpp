@@ -4,6 +4,7 @@
 
 #include "stages/bidirectional.h"
 #include "stages/light_tracer.h"
+#include "stages/mmlt.h"
 #include "stages/path_tracer.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
@@ -18,14 +19,15 @@ int strataForSpp(int spp) {
 }
 
 RenderResult render(SceneDesc desc, const RenderOptions& opt) {
-    if (opt.tracer == TracerKind::MMLT) {
-        static const char* names[] = {"mmlt", "bpt", "lt", "pt"};
-        throw InputError(std::string("tracer '") + names[int(opt.tracer)] + "' is not implemented yet (use --tracer pt, lt or bpt)");
-    }
+    if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT)
+        throw InputError("strategy images need the BPT tracer");
+    if (opt.tracer == TracerKind::MMLT && !(opt.probLarge > 0 && opt.probLarge <= 1))
+        throw InputError("ProbLarge must be in (0, 1]");
     int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
-    RenderResult r = opt.tracer == TracerKind::LT    ? renderLightTracing(*scene, opt)
+    RenderResult r = opt.tracer == TracerKind::MMLT  ? renderMmlt(*scene, opt)
+                     : opt.tracer == TracerKind::LT  ? renderLightTracing(*scene, opt)
                      : opt.tracer == TracerKind::BPT ? renderBidirectional(*scene, opt)
                                                      : renderPathTracing(*scene, opt);
     r.stats.threads = threads;
