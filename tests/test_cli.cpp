@@ -304,10 +304,16 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     CHECK(contains(b.err, "abc"));
     Run c = run("--spp" , dir);  // a missing value
     CHECK(c.status == 2);
-    Run d = run("--tracer mmlt" + kSmall + " -o " + quote(out), dir);
+    Run d = run("--tracer mmlt --chains 0" + kSmall + " -o " + quote(out), dir);
     INFO("stderr: " << d.err);
     CHECK(d.status == 2);
-    CHECK(contains(d.err, "not implemented"));
+    CHECK(contains(d.err, "--chains"));
+    Run e = run("--p-large 0" + kSmall + " -o " + quote(out), dir);
+    CHECK(e.status == 2);
+    CHECK(contains(e.err, "--p-large"));
+    Run f = run("--tracer pt --strategy-images " + quote(dir.file("s")) + kSmall + " -o " + quote(out), dir);
+    CHECK(f.status == 2);
+    CHECK(contains(f.err, "--strategy-images"));
     CHECK_FALSE(fs::exists(out));
 }
 
@@ -347,9 +353,27 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     for (const char* key : {"tracer", "seconds", "threads", "spp", "rays_intersect", "rays_occluded",
                             "mrays_per_second", "samples_nonfinite_discarded", "scene_features"})
         CHECK(j.topKeys.count(key) == 1);
-    CHECK(contains(text, "\"tracer\": \"pt\""));
+    CHECK(contains(text, "\"tracer\": \"mmlt\""));  // the built-in scene's tracer
     CHECK(contains(text, "\"threads\": 2"));
     CHECK(contains(text, "\"spp\": 4"));
+    for (const char* key : {"mmlt_b", "mmlt_chains", "mmlt_acceptance_small", "mmlt_acceptance_large",
+                            "mmlt_acceptance", "mmlt_mutations", "mmlt_mutations_per_second",
+                            "mmlt_replay_mismatches", "mmlt_chain_state_bytes"})
+        CHECK(j.topKeys.count(key) == 1);
+    CHECK(contains(text, "\"mmlt_replay_mismatches\": 0"));
+}
+
+TEST_CASE("cli: --strategy-images writes a weighted and an unweighted EXR per strategy", "[cli]") {
+    TempDir dir;
+    std::string folder = dir.file("strategies"), out = dir.file("out.pfm");
+    Run r = run("--tracer bpt --max-length 2 --spp 1" + kSmall + " --strategy-images " + quote(folder) + " -o " +
+                    quote(out), dir);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    for (const char* name : {"s0_t2", "s1_t1", "s0_t3", "s1_t2", "s2_t1"}) {
+        CHECK(fs::exists(folder + "/" + name + "_weighted.exr"));
+        CHECK(fs::exists(folder + "/" + name + "_unweighted.exr"));
+    }
 }
 
 TEST_CASE("cli: Ctrl-C saves the image so far and exits 130", "[cli]") {

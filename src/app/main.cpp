@@ -53,6 +53,37 @@ void prepareFolder(const std::string& dir) {
         throw wmlt::InputError(dir, 0, std::string("cannot write to the folder: ") + std::strerror(errno));
 }
 
+// MMLT's figures, each an object keyed by path length where it is per length.
+void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Settings& s) {
+    const wmlt::RenderStats::Mmlt& m = st.mmlt;
+    auto perLength = [&](const char* name, auto value) {
+        o << ",\n  \"" << name << "\": {";
+        for (int k = s.minPathLength; k <= s.maxPathLength && k < int(m.b.size()); ++k)
+            o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << value(size_t(k));
+        o << "}";
+    };
+    auto rate = [](uint64_t a, uint64_t p) { return p ? double(a) / double(p) : 0.0; };
+    perLength("mmlt_b", [&](size_t k) { return m.b[k]; });
+    perLength("mmlt_chains", [&](size_t k) { return m.chains[k]; });
+    perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
+    perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
+    uint64_t acc = 0, prop = 0, accL = 0, propL = 0;
+    for (size_t k = 0; k < m.b.size(); ++k) {
+        acc += m.acceptedSmall[k];
+        prop += m.proposedSmall[k];
+        accL += m.acceptedLarge[k];
+        propL += m.proposedLarge[k];
+    }
+    o << ",\n  \"mmlt_acceptance\": {\"small\": " << rate(acc, prop) << ", \"large\": " << rate(accL, propL)
+      << ", \"all\": " << rate(acc + accL, prop + propL) << "}"
+      << ",\n  \"mmlt_mutations\": " << m.mutations
+      << ",\n  \"mmlt_mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
+      << ",\n  \"mmlt_proposals_per_chain\": " << m.iterations
+      << ",\n  \"mmlt_bootstrap_samples_per_length\": " << m.bootstrapSamples
+      << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
+      << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes;
+}
+
 void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
     std::ostringstream o;
     o.precision(9);
@@ -68,8 +99,9 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
     // Path length k (segments) -> the image's mean luminance carried by length-k paths.
     for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
-    o << "}"
-      << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
+    o << "}";
+    if (st.tracer == "mmlt") writeMmltStats(o, st, s);
+    o << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
     std::string tmp = path + ".tmp-" + std::to_string(getpid());
     {
         std::ofstream f(tmp);

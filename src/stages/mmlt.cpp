@@ -2,7 +2,8 @@
 //  1. bootstrap: nBoot independent samples (large steps) of every length k estimate
 //     b_k = E[c], c = luminance of (k + 1) times the MIS-weighted contribution;
 //  2. chains are allocated to lengths in proportion to b_k by largest remainders (never
-//     drawn at random), at least one per length with b_k > 0;
+//     drawn at random), at least one per length with b_k > 0 (so --chains 1 runs one
+//     chain per length), and no more chains than the mutations asked for;
 //  3. each chain starts at a bootstrap sample of its length chosen in proportion to c
 //     (systematic resampling) and replays it: the replay must give the same c bit for bit;
 //  4. rounds: every chain makes the same number of proposals, batch by batch (mmlt_stages.h);
@@ -155,7 +156,9 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
 
     // 2. Chains per length.
     const int positive = int(std::count_if(ms.b.begin(), ms.b.end(), [](double x) { return x > 0; }));
-    const uint32_t total = std::max<uint32_t>(uint32_t(std::max(opt.chains, 1)), uint32_t(positive));
+    // No more chains than mutations asked for (a small image at few mutations per pixel).
+    const double asked = opt.timeBudget > 0 ? double(opt.chains) : std::min(double(opt.chains), targetMutations);
+    const uint32_t total = std::max<uint32_t>(uint32_t(std::max(asked, 1.0)), uint32_t(positive));
     const std::vector<uint32_t> chainCounts = allocateChains(ms.b, total);
     double bytes = 0;
     for (int k = kMin; k <= kMax; ++k) bytes += double(chainCounts[size_t(k)]) * double(mmltChainBytes(k));
@@ -228,12 +231,19 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     std::vector<TaskOutput> outputs(tasks.size());
     uint64_t iteration = 0;
     bool stopped = false;
+    double perIteration = 0;  // seconds per proposal of every chain, measured
+    const bool timed = opt.timeBudget > 0;
     while (true) {
-        const bool timed = opt.timeBudget > 0;
         if (!timed && iteration >= target) break;
-        if (timed && elapsed() >= opt.timeBudget) break;
         if (opt.cancel && opt.cancel->load()) { stopped = true; break; }
-        const uint32_t r = timed ? perRound : uint32_t(std::min<uint64_t>(perRound, target - iteration));
+        uint32_t r = timed ? perRound : uint32_t(std::min<uint64_t>(perRound, target - iteration));
+        if (timed) {  // a time budget: the last rounds shrink so as to end on time
+            const double left = opt.timeBudget - elapsed();
+            if (left <= 0.5 * perIteration) break;
+            r = perIteration > 0 ? uint32_t(std::clamp(std::floor(left / perIteration + 0.5), 1.0, double(r)))
+                                 : 1;  // the first round measures
+        }
+        const double roundStart = elapsed();
         tbb::parallel_for(size_t(0), tasks.size(), [&](size_t ti) {
             const Task& t = tasks[ti];
             ChainGroup& g = groups[size_t(t.group)];
@@ -261,6 +271,7 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
             discarded += c.nonfinite;
         }
         iteration += r;
+        perIteration = (elapsed() - roundStart) / r;
         if (opt.progress)
             opt.progress(timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(iteration) / double(target));
     }
