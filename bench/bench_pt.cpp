@@ -13,7 +13,9 @@
 //   pt       - the path tracer's rays (closest + shadow) per second;
 //   ratio    - pt / ceiling, both measured in this run;
 //   bpt      - bidirectional path tracing on all threads: samples/s, rays/s, and its ratio
-//              to the ceiling.
+//              to the ceiling;
+//   mmlt     - MMLT with 65536 chains on all threads: mutations/s, rays/s, its ratio to
+//              the ceiling, and the chain state's bytes.
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -31,6 +33,7 @@
 #include "kernels/sampling.h"
 #include "scene/scene.h"
 #include "stages/bidirectional.h"
+#include "stages/mmlt.h"
 #include "stages/path_tracer.h"
 #include "stages/surface.h"
 #include "stages/trace.h"
@@ -161,6 +164,24 @@ void benchScene(const std::string& path, int spp) {
         double samples = double(scene->camera.width) * scene->camera.height * double(r.stats.spp);
         std::printf("bpt (%d threads): %.2f Msamples/s, %.2f Mrays/s, ceiling %.2f Mrays/s, bpt/1M %.2f, %.2f s\n", all,
                     samples / r.stats.seconds * 1e-6, bpt * 1e-6, ceiling * 1e-6, bpt / ceiling, r.stats.seconds);
+    }
+    // MMLT on all threads, 65536 chains, the same mutations per pixel: mutations and rays
+    // per second against the same ceiling, and the chain state's size.
+    {
+        RenderOptions o = benchOptions(*scene, TracerKind::MMLT, spp);
+        o.probLarge = scene->desc.settings.probLarge;
+        RenderResult r = renderMmlt(*scene, o);
+        double rays = double(r.stats.raysIntersect + r.stats.raysOccluded);
+        double mmlt = rays / r.stats.seconds;
+        double ceiling = ceilingRaysPerSecond(*scene, pool, size_t(rays), true);
+        const RenderStats::Mmlt& m = r.stats.mmlt;
+        uint64_t chains = 0;
+        for (uint32_t c : m.chains) chains += c;
+        std::printf("mmlt (%d threads, %llu chains): %.2f Mmutations/s, %.2f Mrays/s, ceiling %.2f Mrays/s, "
+                    "mmlt/1M %.2f, chain state %.1f MiB (%.0f bytes/chain), %.2f s\n",
+                    all, (unsigned long long)chains, double(m.mutations) / r.stats.seconds * 1e-6, mmlt * 1e-6,
+                    ceiling * 1e-6, mmlt / ceiling, double(m.chainBytes) / (1 << 20),
+                    double(m.chainBytes) / double(chains), r.stats.seconds);
     }
     std::printf("peak memory so far: %.0f MiB\n", peakMemoryMiB());
 }

@@ -157,6 +157,9 @@ struct StrategyLayout {
         return c == kBptCamera ? 1 : c == kBptLight ? 1 + cameraSize(k) : 1 + cameraSize(k) + lightSize(k);
     }
     static uint32_t size(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
+    static uint32_t blockSize(int k, BptStream c) {
+        return c == kBptCamera ? cameraSize(k) : c == kBptLight ? lightSize(k) : kConnectSize;
+    }
     // The numbers strategy (s, t) reads from each block (a prefix of it).
     static uint32_t cameraUsed(int t) { return t >= 2 ? 4 * uint32_t(t) - 4 : 0; }
     static uint32_t lightUsed(int s, int t) { return s >= 2 ? 4 * uint32_t(s) - 3 : s == 1 && t == 1 ? 5 : 0; }

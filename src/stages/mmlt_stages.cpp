@@ -26,15 +26,6 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
     mb.used[kBptConnect][i] = uint8_t(StrategyLayout::connectUsed(s, t));
 }
 
-// Calls f(coordinate) for each coordinate slot i's proposal reads (u0 excluded).
-template <class F>
-inline void forEachUsed(const MmltBatch& mb, uint32_t i, int k, F&& f) {
-    for (int c = 0; c < 3; ++c) {
-        const uint32_t base = StrategyLayout::base(k, BptStream(c));
-        for (uint32_t j = 0; j < mb.used[c][i]; ++j) f(base + j);
-    }
-}
-
 }  // namespace
 
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {
@@ -69,22 +60,37 @@ void fillCurrentRows(const ChainGroup& g, MmltBatch& mb, uint32_t c0, uint32_t n
 void mutateChains(const ChainGroup& g, MmltBatch& mb, uint32_t c0, uint32_t n, uint64_t seed, uint32_t iteration,
                   float probLarge) {
     const float sigma = kSmallStepSigma;
+    // The proposal's value of coordinate d of slot i (chain c); uFresh is drawn only when
+    // the kernel reads it (a large step, or a stale coordinate).
+    auto propose = [&](uint32_t i, uint32_t c, uint32_t d) {
+        const size_t at = size_t(d) * g.count + c;
+        const uint64_t key = mb.bpt.key[i];
+        const uint32_t lastModified = g.lastModified[at], lastLarge = g.lastLarge[c];
+        const bool large = mb.large[i];
+        const float uFresh = large || lastModified < lastLarge ? sampleDimension(key, dimFresh(d)) : 0.0f;
+        const float uNormal = large ? 0.5f : sampleDimension(key, dimNormal(d));
+        return proposeCoordinate(g.value[at], lastModified, lastLarge, g.accepted[c] + 1, large, sigma, uFresh,
+                                 uNormal);
+    };
+    // Per slot: the step kind and u0, which picks the strategy and so what else is read.
     for (uint32_t i = 0; i < n; ++i) {
         const uint32_t c = c0 + i;
         const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
-        const bool large = sampleDimension(key, kDimLarge) < probLarge;
-        const uint32_t next = g.accepted[c] + 1, lastLarge = g.lastLarge[c];
-        auto propose = [&](uint32_t d) {
-            const size_t at = size_t(d) * g.count + c;
-            return proposeCoordinate(g.value[at], g.lastModified[at], lastLarge, next, large, sigma,
-                                     sampleDimension(key, dimFresh(d)), sampleDimension(key, dimNormal(d)));
-        };
-        float* row = &mb.u[size_t(i) * mb.stride];
+        mb.bpt.key[i] = key;
         mb.chain[i] = c;
-        mb.large[i] = large ? 1 : 0;
-        row[0] = propose(0);  // the strategy first: it decides what else is read
+        mb.large[i] = sampleDimension(key, kDimLarge) < probLarge ? 1 : 0;
+        float* row = &mb.u[size_t(i) * mb.stride];
+        row[0] = propose(i, c, 0);
         setStrategy(mb, i, g.k, row[0]);
-        forEachUsed(mb, i, g.k, [&](uint32_t d) { row[d] = propose(d); });
+    }
+    // Coordinate by coordinate across the batch: coordinate d of consecutive chains is
+    // contiguous in the chain state.
+    for (int stream = 0; stream < 3; ++stream) {
+        const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
+        const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
+        for (uint32_t j = 0; j < size; ++j)
+            for (uint32_t i = 0; i < n; ++i)
+                if (j < mb.used[stream][i]) mb.u[size_t(i) * mb.stride + base + j] = propose(i, c0 + i, base + j);
     }
     mb.bpt.numSlots = n;
 }
@@ -102,7 +108,8 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, PtCount
 }
 
 void acceptAndSplat(ChainGroup& g, MmltBatch& mb, uint64_t seed, uint32_t iteration, float scale) {
-    for (uint32_t i = 0; i < mb.bpt.numSlots; ++i) {
+    const uint32_t n = uint32_t(mb.bpt.numSlots);
+    for (uint32_t i = 0; i < n; ++i) {
         const uint32_t c = mb.chain[i];
         const Vec3 F = contributionOf(mb, i);
         float cP = luminance(F);
@@ -117,23 +124,31 @@ void acceptAndSplat(ChainGroup& g, MmltBatch& mb, uint64_t seed, uint32_t iterat
         const int kind = mb.large[i];
         ++mb.counters.proposed[kind];
         const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
-        if (!(sampleDimension(key, kDimAccept) < a)) continue;
-        // Accept: commit the coordinates the proposal wrote.
+        mb.accept[i] = sampleDimension(key, kDimAccept) < a ? 1 : 0;
+        if (!mb.accept[i]) continue;
         ++mb.counters.accepted[kind];
         const uint32_t next = g.accepted[c] + 1;
-        const float* row = &mb.u[size_t(i) * mb.stride];
-        auto commit = [&](uint32_t d) {
-            const size_t at = size_t(d) * g.count + c;
-            g.value[at] = row[d];
-            g.lastModified[at] = next;
-        };
-        commit(0);
-        forEachUsed(mb, i, g.k, commit);
+        const size_t at0 = c;  // coordinate 0
+        g.value[at0] = mb.u[size_t(i) * mb.stride];
+        g.lastModified[at0] = next;
         g.accepted[c] = next;
         if (kind) g.lastLarge[c] = next;
         g.F[c] = F;
         g.c[c] = cP;
         g.pixel[c] = pixel;
+    }
+    // Commit the accepted proposals' coordinates, coordinate by coordinate (contiguous).
+    for (int stream = 0; stream < 3; ++stream) {
+        const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
+        const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
+        for (uint32_t j = 0; j < size; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                if (!mb.accept[i] || j >= mb.used[stream][i]) continue;
+                const uint32_t c = mb.chain[i];
+                const size_t at = size_t(base + j) * g.count + c;
+                g.value[at] = mb.u[size_t(i) * mb.stride + base + j];
+                g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
+            }
     }
 }
 

@@ -46,6 +46,7 @@ struct MmltBatch {
     std::vector<float> u;             // [slot * stride + coordinate]
     std::vector<uint32_t> chain;      // slot -> chain index within its group
     std::vector<uint8_t> large;       // the slot's proposal is a large step
+    std::vector<uint8_t> accept;      // the slot's proposal was accepted
     std::vector<uint8_t> used[3];     // numbers the proposal reads from each stream
     std::vector<Splat> splats;        // expected-value splats of the round, in order
     MmltCounters counters;
@@ -57,6 +58,7 @@ struct MmltBatch {
         u.assign(n * stride, 0.0f);
         chain.resize(n);
         large.resize(n);
+        accept.resize(n);
         for (auto& v : used) v.resize(n);
     }
     StoredSamples samples() const { return StoredSamples{u.data(), stride, bpt.pathLength.data()}; }
