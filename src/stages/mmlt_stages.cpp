@@ -120,7 +120,7 @@ void acceptAndSplat(ChainGroup& g, MmltBatch& mb, uint64_t seed, uint32_t iterat
         const float a = acceptance(cP, g.c[c]);
         const uint32_t pixel = mb.bpt.pixel[i];
         if (a > 0) mb.splats.push_back({pixel, F * (a * scale / cP)});
-        if (a < 1) mb.splats.push_back({g.pixel[c], g.F[c] * ((1.0f - a) * scale / g.c[c])});
+        if (a < 1 && g.c[c] > 0) mb.splats.push_back({g.pixel[c], g.F[c] * ((1.0f - a) * scale / g.c[c])});
         const int kind = mb.large[i];
         ++mb.counters.proposed[kind];
         const uint64_t key = mmltChainKey(seed, g.first + c, iteration);

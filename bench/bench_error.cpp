@@ -1,0 +1,455 @@
+// Error against time: each tracer's RMSE to a converged reference after equal time budgets.
+//
+//   build/wavemmlt_bench_error [scene.xml ...] [options]
+//
+// With no scene, runs ../shared/scenes/bitterli-cornell/bitterli-cornell-256.xml and
+// seed-room/seed-room.xml (read from the shared folder beside the checkout; says so and
+// exits 0 when it is missing). Options (defaults in brackets):
+//   --tracers pt,bpt          tracers to compare (pt, lt, bpt, mmlt) [pt,bpt]
+//   --budgets 1,2,4,8,16      time budgets in seconds [1,2,4,8,16]
+//   --size WxH                image size [256x256] (the scene's camera, other resolution)
+//   --max-length N            MaxPathLength [the scene's]
+//   --round-spp N             samples per pixel per round of a timed render [1]
+//   --reps N                  repetitions per point, seeds seed, seed+1, ... [1]
+//   --seed N                  first seed of the runs [1] (the reference uses its own seeds)
+//   --threads N               threads, 0: all [0]
+//   --ref-spp N               reference samples per pixel (BPT) [per scene, see kRefSpp]
+//   --cache DIR               reference cache [<folder of this executable>/bench-cache]
+//   --csv PATH                CSV output [bench-error.csv]
+//   --chains N, --bootstrap N, --p-large X, --mis-beta X   passed to RenderOptions (MMLT, BPT)
+//   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
+//                             bootstrap, mis-beta, max-length, round-spp; "a,b,...,z" fills in
+//                             the arithmetic progression (max-length=3,5,...,15)
+//
+// The reference: a BPT render of ref-spp samples per pixel at the same size and
+// MaxPathLength, in two halves with two seeds that no run uses; the cached file is their
+// mean, <cache>/<scene>-<W>x<H>-L<len>-<spp>spp.pfm, with a .txt beside it (render time and
+// the reference's own noise, estimated as RMSE(half A, half B) / 2). Rendered once, reused.
+//
+// Per run: RMSE over all pixels and RGB channels against the reference, and relative RMSE
+// (RMSE / the reference's mean). With --reps, the figures are over the repetitions
+// (seconds and spp: means; RMSE: sqrt of the mean squared error). Printed as a table with
+// RMSE-refnoise = sqrt(MSE - the reference's noise^2) (the error against the true image,
+// estimated) and ns per sample (seconds / (spp W H); spp counts completed rounds), then the equal-time
+// ratio RMSE(pt) / RMSE(bpt) per budget; written as CSV
+// (scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse) for bench/plot_error.sh.
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Reference spp per scene at 256 x 256 (BPT). Measured on a shared 2-core machine: BPT
+// takes ~5-10 us per sample (wall) in the seed room and ~2.3-5.7 us in the Cornell box, so
+// these take about 8 minutes each (Cornell: 471 s for 1024 spp); some 20 to 40 times the
+// samples BPT gets in 16 s. Other sizes and scenes: 256 unless --ref-spp says otherwise.
+const std::map<std::string, int> kRefSpp = {{"bitterli-cornell-256", 1024}, {"seed-room", 1536}};
+constexpr uint64_t kRefSeedA = 0x5eed0000a, kRefSeedB = 0x5eed0000b;
+
+struct Options {
+    std::vector<std::string> scenes;
+    std::vector<std::string> tracers{"pt", "bpt"};
+    std::vector<double> budgets{1, 2, 4, 8, 16};
+    int width = 256, height = 256;
+    int maxLength = 0;  // 0: the scene's
+    int roundSpp = 1;
+    int reps = 1;
+    uint64_t seed = 1;
+    int threads = 0;
+    int refSpp = 0;  // 0: kRefSpp
+    std::string cacheDir, csv = "bench-error.csv";
+    int chains = 0, bootstrap = -1;  // chains 0 / bootstrap -1: RenderOptions' defaults
+    double probLarge = -1, misBeta = -1;  // < 0: the scene's / RenderOptions' default
+    std::string sweepName;
+    std::vector<std::string> sweepValues;
+};
+
+[[noreturn]] void usage(const std::string& msg) {
+    std::fprintf(stderr, "wavemmlt_bench_error: %s (see the comment at the top of bench/bench_error.cpp)\n",
+                 msg.c_str());
+    std::exit(2);
+}
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+double toNumber(const std::string& s, const char* what) {
+    char* end = nullptr;
+    double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || *end) usage(std::string("bad number '") + s + "' for " + what);
+    return v;
+}
+
+// "3,5,...,15" -> 3,5,7,...,15 (the step from the two values before "...").
+std::vector<std::string> expandProgression(const std::vector<std::string>& in) {
+    std::vector<std::string> out;
+    for (size_t i = 0; i < in.size(); ++i) {
+        if (in[i] != "...") { out.push_back(in[i]); continue; }
+        if (out.size() < 2 || i + 1 >= in.size()) usage("'...' needs two values before it and one after");
+        double a = toNumber(out[out.size() - 2], "--sweep"), b = toNumber(out.back(), "--sweep");
+        double last = toNumber(in[i + 1], "--sweep"), step = b - a;
+        if (step == 0 || (last - b) / step < 0) usage("'...' does not reach " + in[i + 1]);
+        for (double v = b + step; (step > 0 ? v < last - 1e-9 : v > last + 1e-9); v += step) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%g", v);
+            out.push_back(buf);
+        }
+    }
+    return out;
+}
+
+Options parseArgs(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) usage(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--tracers") o.tracers = splitList(value());
+        else if (a == "--budgets") {
+            o.budgets.clear();
+            for (const std::string& b : splitList(value())) o.budgets.push_back(toNumber(b, "--budgets"));
+        } else if (a == "--size") {
+            std::string v = value();
+            if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 1 || o.height < 1)
+                usage("--size wants WxH, e.g. 256x256");
+        } else if (a == "--max-length") o.maxLength = int(toNumber(value(), "--max-length"));
+        else if (a == "--round-spp") o.roundSpp = int(toNumber(value(), "--round-spp"));
+        else if (a == "--reps") o.reps = int(toNumber(value(), "--reps"));
+        else if (a == "--seed") o.seed = uint64_t(toNumber(value(), "--seed"));
+        else if (a == "--threads") o.threads = int(toNumber(value(), "--threads"));
+        else if (a == "--ref-spp") o.refSpp = int(toNumber(value(), "--ref-spp"));
+        else if (a == "--cache") o.cacheDir = value();
+        else if (a == "--csv") o.csv = value();
+        else if (a == "--chains") o.chains = int(toNumber(value(), "--chains"));
+        else if (a == "--bootstrap") o.bootstrap = int(toNumber(value(), "--bootstrap"));
+        else if (a == "--p-large") o.probLarge = toNumber(value(), "--p-large");
+        else if (a == "--mis-beta") o.misBeta = toNumber(value(), "--mis-beta");
+        else if (a == "--sweep") {
+            std::string v = value();
+            size_t eq = v.find('=');
+            if (eq == std::string::npos) usage("--sweep wants NAME=V1,V2,...");
+            o.sweepName = v.substr(0, eq);
+            o.sweepValues = expandProgression(splitList(v.substr(eq + 1)));
+            static const char* names[] = {"p-large", "chains", "bootstrap", "mis-beta", "max-length", "round-spp"};
+            bool known = false;
+            for (const char* n : names) known |= o.sweepName == n;
+            if (!known) usage("unknown --sweep parameter '" + o.sweepName + "'");
+            if (o.sweepValues.empty()) usage("--sweep " + o.sweepName + " has no values");
+        } else if (a == "-h" || a == "--help") usage("usage");
+        else if (!a.empty() && a[0] == '-') usage("unknown option '" + a + "'");
+        else o.scenes.push_back(a);
+    }
+    if (o.roundSpp < 1 || o.reps < 1 || o.budgets.empty() || o.tracers.empty()) usage("nothing to run");
+    return o;
+}
+
+bool parseTracer(const std::string& name, TracerKind& t) {
+    if (name == "pt") t = TracerKind::PT;
+    else if (name == "lt") t = TracerKind::LT;
+    else if (name == "bpt") t = TracerKind::BPT;
+    else if (name == "mmlt") t = TracerKind::MMLT;
+    else return false;
+    return true;
+}
+
+// What one run varies: the sweep's parameter (or none) applied to the defaults.
+struct Variant {
+    std::string label = "-";  // the CSV's param column
+    int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1;
+    double probLarge = -1, misBeta = -1;
+};
+
+std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
+    Variant base;
+    base.maxLength = o.maxLength > 0 ? o.maxLength : sceneMaxLength;
+    base.roundSpp = o.roundSpp;
+    base.chains = o.chains;
+    base.bootstrap = o.bootstrap;
+    base.probLarge = o.probLarge;
+    base.misBeta = o.misBeta;
+    if (o.sweepName.empty()) return {base};
+    std::vector<Variant> out;
+    for (const std::string& v : o.sweepValues) {
+        Variant x = base;
+        double d = toNumber(v, "--sweep");
+        x.label = o.sweepName + "=" + v;
+        if (o.sweepName == "p-large") x.probLarge = d;
+        else if (o.sweepName == "chains") x.chains = int(d);
+        else if (o.sweepName == "bootstrap") x.bootstrap = int(d);
+        else if (o.sweepName == "mis-beta") x.misBeta = d;
+        else if (o.sweepName == "max-length") x.maxLength = int(d);
+        else if (o.sweepName == "round-spp") x.roundSpp = int(d);
+        out.push_back(x);
+    }
+    return out;
+}
+
+RenderOptions makeOptions(const SceneDesc& desc, TracerKind tracer, const Variant& v, int threads) {
+    RenderOptions opt;
+    opt.tracer = tracer;
+    opt.threads = threads;
+    opt.minPathLength = std::min(desc.settings.minPathLength, v.maxLength);
+    opt.maxPathLength = v.maxLength;
+    opt.spp = v.roundSpp;
+    opt.strataPerAxis = strataForSpp(v.roundSpp);
+    opt.probLarge = float(v.probLarge >= 0 ? v.probLarge : desc.settings.probLarge);
+    if (v.chains > 0) opt.chains = v.chains;
+    if (v.bootstrap >= 0) opt.bootstrap = v.bootstrap;
+    if (v.misBeta >= 0) opt.misBeta = float(v.misBeta);
+    return opt;
+}
+
+double meanOf(const Image& img) {
+    double s = 0;
+    for (float v : img.rgb) s += v;
+    return img.rgb.empty() ? 0 : s / double(img.rgb.size());
+}
+
+// Mean squared error over all pixels and channels; NaN or Inf in `a` count as errors
+// (they make the result non-finite, which the table then shows).
+double mse(const Image& a, const Image& b) {
+    if (a.width != b.width || a.height != b.height) throw std::runtime_error("image sizes differ");
+    double s = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+        double d = double(a.rgb[i]) - double(b.rgb[i]);
+        s += d * d;
+    }
+    return a.rgb.empty() ? 0 : s / double(a.rgb.size());
+}
+
+std::string executableDir() {
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? fs::current_path().string() : exe.parent_path().string();
+}
+
+struct Reference {
+    Image image;
+    double mean = 0, noiseRmse = 0, seconds = 0;
+    int spp = 0;
+    std::string path;
+    bool cached = false;
+};
+
+// The BPT reference for this scene, size and MaxPathLength: read from the cache, or rendered
+// (two halves, two seeds) and written there.
+Reference reference(const SceneDesc& desc, const std::string& name, int maxLength, int spp, int threads,
+                    const std::string& cacheDir) {
+    Reference ref;
+    ref.spp = spp;
+    char file[512];
+    std::snprintf(file, sizeof file, "%s-%dx%d-L%d-%dspp", name.c_str(), desc.settings.width, desc.settings.height,
+                  maxLength, spp);
+    ref.path = cacheDir + "/" + file + ".pfm";
+    const std::string info = cacheDir + "/" + file + ".txt";
+    if (fs::exists(ref.path)) {
+        ref.image = readImage(ref.path);
+        std::ifstream in(info);
+        for (std::string key; in >> key;) {
+            if (key == "seconds") in >> ref.seconds;
+            else if (key == "noise_rmse") in >> ref.noiseRmse;
+            else in.ignore(1 << 20, '\n');
+        }
+        ref.cached = true;
+    } else {
+        fs::create_directories(cacheDir);
+        const int half = std::max(1, spp / 2);
+        Variant v;
+        v.maxLength = maxLength;
+        v.roundSpp = half;
+        RenderOptions opt = makeOptions(desc, TracerKind::BPT, v, threads);
+        std::printf("reference: rendering %s (BPT, %d spp in two halves) ...\n", ref.path.c_str(), 2 * half);
+        std::fflush(stdout);
+        auto t0 = Clock::now();
+        int lastShown = -1, halfIndex = 0;
+        if (isatty(2)) opt.progress = [&](double f) {
+            int pct = int((halfIndex + f) * 50);
+            if (pct / 5 != lastShown / 5) {
+                std::fprintf(stderr, "\rreference %3d%% (%.0f s)", pct,
+                             std::chrono::duration<double>(Clock::now() - t0).count());
+                lastShown = pct;
+            }
+        };
+        opt.seed = kRefSeedA;
+        Image a = render(desc, opt).image;
+        halfIndex = 1;
+        opt.seed = kRefSeedB;
+        Image b = render(desc, opt).image;
+        ref.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        if (isatty(2)) std::fprintf(stderr, "\r%40s\r", "");
+        ref.noiseRmse = std::sqrt(mse(a, b)) / 2;  // var(mean of 2) = var(a - b) / 4
+        ref.spp = 2 * half;
+        ref.image = a;
+        for (size_t i = 0; i < a.rgb.size(); ++i) ref.image.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+        writeImage(ref.path, ref.image);
+        std::ofstream out(info);
+        out << "seconds " << ref.seconds << "\nnoise_rmse " << ref.noiseRmse << "\nspp " << ref.spp << "\nthreads "
+            << threads << "\n";
+    }
+    ref.mean = meanOf(ref.image);
+    std::printf("reference: %s, %s, %d spp, %.0f s to render, mean %.4g, own noise ~ RMSE %.3g (rel %.3g)\n",
+                ref.path.c_str(), ref.cached ? "cached" : "rendered now", ref.spp, ref.seconds, ref.mean, ref.noiseRmse,
+                ref.mean > 0 ? ref.noiseRmse / ref.mean : 0.0);
+    return ref;
+}
+
+struct Row {
+    std::string scene, tracer, param;
+    double budget = 0, seconds = 0, spp = 0, rmse = 0, relRmse = 0, nsPerSample = 0;
+    double rmseNet = 0;  // with the reference's own noise taken out: sqrt(MSE - noise^2)
+};
+
+void benchScene(const std::string& path, const Options& o, std::vector<Row>& rows, const std::string& cacheDir) {
+    if (!fs::exists(path)) {
+        std::printf("%s: missing (the benchmark reads it from ../shared/scenes/); skipped\n", path.c_str());
+        return;
+    }
+    SceneDesc desc = loadScene(path);
+    desc.settings.width = o.width;
+    desc.settings.height = o.height;
+    const std::string name = fs::path(path).stem().string();
+    std::printf("\n== %s: %dx%d (--size), MaxPathLength %s%d, timed rounds of %d spp, %d rep(s)\n", name.c_str(),
+                o.width, o.height, o.maxLength > 0 ? "" : "(the scene's) ",
+                o.maxLength > 0 ? o.maxLength : desc.settings.maxPathLength, o.roundSpp, o.reps);
+    int refSpp = o.refSpp;
+    if (refSpp <= 0) {
+        auto it = kRefSpp.find(name);
+        refSpp = it != kRefSpp.end() && o.width * o.height == 256 * 256 ? it->second : 256;
+    }
+    const int threadCount = o.threads > 0 ? o.threads : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
+
+    std::map<int, Reference> refs;  // by MaxPathLength
+    std::vector<Row> sceneRows;
+    for (const Variant& v : variants(o, desc.settings.maxPathLength)) {
+        if (v.maxLength < 1 || v.maxLength > kMaxPathLength) {
+            std::printf("MaxPathLength %d out of range; skipped\n", v.maxLength);
+            continue;
+        }
+        if (!refs.count(v.maxLength)) refs[v.maxLength] = reference(desc, name, v.maxLength, refSpp, o.threads, cacheDir);
+        const Reference& ref = refs[v.maxLength];
+        std::printf("%-6s %-16s %8s %9s %9s %11s %9s %11s %10s\n", "tracer", "param", "budget s", "seconds", "spp",
+                    "RMSE", "relRMSE", "RMSE-refnoise", "ns/sample");
+        for (const std::string& tname : o.tracers) {
+            TracerKind tracer;
+            if (!parseTracer(tname, tracer)) {
+                std::printf("%-6s unknown tracer (pt, lt, bpt, mmlt); skipped\n", tname.c_str());
+                continue;
+            }
+            RenderOptions opt = makeOptions(desc, tracer, v, o.threads);
+            bool failed = false;
+            for (double budget : o.budgets) {
+                Row row{name, tname, v.label, budget};
+                double sumMse = 0;
+                for (int rep = 0; rep < o.reps && !failed; ++rep) {
+                    opt.timeBudget = budget;
+                    opt.seed = o.seed + uint64_t(rep);
+                    try {
+                        RenderResult r = render(desc, opt);
+                        row.seconds += r.stats.seconds / o.reps;
+                        row.spp += double(r.stats.spp) / o.reps;
+                        sumMse += mse(r.image, ref.image);
+                    } catch (const std::exception& e) {
+                        std::printf("%-6s %-16s %s; skipped\n", tname.c_str(), v.label.c_str(), e.what());
+                        failed = true;
+                    }
+                }
+                if (failed) break;
+                row.rmse = std::sqrt(sumMse / o.reps);
+                row.relRmse = ref.mean > 0 ? row.rmse / ref.mean : 0;
+                row.rmseNet = std::sqrt(std::max(0.0, sumMse / o.reps - ref.noiseRmse * ref.noiseRmse));
+                row.nsPerSample = row.spp > 0 ? row.seconds / (row.spp * o.width * o.height) * 1e9 : 0;
+                std::printf("%-6s %-16s %8g %9.2f %9.0f %11.4g %9.4f %13.4g %10.1f\n", tname.c_str(), v.label.c_str(),
+                            budget, row.seconds, row.spp, row.rmse, row.relRmse, row.rmseNet, row.nsPerSample);
+                std::fflush(stdout);
+                sceneRows.push_back(row);
+            }
+        }
+    }
+    // Equal-time ratios: pt against bpt, for each param value and budget both ran.
+    bool header = false;
+    for (const Row& p : sceneRows) {
+        if (p.tracer != "pt") continue;
+        for (const Row& b : sceneRows) {
+            if (b.tracer != "bpt" || b.param != p.param || b.budget != p.budget) continue;
+            if (!header) std::printf("equal-time RMSE(pt) / RMSE(bpt) (%s, %d threads):\n", name.c_str(), threadCount);
+            header = true;
+            std::printf("  %-16s %6gs: %.3f  (without the reference's noise: %.3f)\n", p.param.c_str(), p.budget,
+                        b.rmse > 0 ? p.rmse / b.rmse : 0.0, b.rmseNet > 0 ? p.rmseNet / b.rmseNet : 0.0);
+        }
+    }
+    rows.insert(rows.end(), sceneRows.begin(), sceneRows.end());
+}
+
+void writeCsv(const std::string& path, const std::vector<Row>& rows) {
+    std::ofstream out(path);
+    if (!out) throw std::runtime_error("cannot write " + path);
+    out << "scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse\n";
+    char buf[512];
+    for (const Row& r : rows) {
+        std::snprintf(buf, sizeof buf, "%s,%s,%s,%g,%.4f,%.2f,%.6g,%.6g\n", r.scene.c_str(), r.tracer.c_str(),
+                      r.param.c_str(), r.budget, r.seconds, r.spp, r.rmse, r.relRmse);
+        out << buf;
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o = parseArgs(argc, argv);
+    if (o.scenes.empty()) {
+        const fs::path root = fs::path(WAVEMMLT_SOURCE_DIR) / ".." / "shared" / "scenes";
+        if (!fs::is_directory(root)) {
+            std::printf("%s: missing (the benchmark's scenes live in ../shared/scenes/ beside the checkout); "
+                        "nothing to do\n",
+                        root.lexically_normal().c_str());
+            return 0;
+        }
+        o.scenes = {(root / "bitterli-cornell/bitterli-cornell-256.xml").lexically_normal().string(),
+                    (root / "seed-room/seed-room.xml").lexically_normal().string()};
+    }
+    const std::string cacheDir = o.cacheDir.empty() ? executableDir() + "/bench-cache" : o.cacheDir;
+    std::printf("error vs time: tracers");
+    for (const std::string& t : o.tracers) std::printf(" %s", t.c_str());
+    std::printf(", budgets");
+    for (double b : o.budgets) std::printf(" %gs", b);
+    std::printf(", image %dx%d (--size to change), references in %s\n", o.width, o.height, cacheDir.c_str());
+    std::vector<Row> rows;
+    try {
+        for (const std::string& s : o.scenes) benchScene(s, o, rows, cacheDir);
+        writeCsv(o.csv, rows);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
+    }
+    std::printf("\nwrote %s (%zu rows)\n", o.csv.c_str(), rows.size());
+    return 0;
+}
