@@ -1,0 +1,493 @@
+// Multiplexed Metropolis light transport (--tracer mmlt, mmlt.md), with tolerances from the
+// measured variance over K independent runs (render_stats.h), never hand-tuned. Runs with
+// different seeds are independent (every random number is hashed from the seed), so their
+// per-run means give a valid z test however correlated the samples inside a run are.
+// An MMLT image's mean luminance is sum_k b_k, fixed by the bootstrap (every proposal
+// splats luminance b_k / chains_k in all), an error shared by all pixels of a run; images
+// are therefore compared as their mean luminance (one z) and their shape (block means per
+// channel over the run's mean luminance, nearly independent z values); see ImageRuns.
+//  1. the bootstrap: b_k = BPT's mean image luminance by path length, within the two
+//     tracers' standard errors; the image's mean luminance is sum_k b_k; chains are
+//     allocated by largest remainders, never drawn at random;
+//  2. MMLT image = BPT image on the Cornell box, the glass caustic scene and the seed room
+//     (its light hidden above a drop ceiling);
+//  3. invariance: 1, 64 and 65536 chains, seeds far apart, bootstrap counts 1024 to 2^18;
+//  4. extremes: ProbLarge 1e-3 and 1, MaxPathLength 1 and 64; a scene where no light
+//     reaches the camera is an InputError (and exit status 2 on the command line);
+//  5. replay: every seeded chain reproduces its bootstrap sample's contribution bit for bit
+//     (checked in every render here, and over glass, mirrors, textures and 64 segments);
+//  6. a fixed seed gives a bit-identical image, run twice and for 1 and 2 threads.
+// Set WMLT_TEST_VERBOSE=1 to print every comparison's statistics.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render_stats.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+
+namespace {
+
+bool verbose() { return std::getenv("WMLT_TEST_VERBOSE") != nullptr; }
+
+double lum(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+
+double meanLuminance(const Image& im) {
+    double s = 0;
+    const size_t n = size_t(im.width) * im.height;
+    for (size_t i = 0; i < n; ++i) s += lum(im.rgb[i * 3], im.rgb[i * 3 + 1], im.rgb[i * 3 + 2]);
+    return s / double(n);
+}
+
+RenderOptions mmltOptions(int spp, uint64_t seed, int minLength, int maxLength, int chains, int bootstrap = 0,
+                          float probLarge = 0.3f, int threads = 2) {
+    RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, seed, minLength, maxLength, threads);
+    o.chains = chains;
+    o.bootstrap = bootstrap;
+    o.probLarge = probLarge;
+    return o;
+}
+
+// An MMLT render with the checks every run must pass: no replay mismatch, nothing
+// discarded, a finite image, the mutation counts asked for, and the normalisation:
+// each proposal splats a total luminance of b_k / chains_k (a F'/c' + (1 - a) F/c), so the
+// image's mean luminance is sum_k b_k up to float rounding.
+RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
+    RenderResult r = render(desc, o);
+    REQUIRE(r.stats.tracer == "mmlt");
+    const RenderStats::Mmlt& m = r.stats.mmlt;
+    CHECK(m.replayMismatches == 0);
+    CHECK(r.stats.samplesNonfiniteDiscarded == 0);
+    for (float v : r.image.rgb) REQUIRE(std::isfinite(v));
+    uint32_t chains = 0;
+    double bSum = 0;
+    for (size_t k = 0; k < m.chains.size(); ++k) {
+        chains += m.chains[k];
+        bSum += m.b[k];
+        if (k < size_t(o.minPathLength) || k > size_t(o.maxPathLength)) {
+            CHECK(m.chains[k] == 0);
+            CHECK(m.b[k] == 0.0);
+        }
+        CHECK((m.chains[k] > 0) == (m.b[k] > 0));
+        CHECK(m.proposedSmall[k] + m.proposedLarge[k] == uint64_t(m.chains[k]) * m.iterations);
+    }
+    CHECK(m.mutations == uint64_t(chains) * m.iterations);
+    CHECK(double(m.mutations) >= double(o.spp) * r.image.width * r.image.height);
+    CHECK(r.stats.lengthMeanLuminance == m.b);
+    if (o.bootstrap > 0) CHECK(m.bootstrapSamples == uint64_t(o.bootstrap));
+    CHECK(meanLuminance(r.image) == Approx(bSum).epsilon(1e-5));
+    return r;
+}
+
+// K runs of an image, split into its scale and its shape: the mean luminance of each run,
+// and per channel the b x b block means divided by that run's mean luminance. MMLT's mean
+// luminance is sum_k b_k, fixed by the bootstrap: one error shared by every pixel of a
+// run, which would make the blocks' z values correlated (and the z test's checks of
+// sum z^2 and mean z invalid); the shape is what the chains estimate, and its blocks'
+// errors are far less correlated (they sum to about 0: if anything, mean z is too small).
+// The shape's ratio estimator is biased by O(1 / samples), far below its se here.
+struct ImageRuns {
+    int block;
+    rstats::RunStats mean, shape[3];
+    explicit ImageRuns(int b) : block(b) {}
+    void add(const Image& im) {
+        const double m = meanLuminance(im);
+        REQUIRE(m > 0);
+        mean.add({m});
+        for (int c = 0; c < 3; ++c) {
+            std::vector<double> v = rstats::blockMeans(im, block, c);
+            for (double& x : v) x /= m;
+            shape[c].add(v);
+        }
+    }
+};
+
+// a against ref: the mean luminance (one z) and each channel's shape (block z values, se
+// of both tracers' runs, Welch), the false-alarm budget p split over the four tests.
+void checkSameImage(const ImageRuns& a, const ImageRuns& ref, double p, const std::string& what) {
+    {
+        rstats::ZTestResult z = rstats::compareRuns(a.mean, ref.mean, p / 4);
+        const double ratio = a.mean.mean(0) / ref.mean.mean(0);
+        INFO(what << ", mean luminance: ratio " << ratio << "; " << z.describe());
+        if (verbose()) WARN(what << ", mean luminance: ratio " << ratio << "; " << z.describe());
+        CHECK(z.pass);
+    }
+    for (int c = 0; c < 3; ++c) {
+        rstats::ZTestResult z = rstats::compareRuns(a.shape[c], ref.shape[c], p / 4);
+        INFO(what << ", channel " << c << " / mean luminance: " << z.describe());
+        if (verbose()) WARN(what << ", channel " << c << " / mean luminance: " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
+// K BPT runs at spp, seeds seed0 + i.
+ImageRuns bptRuns(const SceneDesc& desc, int spp, int K, int minLength, int maxLength, uint64_t seed0, int B) {
+    ImageRuns runs(B);
+    for (int i = 0; i < K; ++i) {
+        RenderResult r = render(desc, rstats::renderOptions(TracerKind::BPT, spp, seed0 + i, minLength, maxLength));
+        REQUIRE(r.stats.samplesNonfiniteDiscarded == 0);
+        runs.add(r.image);
+    }
+    return runs;
+}
+
+// K MMLT runs, seeds seed0 + i, with options o (its seed replaced).
+ImageRuns mmltRuns(const SceneDesc& desc, RenderOptions o, int K, uint64_t seed0, int B) {
+    ImageRuns runs(B);
+    for (int i = 0; i < K; ++i) {
+        o.seed = seed0 + uint64_t(i);
+        runs.add(renderMmlt(desc, o).image);
+    }
+    return runs;
+}
+
+// A glass ball and a mirror ball above a glossy floor under a sphere light (test_bpt.cpp's
+// caustic scene at 32 x 32): caustics and specular chains seen by the camera.
+std::string causticXml(int maxLength, const std::string& lightY = "2.4") {
+    return R"(<Scene>
+  <Settings><Width value="32"/><Height value="32"/><MaxPathLength value=")" + std::to_string(maxLength) + R"("/></Settings>
+  <Camera Type="Camera"><Position x="0" y="0.9" z="-2.5"/><LookAt x="0" y="0.3" z="0"/><FOV value="45"/></Camera>
+  <Shader Type="Glossy" ID="0"><Diffuse r="0.4" g="0.35" b="0.3"/><Specular r="0.4" g="0.4" b="0.4"/>
+    <Shininess value="30"/></Shader>
+  <Shader Type="Dielectric" ID="1"><Reflect r="1" g="1" b="1"/><Refract r="1" g="1" b="1"/>
+    <iIOR value="1.5"/><oIOR value="1"/></Shader>
+  <Shader Type="Reflective" ID="2"><Reflect r="0.9" g="0.9" b="0.9"/></Shader>
+  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="6"/><Depth value="6"/><Shader value="0"/></Geometry>
+  <Geometry Type="Sphere" ID="glass"><Position x="-0.3" y="0.6" z="0"/><Radius value="0.35"/><Shader value="1"/></Geometry>
+  <Geometry Type="Sphere" ID="mirror"><Position x="0.55" y="0.35" z="0.3"/><Radius value="0.3"/><Shader value="2"/></Geometry>
+  <Light Type="Area" ID="light"><Position x="-0.2" y=")" + lightY + R"(" z="0.2"/><Radius value="0.3"/>
+    <Intensity value="8"/><Colour r="1" g="0.9" b="0.8"/></Light>
+</Scene>
+)";
+}
+
+SceneDesc caustic(int maxLength, int size = 32) {
+    SceneDesc d = loadSceneFromString(causticXml(maxLength), "caustic.xml", ".");
+    d.settings.width = d.settings.height = size;
+    return d;
+}
+
+SceneDesc cornell(int size, int maxLength) {
+    SceneDesc d = rstats::cornell64(maxLength);
+    d.settings.width = d.settings.height = size;
+    return d;
+}
+
+// The seed room (tests/data/scenes/seed-room): its only light is above a drop ceiling, so
+// every path to the camera has length >= 3.
+SceneDesc seedRoom(int size, int maxLength) {
+    SceneDesc d = loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/seed-room/seed-room.xml");
+    d.settings.width = d.settings.height = size;
+    d.settings.maxPathLength = maxLength;
+    return d;
+}
+
+// A floor seen from above; the only light is under it, facing down into the void.
+const char* kNoLightXml = R"(<Scene>
+  <Settings><Width value="16"/><Height value="16"/><MaxPathLength value="8"/></Settings>
+  <Camera Type="Camera"><Position x="0" y="3" z="-3"/><LookAt x="0" y="0" z="0"/><FOV value="45"/></Camera>
+  <Shader Type="Matte" ID="0"><Diffuse r="0.8" g="0.8" b="0.8"/></Shader>
+  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="4"/><Depth value="4"/><Shader value="0"/></Geometry>
+  <Light Type="Area" ID="lamp"><Position x="0" y="-1" z="0"/><Width value="1"/><Depth value="1"/>
+    <Intensity value="10"/><Colour r="1" g="1" b="1"/></Light>
+</Scene>
+)";
+
+}  // namespace
+
+// ---- 1. the bootstrap ---------------------------------------------------------------------
+
+TEST_CASE("MMLT bootstrap: b_k equals BPT's mean luminance per path length", "[mmlt]") {
+    // K runs of each tracer: MMLT with a large bootstrap and a token chain phase (its
+    // b_k are the bootstrap's means), BPT's lengthMeanLuminance; z per length from both
+    // standard errors. Lengths that carry no light (the seed room's 1 and 2) must be
+    // exactly 0 in both.
+    struct Case {
+        const char* name;
+        SceneDesc desc;
+        int maxLength, size;
+    };
+    std::vector<Case> cases = {{"Cornell box", cornell(16, 5), 5, 16},
+                               {"caustic scene", caustic(6, 16), 6, 16},
+                               {"seed room", seedRoom(16, 6), 6, 16}};
+    const int K = 8;
+    for (const Case& cs : cases) {
+        rstats::RunStats m, b;
+        for (int i = 0; i < K; ++i) {
+            RenderResult a = renderMmlt(cs.desc, mmltOptions(1, 100 + i, 1, cs.maxLength, 64, 1 << 16));
+            REQUIRE(a.stats.mmlt.b.size() == size_t(cs.maxLength + 1));
+            m.add(std::vector<double>(a.stats.mmlt.b.begin() + 1, a.stats.mmlt.b.end()));
+            RenderResult r = render(cs.desc, rstats::renderOptions(TracerKind::BPT, 256, 600 + i, 1, cs.maxLength));
+            REQUIRE(r.stats.lengthMeanLuminance.size() > size_t(cs.maxLength));
+            b.add(std::vector<double>(r.stats.lengthMeanLuminance.begin() + 1,
+                                      r.stats.lengthMeanLuminance.begin() + cs.maxLength + 1));
+        }
+        std::ostringstream lengths;
+        for (size_t k = 0; k < m.size(); ++k)
+            lengths << "\n  k = " << k + 1 << ": b_k " << m.mean(k) << " +- " << m.se(k) << ", BPT " << b.mean(k)
+                    << " +- " << b.se(k);
+        double ratio = 0;
+        rstats::ZTestResult z = rstats::compareRuns(m, b, 1e-4 / 3, &ratio);
+        INFO(cs.name << ": sum b / BPT mean = " << ratio << "; " << z.describe() << lengths.str());
+        if (verbose()) WARN(cs.name << ": ratio " << ratio << "; " << z.describe() << lengths.str());
+        CHECK(z.pass);
+    }
+}
+
+TEST_CASE("MMLT allocates chains to lengths by largest remainders, never at random", "[mmlt]") {
+    // C chains: floor(C b_k / sum b) or one more for every length, C in all; a length with
+    // b_k > 0 gets at least one chain. Two seeds with different b_k give the allocation of
+    // their own b_k (no random draw, pbrt's multinomial choice leaves a per-seed error).
+    const SceneDesc desc = seedRoom(16, 6);
+    for (uint64_t seed : {1u, 2u}) {
+        for (int C : {1, 7, 64, 65536}) {
+            RenderResult r = renderMmlt(desc, mmltOptions(256, seed, 1, 6, C, 4096));
+            const RenderStats::Mmlt& m = r.stats.mmlt;
+            double bSum = 0;
+            uint32_t total = 0;
+            int positive = 0;
+            for (size_t k = 0; k < m.b.size(); ++k) {
+                bSum += m.b[k];
+                total += m.chains[k];
+                positive += m.b[k] > 0;
+            }
+            INFO("seed " << seed << ", chains " << C);
+            CHECK(m.chains[1] == 0);
+            CHECK(m.chains[2] == 0);
+            CHECK(total == uint32_t(std::max(C, positive)));
+            if (C >= 64) {
+                for (size_t k = 3; k < m.b.size(); ++k) {
+                    const double share = double(C) * m.b[k] / bSum;
+                    INFO("k = " << k << ": share " << share << ", chains " << m.chains[k]);
+                    CHECK(double(m.chains[k]) >= std::floor(share));
+                    CHECK(double(m.chains[k]) <= std::floor(share) + 1);
+                }
+            } else {
+                for (size_t k = 3; k < m.b.size(); ++k) CHECK(m.chains[k] >= 1);
+            }
+        }
+    }
+}
+
+// ---- 2. MMLT = BPT ------------------------------------------------------------------------
+
+TEST_CASE("MMLT matches BPT on the Cornell box", "[mmlt][render]") {
+    const int K = 8, B = 8;
+    const SceneDesc desc = cornell(32, 5);
+    ImageRuns ref = bptRuns(desc, 64, K, 1, 5, 1000, B);
+    ImageRuns m = mmltRuns(desc, mmltOptions(256, 0, 1, 5, 1024), K, 2000, B);
+    checkSameImage(m, ref, 1e-4, "Cornell box, MMLT 1024 chains vs BPT");
+}
+
+TEST_CASE("MMLT matches BPT with glossy, glass and mirror (caustics)", "[mmlt][render]") {
+    const int K = 8, B = 8;
+    const SceneDesc desc = caustic(6);
+    ImageRuns ref = bptRuns(desc, 64, K, 1, 6, 1100, B);
+    ImageRuns m = mmltRuns(desc, mmltOptions(256, 0, 1, 6, 1024, 1 << 17), K, 2100, B);
+    checkSameImage(m, ref, 1e-4, "caustic scene, MMLT 1024 chains vs BPT");
+}
+
+TEST_CASE("MMLT matches BPT in the seed room (light hidden above a drop ceiling)", "[mmlt][render]") {
+    const int K = 8, B = 4;
+    const SceneDesc desc = seedRoom(16, 6);
+    ImageRuns ref = bptRuns(desc, 256, K, 1, 6, 1200, B);
+    ImageRuns m = mmltRuns(desc, mmltOptions(1024, 0, 1, 6, 1024, 1 << 16), K, 2200, B);
+    checkSameImage(m, ref, 1e-4, "seed room, MMLT 1024 chains vs BPT");
+}
+
+// ---- 3. invariance --------------------------------------------------------------------------
+
+TEST_CASE("MMLT: 1, 64 and 65536 chains, seeds far apart and bootstrap counts give one image", "[mmlt][render]") {
+    // One BPT reference (16 x 16 Cornell box, 4 x 4 blocks), every MMLT setting against it;
+    // the false-alarm budget is split over the 6 settings. One chain means one chain per
+    // path length with b_k > 0 (5 here), each making spp * pixels / 5 proposals.
+    const int K = 8, B = 4, L = 5;
+    const double p = 1e-4 / 6;
+    const SceneDesc desc = cornell(16, L);
+    ImageRuns ref = bptRuns(desc, 64, K, 1, L, 3000, B);
+    checkSameImage(mmltRuns(desc, mmltOptions(1024, 0, 1, L, 1), K, 3100, B), ref, p, "1 chain");
+    checkSameImage(mmltRuns(desc, mmltOptions(1024, 0, 1, L, 64), K, 3200, B), ref, p, "64 chains");
+    checkSameImage(mmltRuns(desc, mmltOptions(256, 0, 1, L, 65536), K, 3300, B), ref, p, "65536 chains");
+    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024), K, (uint64_t(1) << 62) - 100, B), ref, p,
+                   "seeds near 2^62");
+    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024, 1024), K, 3400, B), ref, p, "bootstrap 1024");
+    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024, 1 << 18), K, 3500, B), ref, p,
+                   "bootstrap 262144");
+}
+
+TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[mmlt][render]") {
+    // pbrt-v4's open MLT report: each seed's image looks converged, yet seeds (and bootstrap
+    // sizes) converge to different images, i.e. an error fixed per seed that more mutations
+    // never remove (a random allocation of chains to lengths leaves one). Here the variance
+    // between K seeds' images, S = sum over blocks and channels of the K-run variance, must
+    // fall with 16 times the mutations and 16 times the bootstrap as 1 / work does (S_hi /
+    // S_lo ~ 1/16; 64 chains making >= 1024 proposals each, well past their correlation
+    // time); an error fixed per seed keeps the ratio near 1 once it dominates. Passing needs
+    // S_hi / S_lo < 1/4. The per-run squared distances to the group mean are independent
+    // across seeds, so their spread gives the ratio's standard error (reported).
+    const int K = 8, B = 4, L = 5;
+    const SceneDesc desc = cornell(16, L);
+    struct Level {
+        int spp, bootstrap;
+        double S = 0, relSe = 0;
+    };
+    Level levels[2] = {{256, 4096}, {4096, 65536}};
+    for (Level& lv : levels) {
+        std::vector<std::vector<double>> x;
+        for (int i = 0; i < K; ++i) {
+            RenderResult r = renderMmlt(desc, mmltOptions(lv.spp, 7000 + uint64_t(lv.spp) + i, 1, L, 64, lv.bootstrap));
+            std::vector<double> v;
+            for (int c = 0; c < 3; ++c) {
+                std::vector<double> m = rstats::blockMeans(r.image, B, c);
+                v.insert(v.end(), m.begin(), m.end());
+            }
+            x.push_back(v);
+        }
+        std::vector<double> mean(x[0].size(), 0.0), d(K, 0.0);
+        for (const auto& v : x)
+            for (size_t j = 0; j < v.size(); ++j) mean[j] += v[j] / K;
+        double sumD = 0, sumD2 = 0;
+        for (int i = 0; i < K; ++i) {
+            for (size_t j = 0; j < mean.size(); ++j) d[size_t(i)] += (x[size_t(i)][j] - mean[j]) * (x[size_t(i)][j] - mean[j]);
+            sumD += d[size_t(i)];
+            sumD2 += d[size_t(i)] * d[size_t(i)];
+        }
+        lv.S = sumD / (K - 1);
+        const double md = sumD / K;
+        lv.relSe = std::sqrt(std::max(0.0, sumD2 / K - md * md) / (K - 1)) / md;
+    }
+    const double ratio = levels[1].S / levels[0].S;
+    INFO("S at " << levels[0].spp << " mutations per pixel: " << levels[0].S << " (relative se " << levels[0].relSe
+                 << "), at " << levels[1].spp << ": " << levels[1].S << " (relative se " << levels[1].relSe
+                 << "); ratio " << ratio << " (1/16 = 0.0625 expected)");
+    if (verbose()) WARN("S_hi / S_lo = " << ratio << ": S_lo " << levels[0].S << " +- " << levels[0].relSe * 100
+                                         << "%, S_hi " << levels[1].S << " +- " << levels[1].relSe * 100 << "%");
+    CHECK(ratio < 0.25);
+}
+
+// ---- 4. extremes ----------------------------------------------------------------------------
+
+TEST_CASE("MMLT with ProbLarge 1e-3 and 1 matches BPT", "[mmlt][render]") {
+    const int K = 8, B = 4, L = 5;
+    const SceneDesc desc = cornell(16, L);
+    ImageRuns ref = bptRuns(desc, 64, K, 1, L, 4000, B);
+    for (float pl : {1e-3f, 1.0f}) {
+        RenderOptions o = mmltOptions(1024, 0, 1, L, 256, 0, pl);
+        ImageRuns m = mmltRuns(desc, o, K, pl < 1 ? 4100 : 4200, B);
+        checkSameImage(m, ref, 1e-4 / 2, "ProbLarge " + std::to_string(pl));
+    }
+    // ProbLarge 1: every proposal is a large step; 1e-3: (almost) none is.
+    RenderResult a = renderMmlt(desc, mmltOptions(64, 9, 1, L, 256, 0, 1.0f));
+    for (size_t k = 1; k <= size_t(L); ++k) CHECK(a.stats.mmlt.proposedSmall[k] == 0);
+    RenderResult b = renderMmlt(desc, mmltOptions(64, 9, 1, L, 256, 0, 1e-3f));
+    uint64_t small = 0, large = 0;
+    for (size_t k = 1; k <= size_t(L); ++k) {
+        small += b.stats.mmlt.proposedSmall[k];
+        large += b.stats.mmlt.proposedLarge[k];
+    }
+    CHECK(double(large) < 3e-3 * double(small + large));
+}
+
+TEST_CASE("MMLT with MaxPathLength 1 and 64 matches BPT", "[mmlt][render]") {
+    const int K = 8, B = 4;
+    for (int L : {1, 64}) {
+        const SceneDesc desc = cornell(16, L);
+        ImageRuns ref = bptRuns(desc, L == 1 ? 64 : 16, K, 1, L, 5000 + 100 * L, B);
+        ImageRuns m = mmltRuns(desc, mmltOptions(L == 1 ? 256 : 128, 0, 1, L, 1024), K, 5050 + 100 * L, B);
+        checkSameImage(m, ref, 1e-4 / 2, "MaxPathLength " + std::to_string(L));
+    }
+}
+
+TEST_CASE("MMLT: a scene where no light reaches the camera is an InputError", "[mmlt]") {
+    auto expectNoLight = [](const SceneDesc& desc, int minLength, int maxLength) {
+        try {
+            render(desc, mmltOptions(4, 1, minLength, maxLength, 64));
+            FAIL("render() returned");
+        } catch (const InputError& e) {
+            INFO(e.what());
+            CHECK(std::string(e.what()).find("no light reaches the camera") != std::string::npos);
+        }
+    };
+    // The only light faces away from everything.
+    expectNoLight(loadSceneFromString(kNoLightXml, "nolight.xml", "."), 1, 8);
+    // Length 1 only, and the light is outside the view (every other length carries light).
+    expectNoLight(caustic(6), 1, 1);
+    // The seed room's light needs at least 3 segments.
+    expectNoLight(seedRoom(16, 2), 1, 2);
+}
+
+TEST_CASE("MMLT command line: no light reaching the camera exits with status 2 and says why", "[mmlt][cli]") {
+    const std::string dir = rstats::tempDir("mmlt-nolight");
+    const std::string scene = dir + "/nolight.xml", out = dir + "/out.pfm", err = dir + "/err.txt";
+    std::ofstream(scene) << kNoLightXml;
+    const std::string cmd = std::string("'") + WAVEMMLT_BIN + "' '" + scene + "' --tracer mmlt --spp 4 --quiet -o '" +
+                            out + "' > /dev/null 2> '" + err + "'";
+    const int st = std::system(cmd.c_str());
+    REQUIRE(st != -1);
+    REQUIRE(WIFEXITED(st));
+    CHECK(WEXITSTATUS(st) == 2);
+    std::stringstream msg;
+    msg << std::ifstream(err).rdbuf();
+    INFO("stderr: " << msg.str());
+    CHECK(msg.str().find("no light reaches the camera") != std::string::npos);
+    CHECK(!std::filesystem::exists(out));
+    std::filesystem::remove_all(dir);
+}
+
+// ---- 5. replay ------------------------------------------------------------------------------
+
+TEST_CASE("MMLT: every seeded chain replays its bootstrap sample bit for bit", "[mmlt]") {
+    // renderMmlt checks replayMismatches == 0 in every render of this file; here over
+    // glass, mirrors, a textured floor and paths of up to 64 segments, 1 and 2 threads, few
+    // and many chains (16 x 16 at 256 mutations per pixel: all 65536 chains are seeded).
+    struct Case {
+        SceneDesc desc;
+        int maxLength;
+    };
+    std::vector<Case> cases = {{caustic(12, 16), 12}, {seedRoom(16, 12), 12}, {cornell(16, 64), 64}};
+    for (const Case& cs : cases)
+        for (int threads : {1, 2})
+            for (int chains : {3, 65536}) {
+                RenderOptions o = mmltOptions(chains > 3 ? 256 : 1, 77, 1, cs.maxLength, chains, 2048, 0.3f, threads);
+                RenderResult r = renderMmlt(cs.desc, o);
+                uint64_t seeded = 0;
+                for (uint32_t n : r.stats.mmlt.chains) seeded += n;
+                INFO("MaxPathLength " << cs.maxLength << ", " << threads << " threads, " << seeded << " chains");
+                CHECK(seeded >= uint64_t(chains));
+                CHECK(r.stats.mmlt.replayMismatches == 0);
+            }
+}
+
+// ---- 6. determinism -------------------------------------------------------------------------
+
+TEST_CASE("MMLT: a fixed seed gives a bit-identical image, for 1 and 2 threads", "[mmlt]") {
+    const SceneDesc desc = caustic(6);
+    const RenderOptions o = mmltOptions(64, 42, 1, 6, 4096, 4096, 0.3f, 2);
+    RenderResult a = renderMmlt(desc, o);
+    RenderResult b = renderMmlt(desc, o);
+    CHECK(a.image.rgb == b.image.rgb);
+    CHECK(a.stats.mmlt.b == b.stats.mmlt.b);
+    CHECK(a.stats.mmlt.chains == b.stats.mmlt.chains);
+    CHECK(a.stats.mmlt.acceptedSmall == b.stats.mmlt.acceptedSmall);
+    CHECK(a.stats.mmlt.acceptedLarge == b.stats.mmlt.acceptedLarge);
+    RenderOptions one = o;
+    one.threads = 1;
+    RenderResult c = renderMmlt(desc, one);
+    CHECK(a.image.rgb == c.image.rgb);
+    RenderOptions other = o;
+    other.seed = 43;
+    RenderResult d = renderMmlt(desc, other);
+    CHECK(a.image.rgb != d.image.rgb);
+}
