@@ -49,7 +49,8 @@ struct RenderStats {
     bool cancelled = false;
     // MMLT, indexed by path length k (0 unused).
     struct Mmlt {
-        std::vector<double> b;                    // bootstrap estimate of b_k (mean target)
+        std::vector<double> b;                    // b_k (mean target): bootstrap and large steps
+        std::vector<double> bBootstrap;           // b_k from the bootstrap alone (allocation)
         std::vector<uint32_t> chains;             // chains allocated to length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
         uint64_t bootstrapSamples = 0;            // per length

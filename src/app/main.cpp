@@ -64,6 +64,7 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     };
     auto rate = [](uint64_t a, uint64_t p) { return p ? double(a) / double(p) : 0.0; };
     perLength("mmlt_b", [&](size_t k) { return m.b[k]; });
+    perLength("mmlt_b_bootstrap", [&](size_t k) { return m.bBootstrap[k]; });
     perLength("mmlt_chains", [&](size_t k) { return m.chains[k]; });
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });

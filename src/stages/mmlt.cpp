@@ -10,8 +10,11 @@
 //     splats are kept per batch and added to the film in batch order after each round, so
 //     a seed and any thread count give one image;
 //  5. I = sum_k I_k, I_k(pixel) = b_k N_pixels (splats of length k at the pixel) / M_k with
-//     M_k = chains_k x proposals per chain: each splat carries b_k / chains_k and the film is
-//     scaled by N_pixels / proposals per chain at the end.
+//     M_k = chains_k x proposals per chain: each splat carries 1 / chains_k into its length's
+//     film, and each film is scaled by b_k N_pixels / proposals per chain at the end. b_k
+//     there is the mean c of the bootstrap and of every large step proposed (each an
+//     independent uniform sample of u): so the error of b_k, which every pixel of length k
+//     shares, shrinks as the render goes on instead of staying what the bootstrap left.
 #include "stages/mmlt.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -143,12 +146,15 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
         for (uint64_t n : nonfinite) discarded += n;
     }
     double bSum = 0;
+    std::vector<double> cSum(size_t(kMax + 1), 0.0);  // sum of c over bootstrap and large steps
+    std::vector<uint64_t> cCount(size_t(kMax + 1), 0);
     for (int k = kMin; k <= kMax; ++k) {
-        double sum = 0;
-        for (float c : bootC[size_t(k)]) sum += c;
-        ms.b[size_t(k)] = sum / nBoot;
+        for (float c : bootC[size_t(k)]) cSum[size_t(k)] += c;
+        cCount[size_t(k)] = nBoot;
+        ms.b[size_t(k)] = cSum[size_t(k)] / nBoot;
         bSum += ms.b[size_t(k)];
     }
+    ms.bBootstrap = ms.b;
     if (!(bSum > 0))
         throw InputError("no light reaches the camera: the bootstrap's " + std::to_string(nBoot) +
                          " samples of each path length " + std::to_string(kMin) + ".." + std::to_string(kMax) +
@@ -227,7 +233,9 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     const uint32_t chains = first;
     const uint64_t target = std::max<uint64_t>(1, uint64_t(std::ceil(targetMutations / chains)));
     const uint32_t perRound = uint32_t(std::clamp(kSplatsPerRound / chains, 1.0, 4096.0));
-    SplatFilm film(scene.camera.width, scene.camera.height);
+    std::vector<SplatFilm> films;  // one per length with chains (index: group)
+    for (int k = 0; k <= kMax; ++k)
+        films.emplace_back(groups[size_t(k)].count ? scene.camera.width : 0, groups[size_t(k)].count ? scene.camera.height : 0);
     std::vector<TaskOutput> outputs(tasks.size());
     uint64_t iteration = 0;
     bool stopped = false;
@@ -250,7 +258,7 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
             MmltBatch& mb = batches.local();
             mb.splats.clear();
             mb.counters = MmltCounters();
-            const float scale = float(g.b / double(g.count));
+            const float scale = float(1.0 / double(g.count));
             for (uint32_t it = 0; it < r; ++it) {
                 const uint32_t n = uint32_t(iteration + it);
                 mutateChains(g, mb, t.c0, t.n, opt.seed, n, opt.probLarge);
@@ -261,9 +269,11 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
             outputs[ti].counters = mb.counters;
         });
         for (size_t ti = 0; ti < tasks.size(); ++ti) {  // in batch order: deterministic
-            for (const Splat& s : outputs[ti].splats) film.add(s);
-            const MmltCounters& c = outputs[ti].counters;
             const size_t k = size_t(groups[size_t(tasks[ti].group)].k);
+            for (const Splat& s : outputs[ti].splats) films[k].add(s);
+            const MmltCounters& c = outputs[ti].counters;
+            cSum[k] += c.largeSum;
+            cCount[k] += c.proposed[1];
             ms.proposedSmall[k] += c.proposed[0];
             ms.acceptedSmall[k] += c.accepted[0];
             ms.proposedLarge[k] += c.proposed[1];
@@ -287,10 +297,17 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     res.stats.mmlt.iterations = iteration;
     res.stats.mmlt.mutations = iteration * chains;
     res.stats.samplesNonfiniteDiscarded = discarded;
-    res.stats.lengthMeanLuminance = keep.b;
-    res.image = film.resolve(1);
-    const float norm = iteration > 0 ? float(pixels / double(iteration)) : 0.0f;
-    for (float& v : res.image.rgb) v *= norm;
+    res.image = Image(scene.camera.width, scene.camera.height);
+    std::vector<double> sum(res.image.rgb.size(), 0.0);
+    for (int k = kMin; k <= kMax; ++k) {
+        const double b = cSum[size_t(k)] / double(cCount[size_t(k)]);
+        res.stats.mmlt.b[size_t(k)] = b;
+        if (!groups[size_t(k)].count || iteration == 0) continue;
+        const double norm = b * pixels / double(iteration);
+        for (size_t i = 0; i < sum.size(); ++i) sum[i] += films[size_t(k)].sum[i] * norm;
+    }
+    for (size_t i = 0; i < sum.size(); ++i) res.image.rgb[i] = float(sum[i]);
+    res.stats.lengthMeanLuminance = res.stats.mmlt.b;
     return res;
 }
 

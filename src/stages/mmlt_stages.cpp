@@ -123,6 +123,7 @@ void acceptAndSplat(ChainGroup& g, MmltBatch& mb, uint64_t seed, uint32_t iterat
         if (a < 1 && g.c[c] > 0) mb.splats.push_back({g.pixel[c], g.F[c] * ((1.0f - a) * scale / g.c[c])});
         const int kind = mb.large[i];
         ++mb.counters.proposed[kind];
+        if (kind) mb.counters.largeSum += double(cP);
         const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
         mb.accept[i] = sampleDimension(key, kDimAccept) < a ? 1 : 0;
         if (!mb.accept[i]) continue;

@@ -38,7 +38,7 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, PtCount
 inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }
 // Accepts or rejects each slot's proposal (a = min(1, c'/c)), splats a F'/c' at the
 // proposal's pixel and (1 - a) F/c at the current one's, both times `scale`, to mb.splats,
-// and commits accepted proposals into g.
+// and commits accepted proposals into g. Large steps' c are summed (they refine b_k).
 void acceptAndSplat(ChainGroup& g, MmltBatch& mb, uint64_t seed, uint32_t iteration, float scale);
 
 }  // namespace wmlt

@@ -36,6 +36,7 @@ struct ChainGroup {
 struct MmltCounters {
     uint64_t proposed[2] = {0, 0}, accepted[2] = {0, 0};  // [0]: small steps, [1]: large
     uint64_t nonfinite = 0;
+    double largeSum = 0;  // sum of c over large-step proposals: independent samples of b_k
 };
 
 // A batch of chains of one length group in flight: their proposals (rows of u, as
