@@ -51,11 +51,14 @@ struct RenderStats {
     struct Mmlt {
         std::vector<double> b;                    // b_k (mean target): bootstrap and large steps
         std::vector<double> bBootstrap;           // b_k from the bootstrap alone (allocation)
-        std::vector<uint32_t> chains;             // chains allocated to length k
+        std::vector<uint32_t> chainsAllocated;    // chains length k gets by b_k (largest remainders)
+        std::vector<uint32_t> chains;             // chains run: at most the bootstrap's paths with c > 0
+        std::vector<uint32_t> bootstrapNonzero;   // bootstrap samples with c > 0
+        std::vector<uint64_t> proposalsPerChain;  // proposals each chain of length k made
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
         uint64_t bootstrapSamples = 0;            // per length
         uint64_t mutations = 0;                   // proposals made in total
-        uint64_t iterations = 0;                  // proposals per chain
+        uint64_t iterations = 0;                  // lockstep iterations (a chain makes steps_k per iteration)
         uint64_t replayMismatches = 0;            // seeded chains whose replay differed (a bug)
         uint64_t chainBytes = 0;                  // memory of the chain state
     } mmlt;

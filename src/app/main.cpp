@@ -66,6 +66,9 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     perLength("mmlt_b", [&](size_t k) { return m.b[k]; });
     perLength("mmlt_b_bootstrap", [&](size_t k) { return m.bBootstrap[k]; });
     perLength("mmlt_chains", [&](size_t k) { return m.chains[k]; });
+    perLength("mmlt_chains_allocated", [&](size_t k) { return m.chainsAllocated[k]; });
+    perLength("mmlt_bootstrap_with_light", [&](size_t k) { return m.bootstrapNonzero[k]; });
+    perLength("mmlt_proposals_per_chain", [&](size_t k) { return m.proposalsPerChain[k]; });
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
     uint64_t acc = 0, prop = 0, accL = 0, propL = 0;
@@ -79,7 +82,7 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << ", \"all\": " << rate(acc + accL, prop + propL) << "}"
       << ",\n  \"mmlt_mutations\": " << m.mutations
       << ",\n  \"mmlt_mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
-      << ",\n  \"mmlt_proposals_per_chain\": " << m.iterations
+      << ",\n  \"mmlt_iterations\": " << m.iterations
       << ",\n  \"mmlt_bootstrap_samples_per_length\": " << m.bootstrapSamples
       << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
       << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes;

@@ -3,7 +3,12 @@
 //     b_k = E[c], c = luminance of (k + 1) times the MIS-weighted contribution;
 //  2. chains are allocated to lengths in proportion to b_k by largest remainders (never
 //     drawn at random), at least one per length with b_k > 0 (so --chains 1 runs one
-//     chain per length), and no more chains than the mutations asked for;
+//     chain per length), and no more chains than the mutations asked for. A length never
+//     runs more chains than its bootstrap found paths with c > 0: chains seeded from the
+//     same sample stay correlated for a long time (the seed room's error at equal time was
+//     5x that of 1024 chains when 65536 chains shared a few hundred seeds); its chains make
+//     proportionally more proposals per iteration instead (steps), so that the mutations
+//     spent on each length stay in proportion to b_k;
 //  3. each chain starts at a bootstrap sample of its length chosen in proportion to c
 //     (systematic resampling) and replays it: the replay must give the same c bit for bit;
 //  4. rounds: every chain makes the same number of proposals, batch by batch (mmlt_stages.h);
@@ -165,7 +170,19 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     // No more chains than mutations asked for (a small image at few mutations per pixel).
     const double asked = opt.timeBudget > 0 ? double(opt.chains) : std::min(double(opt.chains), targetMutations);
     const uint32_t total = std::max<uint32_t>(uint32_t(std::max(asked, 1.0)), uint32_t(positive));
-    const std::vector<uint32_t> chainCounts = allocateChains(ms.b, total);
+    const std::vector<uint32_t> allocated = allocateChains(ms.b, total);
+    std::vector<uint32_t> chainCounts(allocated.size(), 0), steps(allocated.size(), 1);
+    ms.bootstrapNonzero.assign(allocated.size(), 0);
+    for (int k = kMin; k <= kMax; ++k) {
+        const uint32_t seeds = uint32_t(std::count_if(bootC[size_t(k)].begin(), bootC[size_t(k)].end(),
+                                                      [](float c) { return c > 0; }));
+        ms.bootstrapNonzero[size_t(k)] = seeds;
+        chainCounts[size_t(k)] = std::min(allocated[size_t(k)], seeds);
+        if (chainCounts[size_t(k)])
+            steps[size_t(k)] = std::max<uint32_t>(
+                1, uint32_t(std::lround(double(allocated[size_t(k)]) / double(chainCounts[size_t(k)]))));
+    }
+    ms.chainsAllocated = allocated;
     double bytes = 0;
     for (int k = kMin; k <= kMax; ++k) bytes += double(chainCounts[size_t(k)]) * double(mmltChainBytes(k));
     const double mem = physicalMemory();
@@ -182,6 +199,7 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
         ChainGroup& g = groups[size_t(k)];
         g.k = k;
         g.count = chainCounts[size_t(k)];
+        g.steps = steps[size_t(k)];
         g.first = first;
         first += g.count;
         g.dims = StrategyLayout::size(k);
@@ -231,8 +249,10 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
 
     // 4. Rounds of proposals.
     const uint32_t chains = first;
-    const uint64_t target = std::max<uint64_t>(1, uint64_t(std::ceil(targetMutations / chains)));
-    const uint32_t perRound = uint32_t(std::clamp(kSplatsPerRound / chains, 1.0, 4096.0));
+    double perIterationProposals = 0;  // every chain of length k makes steps_k proposals
+    for (const ChainGroup& g : groups) perIterationProposals += double(g.count) * g.steps;
+    const uint64_t target = std::max<uint64_t>(1, uint64_t(std::ceil(targetMutations / perIterationProposals)));
+    const uint32_t perRound = uint32_t(std::clamp(kSplatsPerRound / perIterationProposals, 1.0, 4096.0));
     std::vector<SplatFilm> films;  // one per length with chains (index: group)
     for (int k = 0; k <= kMax; ++k)
         films.emplace_back(groups[size_t(k)].count ? scene.camera.width : 0, groups[size_t(k)].count ? scene.camera.height : 0);
@@ -259,11 +279,10 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
             mb.splats.clear();
             mb.counters = MmltCounters();
             const float scale = float(1.0 / double(g.count));
-            for (uint32_t it = 0; it < r; ++it) {
-                const uint32_t n = uint32_t(iteration + it);
-                mutateChains(g, mb, t.c0, t.n, opt.seed, n, opt.probLarge);
+            for (uint64_t n = iteration * g.steps; n < (iteration + r) * g.steps; ++n) {
+                mutateChains(g, mb, t.c0, t.n, opt.seed, uint32_t(n), opt.probLarge);
                 evaluateProposals(scene, mb, opt.misBeta, rays.local());
-                acceptAndSplat(g, mb, opt.seed, n, scale);
+                acceptAndSplat(g, mb, opt.seed, uint32_t(n), scale);
             }
             outputs[ti].splats.swap(mb.splats);
             outputs[ti].counters = mb.counters;
@@ -289,13 +308,15 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     // 5. The image.
     PassResult pr;
     pr.seconds = elapsed();
-    pr.completedSpp = uint32_t(double(iteration) * chains / pixels);
+    pr.completedSpp = uint32_t(double(iteration) * perIterationProposals / pixels);
     pr.stopped = stopped;
     RenderStats::Mmlt keep = ms;
     res = startResult("mmlt", scene, opt, pr, rays);
     res.stats.mmlt = keep;
     res.stats.mmlt.iterations = iteration;
-    res.stats.mmlt.mutations = iteration * chains;
+    res.stats.mmlt.mutations = uint64_t(double(iteration) * perIterationProposals);
+    res.stats.mmlt.proposalsPerChain.assign(size_t(kMax + 1), 0);
+    for (const ChainGroup& g : groups) res.stats.mmlt.proposalsPerChain[size_t(g.k)] = g.count ? iteration * g.steps : 0;
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.image = Image(scene.camera.width, scene.camera.height);
     std::vector<double> sum(res.image.rgb.size(), 0.0);
@@ -303,7 +324,7 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
         const double b = cSum[size_t(k)] / double(cCount[size_t(k)]);
         res.stats.mmlt.b[size_t(k)] = b;
         if (!groups[size_t(k)].count || iteration == 0) continue;
-        const double norm = b * pixels / double(iteration);
+        const double norm = b * pixels / double(iteration * groups[size_t(k)].steps);
         for (size_t i = 0; i < sum.size(); ++i) sum[i] += films[size_t(k)].sum[i] * norm;
     }
     for (size_t i = 0; i < sum.size(); ++i) res.image.rgb[i] = float(sum[i]);

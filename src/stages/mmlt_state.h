@@ -21,6 +21,7 @@ struct ChainGroup {
     uint32_t count = 0;               // chains of this length
     uint32_t first = 0;               // global index of its first chain
     uint32_t dims = 0;                // StrategyLayout::size(k)
+    uint32_t steps = 1;               // proposals per chain per iteration
     double b = 0;                     // bootstrap estimate of b_k = E[c]
     std::vector<float> value;         // [coordinate * count + chain]
     std::vector<uint32_t> lastModified;
