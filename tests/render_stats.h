@@ -303,6 +303,28 @@ inline wmlt::Image skyWithSun() {
     return sky;
 }
 
+// A glass ball and a mirror ball above a glossy floor, lit by a sphere light: caustics
+// (light through glass onto the floor), glossy reflections, and specular chains seen
+// directly by the camera (sampled by s = 0 and s = 1 only).
+inline std::string causticXml(int size, int maxLength, const std::string& intensity = "8",
+                              const std::string& lightY = "2.4") {
+    return R"(<Scene>
+  <Settings><Width value=")" + std::to_string(size) + R"("/><Height value=")" + std::to_string(size) + R"("/><MaxPathLength value=")" + std::to_string(maxLength) + R"("/></Settings>
+  <Camera Type="Camera"><Position x="0" y="0.9" z="-2.5"/><LookAt x="0" y="0.3" z="0"/><FOV value="45"/></Camera>
+  <Shader Type="Glossy" ID="0"><Diffuse r="0.4" g="0.35" b="0.3"/><Specular r="0.4" g="0.4" b="0.4"/>
+    <Shininess value="30"/></Shader>
+  <Shader Type="Dielectric" ID="1"><Reflect r="1" g="1" b="1"/><Refract r="1" g="1" b="1"/>
+    <iIOR value="1.5"/><oIOR value="1"/></Shader>
+  <Shader Type="Reflective" ID="2"><Reflect r="0.9" g="0.9" b="0.9"/></Shader>
+  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="6"/><Depth value="6"/><Shader value="0"/></Geometry>
+  <Geometry Type="Sphere" ID="glass"><Position x="-0.3" y="0.6" z="0"/><Radius value="0.35"/><Shader value="1"/></Geometry>
+  <Geometry Type="Sphere" ID="mirror"><Position x="0.55" y="0.35" z="0.3"/><Radius value="0.3"/><Shader value="2"/></Geometry>
+  <Light Type="Area" ID="light"><Position x="-0.2" y=")" + lightY + R"(" z="0.2"/><Radius value="0.3"/>
+    <Intensity value=")" + intensity + R"("/><Colour r="1" g="0.9" b="0.8"/></Light>
+</Scene>
+)";
+}
+
 // The Cornell box test copy (Tungsten's reference scene) at 64 x 64, paths up to maxLength.
 inline wmlt::SceneDesc cornell64(int maxLength) {
     wmlt::SceneDesc d =

@@ -56,26 +56,6 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_
     }
 }
 
-// A glass ball and a mirror ball above a glossy floor, lit by a sphere light: caustics
-// (light through glass onto the floor), glossy reflections, and specular chains seen
-// directly by the camera (sampled by s = 0 and s = 1 only).
-std::string causticXml(const std::string& intensity, int maxLength) {
-    return R"(<Scene>
-  <Settings><Width value="64"/><Height value="64"/><MaxPathLength value=")" + std::to_string(maxLength) + R"("/></Settings>
-  <Camera Type="Camera"><Position x="0" y="0.9" z="-2.5"/><LookAt x="0" y="0.3" z="0"/><FOV value="45"/></Camera>
-  <Shader Type="Glossy" ID="0"><Diffuse r="0.4" g="0.35" b="0.3"/><Specular r="0.4" g="0.4" b="0.4"/>
-    <Shininess value="30"/></Shader>
-  <Shader Type="Dielectric" ID="1"><Reflect r="1" g="1" b="1"/><Refract r="1" g="1" b="1"/>
-    <iIOR value="1.5"/><oIOR value="1"/></Shader>
-  <Shader Type="Reflective" ID="2"><Reflect r="0.9" g="0.9" b="0.9"/></Shader>
-  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="6"/><Depth value="6"/><Shader value="0"/></Geometry>
-  <Geometry Type="Sphere" ID="glass"><Position x="-0.3" y="0.6" z="0"/><Radius value="0.35"/><Shader value="1"/></Geometry>
-  <Geometry Type="Sphere" ID="mirror"><Position x="0.55" y="0.35" z="0.3"/><Radius value="0.3"/><Shader value="2"/></Geometry>
-  <Light Type="Area" ID="light"><Position x="-0.2" y="2.4" z="0.2"/><Radius value="0.3"/>
-    <Intensity value=")" + intensity + R"("/><Colour r="1" g="0.9" b="0.8"/></Light>
-</Scene>
-)";
-}
 
 }  // namespace
 
@@ -161,7 +141,7 @@ TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render]") {
 }
 
 TEST_CASE("BPT matches PT with glossy, glass and mirror (caustics)", "[bpt][render]") {
-    compareWithPt(loadSceneFromString(causticXml("8", 6), "caustic.xml", "."), 32, 8, 6, 2000);
+    compareWithPt(loadSceneFromString(rstats::causticXml(64, 6), "caustic.xml", "."), 32, 8, 6, 2000);
 }
 
 TEST_CASE("BPT matches PT with the balance heuristic (beta = 1) and MinPathLength 3", "[bpt][render]") {
@@ -177,7 +157,7 @@ TEST_CASE("BPT matches PT with a thin-lens camera", "[bpt][render]") {
 }
 
 TEST_CASE("BPT: the image is bit-identical for 1 and 2 threads", "[bpt][render]") {
-    const SceneDesc desc = loadSceneFromString(causticXml("8", 6), "caustic.xml", ".");
+    const SceneDesc desc = loadSceneFromString(rstats::causticXml(64, 6), "caustic.xml", ".");
     RenderResult a = render(desc, rstats::renderOptions(TracerKind::BPT, 4, 42, 1, 6, 1));
     RenderResult b = render(desc, rstats::renderOptions(TracerKind::BPT, 4, 42, 1, 6, 2));
     CHECK(a.image.rgb == b.image.rgb);
@@ -218,7 +198,7 @@ TEST_CASE("BPT mean luminance by path length matches PT's", "[bpt][render]") {
 
 TEST_CASE("BPT stays finite with extreme lights and MaxPathLength 64", "[bpt][render]") {
     for (const char* intensity : {"1e6", "1e-6"}) {
-        SceneDesc d = loadSceneFromString(causticXml(intensity, 64), "extreme.xml", ".");
+        SceneDesc d = loadSceneFromString(rstats::causticXml(64, 64, intensity), "extreme.xml", ".");
         d.settings.width = 32;
         d.settings.height = 32;
         RenderResult r = render(d, rstats::renderOptions(TracerKind::BPT, 4, 7, 1, 64));

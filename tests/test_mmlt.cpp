@@ -160,28 +160,9 @@ ImageRuns mmltRuns(const SceneDesc& desc, RenderOptions o, int K, uint64_t seed0
     return runs;
 }
 
-// A glass ball and a mirror ball above a glossy floor under a sphere light (test_bpt.cpp's
-// caustic scene at 32 x 32): caustics and specular chains seen by the camera.
-std::string causticXml(int maxLength, const std::string& lightY = "2.4") {
-    return R"(<Scene>
-  <Settings><Width value="32"/><Height value="32"/><MaxPathLength value=")" + std::to_string(maxLength) + R"("/></Settings>
-  <Camera Type="Camera"><Position x="0" y="0.9" z="-2.5"/><LookAt x="0" y="0.3" z="0"/><FOV value="45"/></Camera>
-  <Shader Type="Glossy" ID="0"><Diffuse r="0.4" g="0.35" b="0.3"/><Specular r="0.4" g="0.4" b="0.4"/>
-    <Shininess value="30"/></Shader>
-  <Shader Type="Dielectric" ID="1"><Reflect r="1" g="1" b="1"/><Refract r="1" g="1" b="1"/>
-    <iIOR value="1.5"/><oIOR value="1"/></Shader>
-  <Shader Type="Reflective" ID="2"><Reflect r="0.9" g="0.9" b="0.9"/></Shader>
-  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="6"/><Depth value="6"/><Shader value="0"/></Geometry>
-  <Geometry Type="Sphere" ID="glass"><Position x="-0.3" y="0.6" z="0"/><Radius value="0.35"/><Shader value="1"/></Geometry>
-  <Geometry Type="Sphere" ID="mirror"><Position x="0.55" y="0.35" z="0.3"/><Radius value="0.3"/><Shader value="2"/></Geometry>
-  <Light Type="Area" ID="light"><Position x="-0.2" y=")" + lightY + R"(" z="0.2"/><Radius value="0.3"/>
-    <Intensity value="8"/><Colour r="1" g="0.9" b="0.8"/></Light>
-</Scene>
-)";
-}
 
 SceneDesc caustic(int maxLength, int size = 32) {
-    SceneDesc d = loadSceneFromString(causticXml(maxLength), "caustic.xml", ".");
+    SceneDesc d = loadSceneFromString(rstats::causticXml(32, maxLength), "caustic.xml", ".");
     d.settings.width = d.settings.height = size;
     return d;
 }
