@@ -12,10 +12,18 @@ namespace {
 
 [[noreturn]] void fail(const std::string& msg) { throw InputError("wavemmlt: " + msg); }
 
+// A whole number, written as digits ("65536") or in exponent form ("1e12", "6.5536e4");
+// "1.5", "abc", "1e400" and anything beyond 64 bits are not whole numbers.
 long long parseInt(const std::string& opt, const std::string& v, long long lo, long long hi) {
     errno = 0;
     char* end = nullptr;
     long long x = std::strtoll(v.c_str(), &end, 10);
+    if (!v.empty() && *end != '\0' && v.find_first_of("eE") != std::string::npos) {
+        errno = 0;
+        const double d = std::strtod(v.c_str(), &end);
+        if (*end == '\0' && std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9.2e18) x = (long long)d;
+        else errno = ERANGE;
+    }
     if (v.empty() || *end != '\0' || errno == ERANGE)
         fail(opt + ": '" + v + "' is not a whole number");
     if (x < lo || x > hi)
@@ -84,7 +92,8 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
         else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);
         else if (a == "--threads") cl.threads = int(parseInt(a, value(), 0, 4096));
-        else if (a == "--chains") cl.chains = int(parseInt(a, value(), 1, 1 << 30));
+        // Any count is accepted here; main() refuses one that would not fit in memory.
+        else if (a == "--chains") cl.chains = parseInt(a, value(), 1, 1000000000000000LL);
         else if (a == "--bootstrap") cl.bootstrap = int(parseInt(a, value(), 1, 1 << 30));
         else if (a == "--p-large") {
             cl.probLarge = float(parseReal(a, value(), 0, 1));

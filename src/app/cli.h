@@ -14,7 +14,8 @@ struct CommandLine {
     std::optional<int> spp, threads, width, height, maxLength, minLength;
     std::optional<double> timeBudget;
     std::optional<float> misBeta;  // BPT's power-heuristic exponent
-    std::optional<int> chains, bootstrap;  // MMLT
+    std::optional<long long> chains;       // MMLT; checked against memory in main()
+    std::optional<int> bootstrap;          // MMLT
     std::optional<float> probLarge;        // MMLT
     std::string strategyImages;            // BPT: folder for per-strategy EXRs
     uint64_t seed = 0;

@@ -1,6 +1,7 @@
 // wavemmlt: the command-line renderer.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -9,11 +10,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "app/cli.h"
 #include "app/progress.h"
 #include "scene/features.h"
+#include "stages/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
 
@@ -39,8 +42,40 @@ void checkOutputPath(const std::string& path, bool image) {
         throw wmlt::InputError(path, 0, "unknown image format (use .exr, .pfm or .png)");
     size_t slash = path.find_last_of('/');
     std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    std::error_code ec;
     if (access(dir.c_str(), W_OK) != 0)
         throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': " + std::strerror(errno));
+    if (!std::filesystem::is_directory(dir, ec))
+        throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': not a folder");
+    if (std::filesystem::is_directory(path, ec))
+        throw wmlt::InputError(path, 0, "cannot write the file: a folder of that name exists");
+}
+
+// MMLT's chain state must fit in memory: refused before anything is allocated, with the
+// memory it would need (every chain counted at MaxPathLength, the largest state). The
+// limit is the one renderMmlt applies to the chains it actually runs: 3/4 of the
+// machine's physical memory.
+void checkChainMemory(long long chains, const wmlt::Settings& s) {
+    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    const double mem = pages > 0 && pageSize > 0 ? double(pages) * double(pageSize) : 0;
+    const uint64_t perChain = wmlt::mmltChainBytes(s.maxPathLength);
+    const double bytes = double(chains) * double(perChain);
+    auto size = [](double b) {
+        const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+        int u = 0;
+        while (b >= 1024 && u < 6) { b /= 1024; ++u; }
+        char buf[64];
+        std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
+        return std::string(buf);
+    };
+    if (mem > 0 && bytes > 0.75 * mem)
+        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + size(bytes) +
+                               " of chain state (" + std::to_string(perChain) + " bytes per chain at MaxPathLength " +
+                               std::to_string(s.maxPathLength) + "), more than 3/4 of this machine's " + size(mem) +
+                               " of memory");
+    if (chains > std::numeric_limits<int>::max())
+        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " is more than the " +
+                               std::to_string(std::numeric_limits<int>::max()) + " chains wavemmlt can run");
 }
 
 // The --strategy-images folder: created when missing (its parent must exist).
@@ -130,6 +165,7 @@ int run(int argc, char** argv) {
     applyCommandLine(cl, scene.settings);
     if (!cl.quiet)
         for (const std::string& w : scene.warnings) std::cerr << "warning: " << w << "\n";
+    if (cl.chains && scene.settings.tracer == TracerKind::MMLT) checkChainMemory(*cl.chains, scene.settings);
     if (cl.describe) {
         std::cout << deriveFeatures(scene).describe();
         return 0;
@@ -149,7 +185,7 @@ int run(int argc, char** argv) {
     opt.threads = s.threads;
     opt.seed = cl.seed;
     if (cl.misBeta) opt.misBeta = *cl.misBeta;
-    if (cl.chains) opt.chains = *cl.chains;
+    if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
     if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
     opt.probLarge = s.probLarge;
     opt.strategyImages = cl.strategyImages;

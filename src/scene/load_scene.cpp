@@ -33,6 +33,14 @@ std::string join(const Names& names) {
     return s;
 }
 
+// A value quoted in a message: at most 40 characters, control characters as '?'.
+std::string excerpt(const std::string& v) {
+    std::string s = v.substr(0, 40);
+    for (char& c : s)
+        if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
+    return v.size() > 40 ? s + "..." : s;
+}
+
 // The children of a container element, by name: each at most once (choice: a repeated
 // element is an error, as a repeated property is in Mitsuba).
 struct Kids {
@@ -96,6 +104,26 @@ private:
         }
     }
 
+    // Text outside <Scene> (trailing garbage) and NUL bytes: pugixml silently drops
+    // PCDATA at the document level unless it parses a fragment, so the file is parsed a
+    // second time as one to find it.
+    void checkOutsideText() const {
+        const size_t nul = xml_.find('\0');
+        if (nul != std::string::npos)
+            throw InputError(file_, lineOfOffset(ptrdiff_t(nul)), "not well-formed XML: a NUL byte (a binary file?)");
+        pugi::xml_document frag;
+        if (!frag.load_buffer(xml_.data(), xml_.size(), pugi::parse_default | pugi::parse_fragment, pugi::encoding_utf8))
+            return;
+        for (Node c : frag.children()) {
+            if (c.type() != pugi::node_pcdata && c.type() != pugi::node_cdata) continue;
+            const std::string v = c.value();
+            const size_t lead = std::min(v.find_first_not_of(" \t\r\n"), v.size());
+            const std::string text = v.substr(lead, v.find_last_not_of(" \t\r\n") + 1 - lead);
+            throw InputError(file_, lineOfOffset(c.offset_debug() + ptrdiff_t(lead)),
+                             "not well-formed XML: text outside the <Scene> element (\"" + excerpt(text) + "\")");
+        }
+    }
+
     // ---- structure checks ----
     void attrs(Node n, const Names& allowed) const {
         for (pugi::xml_attribute a : n.attributes())
@@ -106,7 +134,7 @@ private:
     void noText(Node n) const {
         for (Node c : n.children())
             if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata)
-                fail(n, std::string("unexpected text \"") + c.value() + "\"");
+                fail(n, "unexpected text \"" + excerpt(c.value()) + "\"");
     }
     // A leaf element with exactly the attributes `allowed`.
     void leaf(Node n, const Names& allowed) const {
@@ -199,10 +227,24 @@ private:
         if (!in(types, t.c_str())) fail(n, "Type=\"" + t + "\" is not one of " + join(types));
         return t;
     }
-    Image image(Node n, const std::string& path) const {
+    Image image(Node n, const std::string& path) {
         Image img;
         try { img = readImage(path); } catch (const InputError& e) { fail(n, e.what()); }
         if (img.width <= 0 || img.height <= 0) fail(n, path + ": the image is empty (0 x 0)");
+        // (choice) NaN or infinite pixels are an error (they would poison every sample
+        // that sees them); negative ones (filtering ringing in EXR files) are set to 0.
+        size_t negative = 0;
+        for (size_t i = 0; i < img.rgb.size(); ++i) {
+            float& v = img.rgb[i];
+            if (!std::isfinite(v)) {
+                const size_t px = i / 3;
+                fail(n, path + ": pixel (" + std::to_string(px % size_t(img.width)) + ", " +
+                            std::to_string(px / size_t(img.width)) + ") is " + (std::isnan(v) ? "NaN" : "infinite"));
+            }
+            if (v < 0) { v = 0; ++negative; }
+        }
+        if (negative)
+            warn(n, path + ": " + std::to_string(negative) + " negative pixel values set to 0");
         return img;
     }
 
@@ -299,6 +341,11 @@ void Loader::settings(Node n) {
         // (choice) any format readImage reads; the spec names .exr and .hdr.
         st.envMap = resolve(name(c));
         s_.envMap = image(c, st.envMap);
+        // (choice) a latitude-longitude map needs at least 2 x 2 pixels; a constant sky is
+        // written as a 2 x 2 map of one colour.
+        if (s_.envMap.width < 2 || s_.envMap.height < 2)
+            fail(c, st.envMap + ": an environment map of " + std::to_string(s_.envMap.width) + " x " +
+                        std::to_string(s_.envMap.height) + " pixels is too small (at least 2 x 2)");
     }
 }
 
@@ -529,6 +576,7 @@ SceneDesc Loader::run() {
     }
     if (!r) throw InputError(file_, lineOfOffset(r.offset), std::string("not well-formed XML: ") + r.description());
     checkComments(doc);
+    checkOutsideText();
     for (Node c : doc.children()) {
         if (c.type() == pugi::node_element && !root_ && std::string(c.name()) == "Scene") root_ = c;
         else if (c.type() == pugi::node_element) fail(c, "unexpected element: the file holds one <Scene>");
