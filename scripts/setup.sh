@@ -4,8 +4,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# clang and libclang-rt-14-dev (libFuzzer, the sanitizer runtimes) are for scripts/fuzz.sh.
 packages=(build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev
-          libtinyobjloader-dev libpugixml-dev catch2 libstb-dev)
+          libtinyobjloader-dev libpugixml-dev catch2 libstb-dev clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

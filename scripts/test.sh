@@ -1,6 +1,44 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite (ctest, 2 jobs).
+# Installs what is missing, builds, and runs the whole test suite (ctest, 2 jobs) three ways:
+#   1. the Release build in build/ (scripts/setup.sh);
+#   2. the same suite built with AddressSanitizer and UndefinedBehaviorSanitizer (gcc, -O2 -g)
+#      in build-asan/, where any sanitizer report fails the test that caused it;
+#   3. scripts/fuzz.sh: the libFuzzer targets (fuzz/) for about a minute in all.
+# Every part runs even if an earlier one failed; the exit status is non-zero if any failed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
-ctest --test-dir "${BUILD_DIR:-build}" -j"$(nproc)" --output-on-failure --timeout 900
+jobs=$(nproc)
+failed=()
+times=()
+part() {  # part NAME COMMAND...: runs it, records its time and whether it failed
+  local name=$1 start=$SECONDS
+  shift
+  echo "== test.sh: $name" >&2
+  if "$@"; then times+=("$name: $((SECONDS - start)) s"); else failed+=("$name"); times+=("$name: $((SECONDS - start)) s, FAILED"); fi
+}
+
+release() {
+  # (set -e is off inside a function called as an if-condition: chain with &&)
+  scripts/setup.sh &&
+  ctest --test-dir "${BUILD_DIR:-build}" -j"$jobs" --output-on-failure --timeout 900
+}
+
+sanitizers() {
+  local dir=build-asan flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWAVEMMLT_BENCH=OFF \
+        -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null &&
+  cmake --build "$dir" -j"$jobs" &&
+  ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:print_stacktrace=1 \
+  UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
+    ctest --test-dir "$dir" -j"$jobs" --output-on-failure --timeout 900
+}
+
+part "release build + tests" release
+part "ASan/UBSan build + tests (build-asan)" sanitizers
+part "fuzzing (scripts/fuzz.sh)" scripts/fuzz.sh
+
+printf 'test.sh: %s\n' "${times[@]}" >&2
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "test.sh: FAILED: ${failed[*]}" >&2
+  exit 1
+fi

@@ -9,7 +9,10 @@
 #include <ImfOutputFile.h>
 #include <ImfRgbaFile.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "image/image_formats.h"
 #include "wavemmlt/error.h"
@@ -19,19 +22,43 @@ namespace imageio {
 
 namespace {
 
+// Rows per read: the image is read in strips and grows strip by strip, so a small file that
+// claims a huge data window fails (OpenEXR throws on its missing chunks) before it has cost
+// more memory than one strip (fuzz_exr). A multiple of 256 lines (the largest chunk, DWAB)
+// when possible, so that no chunk is decoded twice; at most about 2^20 pixels.
+int64_t stripRows(int64_t w) {
+    int64_t rows = std::max<int64_t>(1, (int64_t(1) << 20) / w);
+    if (rows >= 256) rows -= rows % 256;
+    return rows;
+}
+
 Image readLuminanceChroma(const std::string& path) {
     Imf::RgbaInputFile file(path.c_str());
     Imath::Box2i dw = file.dataWindow();
     int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
     checkSize(path, w, h);
-    std::vector<Imf::Rgba> px(size_t(w) * size_t(h));
-    file.setFrameBuffer(px.data() - dw.min.x - int64_t(dw.min.y) * w, 1, size_t(w));
-    file.readPixels(dw.min.y, dw.max.y);
-    Image img(static_cast<int>(w), static_cast<int>(h));
-    for (size_t i = 0; i < px.size(); ++i) {
-        img.rgb[3 * i] = float(px[i].r);
-        img.rgb[3 * i + 1] = float(px[i].g);
-        img.rgb[3 * i + 2] = float(px[i].b);
+    Image img;
+    img.width = int(w);
+    img.height = int(h);
+    const int64_t rows = stripRows(w);
+    std::vector<Imf::Rgba> px;
+    for (int64_t y0 = 0; y0 < h; y0 += rows) {
+        const int64_t n = std::min(rows, h - y0);
+        px.assign(size_t(w) * size_t(n), Imf::Rgba(0.0f, 0.0f, 0.0f, 0.0f));
+        // Imf's own base-pointer arithmetic (as Slice::Make does): pixel (x, y) of the
+        // data window lands at px[(y - first) * w + (x - dw.min.x)].
+        const intptr_t base = intptr_t(px.data()) -
+                              (intptr_t(dw.min.x) + (intptr_t(dw.min.y) + intptr_t(y0)) * intptr_t(w)) *
+                                  intptr_t(sizeof(Imf::Rgba));
+        file.setFrameBuffer(reinterpret_cast<Imf::Rgba*>(base), 1, size_t(w));
+        file.readPixels(int(dw.min.y + y0), int(dw.min.y + y0 + n - 1));
+        const size_t at = img.rgb.size();
+        img.rgb.resize(at + px.size() * 3);
+        for (size_t i = 0; i < px.size(); ++i) {
+            img.rgb[at + 3 * i] = float(px[i].r);
+            img.rgb[at + 3 * i + 1] = float(px[i].g);
+            img.rgb[at + 3 * i + 2] = float(px[i].b);
+        }
     }
     return img;
 }
@@ -51,31 +78,47 @@ Image readExrImpl(const std::string& path) {
         if (c && (c->xSampling != 1 || c->ySampling != 1))
             throw InputError(path, 0, std::string("subsampled channel ") + name + " is not supported");
     };
-    Image img(static_cast<int>(w), static_cast<int>(h));
-    Imf::FrameBuffer fb;
-    if (hasRgb) {
-        const char* names[3] = {"R", "G", "B"};
-        for (int c = 0; c < 3; ++c) {
-            fullRes(rgb[c], names[c]);
-            // A channel absent from the file is filled with the slice's fill value, 0.
-            fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, dw, 3 * sizeof(float),
-                                                 3 * sizeof(float) * size_t(w)));
-        }
-        file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
-        return img;
-    }
-    if (!y) {
+    if (!hasRgb && !y) {
         std::string names;
         for (auto it = chans.begin(); it != chans.end(); ++it) names += std::string(names.empty() ? "" : ", ") + it.name();
         throw InputError(path, 0, "no R, G, B or Y channel (channels: " + (names.empty() ? "none" : names) + ")");
     }
-    fullRes(y, "Y");
-    std::vector<float> grey(size_t(w) * size_t(h));
-    fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, grey.data(), dw, sizeof(float), sizeof(float) * size_t(w)));
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
-    for (size_t i = 0; i < grey.size(); ++i) img.rgb[3 * i] = img.rgb[3 * i + 1] = img.rgb[3 * i + 2] = grey[i];
+    const char* names[3] = {"R", "G", "B"};
+    if (hasRgb)
+        for (int c = 0; c < 3; ++c) fullRes(rgb[c], names[c]);
+    else
+        fullRes(y, "Y");
+    Image img;
+    img.width = static_cast<int>(w);
+    img.height = static_cast<int>(h);
+    const int64_t rows = stripRows(w);
+    std::vector<float> strip;
+    for (int64_t y0 = 0; y0 < h; y0 += rows) {
+        const int64_t n = std::min(rows, h - y0);
+        const Imath::V2i origin(dw.min.x, int(dw.min.y + y0));
+        Imf::FrameBuffer fb;
+        if (hasRgb) {
+            // A channel absent from the file is filled with the slice's fill value, 0.
+            strip.assign(size_t(w) * size_t(n) * 3, 0.0f);
+            for (int c = 0; c < 3; ++c)
+                fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, strip.data() + c, origin, w, n, 3 * sizeof(float),
+                                                     3 * sizeof(float) * size_t(w)));
+        } else {
+            strip.assign(size_t(w) * size_t(n), 0.0f);
+            fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, strip.data(), origin, w, n, sizeof(float),
+                                            sizeof(float) * size_t(w)));
+        }
+        file.setFrameBuffer(fb);
+        file.readPixels(origin.y, int(origin.y + n - 1));
+        if (hasRgb) {
+            img.rgb.insert(img.rgb.end(), strip.begin(), strip.end());
+        } else {
+            const size_t at = img.rgb.size();
+            img.rgb.resize(at + strip.size() * 3);
+            for (size_t i = 0; i < strip.size(); ++i)
+                img.rgb[at + 3 * i] = img.rgb[at + 3 * i + 1] = img.rgb[at + 3 * i + 2] = strip[i];
+        }
+    }
     return img;
 }
 

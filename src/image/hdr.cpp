@@ -5,6 +5,7 @@
 // must be 32-bit_rle_rgbe; EXPOSURE is ignored, as stb_image and pbrt do), then
 // "-Y H +X W" (or "+Y H +X W", bottom row first). Scanlines: flat, old-style runs
 // (1,1,1,n) or new-style per-component RLE.
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -59,7 +60,11 @@ Image readHdr(const std::string& path) {
     auto corrupt = [&](int row) {
         return InputError(path, 0, "corrupt Radiance data (scanline " + std::to_string(row + 1) + ")");
     };
-    Image img(w, h);
+    // The pixels grow scanline by scanline as they decode, so a short file that claims a huge
+    // size fails before it has cost more memory than its data can fill (fuzz_hdr).
+    Image img;
+    img.width = w;
+    img.height = h;
     std::vector<unsigned char> rgbe(size_t(w) * 4);
     for (int row = 0; row < h; ++row) {
         const bool newRle = w >= 8 && w < 32768 && pos + 4 <= size && data[pos] == 2 && data[pos + 1] == 2 &&
@@ -104,8 +109,8 @@ Image readHdr(const std::string& path) {
                 }
             }
         }
-        const int y = bottomUp ? h - 1 - row : row;
-        float* out = &img.rgb[size_t(y) * size_t(w) * 3];
+        img.rgb.resize(size_t(row + 1) * size_t(w) * 3);  // rows in file order; flipped below
+        float* out = &img.rgb[size_t(row) * size_t(w) * 3];
         for (int x = 0; x < w; ++x) {
             const unsigned char* p = &rgbe[size_t(x) * 4];
             if (p[3] == 0) {
@@ -118,6 +123,10 @@ Image readHdr(const std::string& path) {
             }
         }
     }
+    if (bottomUp)
+        for (int y = 0; y < h / 2; ++y)
+            std::swap_ranges(img.rgb.begin() + ptrdiff_t(y) * w * 3, img.rgb.begin() + ptrdiff_t(y + 1) * w * 3,
+                             img.rgb.begin() + ptrdiff_t(h - 1 - y) * w * 3);
     return img;
 }
 

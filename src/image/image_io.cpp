@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -84,6 +85,43 @@ std::string stbReason() {
     return (r && *r) ? std::string(r) : std::string("corrupt or truncated data");
 }
 
+// stb_image 2.27 (Debian 12) writes past its Huffman size table (257 entries) when a JPEG
+// DHT table declares more than 256 codes (found by fuzz/fuzz_jpeg; fixed upstream in 2.28).
+// Walk the marker segments and refuse such a table before stb_image sees it. Anything
+// else malformed is left to stb_image, which reports it.
+void checkJpegHuffmanTables(const std::string& path, const unsigned char* d, size_t size) {
+    if (size < 4 || d[0] != 0xFF || d[1] != 0xD8) return;
+    size_t pos = 2;
+    while (pos + 1 < size) {
+        if (d[pos] != 0xFF) {  // entropy-coded data after SOS: skip to the next marker
+            ++pos;
+            continue;
+        }
+        while (pos < size && d[pos] == 0xFF) ++pos;  // fill bytes
+        if (pos >= size) return;
+        const unsigned char m = d[pos++];
+        if (m == 0x00 || m == 0x01 || (m >= 0xD0 && m <= 0xD8)) continue;  // stuffed 0, TEM, RSTn, SOI
+        if (m == 0xD9) return;                                               // EOI
+        if (pos + 2 > size) return;
+        const size_t len = (size_t(d[pos]) << 8) | d[pos + 1];
+        if (len < 2) return;
+        if (m == 0xC4) {  // DHT: tables of (class/id, 16 counts, values)
+            // As stb_image reads it: whole tables while the declared length lasts, and
+            // bytes past the end of the file read as 0.
+            auto byte = [&](size_t i) { return i < size ? d[i] : 0; };
+            for (size_t q = pos + 2; q < pos + len && q < size;) {
+                size_t n = 0;
+                for (int i = 0; i < 16; ++i) n += byte(q + 1 + i);
+                if (n > 256)
+                    throw InputError(path, 0, "corrupt JPEG data (a Huffman table declares " + std::to_string(n) +
+                                                  " codes, at most 256)");
+                q += 17 + n;
+            }
+        }
+        pos += len;
+    }
+}
+
 // PNG and JPEG (8 or 16 bits, 1-4 channels; alpha is ignored): sRGB -> linear RGB.
 Image readStb(const std::string& path, const char* format) {
     std::string bytes = imageio::readFileBytes(path);
@@ -101,12 +139,20 @@ Image readStb(const std::string& path, const char* format) {
         };
         imageio::checkSize(path, be32(16), be32(20));
     }
+    // stb_image picks the decoder from the data, not the name: a ".png" holding a GIF, PSD,
+    // TGA, BMP or PIC would reach stb's other decoders. Only the named format is read.
+    const bool jpeg = std::string(format) == "JPEG";
+    if (jpeg ? bytes.compare(0, 3, "\xFF\xD8\xFF") != 0 : bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
+        throw InputError(path, 0, std::string("not a ") + format + " file (no " + format + " signature)");
+    if (jpeg) checkJpegHuffmanTables(path, data, bytes.size());
     if (!stbi_info_from_memory(data, len, &w, &h, &comp))
         throw InputError(path, 0, std::string("not a readable ") + format + " file (" + stbReason() + ")");
     imageio::checkSize(path, w, h);
-    Image img(w, h);
-    const size_t n = size_t(w) * size_t(h);
+    Image img;  // allocated once stb_image has decoded the data (a header alone proves little)
+    size_t n = 0;
     auto toRgb = [&](auto* px, int c, auto lin) {
+        img = Image(w, h);
+        n = size_t(w) * size_t(h);
         for (size_t i = 0; i < n; ++i) {
             const auto* p = px + i * size_t(c);
             float r, g, b;

@@ -1,0 +1,20 @@
+// libFuzzer target for the OBJ loader: the input is written to a temporary .obj file
+// (wmlt::loadObj reads files only) and loaded with flat and with smooth shading.
+#include "fuzz_common.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/scene_desc.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    const std::string path = fuzz::writeFile("input.obj", data, size);
+    for (bool smooth : {false, true}) {
+        try {
+            wmlt::TriangleMesh m = wmlt::loadObj(path, smooth);
+            for (uint32_t i : m.indices)
+                if (i >= m.positions.size()) __builtin_trap();  // an index past the vertices
+            if (!m.normals.empty() && m.normals.size() != m.positions.size()) __builtin_trap();
+            if (!m.uvs.empty() && m.uvs.size() != 2 * m.positions.size()) __builtin_trap();
+        } catch (const wmlt::InputError&) {
+        }
+    }
+    return 0;
+}
