@@ -1,11 +1,9 @@
 // The `wavemmlt` command line, run as a separate process: determinism across thread
 // counts, exit status 2 with "file:line" messages on bad input (and no output file),
-// early checks before rendering, --describe/--help/--version, the --stats JSON, Ctrl-C
-// (exit 130 with the image so far saved), time budgets, and the built-in scene.
+// early checks before rendering, --describe/--help/--version, the --stats JSON, time
+// budgets, and the built-in scene (Ctrl-C for every tracer: test_extremes.cpp).
 #include <catch2/catch.hpp>
 
-#include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,7 +21,6 @@
 
 #include "wavemmlt/image.h"
 
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -376,48 +373,7 @@ TEST_CASE("cli: --strategy-images writes a weighted and an unweighted EXR per st
     }
 }
 
-TEST_CASE("cli: Ctrl-C saves the image so far and exits 130", "[cli]") {
-    TempDir dir;
-    std::string out = dir.file("interrupted.pfm");
-    std::vector<std::string> args = {kBin, "--width", "64", "--height", "48", "--time", "60", "--quiet", "-o", out};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    // The child starts with SIGINT's default action even if this process ignores it.
-    posix_spawnattr_t attr;
-    posix_spawnattr_init(&attr);
-    sigset_t def;
-    sigemptyset(&def);
-    sigaddset(&def, SIGINT);
-    posix_spawnattr_setsigdefault(&attr, &def);
-    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
-    pid_t pid = 0;
-    REQUIRE(posix_spawn(&pid, kBin.c_str(), nullptr, &attr, argv.data(), environ) == 0);
-    posix_spawnattr_destroy(&attr);
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-    REQUIRE(kill(pid, SIGINT) == 0);
-    auto t0 = Clock::now();
-    int status = 0;
-    pid_t done = 0;
-    while ((done = waitpid(pid, &status, WNOHANG)) == 0 && secondsSince(t0) < 10)
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (done == 0) {  // still running: stop it, then fail
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        FAIL("wavemmlt did not exit within 10 s of SIGINT");
-    }
-    double exitSeconds = secondsSince(t0);
-    INFO("exit " << exitSeconds << " s after SIGINT");
-    REQUIRE(WIFEXITED(status));
-    CHECK(WEXITSTATUS(status) == 130);
-    CHECK(exitSeconds < 3.0);
-    REQUIRE(fs::exists(out));
-    wmlt::Image im = wmlt::readImage(out);
-    CHECK(im.width == 64);
-    CHECK(im.height == 48);
-    CHECK(allFinite(im));
-    CHECK(meanValue(im) > 0);
-}
+// Ctrl-C for every tracer: test_extremes.cpp ("extremes: Ctrl-C saves the image so far...").
 
 TEST_CASE("cli: --time 2 ends within 2 s + 10%", "[cli]") {
     TempDir dir;

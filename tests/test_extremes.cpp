@@ -75,7 +75,7 @@ double renderChecked(const SceneDesc& desc, const TracerCase& t, const std::stri
     try {
         r = render(desc, options(t.kind, spp, seed, maxLength));
     } catch (const InputError& e) {
-        WARN(label << ": InputError: " << e.what());
+        INFO(label << ": InputError: " << e.what());
         if (error) *error = e.what();
         return -1;
     }
@@ -96,7 +96,7 @@ double renderChecked(const SceneDesc& desc, const TracerCase& t, const std::stri
     const double samples = pixels * spp;
     bool lengthsOk = true;
     for (double L : r.stats.lengthMeanLuminance) lengthsOk = lengthsOk && std::isfinite(L) && L >= 0;
-    WARN(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples
+    INFO(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples
                << " samples; " << nonfinite << " non-finite and " << negative << " negative values; mean luminance "
                << mean << "; " << r.stats.seconds << " s");
     CHECK(nonfinite == 0);
@@ -387,7 +387,7 @@ TEST_CASE("extremes: --time 3 ends within 5% of its budget for every tracer", "[
         const double wall = since(t0);
         const std::string json = readText(stats);
         const double seconds = jsonNumber(json, "seconds");
-        WARN(t.name << ": --time 3: wall " << wall << " s, render " << seconds << " s; fixed cost of a --spp 1 run "
+        INFO(t.name << ": --time 3: wall " << wall << " s, render " << seconds << " s; fixed cost of a --spp 1 run "
                     << fixed << " s; spp " << jsonNumber(json, "spp"));
         INFO(t.name << ": " << readText(dir + "/err.txt"));
         REQUIRE(fixedStatus == 0);
@@ -438,7 +438,7 @@ TEST_CASE("extremes: Ctrl-C saves the image so far for every tracer", "[extremes
             FAIL(t.name << ": no exit within 10 s of SIGINT");
         }
         const double exitSeconds = since(t0);
-        WARN(t.name << ": exit " << exitSeconds << " s after SIGINT");
+        INFO(t.name << ": exit " << exitSeconds << " s after SIGINT");
         REQUIRE(WIFEXITED(status));
         CHECK(WEXITSTATUS(status) == 130);
         CHECK(exitSeconds < 3.0);

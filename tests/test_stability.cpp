@@ -73,7 +73,7 @@ double checkRender(const RenderResult& r, const std::string& label, int spp) {
     }
     const double meanLum = lumSum / double(pixels);
     const double samples = double(pixels) * spp;
-    WARN(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples
+    INFO(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples
                << " pixel samples; mean luminance " << meanLum << "; " << r.stats.seconds << " s");
     CHECK(nonfinite == 0);
     CHECK(negative == 0);
@@ -247,7 +247,7 @@ TEST_CASE("Stability: paths of length 64 in a closed high-albedo box stay finite
             lit += L[k] > 0;
             longShare += L[k];
         }
-        WARN(label << ": lengths 40-64 with energy: " << lit << " of 25, their share of the mean: " << longShare / mean
+        INFO(label << ": lengths 40-64 with energy: " << lit << " of 25, their share of the mean: " << longShare / mean
                    << "; L[64] = " << L[64]);
         CHECK(lit >= 20);
         CHECK(L[64] > 0);
@@ -312,7 +312,7 @@ TEST_CASE("Stability: the image scales linearly with light intensity 1e-6 and 1e
                 if (rel > 1e-4) ++bad;
                 if (rel > worstRel) { worstRel = rel; worst = i; }
             }
-            WARN(label << ": image / " << scale << " vs image(1) / " << baseScale << ": worst relative difference "
+            INFO(label << ": image / " << scale << " vs image(1) / " << baseScale << ": worst relative difference "
                        << worstRel << " at value " << worst << " (" << v[worst] << " vs " << base[worst] << "), "
                        << bad << " values beyond 1e-4");
             const size_t allowed = t.exactlyProportional ? 0 : v.size() / 20;

@@ -248,7 +248,6 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     }
 
     // 4. Rounds of proposals.
-    const uint32_t chains = first;
     double perIterationProposals = 0;  // every chain of length k makes steps_k proposals
     for (const ChainGroup& g : groups) perIterationProposals += double(g.count) * g.steps;
     const uint64_t target = std::max<uint64_t>(1, uint64_t(std::ceil(targetMutations / perIterationProposals)));
