@@ -76,7 +76,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     // paths keep it near its size at MaxPathLength 10 (about 13 MB per thread).
     const uint32_t maxPaths = std::max<uint32_t>(kTileSize * kTileSize,
                                                  kMaxPathsPerBatch * 11 / uint32_t(opt.maxPathLength + 1));
-    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt.spp, maxPaths);
+    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt, maxPaths);
     Film film(scene.camera.width, scene.camera.height);
     SplatFilm splatFilm(scene.camera.width, scene.camera.height);
     std::vector<TileOutput> outputs(schedule.tiles.size());

@@ -61,7 +61,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
 }  // namespace
 
 RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
-    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt.spp);
+    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt);
     SplatFilm film(scene.camera.width, scene.camera.height);
     std::vector<TileOutput> outputs(schedule.tiles.size());
     tbb::enumerable_thread_specific<LtBatch> batches([&] {

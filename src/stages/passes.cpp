@@ -9,13 +9,15 @@
 
 namespace wmlt {
 
-PassSchedule makePassSchedule(int w, int h, int spp, uint32_t maxPathsPerBatch) {
+PassSchedule makePassSchedule(int w, int h, const RenderOptions& opt, uint32_t maxPathsPerBatch) {
+    constexpr uint32_t kTimedSamplesPerBatch = 4;
     PassSchedule s;
     for (int y = 0; y < h; y += kTileSize)
         for (int x = 0; x < w; x += kTileSize)
             s.tiles.push_back({x, y, std::min(x + kTileSize, w), std::min(y + kTileSize, h), 0, 0});
-    const uint32_t perRound = uint32_t(std::max(1, spp));
-    s.samplesPerBatch = std::max<uint32_t>(1, std::min<uint32_t>(perRound, maxPathsPerBatch / (kTileSize * kTileSize)));
+    uint32_t perBatch = uint32_t(std::max(1, opt.spp));
+    if (opt.timeBudget > 0) perBatch = std::min(perBatch, kTimedSamplesPerBatch);
+    s.samplesPerBatch = std::max<uint32_t>(1, std::min<uint32_t>(perBatch, maxPathsPerBatch / (kTileSize * kTileSize)));
     return s;
 }
 

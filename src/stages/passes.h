@@ -25,7 +25,10 @@ struct PassSchedule {
 };
 
 // maxPathsPerBatch bounds a batch's memory (at least one sample per pixel of a tile).
-PassSchedule makePassSchedule(int width, int height, int spp, uint32_t maxPathsPerBatch = kMaxPathsPerBatch);
+// A time budget (opt.timeBudget > 0) also caps a batch at 4 samples per pixel: the clock is
+// read between batches, so a short batch ends the render close to its budget.
+PassSchedule makePassSchedule(int width, int height, const RenderOptions& opt,
+                              uint32_t maxPathsPerBatch = kMaxPathsPerBatch);
 
 struct PassResult {
     uint32_t completedSpp = 0;  // samples per pixel of the passes that completed

@@ -44,7 +44,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
 }  // namespace
 
 RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
-    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt.spp);
+    const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt);
     Film film(scene.camera.width, scene.camera.height);
     tbb::enumerable_thread_specific<PtBatch> batches([&] {
         PtBatch b;
