@@ -59,21 +59,9 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int minLength, int max
         }
     }
     for (int c = 0; c < 3; ++c) {
-        size_t n = pt[c].size();
-        std::vector<double> v(n), e(n), se(n), dof(n);
-        double sumV = 0, sumE = 0;
-        for (size_t i = 0; i < n; ++i) {
-            v[i] = lt[c].mean(i);
-            e[i] = pt[c].mean(i);
-            double a = lt[c].variance(i) / K, b = pt[c].variance(i) / K;
-            se[i] = std::sqrt(a + b);
-            double den = a * a / (K - 1) + b * b / (K - 1);
-            dof[i] = den > 0 ? (a + b) * (a + b) / den : K - 1;
-            sumV += v[i];
-            sumE += e[i];
-        }
-        rstats::ZTestResult z = rstats::zTest(v, e, se, dof, 1e-4 / 3);
-        INFO("channel " << c << ": LT / PT image mean = " << sumV / sumE << "; " << z.describe());
+        double ratio = 0;
+        rstats::ZTestResult z = rstats::compareRuns(lt[c], pt[c], 1e-4 / 3, &ratio);
+        INFO("channel " << c << ": LT / PT image mean = " << ratio << "; " << z.describe());
         CHECK(z.pass);
     }
 }
