@@ -8,6 +8,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfRgbaFile.h>
+#include <openexr.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -63,7 +64,25 @@ Image readLuminanceChroma(const std::string& path) {
     return img;
 }
 
+// The data window from the header alone (OpenEXRCore reads the chunk table lazily): the
+// size is checked before Imf::InputFile allocates a line-offset table for the claimed
+// height (8 bytes per chunk: 512 MB for a header that claims 2^30 rows).
+void checkHeaderSize(const std::string& path) {
+    exr_context_t ctx = nullptr;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = [](exr_const_context_t, exr_result_t, const char*) {};  // reported below
+    if (exr_start_read(&ctx, path.c_str(), &init) != EXR_ERR_SUCCESS) {
+        exr_finish(&ctx);
+        return;  // not readable as EXR: Imf::InputFile says why
+    }
+    exr_attr_box2i_t box{};
+    const bool ok = exr_get_data_window(ctx, 0, &box) == EXR_ERR_SUCCESS;
+    exr_finish(&ctx);
+    if (ok) checkSize(path, int64_t(box.max.x) - box.min.x + 1, int64_t(box.max.y) - box.min.y + 1);
+}
+
 Image readExrImpl(const std::string& path) {
+    checkHeaderSize(path);
     Imf::InputFile file(path.c_str());
     const Imf::Header& hdr = file.header();
     const Imath::Box2i dw = hdr.dataWindow();
