@@ -4,6 +4,7 @@
 #include <functional>
 
 #include "chi2.h"
+#include "kernels/rng.h"
 #include "kernels/sampling.h"
 
 using namespace wmlt;
@@ -169,4 +170,31 @@ TEST_CASE("power heuristic weights form a partition of unity", "[sampling][mis]"
         }
         if (n == 2) CHECK(powerHeuristicN(p, 2, 0) == Approx(powerHeuristic(p[0], p[1])));
     }
+}
+
+// permuteIndex (rng.h): a bijection of [0, n) for every n and key, and for a fixed i, pi(i)
+// is uniform over keys (Pearson, 2 10^5 keys, p = 1e-4, for the first, a middle and the
+// last i): so a render stopped inside a round of strata samples each pixel uniformly
+// (kernels/camera.h).
+TEST_CASE("permuteIndex is a keyed bijection with uniform images", "[sampling][rng]") {
+    for (uint32_t n = 1; n <= 600; n += (n < 70 ? 1 : 37))
+        for (uint64_t key : {uint64_t(0), uint64_t(1), uint64_t(0x9e3779b97f4a7c15ull), ~uint64_t(0)}) {
+            std::vector<int> seen(n, 0);
+            bool ok = true;
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint32_t j = wmlt::permuteIndex(i, n, key);
+                ok = ok && j < n && seen[j]++ == 0;
+            }
+            INFO("n = " << n << ", key " << key);
+            CHECK(ok);
+        }
+    for (uint32_t n : {4u, 9u, 16u, 64u})
+        for (uint32_t i : {0u, n / 2, n - 1}) {
+            const int keys = 200000;
+            std::vector<double> count(n, 0.0);
+            for (int k = 0; k < keys; ++k) count[wmlt::permuteIndex(i, n, wmlt::mix64(uint64_t(k) + 12345))] += 1;
+            const chi2::Result r = chi2::pearson(count, std::vector<double>(n, double(keys) / n));
+            INFO("n = " << n << ", pi(" << i << "): " << chi2::describe(r));
+            CHECK(r.pValue > 1e-4);
+        }
 }

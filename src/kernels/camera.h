@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 
+#include "kernels/rng.h"
 #include "kernels/sampling.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -43,16 +44,21 @@ inline Vec3 cameraPlaneDirection(const Camera& c, float px, float py) {
     return c.forward + c.right * sx + c.up * sy;
 }
 
-// Raster position of sample s of pixel (x, y): stratum s mod n^2 of the pixel's n x n
-// grid (so rounds of n^2 samples cover every stratum once), jittered by (u1, u2).
 // The pixel holding raster point (px, py) of the image (clamped at the far edges).
 inline uint32_t rasterPixel(const Camera& cam, float px, float py) {
     int x = std::min(int(px), cam.width - 1), y = std::min(int(py), cam.height - 1);
     return uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
 }
 
-inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, float u1, float u2, float& px, float& py) {
-    uint32_t stratum = s % (uint32_t(n) * uint32_t(n));
+// Raster position of sample s of pixel (x, y) in the pixel's n x n grid of strata,
+// jittered by (u1, u2). Round r = s / n^2 visits the strata in a random order (a
+// permutation keyed by the pixel's key and r): a complete round covers every stratum once,
+// and any prefix of a round (a render stopped early) is a uniform sample of the pixel, so
+// it stays unbiased. (A fixed order would cover the top rows of every pixel first.)
+inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, uint64_t pixelKey, float u1, float u2, float& px,
+                                  float& py) {
+    const uint32_t nn = uint32_t(n) * uint32_t(n);
+    const uint32_t stratum = permuteIndex(s % nn, nn, mix64(pixelKey + s / nn));
     px = float(x) + (float(stratum % uint32_t(n)) + u1) / float(n);
     py = float(y) + (float(stratum / uint32_t(n)) + u2) / float(n);
 }

@@ -23,4 +23,35 @@ inline float sampleDimension(uint64_t key, uint32_t dim) {
     return float(h >> 40) * 0x1p-24f;  // 24 random bits: exactly representable, < 1
 }
 
+// The key of a pixel's strata (kernels/camera.h): one per seed and pixel.
+inline uint64_t strataKey(uint64_t seed, uint32_t pixel) {
+    return mix64(mix64(seed ^ 0x5851f42d4c957f2dull) + pixel);
+}
+
+// Element i of a pseudo-random permutation of [0, n), n >= 1, chosen by `key`: a balanced
+// Feistel network of 8 rounds (Luby and Rackoff 1988; round function mix64) on the smallest
+// even number of bits w with 2^w >= n, applied again to values >= n until one falls below n
+// (cycle walking: a bijection of [0, n), on average fewer than 4 steps since 2^w < 4 n),
+// then rotated by a shift c uniform in [0, n) from an independent hash of the key: so
+// pi(i) is exactly uniform over keys for every i, however weak the Feistel network is for
+// tiny n (its halves are 2 bits wide for n = 9).
+inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key) {
+    if (n <= 1) return 0;
+    int half = 1;
+    while ((uint64_t(1) << (2 * half)) < n) ++half;
+    const uint32_t m = (1u << half) - 1;
+    do {
+        uint32_t l = i >> half, r = i & m;
+        for (uint64_t round = 0; round < 8; ++round) {
+            const uint32_t f = uint32_t(mix64(key + round * 0x9e3779b97f4a7c15ull + r)) & m;
+            const uint32_t next = l ^ f;
+            l = r;
+            r = next;
+        }
+        i = (l << half) | r;
+    } while (i >= n);
+    const uint32_t c = uint32_t(mix64(key ^ 0xa0761d6478bd642full) % n);
+    return i + c < n ? i + c : i + c - n;
+}
+
 }  // namespace wmlt

@@ -49,7 +49,7 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& t, in
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
                 uint64_t key = bptSampleKey(seed, pixel, s);
                 float px, py;
-                stratifiedRasterPoint(x, y, s, n, dim(key, kBptCamera, 0), dim(key, kBptCamera, 1), px, py);
+                stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), dim(key, kBptCamera, 0), dim(key, kBptCamera, 1), px, py);
                 Vec3 o, d;
                 generateCameraRay(cam, px, py, lens ? dim(key, kBptCamera, 2) : 0.5f,
                                   lens ? dim(key, kBptCamera, 3) : 0.5f, o, d);

@@ -38,7 +38,7 @@ void generateEnvCameraRays(const Scene& scene, LtBatch& b, const PtTile& t, int 
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
                 uint64_t key = ltSampleKey(seed, pixel, s);
                 float px, py;
-                stratifiedRasterPoint(x, y, s, n, sampleDimension(key, 7), sampleDimension(key, 8), px, py);
+                stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), sampleDimension(key, 7), sampleDimension(key, 8), px, py);
                 Vec3 o, d;
                 generateCameraRay(cam, px, py, lens ? sampleDimension(key, 9) : 0.5f,
                                   lens ? sampleDimension(key, 10) : 0.5f, o, d);

@@ -34,7 +34,7 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const PtTile& t, int n, 
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
                 uint64_t key = sampleKey(seed, pixel, s);
                 float px, py;
-                stratifiedRasterPoint(x, y, s, n, sampleDimension(key, 0), sampleDimension(key, 1), px, py);
+                stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), sampleDimension(key, 0), sampleDimension(key, 1), px, py);
                 float lu = lens ? sampleDimension(key, 2) : 0.5f;
                 float lv = lens ? sampleDimension(key, 3) : 0.5f;
                 Vec3 o, d;
