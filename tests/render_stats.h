@@ -285,6 +285,12 @@ inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint6
     return o;
 }
 
+// The number after "key": in a --stats JSON file's text (NaN when missing).
+inline double jsonNumber(const std::string& json, const std::string& key) {
+    const size_t at = json.find("\"" + key + "\": ");
+    return at == std::string::npos ? std::nan("") : std::atof(json.c_str() + at + key.size() + 4);
+}
+
 // A fresh folder for a test's files: $TMPDIR (or /tmp)/wmlt-<name>-<pid>.
 inline std::string tempDir(const std::string& name) {
     const char* tmp = std::getenv("TMPDIR");

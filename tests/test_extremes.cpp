@@ -389,12 +389,6 @@ std::string readText(const std::string& path) {
     return s.str();
 }
 
-// The number after "key": in the stats JSON (NaN when missing).
-double jsonNumber(const std::string& json, const std::string& key) {
-    const size_t at = json.find("\"" + key + "\": ");
-    return at == std::string::npos ? std::nan("") : std::atof(json.c_str() + at + key.size() + 4);
-}
-
 bool finiteImage(const Image& im) {
     for (float v : im.rgb)
         if (!std::isfinite(v) || v < 0) return false;
@@ -420,9 +414,9 @@ TEST_CASE("extremes: --time 3 ends within 5% of its budget for every tracer", "[
         const int st = std::system((common + " --time 3").c_str());
         const double wall = since(t0);
         const std::string json = readText(stats);
-        const double seconds = jsonNumber(json, "seconds");
+        const double seconds = rstats::jsonNumber(json, "seconds");
         INFO(t.name << ": --time 3: wall " << wall << " s, render " << seconds << " s; fixed cost of a --spp 1 run "
-                    << fixed << " s; spp " << jsonNumber(json, "spp"));
+                    << fixed << " s; spp " << rstats::jsonNumber(json, "spp"));
         INFO(t.name << ": " << readText(dir + "/err.txt"));
         REQUIRE(fixedStatus == 0);
         REQUIRE(st == 0);
