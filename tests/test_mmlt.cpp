@@ -61,9 +61,10 @@ RenderOptions mmltOptions(int spp, uint64_t seed, int minLength, int maxLength, 
 }
 
 // An MMLT render with the checks every run must pass: no replay mismatch, nothing
-// discarded, a finite image, the mutation counts asked for, and the normalisation:
-// each proposal splats a total luminance of b_k / chains_k (a F'/c' + (1 - a) F/c), so the
-// image's mean luminance is sum_k b_k up to float rounding.
+// discarded, a finite image, the mutation counts asked for, and the normalisation: each
+// proposal splats a total luminance of b_k,p / chains_k,p (a F'/c' + (1 - a) F/c) in pass p,
+// so the image's mean luminance is sum_k b_k (b_k: the passes' pool means weighted by
+// their iterations) up to float rounding.
 RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
     RenderResult r = render(desc, o);
     REQUIRE(r.stats.tracer == "mmlt");
@@ -71,26 +72,21 @@ RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
     CHECK(m.replayMismatches == 0);
     CHECK(r.stats.samplesNonfiniteDiscarded == 0);
     for (float v : r.image.rgb) REQUIRE(std::isfinite(v));
-    uint32_t chains = 0;
     uint64_t proposals = 0;
     double bSum = 0;
     for (size_t k = 0; k < m.chains.size(); ++k) {
-        chains += m.chains[k];
         bSum += m.b[k];
         if (k < size_t(o.minPathLength) || k > size_t(o.maxPathLength)) {
-            CHECK(m.chains[k] == 0);
+            CHECK(m.chainsSeeded[k] == 0);
             CHECK(m.b[k] == 0.0);
         }
-        CHECK((m.chains[k] > 0) == (m.b[k] > 0));
-        // Chains: at most one per bootstrap path with light; fewer chains make more steps.
-        CHECK(m.chains[k] == std::min(m.chainsAllocated[k], m.bootstrapNonzero[k]));
-        const uint64_t steps = m.chains[k] ? std::max<uint64_t>(1, uint64_t(std::lround(double(m.chainsAllocated[k]) / m.chains[k]))) : 0;
-        CHECK(m.proposalsPerChain[k] == steps * m.iterations);
-        CHECK(m.proposedSmall[k] + m.proposedLarge[k] == uint64_t(m.chains[k]) * m.proposalsPerChain[k]);
-        proposals += uint64_t(m.chains[k]) * m.proposalsPerChain[k];
+        CHECK((m.chainsSeeded[k] > 0) == (m.b[k] > 0));
+        CHECK(m.distinctSeeds[k] <= m.chainsSeeded[k]);
+        CHECK(m.proposedSmall[k] + m.proposedLarge[k] == m.proposals[k]);
+        proposals += m.proposals[k];
     }
-    (void)chains;
     CHECK(m.mutations == proposals);
+    CHECK(m.passes >= 1);
     CHECK(double(m.mutations) >= double(o.spp) * r.image.width * r.image.height);
     if (o.lengthImages) {  // the lengths' images add up to the image
         REQUIRE(r.lengthImages.size() == size_t(o.maxPathLength) + 1);
@@ -210,33 +206,35 @@ TEST_CASE("MMLT bootstrap: b_k equals BPT's mean luminance per path length", "[m
 
 TEST_CASE("MMLT allocates chains to lengths by largest remainders, never at random", "[mmlt]") {
     // C chains: floor(C b_k / sum b) or one more for every length, C in all (b_k of the
-    // bootstrap, which is all the allocation knows); a length with b_k > 0 gets at least
-    // one chain. Two seeds with different b_k give the allocation of their own b_k (no
-    // random draw: pbrt's multinomial choice leaves a per-seed error). renderMmlt checks
-    // how many of them run (no more than the bootstrap's paths with light).
+    // bootstrap, which is all the first pass's allocation knows: one pass here); a length
+    // with b_k > 0 gets at least one chain. Two seeds with different b_k give the allocation
+    // of their own b_k (no random draw: pbrt's multinomial choice leaves a per-seed error).
     const SceneDesc desc = seedRoom(16, 6);
     for (uint64_t seed : {1u, 2u}) {
         for (int C : {1, 7, 64, 65536}) {
-            RenderResult r = renderMmlt(desc, mmltOptions(256, seed, 1, 6, C, 4096));
+            RenderOptions o = mmltOptions(256, seed, 1, 6, C, 4096);
+            o.passLength = 1 << 30;
+            RenderResult r = renderMmlt(desc, o);
             const RenderStats::Mmlt& m = r.stats.mmlt;
+            REQUIRE(m.passes == 1);
             double bSum = 0;
             uint32_t total = 0;
             int positive = 0;
             for (size_t k = 0; k < m.bBootstrap.size(); ++k) {
                 bSum += m.bBootstrap[k];
-                total += m.chainsAllocated[k];
+                total += m.chains[k];
                 positive += m.bBootstrap[k] > 0;
             }
             INFO("seed " << seed << ", chains " << C);
-            CHECK(m.chainsAllocated[1] == 0);
-            CHECK(m.chainsAllocated[2] == 0);
+            CHECK(m.chains[1] == 0);
+            CHECK(m.chains[2] == 0);
             CHECK(total == uint32_t(std::max(C, positive)));
             if (C >= 64) {
                 for (size_t k = 3; k < m.bBootstrap.size(); ++k) {
                     const double share = double(C) * m.bBootstrap[k] / bSum;
-                    INFO("k = " << k << ": share " << share << ", chains " << m.chainsAllocated[k]);
-                    CHECK(double(m.chainsAllocated[k]) >= std::floor(share));
-                    CHECK(double(m.chainsAllocated[k]) <= std::floor(share) + 1);
+                    INFO("k = " << k << ": share " << share << ", chains " << m.chains[k]);
+                    CHECK(double(m.chains[k]) >= std::floor(share));
+                    CHECK(double(m.chains[k]) <= std::floor(share) + 1);
                 }
             } else {
                 for (size_t k = 3; k < m.bBootstrap.size(); ++k) CHECK(m.chains[k] >= 1);
@@ -289,7 +287,7 @@ TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[
         int spp;
         double S = 0, relSe = 0;
     };
-    Level levels[2] = {{128}, {128 * W}};
+    Level levels[2] = {{256}, {256 * W}};
     for (Level& lv : levels) {
         std::vector<std::vector<double>> x;
         for (int i = 0; i < K; ++i) {
@@ -400,10 +398,11 @@ TEST_CASE("MMLT command line: no light reaching the camera exits with status 2 a
 
 // ---- 5. replay ------------------------------------------------------------------------------
 
-TEST_CASE("MMLT: every seeded chain replays its bootstrap sample bit for bit", "[mmlt]") {
+TEST_CASE("MMLT: every seeded chain replays its pool sample bit for bit", "[mmlt]") {
     // renderMmlt checks replayMismatches == 0 in every render of this file; here over
     // glass, mirrors, a textured floor and paths of up to 64 segments, 1 and 2 threads, few
-    // and many chains (16 x 16 at 256 mutations per pixel: all 65536 chains are seeded).
+    // and many chains, restarted every 16 iterations from pools that hold both fresh samples
+    // and the previous pass's large steps.
     struct Case {
         SceneDesc desc;
         int maxLength;
@@ -412,14 +411,14 @@ TEST_CASE("MMLT: every seeded chain replays its bootstrap sample bit for bit", "
     for (const Case& cs : cases)
         for (int threads : {1, 2})
             for (int chains : {3, 65536}) {
-                RenderOptions o = mmltOptions(chains > 3 ? 256 : 1, 77, 1, cs.maxLength, chains, 2048, 0.3f, threads);
+                RenderOptions o = mmltOptions(chains > 3 ? 64 : 1, 77, 1, cs.maxLength, chains, 2048, 0.3f, threads);
+                o.passLength = 16;
                 RenderResult r = renderMmlt(cs.desc, o);
-                uint64_t seeded = 0, allocated = 0;
-                for (uint32_t n : r.stats.mmlt.chains) seeded += n;
-                for (uint32_t n : r.stats.mmlt.chainsAllocated) allocated += n;
-                INFO("MaxPathLength " << cs.maxLength << ", " << threads << " threads, " << seeded << " chains");
-                CHECK(allocated >= uint64_t(chains));
-                CHECK(seeded >= std::min<uint64_t>(allocated, 100));  // the bootstrap finds light often here
+                uint64_t seeded = 0;
+                for (uint64_t n : r.stats.mmlt.chainsSeeded) seeded += n;
+                INFO("MaxPathLength " << cs.maxLength << ", " << threads << " threads, " << seeded << " chains seeded in "
+                                      << r.stats.mmlt.passes << " passes");
+                CHECK(seeded >= uint64_t(std::min(chains, 16 * 16)) * r.stats.mmlt.passes);
                 CHECK(r.stats.mmlt.replayMismatches == 0);
             }
 }

@@ -3,7 +3,9 @@
 // blocks' shape, each path length's brightness (the normalisation b_k of that length)
 // and each length's blocks. Each test prints the bias it detects with probability 0.9
 // (std::cout; WMLT_TEST_VERBOSE=1 prints every length), and asserts the power it claims:
-//  - the image's brightness: an error of 1% (the seed room: 2%, the caustic scene: see its case);
+//  - the image's brightness: an error of 1% on the Cornell box (1.5% for lengths 3..5), 5%
+//    in the seed room and the outdoor scene, 6% in the caustic scene (its glass and mirror
+//    highlights make a few rare paths carry much of the image: the runs' brightness varies);
 //  - a length's brightness: an error of 1% in any length that carries >= 25% of the
 //    image (Cornell box), i.e. a 1% error in one length's normalisation fails the test.
 // Scenes: the Cornell box with MinPathLength 1, 2 and 3 (the BPT reference of lengths >= 2
@@ -157,7 +159,7 @@ TEST_CASE("MMLT power: glass and mirror caustics against BPT", "[mmlt][stat]") {
     const SceneDesc desc = loadSceneFromString(rstats::causticXml(16, L), "caustic.xml", ".");
     const power::Runs ref = runs(desc, bpt(256, 1, L), 12000, B)[0];
     const power::Runs m = runs(desc, mmlt(1024, 1, L, 1024, 1 << 16), 13000, B)[0];
-    compare(m, ref, "caustic scene", Claims{0.05, 0});
+    compare(m, ref, "caustic scene", Claims{0.06, 0});
 }
 
 TEST_CASE("MMLT power: the seed room (light above a drop ceiling) against BPT", "[mmlt][stat]") {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wavemmlt/image.h"
@@ -24,8 +25,9 @@ struct RenderOptions {
     float misBeta = 2;         // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
     // MMLT (spp: mutations per pixel).
     int chains = 65536;        // Markov chains in flight (any N >= 1)
-    int bootstrap = 0;         // bootstrap samples per path length; 0: automatic
+    int bootstrap = 0;         // samples per path length in the first pass's pool; 0: automatic
     float probLarge = 0.3f;    // probability of a large step, (0, 1]
+    int passLength = 0;        // iterations of every chain between restarts from a new pool; 0: automatic
     // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
     std::string strategyImages;
     // BPT and MMLT: also return the image of each path length k (RenderResult::lengthImages;
@@ -50,21 +52,29 @@ struct RenderStats {
     // per-length split of the image's mean, which MMLT's b_k must reproduce.
     std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
-    // MMLT, indexed by path length k (0 unused).
+    // MMLT, indexed by path length k (0 unused). A pass: the chains start from a pool of
+    // independent samples, run passLength iterations, and are restarted from the next pool.
     struct Mmlt {
-        std::vector<double> b;                    // b_k (mean target): bootstrap and large steps
-        std::vector<double> bBootstrap;           // b_k from the bootstrap alone (allocation)
-        std::vector<uint32_t> chainsAllocated;    // chains length k gets by b_k (largest remainders)
-        std::vector<uint32_t> chains;             // chains run: at most the bootstrap's paths with c > 0
-        std::vector<uint32_t> bootstrapNonzero;   // bootstrap samples with c > 0
-        std::vector<uint64_t> proposalsPerChain;  // proposals each chain of length k made
+        std::vector<double> b;                    // b_k = E[c]: the pools' means, weighted by their passes' iterations
+        std::vector<double> bBootstrap;           // b_k of the first pass's pool (the bootstrap)
+        std::vector<uint32_t> chains;             // chains of length k in the last pass
+        std::vector<uint64_t> chainsSeeded;       // chains of length k started, all passes together
+        std::vector<uint64_t> distinctSeeds;      // distinct pool samples they started from, all passes
+        std::vector<uint64_t> bootstrapNonzero;   // bootstrap samples with c > 0
+        std::vector<uint64_t> poolSamples;        // pool samples of length k, all passes (fresh and large steps)
+        std::vector<uint64_t> proposals;          // proposals made by chains of length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
-        uint64_t bootstrapSamples = 0;            // per length
+        uint64_t bootstrapSamples = 0;            // per length, first pass
         uint64_t mutations = 0;                   // proposals made in total
-        uint64_t iterations = 0;                  // lockstep iterations (a chain makes steps_k per iteration)
+        uint64_t iterations = 0;                  // proposals each chain made, all passes (the image's divisor)
+        uint32_t passes = 0, passLength = 0;      // passes started; iterations per pass
+        uint32_t tasksPerRound = 0;               // batches of chains run in parallel
+        double longestTaskRatio = 0;              // longest task / mean task of a round, averaged over rounds
         uint64_t replayMismatches = 0;            // seeded chains whose replay differed (a bug)
-        uint64_t chainBytes = 0;                  // memory of the chain state
+        uint64_t chainBytes = 0;                  // memory of the chain state (largest pass)
     } mmlt;
+    // Bytes of the render's large buffers (films, chain state, pools, splat lists), by name.
+    std::vector<std::pair<std::string, uint64_t>> buffers;
     double mraysPerSecond() const { return seconds > 0 ? (raysIntersect + raysOccluded) / seconds * 1e-6 : 0; }
 };
 

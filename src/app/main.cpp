@@ -101,9 +101,11 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     perLength("mmlt_b", [&](size_t k) { return m.b[k]; });
     perLength("mmlt_b_bootstrap", [&](size_t k) { return m.bBootstrap[k]; });
     perLength("mmlt_chains", [&](size_t k) { return m.chains[k]; });
-    perLength("mmlt_chains_allocated", [&](size_t k) { return m.chainsAllocated[k]; });
+    perLength("mmlt_chains_seeded", [&](size_t k) { return m.chainsSeeded[k]; });
+    perLength("mmlt_distinct_seeds", [&](size_t k) { return m.distinctSeeds[k]; });
     perLength("mmlt_bootstrap_with_light", [&](size_t k) { return m.bootstrapNonzero[k]; });
-    perLength("mmlt_proposals_per_chain", [&](size_t k) { return m.proposalsPerChain[k]; });
+    perLength("mmlt_pool_samples", [&](size_t k) { return m.poolSamples[k]; });
+    perLength("mmlt_proposals", [&](size_t k) { return m.proposals[k]; });
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
     uint64_t acc = 0, prop = 0, accL = 0, propL = 0;
@@ -119,6 +121,10 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << ",\n  \"mmlt_mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
       << ",\n  \"mmlt_iterations\": " << m.iterations
       << ",\n  \"mmlt_bootstrap_samples_per_length\": " << m.bootstrapSamples
+      << ",\n  \"mmlt_passes\": " << m.passes << ",\n  \"mmlt_pass_length\": " << m.passLength
+      << ",\n  \"mmlt_renewals\": " << (m.passes > 0 ? m.passes - 1 : 0)
+      << ",\n  \"mmlt_tasks_per_round\": " << m.tasksPerRound
+      << ",\n  \"mmlt_longest_task_ratio\": " << m.longestTaskRatio
       << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
       << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes;
 }
@@ -140,6 +146,10 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
     o << "}";
     if (st.tracer == "mmlt") writeMmltStats(o, st, s);
+    o << ",\n  \"buffers_bytes\": {";
+    for (size_t i = 0; i < st.buffers.size(); ++i)
+        o << (i ? ", " : "") << '"' << st.buffers[i].first << "\": " << st.buffers[i].second;
+    o << "}";
     o << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
     std::string tmp = path + ".tmp-" + std::to_string(getpid());
     {

@@ -1,25 +1,24 @@
-// The MMLT driver (mmlt.md, "The algorithm"):
-//  1. bootstrap: nBoot independent samples (large steps) of every length k estimate
-//     b_k = E[c], c = luminance of (k + 1) times the MIS-weighted contribution;
-//  2. chains are allocated to lengths in proportion to b_k by largest remainders (never
-//     drawn at random), at least one per length with b_k > 0 (so --chains 1 runs one
-//     chain per length), and no more chains than the mutations asked for. A length never
-//     runs more chains than its bootstrap found paths with c > 0: chains seeded from the
-//     same sample stay correlated for a long time (the seed room's error at equal time was
-//     5x that of 1024 chains when 65536 chains shared a few hundred seeds); its chains make
-//     proportionally more proposals per iteration instead (steps), so that the mutations
-//     spent on each length stay in proportion to b_k;
-//  3. each chain starts at a bootstrap sample of its length chosen in proportion to c
-//     (systematic resampling) and replays it: the replay must give the same c bit for bit;
-//  4. rounds: every chain makes the same number of proposals, batch by batch (mmlt_stages.h);
-//     splats are kept per batch and added to the film in batch order after each round, so
-//     a seed and any thread count give one image;
-//  5. I = sum_k I_k, I_k(pixel) = b_k N_pixels (splats of length k at the pixel) / M_k with
-//     M_k = chains_k x proposals per chain: each splat carries 1 / chains_k into its length's
-//     film, and each film is scaled by b_k N_pixels / proposals per chain at the end. b_k
-//     there is the mean c of the bootstrap and of every large step proposed (each an
-//     independent uniform sample of u): so the error of b_k, which every pixel of length k
-//     shares, shrinks as the render goes on instead of staying what the bootstrap left.
+// The MMLT driver (mmlt.md; docs/mmlt-chains.md for the many-chain design and the
+// measurements that chose it). The render is a sequence of passes; each pass:
+//  1. tracePool: the pool of every length k is a set of independent uniform samples of u:
+//     the bootstrap in the first pass, then fresh samples and the previous pass's
+//     large-step proposals (each an independent uniform sample, its key kept);
+//     b_k,p = the pool's mean c;
+//  2. allocateChains: the C chains go to the lengths whose pool has light in proportion to
+//     b_k (the mean of all pools so far), by largest remainders, never at random, at least
+//     one each;
+//  3. seedChains: each chain starts at a pool sample chosen in proportion to c (systematic
+//     resampling) and replays it: the replay must give the same c bit for bit;
+//  4. runRounds: passLength iterations of every chain (mutate, evaluate, accept and splat),
+//     in rounds of batches run in parallel; each splat carries the weight
+//     b_k,p / chains_k,p of its length and pass.
+// A chain started from a pool by resampling in proportion to c and weighted by the pool's
+// mean c gives an unbiased estimate after any number of steps (importance resampling: the
+// pair (pool, start) has the target as its weighted marginal, and the Metropolis kernel
+// keeps it), so every pass is unbiased whatever its length and its chains' count, and so is
+// their average weighted by iterations: I = pixels * film / (iterations per chain).
+// One film serves every length. Splats are kept per batch and added in batch order after
+// each round, pools likewise: a seed and any thread count give one image.
 #include "stages/mmlt.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -29,8 +28,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <unordered_set>
 
-#include "kernels/distribution.h"
 #include "stages/film.h"
 #include "stages/mmlt_stages.h"
 #include "stages/passes.h"
@@ -40,298 +40,436 @@ namespace wmlt {
 
 namespace {
 
-constexpr uint32_t kBatch = 1024;          // chains per batch: the wavefront's width
-constexpr double kSplatsPerRound = 1 << 18;  // proposals per round (bounds splat memory, ~0.2 s)
+constexpr uint32_t kBatchChains = 256;      // chains per batch: the tasks of a round
+constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB) and a round's time
 
-// A batch: chains [c0, c0 + n) of group g, or bootstrap samples [c0, c0 + n) of length k.
-struct Task {
-    int group;
-    uint32_t c0, n;
-};
-
-struct TaskOutput {
-    std::vector<Splat> splats;
-    MmltCounters counters;
-};
-
-// Chains per length: total * b_k / sum b by largest remainders, then at least 1 for each
-// length with b_k > 0 (taken from the largest allocation while it has more than one).
-std::vector<uint32_t> allocateChains(const std::vector<double>& b, uint32_t total) {
-    double sum = 0;
-    for (double x : b) sum += x;
-    std::vector<uint32_t> n(b.size(), 0);
-    std::vector<std::pair<double, size_t>> rem;
-    uint32_t given = 0;
-    for (size_t k = 0; k < b.size(); ++k) {
-        double share = sum > 0 ? double(total) * b[k] / sum : 0;
-        n[k] = uint32_t(std::floor(share));
-        given += n[k];
-        rem.push_back({share - std::floor(share), k});
-    }
-    std::stable_sort(rem.begin(), rem.end(), [](auto& a, auto& c) { return a.first > c.first; });
-    for (size_t i = 0; given < total && i < rem.size(); ++i, ++given) ++n[rem[i].second];
-    for (size_t k = 0; k < b.size(); ++k) {
-        if (!(b[k] > 0) || n[k] > 0) continue;
-        size_t big = size_t(std::max_element(n.begin(), n.end()) - n.begin());
-        if (n[big] > 1) --n[big];
-        n[k] = 1;
-    }
-    return n;
-}
-
-std::vector<Task> tasksOf(const std::vector<uint32_t>& counts) {
-    std::vector<Task> t;
-    for (size_t g = 0; g < counts.size(); ++g)
-        for (uint32_t c0 = 0; c0 < counts[g]; c0 += kBatch) t.push_back({int(g), c0, std::min(kBatch, counts[g] - c0)});
-    return t;
-}
+using Clock = std::chrono::steady_clock;
 
 double physicalMemory() {
     long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
     return pages > 0 && size > 0 ? double(pages) * double(size) : 0;
 }
 
-}  // namespace
+std::string mib(double bytes) { return std::to_string(uint64_t(bytes / (1 << 20))) + " MiB"; }
 
-uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 4 * 4 + 12; }
+// One pool-tracing task: samples [i0, i0 + n) of length k.
+struct PoolTask {
+    int k;
+    uint32_t i0, n;
+};
 
-RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-    const int kMin = std::max(1, opt.minPathLength), kMax = opt.maxPathLength;
-    const int nLengths = kMax - kMin + 1;
-    const double pixels = double(scene.camera.width) * double(scene.camera.height);
-    const double targetMutations = double(opt.spp) * pixels;
-    const uint32_t nBoot = opt.bootstrap > 0
-                               ? uint32_t(opt.bootstrap)
-                               : uint32_t(std::clamp(0.05 * targetMutations / nLengths, 4096.0, double(1 << 20)));
-    tbb::enumerable_thread_specific<MmltBatch> batches([&] {
-        MmltBatch mb;
-        mb.reserve(kBatch, kMax);
-        return mb;
-    });
-    tbb::enumerable_thread_specific<PtCounters> rays;
-    RenderResult res;
-    RenderStats::Mmlt& ms = res.stats.mmlt;
-    ms.b.assign(kMax + 1, 0.0);
-    ms.chains.assign(kMax + 1, 0);
-    ms.proposedSmall.assign(kMax + 1, 0);
-    ms.acceptedSmall = ms.proposedLarge = ms.acceptedLarge = ms.proposedSmall;
-    ms.bootstrapSamples = nBoot;
-    uint64_t discarded = 0;
+class MmltRender {
+public:
+    MmltRender(const Scene& scene, const RenderOptions& opt);
+    RenderResult run();
 
-    // 1. Bootstrap.
-    std::vector<std::vector<float>> bootC(size_t(kMax + 1));
-    std::vector<uint32_t> bootCounts(size_t(kMax + 1), 0);
-    for (int k = kMin; k <= kMax; ++k) {
-        bootC[size_t(k)].assign(nBoot, 0.0f);
-        bootCounts[size_t(k)] = nBoot;
+private:
+    void tracePool(uint32_t perLength, bool bootstrap);
+    bool allocateChains();
+    void seedChains();
+    void planBatches();
+    void runRounds(uint64_t passEnd);
+    RenderResult resolve();
+    double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
+    bool timed() const { return opt_.timeBudget > 0; }
+    bool stopRequested() const { return opt_.cancel && opt_.cancel->load(); }
+    // Entries the pool of length k may hold before it is thinned to half: 8 per chain of
+    // the length (its last allocation; an equal share before the first), at least 2^13.
+    size_t poolCapacity(int k) const {
+        const size_t n = stats_.passes ? stats_.chains[size_t(k)] : chains_ / size_t(kMax_ - kMin_ + 1);
+        return std::max<size_t>(size_t(1) << 13, 8 * n);
     }
-    {
-        const std::vector<Task> tasks = tasksOf(bootCounts);
+    void thin(SamplePool& pool, int k) {
+        if (pool.lit.size() > poolCapacity(k)) thinPool(pool, poolCapacity(k) / 2, opt_.seed, thinRounds_++);
+    }
+
+    const Scene& scene_;
+    const RenderOptions& opt_;
+    Clock::time_point t0_;
+    int kMin_, kMax_;
+    double pixels_, targetMutations_;
+    uint32_t chains_ = 1;                  // C
+    uint64_t target_ = 0;                  // iterations per chain (spp renders)
+    uint32_t passLength_ = 1;
+    uint32_t pass_ = 0;
+    uint64_t iteration_ = 0;               // iterations of every chain so far (T)
+    bool stopped_ = false;
+    double perIteration_ = 0;              // seconds per iteration of all chains, measured
+    double sampleSeconds_ = 0;             // seconds per pool sample, measured
+
+    tbb::enumerable_thread_specific<MmltBatch> batches_;
+    tbb::enumerable_thread_specific<PtCounters> rays_;
+    std::vector<SamplePool> pools_, next_;  // [k]: this pass's pool, the next one's large steps
+    std::vector<double> passB_;            // sum over rounds of iterations times b_k
+    uint32_t thinRounds_ = 0;
+    std::vector<ChainGroup> groups_;       // this pass's chains, one group per length with chains
+    std::vector<std::vector<BatchSlice>> plan_;  // per batch: its slices
+    SplatFilm film_;
+    std::vector<SplatFilm> lengthFilms_;   // RenderOptions::lengthImages only
+    RenderStats::Mmlt stats_;
+    MmltCounters counters_;
+    double ratioSum_ = 0;
+    uint64_t rounds_ = 0;
+    size_t poolEntries_ = 0;               // the most pool entries held at once
+};
+
+MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
+    : scene_(scene), opt_(opt), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
+      batches_([maxLength = opt.maxPathLength] {
+          MmltBatch mb;
+          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength);
+          return mb;
+      }),
+      film_(scene.camera.width, scene.camera.height) {
+    pixels_ = double(scene.camera.width) * double(scene.camera.height);
+    targetMutations_ = double(opt.spp) * pixels_;
+    // No more chains than mutations asked for (a small image at few mutations per pixel).
+    const double asked = timed() ? double(opt.chains) : std::min(double(opt.chains), targetMutations_);
+    chains_ = uint32_t(std::max(1.0, asked));
+    target_ = uint64_t(std::ceil(targetMutations_ / double(chains_)));
+    const size_t n = size_t(kMax_) + 1;
+    pools_.resize(n);
+    next_.resize(n);
+    passB_.assign(n, 0.0);
+    stats_.b.assign(n, 0.0);
+    stats_.chains.assign(n, 0);
+    for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapNonzero, &stats_.poolSamples,
+                    &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall, &stats_.proposedLarge,
+                    &stats_.acceptedLarge})
+        v->assign(n, 0);
+    if (opt.lengthImages)
+        for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
+    // Memory, refused before anything large is allocated: the chain state at its largest
+    // (every chain at MaxPathLength), the films, a round's splats.
+    const double chainBytes = double(chains_) * double(mmltChainBytes(kMax_));
+    const double filmBytes = 24.0 * pixels_ * double(1 + lengthFilms_.size());
+    const double mem = physicalMemory();
+    if (mem > 0 && chainBytes + filmBytes > 0.75 * mem)
+        throw InputError("MMLT would need " + mib(chainBytes) + " of chain state and " + mib(filmBytes) +
+                         " of films, more than 3/4 of this machine's " + mib(mem));
+}
+
+// Fresh samples [0, perLength) of every length (pass pass_) into the pools, in parallel
+// tasks merged in task order. The bootstrap under a time budget stops early once it has spent
+// 5% of the budget (at least 256 samples per length).
+void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
+    const uint32_t chunk = kBatchChains;
+    uint32_t done = 0;
+    while (done < perLength) {
+        const double start = elapsed();
+        // A slab of up to 2^16 samples per length at a time (so a timed bootstrap can stop).
+        const uint32_t slab = std::min(perLength - done, bootstrap && timed() ? 4096u : perLength);
+        std::vector<PoolTask> tasks;
+        for (int k = kMin_; k <= kMax_; ++k)
+            for (uint32_t i = done; i < done + slab; i += chunk) tasks.push_back({k, i, std::min(chunk, done + slab - i)});
+        std::vector<SamplePool> out(tasks.size());
         std::vector<uint64_t> nonfinite(tasks.size(), 0);
         tbb::parallel_for(size_t(0), tasks.size(), [&](size_t ti) {
-            const Task& t = tasks[ti];
-            MmltBatch& mb = batches.local();
-            mb.counters = MmltCounters();
-            fillBootstrapRows(mb, t.group, t.c0, t.n, opt.seed);
-            evaluateProposals(scene, mb, opt.misBeta, rays.local());
+            const PoolTask& t = tasks[ti];
+            MmltBatch& mb = batches_.local();
+            mb.counters.nonfinite = 0;
+            fillPoolRows(mb, t.k, pass_, t.i0, t.n, opt_.seed);
+            evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
             for (uint32_t i = 0; i < t.n; ++i) {
                 const Vec3 F = contributionOf(mb, i);
-                float c = luminance(F);
-                if (!std::isfinite(c) || !isFinite(F)) {
-                    ++mb.counters.nonfinite;
-                    c = 0;
-                }
-                bootC[size_t(t.group)][t.c0 + i] = c;
+                const float c = targetOf(F);
+                if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
+                out[ti].sumWC += double(c);
+                if (c > 0) out[ti].lit.push_back({mb.bpt.key[i], c, 1.0f});
             }
+            out[ti].count = t.n;
             nonfinite[ti] = mb.counters.nonfinite;
         });
-        for (uint64_t n : nonfinite) discarded += n;
-    }
-    double bSum = 0;
-    std::vector<double> cSum(size_t(kMax + 1), 0.0);  // sum of c over bootstrap and large steps
-    std::vector<uint64_t> cCount(size_t(kMax + 1), 0);
-    for (int k = kMin; k <= kMax; ++k) {
-        for (float c : bootC[size_t(k)]) cSum[size_t(k)] += c;
-        cCount[size_t(k)] = nBoot;
-        ms.b[size_t(k)] = cSum[size_t(k)] / nBoot;
-        bSum += ms.b[size_t(k)];
-    }
-    ms.bBootstrap = ms.b;
-    if (!(bSum > 0))
-        throw InputError("no light reaches the camera: the bootstrap's " + std::to_string(nBoot) +
-                         " samples of each path length " + std::to_string(kMin) + ".." + std::to_string(kMax) +
-                         " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
-
-    // 2. Chains per length.
-    const int positive = int(std::count_if(ms.b.begin(), ms.b.end(), [](double x) { return x > 0; }));
-    // No more chains than mutations asked for (a small image at few mutations per pixel).
-    const double asked = opt.timeBudget > 0 ? double(opt.chains) : std::min(double(opt.chains), targetMutations);
-    const uint32_t total = std::max<uint32_t>(uint32_t(std::max(asked, 1.0)), uint32_t(positive));
-    const std::vector<uint32_t> allocated = allocateChains(ms.b, total);
-    std::vector<uint32_t> chainCounts(allocated.size(), 0), steps(allocated.size(), 1);
-    ms.bootstrapNonzero.assign(allocated.size(), 0);
-    for (int k = kMin; k <= kMax; ++k) {
-        const uint32_t seeds = uint32_t(std::count_if(bootC[size_t(k)].begin(), bootC[size_t(k)].end(),
-                                                      [](float c) { return c > 0; }));
-        ms.bootstrapNonzero[size_t(k)] = seeds;
-        chainCounts[size_t(k)] = std::min(allocated[size_t(k)], seeds);
-        if (chainCounts[size_t(k)])
-            steps[size_t(k)] = std::max<uint32_t>(
-                1, uint32_t(std::lround(double(allocated[size_t(k)]) / double(chainCounts[size_t(k)]))));
-    }
-    ms.chainsAllocated = allocated;
-    double bytes = 0;
-    for (int k = kMin; k <= kMax; ++k) bytes += double(chainCounts[size_t(k)]) * double(mmltChainBytes(k));
-    const double mem = physicalMemory();
-    if (mem > 0 && bytes > 0.75 * mem)
-        throw InputError("--chains " + std::to_string(total) + " would need " + std::to_string(uint64_t(bytes) >> 20) +
-                         " MiB of chain state, more than this machine's memory allows");
-    ms.chainBytes = uint64_t(bytes);
-
-    // 3. Seed each chain from the bootstrap in proportion to c, and replay it.
-    std::vector<ChainGroup> groups(size_t(kMax + 1));
-    uint32_t first = 0;
-    std::vector<std::vector<uint32_t>> seedIndex(size_t(kMax + 1));
-    for (int k = kMin; k <= kMax; ++k) {
-        ChainGroup& g = groups[size_t(k)];
-        g.k = k;
-        g.count = chainCounts[size_t(k)];
-        g.steps = steps[size_t(k)];
-        g.first = first;
-        first += g.count;
-        g.dims = StrategyLayout::size(k);
-        g.b = ms.b[size_t(k)];
-        ms.chains[size_t(k)] = g.count;
-        if (g.count == 0) continue;
-        g.value.resize(size_t(g.dims) * g.count);
-        g.lastModified.assign(g.value.size(), 0);
-        g.accepted.assign(g.count, 0);
-        g.lastLarge.assign(g.count, 0);
-        g.F.assign(g.count, Vec3(0.0f));
-        g.c.assign(g.count, 0.0f);
-        g.pixel.assign(g.count, 0);
-        Distribution1D pick(bootC[size_t(k)]);
-        const float offset = sampleDimension(mmltBootstrapKey(opt.seed, k, 0xffffffffu), 0);
-        seedIndex[size_t(k)].resize(g.count);
-        for (uint32_t c = 0; c < g.count; ++c) {
-            float pmf;
-            const uint32_t idx = uint32_t(pick.sampleDiscrete((float(c) + offset) / float(g.count), &pmf));
-            seedIndex[size_t(k)][c] = idx;
-            const uint64_t key = mmltBootstrapKey(opt.seed, k, idx);
-            for (uint32_t d = 0; d < g.dims; ++d) g.value[size_t(d) * g.count + c] = sampleDimension(key, d);
+        for (size_t ti = 0; ti < tasks.size(); ++ti) {
+            pools_[size_t(tasks[ti].k)].add(out[ti]);
+            counters_.nonfinite += nonfinite[ti];
         }
+        done += slab;
+        sampleSeconds_ = (elapsed() - start) / (double(slab) * (kMax_ - kMin_ + 1));
+        if (bootstrap && timed() && done >= 256 && elapsed() >= 0.05 * opt_.timeBudget) break;
+        if (stopRequested()) break;
     }
-    const std::vector<Task> tasks = tasksOf(chainCounts);
-    {
-        std::vector<uint64_t> mismatches(tasks.size(), 0);
-        tbb::parallel_for(size_t(0), tasks.size(), [&](size_t ti) {
-            const Task& t = tasks[ti];
-            ChainGroup& g = groups[size_t(t.group)];
-            MmltBatch& mb = batches.local();
-            fillCurrentRows(g, mb, t.c0, t.n);
-            evaluateProposals(scene, mb, opt.misBeta, rays.local());
-            for (uint32_t i = 0; i < t.n; ++i) {
-                const uint32_t c = t.c0 + i;
+    if (bootstrap) stats_.bootstrapSamples = done;
+}
+
+// Chains per length: C b_k / sum b by largest remainders over the lengths whose pool has
+// light (b_k: the pool's mean), then at least 1 for each such length (taken from the
+// largest allocation while it has more than one). False when no pool has light.
+bool MmltRender::allocateChains() {
+    std::vector<double> b(size_t(kMax_) + 1, 0.0);
+    double sum = 0;
+    for (int k = kMin_; k <= kMax_; ++k) {
+        stats_.poolSamples[size_t(k)] = pools_[size_t(k)].count;
+        if (pools_[size_t(k)].lit.empty()) continue;
+        b[size_t(k)] = pools_[size_t(k)].mean();
+        sum += b[size_t(k)];
+    }
+    groups_.clear();
+    if (!(sum > 0)) return false;
+    std::vector<uint32_t> n(b.size(), 0);
+    std::vector<std::pair<double, size_t>> rem;
+    uint32_t given = 0;
+    for (size_t k = 0; k < b.size(); ++k) {
+        const double share = double(chains_) * b[k] / sum;
+        n[k] = uint32_t(std::floor(share));
+        given += n[k];
+        rem.push_back({share - std::floor(share), k});
+    }
+    std::stable_sort(rem.begin(), rem.end(), [](auto& a, auto& c) { return a.first > c.first; });
+    for (size_t i = 0; given < chains_ && i < rem.size(); ++i, ++given) ++n[rem[i].second];
+    for (size_t k = 0; k < b.size(); ++k) {
+        if (!(b[k] > 0) || n[k] > 0) continue;
+        const size_t big = size_t(std::max_element(n.begin(), n.end()) - n.begin());
+        if (n[big] > 1) --n[big];
+        n[k] = 1;
+    }
+    uint32_t first = 0;
+    for (int k = kMin_; k <= kMax_; ++k) {
+        stats_.chains[size_t(k)] = n[size_t(k)];
+        if (!n[size_t(k)]) continue;
+        ChainGroup g;
+        g.k = k;
+        g.first = first;
+        g.dims = StrategyLayout::size(k);
+        g.weight = float(pools_[size_t(k)].mean() / double(n[size_t(k)]));
+        first += n[size_t(k)];
+        groups_.push_back(std::move(g));
+        groups_.back().resize(n[size_t(k)]);
+    }
+    return true;
+}
+
+// Systematic resampling of each group's chains from its pool in proportion to c, and the
+// replay of every seed (its c must come back bit for bit).
+void MmltRender::seedChains() {
+    uint64_t bytes = 0;
+    for (ChainGroup& g : groups_) {
+        const SamplePool& pool = pools_[size_t(g.k)];
+        double total = 0;
+        for (const PoolEntry& e : pool.lit) total += double(e.w) * double(e.c);
+        const double offset = double(sampleDimension(mmltPoolKey(opt_.seed, pass_, g.k, 0xffffffffu), 0));
+        std::unordered_set<uint64_t> distinct;
+        size_t e = 0;
+        double cum = double(pool.lit[0].w) * double(pool.lit[0].c);
+        for (uint32_t c = 0; c < g.count; ++c) {
+            const double x = (double(c) + offset) / double(g.count) * total;
+            while (cum <= x && e + 1 < pool.lit.size()) {
+                ++e;
+                cum += double(pool.lit[e].w) * double(pool.lit[e].c);
+            }
+            g.seed[c] = pool.lit[e].key;
+            g.c[c] = pool.lit[e].c;  // expected: checked by the replay
+            distinct.insert(g.seed[c]);
+            for (uint32_t d = 0; d < g.dims; ++d) g.value[size_t(d) * g.count + c] = poolCoordinate(g.seed[c], d);
+        }
+        stats_.chainsSeeded[size_t(g.k)] += g.count;
+        stats_.distinctSeeds[size_t(g.k)] += distinct.size();
+        bytes += uint64_t(g.count) * mmltChainBytes(g.k);
+    }
+    stats_.chainBytes = std::max(stats_.chainBytes, bytes);
+    planBatches();
+    std::vector<uint64_t> mismatches(plan_.size(), 0);
+    tbb::parallel_for(size_t(0), plan_.size(), [&](size_t ti) {
+        MmltBatch& mb = batches_.local();
+        mb.slices = plan_[ti];
+        fillSeedRows(groups_, mb);
+        evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
+        for (const BatchSlice& sl : mb.slices) {
+            ChainGroup& g = groups_[size_t(sl.group)];
+            for (uint32_t j = 0; j < sl.n; ++j) {
+                const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
                 const Vec3 F = contributionOf(mb, i);
-                const float cc = luminance(F);
-                const float expected = bootC[size_t(t.group)][seedIndex[size_t(t.group)][c]];
-                if (std::memcmp(&cc, &expected, sizeof cc) != 0) ++mismatches[ti];
+                const float cc = targetOf(F);
+                if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0) ++mismatches[ti];
                 g.F[c] = F;
                 g.c[c] = cc;
                 g.pixel[c] = mb.bpt.pixel[i];
             }
-        });
-        for (uint64_t n : mismatches) ms.replayMismatches += n;
-    }
+        }
+    });
+    for (uint64_t m : mismatches) stats_.replayMismatches += m;
+}
 
-    // 4. Rounds of proposals.
-    double perIterationProposals = 0;  // every chain of length k makes steps_k proposals
-    for (const ChainGroup& g : groups) perIterationProposals += double(g.count) * g.steps;
-    const uint64_t target = std::max<uint64_t>(1, uint64_t(std::ceil(targetMutations / perIterationProposals)));
-    const uint32_t perRound = uint32_t(std::clamp(kSplatsPerRound / perIterationProposals, 1.0, 4096.0));
-    std::vector<SplatFilm> films;  // one per length with chains (index: group)
-    for (int k = 0; k <= kMax; ++k)
-        films.emplace_back(groups[size_t(k)].count ? scene.camera.width : 0, groups[size_t(k)].count ? scene.camera.height : 0);
-    std::vector<TaskOutput> outputs(tasks.size());
-    uint64_t iteration = 0;
-    bool stopped = false;
-    double perIteration = 0;  // seconds per proposal of every chain, measured
-    const bool timed = opt.timeBudget > 0;
-    while (true) {
-        if (!timed && iteration >= target) break;
-        if (opt.cancel && opt.cancel->load()) { stopped = true; break; }
-        uint32_t r = timed ? perRound : uint32_t(std::min<uint64_t>(perRound, target - iteration));
-        if (timed) {  // a time budget: the last rounds shrink so as to end on time
-            const double left = opt.timeBudget - elapsed();
-            if (left <= 0.5 * perIteration) break;
-            r = perIteration > 0 ? uint32_t(std::clamp(std::floor(left / perIteration + 0.5), 1.0, double(r)))
-                                 : 1;  // the first round measures
+// Batch j holds chains [C_k j / B, C_k (j + 1) / B) of every length: each batch a share of
+// every length, so that batches cost about the same whatever the lengths' split.
+void MmltRender::planBatches() {
+    const uint32_t B = (chains_ + kBatchChains - 1) / kBatchChains;
+    plan_.assign(B, {});
+    for (uint32_t j = 0; j < B; ++j) {
+        uint32_t slot = 0;
+        for (size_t gi = 0; gi < groups_.size(); ++gi) {
+            const uint64_t n = groups_[gi].count;
+            const uint32_t c0 = uint32_t(n * j / B), c1 = uint32_t(n * (j + 1) / B);
+            if (c1 > c0) plan_[j].push_back({int(gi), c0, c1 - c0, slot});
+            slot += c1 - c0;
+        }
+    }
+    stats_.tasksPerRound = B;
+}
+
+struct TaskOutput {
+    std::vector<Splat> splats;
+    std::vector<uint8_t> splatLength;
+    std::vector<SamplePool> pools;
+    MmltCounters counters;
+    double seconds = 0;
+};
+
+// Rounds of iterations until the pass ends at iteration passEnd (or the render does).
+void MmltRender::runRounds(uint64_t passEnd) {
+    std::vector<TaskOutput> outputs(plan_.size());
+    const uint32_t perRound = uint32_t(std::clamp(kProposalsPerRound / chains_, 1.0, 4096.0));
+    while (iteration_ < passEnd) {
+        if (stopRequested()) { stopped_ = true; return; }
+        uint32_t r = uint32_t(std::min<uint64_t>(perRound, passEnd - iteration_));
+        if (timed()) {  // a time budget: the last rounds shrink so as to end on time
+            const double left = opt_.timeBudget - elapsed();
+            if (left <= 0.5 * perIteration_ && iteration_ > 0) { stopped_ = true; return; }
+            r = perIteration_ > 0 ? uint32_t(std::clamp(std::floor(left / perIteration_ + 0.5), 1.0, double(r))) : 1;
         }
         const double roundStart = elapsed();
-        tbb::parallel_for(size_t(0), tasks.size(), [&](size_t ti) {
-            const Task& t = tasks[ti];
-            ChainGroup& g = groups[size_t(t.group)];
-            MmltBatch& mb = batches.local();
+        tbb::parallel_for(size_t(0), plan_.size(), [&](size_t ti) {
+            const auto start = Clock::now();
+            MmltBatch& mb = batches_.local();
+            mb.slices = plan_[ti];
             mb.splats.clear();
+            mb.splatLength.clear();
+            for (SamplePool& p : mb.pools) p.clear();
             mb.counters = MmltCounters();
-            const float scale = float(1.0 / double(g.count));
-            for (uint64_t n = iteration * g.steps; n < (iteration + r) * g.steps; ++n) {
-                mutateChains(g, mb, t.c0, t.n, opt.seed, uint32_t(n), opt.probLarge);
-                evaluateProposals(scene, mb, opt.misBeta, rays.local());
-                acceptAndSplat(g, mb, opt.seed, uint32_t(n), scale);
+            for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
+                mutateChains(groups_, mb, opt_.seed, uint32_t(n), opt_.probLarge);
+                evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
+                acceptAndSplat(groups_, mb);
             }
-            outputs[ti].splats.swap(mb.splats);
-            outputs[ti].counters = mb.counters;
+            TaskOutput& o = outputs[ti];
+            o.splats.swap(mb.splats);
+            o.splatLength.swap(mb.splatLength);
+            o.pools.swap(mb.pools);
+            mb.pools.resize(size_t(kMax_) + 1);
+            o.counters = mb.counters;
+            o.seconds = std::chrono::duration<double>(Clock::now() - start).count();
         });
-        for (size_t ti = 0; ti < tasks.size(); ++ti) {  // in batch order: deterministic
-            const size_t k = size_t(groups[size_t(tasks[ti].group)].k);
-            for (const Splat& s : outputs[ti].splats) films[k].add(s);
-            const MmltCounters& c = outputs[ti].counters;
-            cSum[k] += c.largeSum;
-            cCount[k] += c.proposed[1];
-            ms.proposedSmall[k] += c.proposed[0];
-            ms.acceptedSmall[k] += c.accepted[0];
-            ms.proposedLarge[k] += c.proposed[1];
-            ms.acceptedLarge[k] += c.accepted[1];
-            discarded += c.nonfinite;
+        double longest = 0, sum = 0;
+        for (TaskOutput& o : outputs) {  // in batch order: deterministic
+            for (size_t i = 0; i < o.splats.size(); ++i) {
+                film_.add(o.splats[i]);
+                if (!lengthFilms_.empty()) lengthFilms_[o.splatLength[i]].add(o.splats[i]);
+            }
+            for (size_t k = 0; k < o.pools.size(); ++k) {
+                next_[k].add(o.pools[k]);
+                thin(next_[k], int(k));
+            }
+            counters_.add(o.counters);
+            longest = std::max(longest, o.seconds);
+            sum += o.seconds;
         }
-        iteration += r;
-        perIteration = (elapsed() - roundStart) / r;
-        if (opt.progress)
-            opt.progress(timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(iteration) / double(target));
+        ratioSum_ += sum > 0 ? longest / (sum / double(outputs.size())) : 1.0;
+        ++rounds_;
+        for (const ChainGroup& g : groups_) passB_[size_t(g.k)] += double(r) * double(g.weight) * g.count;
+        for (const ChainGroup& g : groups_) stats_.proposals[size_t(g.k)] += uint64_t(r) * g.count;
+        iteration_ += r;
+        perIteration_ = (elapsed() - roundStart) / r;
+        if (opt_.progress)
+            opt_.progress(timed() ? std::min(1.0, elapsed() / opt_.timeBudget) : double(iteration_) / double(target_));
     }
+}
 
-    // 5. The image.
+RenderResult MmltRender::run() {
+    const int nLengths = kMax_ - kMin_ + 1;
+    // The bootstrap: opt.bootstrap samples per length, or 5% of the mutations asked for
+    // (at least 4096 and two per chain, at most 2^20 per length).
+    const uint32_t nBoot =
+        opt_.bootstrap > 0
+            ? uint32_t(opt_.bootstrap)
+            : uint32_t(std::clamp(std::max(0.05 * targetMutations_, 2.0 * chains_) / nLengths, 4096.0, double(1 << 20)));
+    tracePool(nBoot, true);
+    stats_.bBootstrap.assign(size_t(kMax_) + 1, 0.0);
+    for (int k = kMin_; k <= kMax_; ++k) {
+        stats_.bootstrapNonzero[size_t(k)] = pools_[size_t(k)].lit.size();
+        stats_.bBootstrap[size_t(k)] = pools_[size_t(k)].mean();
+        thin(pools_[size_t(k)], k);
+    }
+    if (!allocateChains())
+        throw InputError("no light reaches the camera: the bootstrap's " + std::to_string(stats_.bootstrapSamples) +
+                         " samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
+                         " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
+    // Iterations per pass: about 8 passes in a render, 16 to 1024 iterations each.
+    if (timed()) {
+        const double left = std::max(0.0, opt_.timeBudget - elapsed());
+        target_ = uint64_t(left / std::max(sampleSeconds_, 1e-12) / double(chains_));
+    }
+    passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength)
+                                      : uint32_t(std::clamp(double(target_) / 8.0, 16.0, 1024.0));
+    const uint32_t fresh = std::max<uint32_t>(64, (chains_ + uint32_t(nLengths) - 1) / uint32_t(nLengths));
+    while (true) {
+        if (pass_ > 0) {
+            if (stopRequested() || (!timed() && iteration_ >= target_)) break;
+            if (timed() && opt_.timeBudget - elapsed() <= 0.5 * perIteration_) break;
+            tracePool(fresh, false);
+            for (int k = kMin_; k <= kMax_; ++k) {
+                pools_[size_t(k)].add(next_[size_t(k)]);
+                next_[size_t(k)].clear();
+                thin(pools_[size_t(k)], k);
+            }
+            if (!allocateChains()) {  // no light in any pool: the pass's estimate is 0
+                iteration_ += passLength_;
+                ++pass_;
+                continue;
+            }
+        }
+        size_t entries = 0;
+        for (const SamplePool& p : pools_) entries += p.lit.size();
+        poolEntries_ = std::max(poolEntries_, entries);
+        seedChains();
+        ++stats_.passes;
+        const uint64_t end = timed() ? iteration_ + passLength_ : std::min<uint64_t>(target_, iteration_ + passLength_);
+        runRounds(end);
+        ++pass_;
+        if (stopped_) break;
+    }
+    return resolve();
+}
+
+// The image: pixels * film / T (each length already weighted per pass), and the stats.
+RenderResult MmltRender::resolve() {
     PassResult pr;
     pr.seconds = elapsed();
-    pr.completedSpp = uint32_t(double(iteration) * perIterationProposals / pixels);
-    pr.stopped = stopped;
-    RenderStats::Mmlt keep = ms;
-    res = startResult("mmlt", scene, opt, pr, rays);
-    res.stats.mmlt = keep;
-    res.stats.mmlt.iterations = iteration;
-    res.stats.mmlt.mutations = uint64_t(double(iteration) * perIterationProposals);
-    res.stats.mmlt.proposalsPerChain.assign(size_t(kMax + 1), 0);
-    for (const ChainGroup& g : groups) res.stats.mmlt.proposalsPerChain[size_t(g.k)] = g.count ? iteration * g.steps : 0;
-    res.stats.samplesNonfiniteDiscarded = discarded;
-    res.image = Image(scene.camera.width, scene.camera.height);
-    std::vector<double> sum(res.image.rgb.size(), 0.0);
-    if (opt.lengthImages) res.lengthImages.assign(size_t(kMax) + 1, Image(scene.camera.width, scene.camera.height));
-    for (int k = kMin; k <= kMax; ++k) {
-        const double b = cSum[size_t(k)] / double(cCount[size_t(k)]);
-        res.stats.mmlt.b[size_t(k)] = b;
-        if (!groups[size_t(k)].count || iteration == 0) continue;
-        const double norm = b * pixels / double(iteration * groups[size_t(k)].steps);
-        for (size_t i = 0; i < sum.size(); ++i) sum[i] += films[size_t(k)].sum[i] * norm;
-        if (opt.lengthImages)
-            for (size_t i = 0; i < sum.size(); ++i) res.lengthImages[size_t(k)].rgb[i] = float(films[size_t(k)].sum[i] * norm);
+    pr.completedSpp = uint32_t(double(iteration_) * chains_ / pixels_);
+    pr.stopped = stopped_;
+    RenderResult res = startResult("mmlt", scene_, opt_, pr, rays_);
+    stats_.iterations = iteration_;
+    stats_.passLength = passLength_;
+    stats_.longestTaskRatio = rounds_ ? ratioSum_ / double(rounds_) : 0.0;
+    for (int k = kMin_; k <= kMax_; ++k) {
+        stats_.b[size_t(k)] = iteration_ ? passB_[size_t(k)] / double(iteration_) : 0.0;
+        stats_.proposedSmall[size_t(k)] = counters_.proposed[0][k];
+        stats_.acceptedSmall[size_t(k)] = counters_.accepted[0][k];
+        stats_.proposedLarge[size_t(k)] = counters_.proposed[1][k];
+        stats_.acceptedLarge[size_t(k)] = counters_.accepted[1][k];
+        stats_.mutations += stats_.proposals[size_t(k)];
     }
-    for (size_t i = 0; i < sum.size(); ++i) res.image.rgb[i] = float(sum[i]);
-    res.stats.lengthMeanLuminance = res.stats.mmlt.b;
+    res.stats.mmlt = stats_;
+    res.stats.samplesNonfiniteDiscarded = counters_.nonfinite;
+    res.stats.lengthMeanLuminance = stats_.b;
+    const double norm = iteration_ ? pixels_ / double(iteration_) : 0.0;
+    res.image = Image(scene_.camera.width, scene_.camera.height);
+    for (size_t i = 0; i < res.image.rgb.size(); ++i) res.image.rgb[i] = float(film_.sum[i] * norm);
+    for (const SplatFilm& f : lengthFilms_) {
+        res.lengthImages.emplace_back(f.width, f.height);
+        for (size_t i = 0; i < f.sum.size(); ++i) res.lengthImages.back().rgb[i] = float(f.sum[i] * norm);
+    }
+    res.stats.buffers = {{"film", uint64_t(24 * pixels_)},
+                         {"length films", uint64_t(24 * pixels_) * lengthFilms_.size()},
+                         {"chain state", stats_.chainBytes},
+                         {"pools", uint64_t(poolEntries_ * sizeof(PoolEntry))},
+                         {"splat lists", uint64_t(kProposalsPerRound) * 2 * sizeof(Splat)}};
     return res;
 }
+
+}  // namespace
+
+uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 4 * 4 + 12 + 8; }
+
+RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) { return MmltRender(scene, opt).run(); }
 
 }  // namespace wmlt

@@ -1,16 +1,18 @@
 #include "stages/mmlt_stages.h"
 
+#include <algorithm>
+#include <functional>
+
 #include "kernels/mutation.h"
-#include "kernels/rng.h"
 #include "stages/bpt_stages.h"
 
 namespace wmlt {
 
 namespace {
 
-// Random numbers of a chain's proposal (dimensions of mmltChainKey).
+// Random numbers of a chain's proposal (dimensions of mmltChainKey); coordinate i's fresh
+// value is poolCoordinate(key, i) = dimension 2 + 2 i.
 constexpr uint32_t kDimLarge = 0, kDimAccept = 1;
-inline uint32_t dimFresh(uint32_t i) { return 2 + 2 * i; }
 inline uint32_t dimNormal(uint32_t i) { return 3 + 2 * i; }
 
 // Slot i's strategy from its u0: the walks' lengths and the numbers each stream reads.
@@ -26,73 +28,92 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
     mb.used[kBptConnect][i] = uint8_t(StrategyLayout::connectUsed(s, t));
 }
 
+uint32_t slotsOf(const MmltBatch& mb) {
+    return mb.slices.empty() ? 0 : mb.slices.back().slot0 + mb.slices.back().n;
+}
+
 }  // namespace
 
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {
     return sampleKey(mix64(seed ^ 0x4d4d4c54u /* "MMLT" */), globalChain, iteration);
 }
 
-uint64_t mmltBootstrapKey(uint64_t seed, int k, uint32_t index) {
-    return sampleKey(mix64(seed ^ 0x424f4f54u /* "BOOT" */), uint32_t(k), index);
+uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index) {
+    return sampleKey(mix64(mix64(seed ^ 0x504f4f4cu /* "POOL" */) + pass), uint32_t(k), index);
 }
 
-void fillBootstrapRows(MmltBatch& mb, int k, uint32_t index0, uint32_t n, uint64_t seed) {
+float targetOf(const Vec3& F) {
+    const float c = luminance(F);
+    return std::isfinite(c) && isFinite(F) ? c : 0.0f;
+}
+
+void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
     const uint32_t dims = StrategyLayout::size(k);
     for (uint32_t i = 0; i < n; ++i) {
-        const uint64_t key = mmltBootstrapKey(seed, k, index0 + i);
+        const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
+        mb.bpt.key[i] = key;
         float* row = &mb.u[size_t(i) * mb.stride];
-        for (uint32_t d = 0; d < dims; ++d) row[d] = sampleDimension(key, d);
+        for (uint32_t d = 0; d < dims; ++d) row[d] = poolCoordinate(key, d);
         setStrategy(mb, i, k, row[0]);
     }
     mb.bpt.numSlots = n;
 }
 
-void fillCurrentRows(const ChainGroup& g, MmltBatch& mb, uint32_t c0, uint32_t n) {
-    for (uint32_t i = 0; i < n; ++i) {
-        float* row = &mb.u[size_t(i) * mb.stride];
-        for (uint32_t d = 0; d < g.dims; ++d) row[d] = g.value[size_t(d) * g.count + c0 + i];
-        mb.chain[i] = c0 + i;
-        setStrategy(mb, i, g.k, row[0]);
+void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    for (const BatchSlice& sl : mb.slices) {
+        const ChainGroup& g = groups[size_t(sl.group)];
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            float* row = &mb.u[size_t(i) * mb.stride];
+            for (uint32_t d = 0; d < g.dims; ++d) row[d] = g.value[size_t(d) * g.count + c];
+            mb.chain[i] = c;
+            setStrategy(mb, i, g.k, row[0]);
+        }
     }
-    mb.bpt.numSlots = n;
+    mb.bpt.numSlots = slotsOf(mb);
 }
 
-void mutateChains(const ChainGroup& g, MmltBatch& mb, uint32_t c0, uint32_t n, uint64_t seed, uint32_t iteration,
+void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge) {
     const float sigma = kSmallStepSigma;
-    // The proposal's value of coordinate d of slot i (chain c); uFresh is drawn only when
-    // the kernel reads it (a large step, or a stale coordinate).
-    auto propose = [&](uint32_t i, uint32_t c, uint32_t d) {
-        const size_t at = size_t(d) * g.count + c;
-        const uint64_t key = mb.bpt.key[i];
-        const uint32_t lastModified = g.lastModified[at], lastLarge = g.lastLarge[c];
-        const bool large = mb.large[i];
-        const float uFresh = large || lastModified < lastLarge ? sampleDimension(key, dimFresh(d)) : 0.0f;
-        const float uNormal = large ? 0.5f : sampleDimension(key, dimNormal(d));
-        return proposeCoordinate(g.value[at], lastModified, lastLarge, g.accepted[c] + 1, large, sigma, uFresh,
-                                 uNormal);
-    };
-    // Per slot: the step kind and u0, which picks the strategy and so what else is read.
-    for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t c = c0 + i;
-        const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
-        mb.bpt.key[i] = key;
-        mb.chain[i] = c;
-        mb.large[i] = sampleDimension(key, kDimLarge) < probLarge ? 1 : 0;
-        float* row = &mb.u[size_t(i) * mb.stride];
-        row[0] = propose(i, c, 0);
-        setStrategy(mb, i, g.k, row[0]);
+    for (const BatchSlice& sl : mb.slices) {
+        const ChainGroup& g = groups[size_t(sl.group)];
+        // The proposal's value of coordinate d of slot i (chain c); uFresh is drawn only
+        // when the kernel reads it (a large step, or a stale coordinate).
+        auto propose = [&](uint32_t i, uint32_t c, uint32_t d) {
+            const size_t at = size_t(d) * g.count + c;
+            const uint64_t key = mb.bpt.key[i];
+            const uint32_t lastModified = g.lastModified[at], lastLarge = g.lastLarge[c];
+            const bool large = mb.large[i];
+            const float uFresh = large || lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
+            const float uNormal = large ? 0.5f : sampleDimension(key, dimNormal(d));
+            return proposeCoordinate(g.value[at], lastModified, lastLarge, g.accepted[c] + 1, large, sigma, uFresh,
+                                     uNormal);
+        };
+        // Per slot: the step kind and u0, which picks the strategy and so what else is read.
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
+            mb.bpt.key[i] = key;
+            mb.chain[i] = c;
+            mb.large[i] = sampleDimension(key, kDimLarge) < probLarge ? 1 : 0;
+            float* row = &mb.u[size_t(i) * mb.stride];
+            row[0] = propose(i, c, 0);
+            setStrategy(mb, i, g.k, row[0]);
+        }
+        // Coordinate by coordinate across the slice: coordinate d of consecutive chains is
+        // contiguous in the chain state.
+        for (int stream = 0; stream < 3; ++stream) {
+            const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
+            const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
+            for (uint32_t jj = 0; jj < size; ++jj)
+                for (uint32_t j = 0; j < sl.n; ++j) {
+                    const uint32_t i = sl.slot0 + j;
+                    if (jj < mb.used[stream][i]) mb.u[size_t(i) * mb.stride + base + jj] = propose(i, sl.c0 + j, base + jj);
+                }
+        }
     }
-    // Coordinate by coordinate across the batch: coordinate d of consecutive chains is
-    // contiguous in the chain state.
-    for (int stream = 0; stream < 3; ++stream) {
-        const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
-        const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
-        for (uint32_t j = 0; j < size; ++j)
-            for (uint32_t i = 0; i < n; ++i)
-                if (j < mb.used[stream][i]) mb.u[size_t(i) * mb.stride + base + j] = propose(i, c0 + i, base + j);
-    }
-    mb.bpt.numSlots = n;
+    mb.bpt.numSlots = slotsOf(mb);
 }
 
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, PtCounters& counters) {
@@ -107,50 +128,97 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, PtCount
     mb.counters.nonfinite += b.nonfinite;
 }
 
-void acceptAndSplat(ChainGroup& g, MmltBatch& mb, uint64_t seed, uint32_t iteration, float scale) {
-    const uint32_t n = uint32_t(mb.bpt.numSlots);
-    for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t c = mb.chain[i];
-        const Vec3 F = contributionOf(mb, i);
-        float cP = luminance(F);
-        if (!std::isfinite(cP) || !isFinite(F)) {
-            ++mb.counters.nonfinite;
-            cP = 0;
-        }
-        const float a = acceptance(cP, g.c[c]);
-        const uint32_t pixel = mb.bpt.pixel[i];
-        if (a > 0) mb.splats.push_back({pixel, F * (a * scale / cP)});
-        if (a < 1 && g.c[c] > 0) mb.splats.push_back({g.pixel[c], g.F[c] * ((1.0f - a) * scale / g.c[c])});
-        const int kind = mb.large[i];
-        ++mb.counters.proposed[kind];
-        if (kind) mb.counters.largeSum += double(cP);
-        const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
-        mb.accept[i] = sampleDimension(key, kDimAccept) < a ? 1 : 0;
-        if (!mb.accept[i]) continue;
-        ++mb.counters.accepted[kind];
-        const uint32_t next = g.accepted[c] + 1;
-        const size_t at0 = c;  // coordinate 0
-        g.value[at0] = mb.u[size_t(i) * mb.stride];
-        g.lastModified[at0] = next;
-        g.accepted[c] = next;
-        if (kind) g.lastLarge[c] = next;
-        g.F[c] = F;
-        g.c[c] = cP;
-        g.pixel[c] = pixel;
-    }
-    // Commit the accepted proposals' coordinates, coordinate by coordinate (contiguous).
-    for (int stream = 0; stream < 3; ++stream) {
-        const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
-        const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
-        for (uint32_t j = 0; j < size; ++j)
-            for (uint32_t i = 0; i < n; ++i) {
-                if (!mb.accept[i] || j >= mb.used[stream][i]) continue;
-                const uint32_t c = mb.chain[i];
-                const size_t at = size_t(base + j) * g.count + c;
-                g.value[at] = mb.u[size_t(i) * mb.stride + base + j];
-                g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
+void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    for (const BatchSlice& sl : mb.slices) {
+        ChainGroup& g = groups[size_t(sl.group)];
+        const uint8_t k = uint8_t(g.k);
+        SamplePool& pool = mb.pools[size_t(g.k)];
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = mb.chain[i];
+            const Vec3 F = contributionOf(mb, i);
+            const float cP = targetOf(F);
+            if (cP == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
+            const float a = acceptance(cP, g.c[c]);
+            const uint32_t pixel = mb.bpt.pixel[i];
+            if (a > 0) {
+                mb.splats.push_back({pixel, F * (a * g.weight / cP)});
+                mb.splatLength.push_back(k);
             }
+            if (a < 1 && g.c[c] > 0) {
+                mb.splats.push_back({g.pixel[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c])});
+                mb.splatLength.push_back(k);
+            }
+            const int kind = mb.large[i];
+            ++mb.counters.proposed[kind][k];
+            if (kind) {  // an independent uniform sample of u: joins the pool
+                pool.sumWC += double(cP);
+                ++pool.count;
+                if (cP > 0) pool.lit.push_back({mb.bpt.key[i], cP, 1.0f});
+            }
+            mb.accept[i] = sampleDimension(mb.bpt.key[i], kDimAccept) < a ? 1 : 0;
+            if (!mb.accept[i]) continue;
+            ++mb.counters.accepted[kind][k];
+            const uint32_t next = g.accepted[c] + 1;
+            g.value[c] = mb.u[size_t(i) * mb.stride];  // coordinate 0
+            g.lastModified[c] = next;
+            g.accepted[c] = next;
+            if (kind) g.lastLarge[c] = next;
+            g.F[c] = F;
+            g.c[c] = cP;
+            g.pixel[c] = pixel;
+        }
+        // Commit the accepted proposals' coordinates, coordinate by coordinate (contiguous).
+        for (int stream = 0; stream < 3; ++stream) {
+            const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
+            const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
+            for (uint32_t jj = 0; jj < size; ++jj)
+                for (uint32_t j = 0; j < sl.n; ++j) {
+                    const uint32_t i = sl.slot0 + j;
+                    if (!mb.accept[i] || jj >= mb.used[stream][i]) continue;
+                    const uint32_t c = mb.chain[i];
+                    const size_t at = size_t(base + jj) * g.count + c;
+                    g.value[at] = mb.u[size_t(i) * mb.stride + base + jj];
+                    g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
+                }
+        }
     }
+}
+
+void thinPool(SamplePool& pool, size_t keep, uint64_t seed, uint32_t round) {
+    std::vector<PoolEntry>& e = pool.lit;
+    if (e.size() <= keep || keep == 0) return;
+    // tau with sum_i min(1, v_i / tau) = keep, v_i = w_i c_i: the entries above tau are kept
+    // as they are; the others by a systematic comb over their v / tau (one random offset):
+    // each is kept with probability v_i / tau and then weighs tau / c_i, and the comb keeps
+    // their total within tau of what it was (independent draws would add a variance of
+    // about tau times their total).
+    std::vector<double> v(e.size());
+    for (size_t i = 0; i < e.size(); ++i) v[i] = double(e[i].w) * double(e[i].c);
+    std::sort(v.begin(), v.end(), std::greater<double>());
+    std::vector<double> suffix(v.size() + 1, 0.0);
+    for (size_t i = v.size(); i-- > 0;) suffix[i] = suffix[i + 1] + v[i];
+    double tau = 0;
+    for (size_t m = 0; m < keep; ++m) {
+        tau = suffix[m] / double(keep - m);
+        if (v[m] < tau) break;
+    }
+    double comb = double(sampleDimension(mix64(seed ^ 0x5448494eu /* "THIN" */), round));
+    size_t n = 0;
+    double sum = 0;
+    for (const PoolEntry& x : e) {
+        PoolEntry y = x;
+        const double vx = double(x.w) * double(x.c);
+        if (vx < tau) {
+            comb -= vx / tau;
+            if (comb >= 0) continue;
+            comb += 1;
+            y.w = float(tau / double(x.c));
+        }
+        sum += double(y.w) * double(y.c);
+        e[n++] = y;
+    }
+    e.resize(n);
+    pool.sumWC = sum;
 }
 
 }  // namespace wmlt

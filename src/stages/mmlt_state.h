@@ -1,5 +1,5 @@
-// Structure-of-arrays state of MMLT (Hachisuka et al. 2014): the Markov chains, grouped by
-// path length, and one batch of chains in flight.
+// Structure-of-arrays state of MMLT (Hachisuka et al. 2014): the sample pools, the Markov
+// chains of one pass, grouped by path length, and one batch of chains in flight.
 //
 // A chain of length k carries a primary sample vector u of StrategyLayout::size(k)
 // coordinates (bpt_state.h: u[0] picks the strategy, then the camera, light and connection
@@ -12,17 +12,49 @@
 #include <vector>
 
 #include "stages/bpt_state.h"
+#include "wavemmlt/render.h"
 
 namespace wmlt {
 
-// The chains of one path length k.
+// A sample of u kept in a pool: its key (u_d = poolCoordinate(key, d)), its target c > 0
+// and its weight w (1, or 1 / the probability it survived the pool's thinning).
+struct PoolEntry {
+    uint64_t key;
+    float c, w;
+};
+
+// Independent uniform samples of u of one length k (mmlt.md, "Many chains"; the design in
+// docs/mmlt-chains.md): every sample drawn for it so far (the bootstrap, each pass's fresh
+// samples and every large-step proposal) counts in `count`; those with c > 0 are kept,
+// each with a weight, so that sum_i w_i h(x_i) is an unbiased estimate of count E[h] for
+// any h. b = E[c] is estimated by sumWC / count, and chains start at entries chosen in
+// proportion to w c: together an unbiased start (importance resampling). When the entries
+// outgrow their capacity, thinPool keeps each with a probability and divides its weight by
+// it (Russian roulette: the sums stay unbiased), so the memory stays bounded.
+struct SamplePool {
+    std::vector<PoolEntry> lit;
+    double sumWC = 0;      // sum over lit of w c
+    uint64_t count = 0;    // samples drawn
+    double mean() const { return count ? sumWC / double(count) : 0.0; }
+    void add(const SamplePool& o) {
+        lit.insert(lit.end(), o.lit.begin(), o.lit.end());
+        sumWC += o.sumWC;
+        count += o.count;
+    }
+    void clear() {
+        lit.clear();
+        sumWC = 0;
+        count = 0;
+    }
+};
+
+// The chains of one path length k in the current pass.
 struct ChainGroup {
     int k = 0;
     uint32_t count = 0;               // chains of this length
     uint32_t first = 0;               // global index of its first chain
     uint32_t dims = 0;                // StrategyLayout::size(k)
-    uint32_t steps = 1;               // proposals per chain per iteration
-    double b = 0;                     // bootstrap estimate of b_k = E[c]
+    float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
     std::vector<float> value;         // [coordinate * count + chain]
     std::vector<uint32_t> lastModified;
     // Per chain.
@@ -31,17 +63,45 @@ struct ChainGroup {
     std::vector<Vec3> F;              // current state: contribution (k + 1) L_w
     std::vector<float> c;             // current state: luminance of F (the target)
     std::vector<uint32_t> pixel;      // current state: where F lands
+    std::vector<uint64_t> seed;       // the pool entry the chain started from (its key)
+
+    void resize(uint32_t n) {
+        count = n;
+        value.assign(size_t(dims) * n, 0.0f);
+        lastModified.assign(value.size(), 0);
+        accepted.assign(n, 0);
+        lastLarge.assign(n, 0);
+        F.assign(n, Vec3(0.0f));
+        c.assign(n, 0.0f);
+        pixel.assign(n, 0);
+        seed.assign(n, 0);
+    }
 };
 
-// Counters of one batch (merged in batch order).
+// Chains [c0, c0 + n) of group `group`, in slots [slot0, slot0 + n) of a batch.
+struct BatchSlice {
+    int group;
+    uint32_t c0, n, slot0;
+};
+
+// Counters of one batch, per path length (merged in batch order).
 struct MmltCounters {
-    uint64_t proposed[2] = {0, 0}, accepted[2] = {0, 0};  // [0]: small steps, [1]: large
+    uint64_t proposed[2][kMaxPathLength + 1] = {}, accepted[2][kMaxPathLength + 1] = {};  // [0]: small, [1]: large
     uint64_t nonfinite = 0;
-    double largeSum = 0;  // sum of c over large-step proposals: independent samples of b_k
+    void add(const MmltCounters& o) {
+        for (int s = 0; s < 2; ++s)
+            for (int k = 0; k <= kMaxPathLength; ++k) {
+                proposed[s][k] += o.proposed[s][k];
+                accepted[s][k] += o.accepted[s][k];
+            }
+        nonfinite += o.nonfinite;
+    }
 };
 
-// A batch of chains of one length group in flight: their proposals (rows of u, as
-// StoredSamples reads them), the BPT stages' state, and the splats of a round.
+// A batch of chains in flight: slices of several lengths side by side (a batch holds a
+// share of every length's chains, so that batches cost about the same), their proposals
+// (rows of u, as StoredSamples reads them), the BPT stages' state, and what a round
+// produces: splats, the large steps for the next pass's pools, counters.
 struct MmltBatch {
     BptBatch bpt;
     uint32_t stride = 0;              // row length: StrategyLayout::size(maxLength)
@@ -50,7 +110,10 @@ struct MmltBatch {
     std::vector<uint8_t> large;       // the slot's proposal is a large step
     std::vector<uint8_t> accept;      // the slot's proposal was accepted
     std::vector<uint8_t> used[3];     // numbers the proposal reads from each stream
+    std::vector<BatchSlice> slices;
     std::vector<Splat> splats;        // expected-value splats of the round, in order
+    std::vector<uint8_t> splatLength; // the path length of each splat
+    std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;
 
     void reserve(size_t n, int maxLength) {
@@ -62,6 +125,7 @@ struct MmltBatch {
         large.resize(n);
         accept.resize(n);
         for (auto& v : used) v.resize(n);
+        pools.resize(size_t(maxLength) + 1);
     }
     StoredSamples samples() const { return StoredSamples{u.data(), stride, bpt.pathLength.data()}; }
 };
