@@ -16,9 +16,10 @@
 //   --ref-spp N               reference samples per pixel (BPT) [per scene, see kRefSpp]
 //   --cache DIR               reference cache [<folder of this executable>/bench-cache]
 //   --csv PATH                CSV output [bench-error.csv]
-//   --chains N, --bootstrap N, --p-large X, --mis-beta X   passed to RenderOptions (MMLT, BPT)
+//   --chains N, --bootstrap N, --pass-length N, --p-large X, --mis-beta X   passed to
+//                             RenderOptions (MMLT, BPT)
 //   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
-//                             bootstrap, mis-beta, max-length, round-spp; "a,b,...,z" fills in
+//                             bootstrap, pass-length, mis-beta, max-length, round-spp; "a,b,...,z" fills in
 //                             the arithmetic progression (max-length=3,5,...,15)
 //
 // The reference: a BPT render of ref-spp samples per pixel at the same size and
@@ -80,7 +81,7 @@ struct Options {
     int threads = 0;
     int refSpp = 0;  // 0: kRefSpp
     std::string cacheDir, csv = "bench-error.csv";
-    int chains = 0, bootstrap = -1;  // chains 0 / bootstrap -1: RenderOptions' defaults
+    int chains = 0, bootstrap = -1, passLength = 0;  // 0 / -1: RenderOptions' defaults
     double probLarge = -1, misBeta = -1;  // < 0: the scene's / RenderOptions' default
     std::string sweepName;
     std::vector<std::string> sweepValues;
@@ -151,6 +152,7 @@ Options parseArgs(int argc, char** argv) {
         else if (a == "--csv") o.csv = value();
         else if (a == "--chains") o.chains = int(toNumber(value(), "--chains"));
         else if (a == "--bootstrap") o.bootstrap = int(toNumber(value(), "--bootstrap"));
+        else if (a == "--pass-length") o.passLength = int(toNumber(value(), "--pass-length"));
         else if (a == "--p-large") o.probLarge = toNumber(value(), "--p-large");
         else if (a == "--mis-beta") o.misBeta = toNumber(value(), "--mis-beta");
         else if (a == "--sweep") {
@@ -159,7 +161,7 @@ Options parseArgs(int argc, char** argv) {
             if (eq == std::string::npos) usage("--sweep wants NAME=V1,V2,...");
             o.sweepName = v.substr(0, eq);
             o.sweepValues = expandProgression(splitList(v.substr(eq + 1)));
-            static const char* names[] = {"p-large", "chains", "bootstrap", "mis-beta", "max-length", "round-spp"};
+            static const char* names[] = {"p-large", "chains", "bootstrap", "pass-length", "mis-beta", "max-length", "round-spp"};
             bool known = false;
             for (const char* n : names) known |= o.sweepName == n;
             if (!known) usage("unknown --sweep parameter '" + o.sweepName + "'");
@@ -184,7 +186,7 @@ bool parseTracer(const std::string& name, TracerKind& t) {
 // What one run varies: the sweep's parameter (or none) applied to the defaults.
 struct Variant {
     std::string label = "-";  // the CSV's param column
-    int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1;
+    int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1, passLength = 0;
     double probLarge = -1, misBeta = -1;
 };
 
@@ -194,6 +196,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
     base.roundSpp = o.roundSpp;
     base.chains = o.chains;
     base.bootstrap = o.bootstrap;
+    base.passLength = o.passLength;
     base.probLarge = o.probLarge;
     base.misBeta = o.misBeta;
     if (o.sweepName.empty()) return {base};
@@ -205,6 +208,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
         if (o.sweepName == "p-large") x.probLarge = d;
         else if (o.sweepName == "chains") x.chains = int(d);
         else if (o.sweepName == "bootstrap") x.bootstrap = int(d);
+        else if (o.sweepName == "pass-length") x.passLength = int(d);
         else if (o.sweepName == "mis-beta") x.misBeta = d;
         else if (o.sweepName == "max-length") x.maxLength = int(d);
         else if (o.sweepName == "round-spp") x.roundSpp = int(d);
@@ -224,6 +228,7 @@ RenderOptions makeOptions(const SceneDesc& desc, TracerKind tracer, const Varian
     opt.probLarge = float(v.probLarge >= 0 ? v.probLarge : desc.settings.probLarge);
     if (v.chains > 0) opt.chains = v.chains;
     if (v.bootstrap >= 0) opt.bootstrap = v.bootstrap;
+    if (v.passLength > 0) opt.passLength = v.passLength;
     if (v.misBeta >= 0) opt.misBeta = float(v.misBeta);
     return opt;
 }

@@ -396,6 +396,24 @@ TEST_CASE("MMLT command line: no light reaching the camera exits with status 2 a
     std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("MMLT: the image at MaxPathLength 64 is the sum of its lengths' images", "[mmlt]") {
+    // One film serves every length; with RenderOptions::lengthImages each length's splats
+    // also go to a film of their own. renderMmlt checks that those images add up to the
+    // image pixel by pixel (to float rounding), and that the image's mean luminance is
+    // sum_k b_k; here each length's image also carries its own b_k.
+    RenderOptions o = mmltOptions(16, 5, 1, 64, 1024, 1024);
+    o.lengthImages = true;
+    const RenderResult r = renderMmlt(cornell(16, 64), o);
+    REQUIRE(r.lengthImages.size() == 65);
+    int lit = 0;
+    for (int k = 1; k <= 64; ++k) {
+        INFO("k = " << k);
+        CHECK(meanLuminance(r.lengthImages[size_t(k)]) == Approx(r.stats.mmlt.b[size_t(k)]).epsilon(1e-4).margin(1e-12));
+        lit += r.stats.mmlt.b[size_t(k)] > 0;
+    }
+    CHECK(lit >= 40);  // the Cornell box's light reaches most lengths
+}
+
 // ---- 5. replay ------------------------------------------------------------------------------
 
 TEST_CASE("MMLT: every seeded chain replays its pool sample bit for bit", "[mmlt]") {

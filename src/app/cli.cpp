@@ -52,6 +52,8 @@ std::string usageText() {
         "                           MMLT: mutations per pixel\n"
         "  --chains N               MMLT: Markov chains in flight (default 65536)\n"
         "  --bootstrap N            MMLT: bootstrap samples per path length (default: automatic)\n"
+        "  --pass-length N          MMLT: iterations of every chain between restarts from the\n"
+        "                           sample pools (default: automatic, about 8 passes a render)\n"
         "  --p-large P              MMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
         "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
         "                           and _unweighted.exr (the folder is created)\n"
@@ -95,6 +97,7 @@ CommandLine parseCommandLine(int argc, char** argv) {
         // Any count is accepted here; main() refuses one that would not fit in memory.
         else if (a == "--chains") cl.chains = parseInt(a, value(), 1, 1000000000000000LL);
         else if (a == "--bootstrap") cl.bootstrap = int(parseInt(a, value(), 1, 1 << 30));
+        else if (a == "--pass-length") cl.passLength = int(parseInt(a, value(), 1, 1 << 30));
         else if (a == "--p-large") {
             cl.probLarge = float(parseReal(a, value(), 0, 1));
             if (!(*cl.probLarge > 0)) fail("--p-large: must be greater than 0");

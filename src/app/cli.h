@@ -16,6 +16,7 @@ struct CommandLine {
     std::optional<float> misBeta;  // BPT's power-heuristic exponent
     std::optional<long long> chains;       // MMLT; checked against memory in main()
     std::optional<int> bootstrap;          // MMLT
+    std::optional<int> passLength;         // MMLT
     std::optional<float> probLarge;        // MMLT
     std::string strategyImages;            // BPT: folder for per-strategy EXRs
     uint64_t seed = 0;

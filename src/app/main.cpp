@@ -16,6 +16,7 @@
 #include "app/cli.h"
 #include "app/progress.h"
 #include "scene/features.h"
+#include "stages/memory.h"
 #include "stages/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
@@ -56,23 +57,14 @@ void checkOutputPath(const std::string& path, bool image) {
 // limit is the one renderMmlt applies to the chains it actually runs: 3/4 of the
 // machine's physical memory.
 void checkChainMemory(long long chains, const wmlt::Settings& s) {
-    const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-    const double mem = pages > 0 && pageSize > 0 ? double(pages) * double(pageSize) : 0;
+    const double mem = wmlt::physicalMemoryBytes();
     const uint64_t perChain = wmlt::mmltChainBytes(s.maxPathLength);
     const double bytes = double(chains) * double(perChain);
-    auto size = [](double b) {
-        const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
-        int u = 0;
-        while (b >= 1024 && u < 6) { b /= 1024; ++u; }
-        char buf[64];
-        std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
-        return std::string(buf);
-    };
     if (mem > 0 && bytes > 0.75 * mem)
-        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + size(bytes) +
+        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + wmlt::bytesText(bytes) +
                                " of chain state (" + std::to_string(perChain) + " bytes per chain at MaxPathLength " +
-                               std::to_string(s.maxPathLength) + "), more than 3/4 of this machine's " + size(mem) +
-                               " of memory");
+                               std::to_string(s.maxPathLength) + "), more than 3/4 of this machine's " +
+                               wmlt::bytesText(mem) + " of memory");
     if (chains > std::numeric_limits<int>::max())
         throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " is more than the " +
                                std::to_string(std::numeric_limits<int>::max()) + " chains wavemmlt can run");
@@ -195,6 +187,7 @@ int run(int argc, char** argv) {
     opt.threads = s.threads;
     opt.seed = cl.seed;
     if (cl.misBeta) opt.misBeta = *cl.misBeta;
+    if (cl.passLength) opt.passLength = *cl.passLength;
     if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
     if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
     opt.probLarge = s.probLarge;

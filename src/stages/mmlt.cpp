@@ -23,8 +23,6 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -32,6 +30,7 @@
 #include <unordered_set>
 
 #include "stages/film.h"
+#include "stages/memory.h"
 #include "stages/mmlt_stages.h"
 #include "stages/passes.h"
 #include "wavemmlt/error.h"
@@ -44,13 +43,6 @@ constexpr uint32_t kBatchChains = 256;      // chains per batch: the tasks of a 
 constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB) and a round's time
 
 using Clock = std::chrono::steady_clock;
-
-double physicalMemory() {
-    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
-    return pages > 0 && size > 0 ? double(pages) * double(size) : 0;
-}
-
-std::string mib(double bytes) { return std::to_string(uint64_t(bytes / (1 << 20))) + " MiB"; }
 
 // One pool-tracing task: samples [i0, i0 + n) of length k.
 struct PoolTask {
@@ -143,10 +135,10 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     // (every chain at MaxPathLength), the films, a round's splats.
     const double chainBytes = double(chains_) * double(mmltChainBytes(kMax_));
     const double filmBytes = 24.0 * pixels_ * double(1 + lengthFilms_.size());
-    const double mem = physicalMemory();
+    const double mem = physicalMemoryBytes();
     if (mem > 0 && chainBytes + filmBytes > 0.75 * mem)
-        throw InputError("MMLT would need " + mib(chainBytes) + " of chain state and " + mib(filmBytes) +
-                         " of films, more than 3/4 of this machine's " + mib(mem));
+        throw InputError("MMLT would need " + bytesText(chainBytes) + " of chain state and " + bytesText(filmBytes) +
+                         " of films, more than 3/4 of this machine's " + bytesText(mem));
 }
 
 // Fresh samples [0, perLength) of every length (pass pass_) into the pools, in parallel
@@ -393,14 +385,17 @@ RenderResult MmltRender::run() {
         throw InputError("no light reaches the camera: the bootstrap's " + std::to_string(stats_.bootstrapSamples) +
                          " samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
                          " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
-    // Iterations per pass: about 8 passes in a render, 16 to 1024 iterations each.
+    // Iterations per pass: about 8 passes in a render, 32 to 1024 iterations each (each
+    // pass replays its C seeds: 1 / passLength of the render at most).
     if (timed()) {
         const double left = std::max(0.0, opt_.timeBudget - elapsed());
         target_ = uint64_t(left / std::max(sampleSeconds_, 1e-12) / double(chains_));
     }
     passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength)
-                                      : uint32_t(std::clamp(double(target_) / 8.0, 16.0, 1024.0));
-    const uint32_t fresh = std::max<uint32_t>(64, (chains_ + uint32_t(nLengths) - 1) / uint32_t(nLengths));
+                                      : uint32_t(std::clamp(double(target_) / 8.0, 32.0, 1024.0));
+    // Fresh samples per length and pass (the large steps feed the pools too; the fresh ones
+    // keep probing every length, with chains or not): C / 8 in all, at least 64 per length.
+    const uint32_t fresh = std::max<uint32_t>(64, chains_ / (8 * uint32_t(nLengths)));
     while (true) {
         if (pass_ > 0) {
             if (stopRequested() || (!timed() && iteration_ >= target_)) break;

@@ -4,6 +4,8 @@
 
 #include "stages/bidirectional.h"
 #include "stages/light_tracer.h"
+#include "stages/memory.h"
+#include "stages/strategy_films.h"
 #include "stages/mmlt.h"
 #include "stages/path_tracer.h"
 #include "wavemmlt/error.h"
@@ -18,11 +20,46 @@ int strataForSpp(int spp) {
     return n;
 }
 
+namespace {
+
+// The films a tracer keeps, in bytes (MMLT adds its chain state: mmlt.cpp checks it).
+std::vector<std::pair<std::string, uint64_t>> filmBuffers(const RenderOptions& opt, int w, int h) {
+    const uint64_t px = uint64_t(w) * uint64_t(h), image = 12 * px;
+    const uint64_t film = 24 * px + 4 * px, splats = 24 * px;  // Film (sums, counts), SplatFilm
+    switch (opt.tracer) {
+        case TracerKind::PT: return {{"film", film}, {"image", image}};
+        case TracerKind::LT: return {{"splat film", splats}, {"image", image}};
+        case TracerKind::BPT: {
+            std::vector<std::pair<std::string, uint64_t>> b = {{"film", film}, {"splat film", splats}, {"image", image}};
+            if (!opt.strategyImages.empty() || opt.lengthImages)
+                b.push_back({"strategy films", StrategyFilms::bytes(w, h, opt.maxPathLength)});
+            return b;
+        }
+        case TracerKind::MMLT:
+            return {{"film", splats}, {"length films", opt.lengthImages ? splats * uint64_t(opt.maxPathLength) : 0},
+                    {"image", image}};
+    }
+    return {};
+}
+
+}  // namespace
+
 RenderResult render(SceneDesc desc, const RenderOptions& opt) {
     if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT)
         throw InputError("strategy images need the BPT tracer");
     if (opt.tracer == TracerKind::MMLT && !(opt.probLarge > 0 && opt.probLarge <= 1))
         throw InputError("ProbLarge must be in (0, 1]");
+    if (opt.lengthImages && (opt.tracer == TracerKind::PT || opt.tracer == TracerKind::LT))
+        throw InputError("length images need the BPT or MMLT tracer");
+    // Films that would not fit are refused before the scene is built (with the figure).
+    const auto buffers = filmBuffers(opt, desc.settings.width, desc.settings.height);
+    double bytes = 0;
+    for (const auto& b : buffers) bytes += double(b.second);
+    const double mem = physicalMemoryBytes();
+    if (mem > 0 && bytes > 0.75 * mem)
+        throw InputError("a " + std::to_string(desc.settings.width) + " x " + std::to_string(desc.settings.height) +
+                         " render needs " + bytesText(bytes) + " of films, more than 3/4 of this machine's " +
+                         bytesText(mem));
     int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
@@ -31,6 +68,7 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
                      : opt.tracer == TracerKind::BPT ? renderBidirectional(*scene, opt)
                                                      : renderPathTracing(*scene, opt);
     r.stats.threads = threads;
+    if (r.stats.buffers.empty()) r.stats.buffers = buffers;
     return r;
 }
 
