@@ -26,6 +26,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <unordered_set>
 
@@ -312,8 +313,10 @@ void MmltRender::runRounds(uint64_t passEnd) {
     std::vector<TaskOutput> outputs(plan_.size());
     const uint32_t perRound = uint32_t(std::clamp(kProposalsPerRound / chains_, 1.0, 4096.0));
     while (iteration_ < passEnd) {
-        if (stopRequested()) { stopped_ = true; return; }
-        uint32_t r = uint32_t(std::min<uint64_t>(perRound, passEnd - iteration_));
+        // Ctrl-C ends the render after this round; but the first round always runs, so that a
+        // render stopped during its bootstrap still has an image.
+        if (stopRequested() && iteration_ > 0) { stopped_ = true; return; }
+        uint32_t r = uint32_t(std::min<uint64_t>(stopRequested() ? 1 : perRound, passEnd - iteration_));
         if (timed()) {  // a time budget: the last rounds shrink so as to end on time
             const double left = opt_.timeBudget - elapsed();
             if (left <= 0.5 * perIteration_ && iteration_ > 0) { stopped_ = true; return; }
@@ -396,10 +399,21 @@ RenderResult MmltRender::run() {
     // Fresh samples per length and pass (the large steps feed the pools too; the fresh ones
     // keep probing every length, with chains or not): C / 8 in all, at least 64 per length.
     const uint32_t fresh = std::max<uint32_t>(64, chains_ / (8 * uint32_t(nLengths)));
+    double restartSeconds = 0;  // the last pass's start: pool, allocation, seeding and replay
     while (true) {
+        const double passStart = elapsed();
         if (pass_ > 0) {
             if (stopRequested() || (!timed() && iteration_ >= target_)) break;
-            if (timed() && opt_.timeBudget - elapsed() <= 0.5 * perIteration_) break;
+            if (timed()) {
+                const double left = opt_.timeBudget - elapsed();
+                if (left <= 0.5 * perIteration_) break;
+                // Too little time left for a restart to pay: the chains go on (a pass may be
+                // any length: it stays unbiased).
+                if (left < 2 * restartSeconds + perIteration_) {
+                    runRounds(std::numeric_limits<uint64_t>::max());
+                    break;
+                }
+            }
             tracePool(fresh, false);
             for (int k = kMin_; k <= kMax_; ++k) {
                 pools_[size_t(k)].add(next_[size_t(k)]);
@@ -416,6 +430,7 @@ RenderResult MmltRender::run() {
         for (const SamplePool& p : pools_) entries += p.lit.size();
         poolEntries_ = std::max(poolEntries_, entries);
         seedChains();
+        restartSeconds = elapsed() - passStart;
         ++stats_.passes;
         const uint64_t end = timed() ? iteration_ + passLength_ : std::min<uint64_t>(target_, iteration_ + passLength_);
         runRounds(end);
