@@ -34,6 +34,7 @@
 #include "stages/film.h"
 #include "stages/mmlt_stages.h"
 #include "stages/passes.h"
+#include "stages/preview.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
@@ -98,7 +99,8 @@ uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 
 RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    double paused = 0;  // seconds a viewer held the render between rounds
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count() - paused; };
     const int kMin = std::max(1, opt.minPathLength), kMax = opt.maxPathLength;
     const int nLengths = kMax - kMin + 1;
     const double pixels = double(scene.camera.width) * double(scene.camera.height);
@@ -257,6 +259,20 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
         films.emplace_back(groups[size_t(k)].count ? scene.camera.width : 0, groups[size_t(k)].count ? scene.camera.height : 0);
     std::vector<TaskOutput> outputs(tasks.size());
     uint64_t iteration = 0;
+    // 5. The image of the rounds so far: I = sum_k I_k, each length's film times
+    // b_k N_pixels / proposals per chain (b_k from the bootstrap and the large steps so far).
+    auto imageOfRounds = [&] {
+        Image image(scene.camera.width, scene.camera.height);
+        std::vector<double> sum(image.rgb.size(), 0.0);
+        for (int k = kMin; k <= kMax; ++k) {
+            if (!groups[size_t(k)].count || iteration == 0) continue;
+            const double b = cSum[size_t(k)] / double(cCount[size_t(k)]);
+            const double norm = b * pixels / double(iteration * groups[size_t(k)].steps);
+            for (size_t i = 0; i < sum.size(); ++i) sum[i] += films[size_t(k)].sum[i] * norm;
+        }
+        for (size_t i = 0; i < sum.size(); ++i) image.rgb[i] = float(sum[i]);
+        return image;
+    };
     bool stopped = false;
     double perIteration = 0;  // seconds per proposal of every chain, measured
     const bool timed = opt.timeBudget > 0;
@@ -300,11 +316,15 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
         }
         iteration += r;
         perIteration = (elapsed() - roundStart) / r;
-        if (opt.progress)
-            opt.progress(timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(iteration) / double(target));
+        const double fraction = timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(iteration) / double(target);
+        if (opt.progress) opt.progress(fraction);
+        paused += offerSnapshot(opt, [&] {
+            const double mutations = double(iteration) * perIterationProposals;
+            return Snapshot{imageOfRounds(), fraction, elapsed(), uint64_t(mutations / pixels), raysSoFar(rays)};
+        });
     }
 
-    // 5. The image.
+    // 5. The image (imageOfRounds) and the statistics.
     PassResult pr;
     pr.seconds = elapsed();
     pr.completedSpp = uint32_t(double(iteration) * perIterationProposals / pixels);
@@ -317,16 +337,8 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     res.stats.mmlt.proposalsPerChain.assign(size_t(kMax + 1), 0);
     for (const ChainGroup& g : groups) res.stats.mmlt.proposalsPerChain[size_t(g.k)] = g.count ? iteration * g.steps : 0;
     res.stats.samplesNonfiniteDiscarded = discarded;
-    res.image = Image(scene.camera.width, scene.camera.height);
-    std::vector<double> sum(res.image.rgb.size(), 0.0);
-    for (int k = kMin; k <= kMax; ++k) {
-        const double b = cSum[size_t(k)] / double(cCount[size_t(k)]);
-        res.stats.mmlt.b[size_t(k)] = b;
-        if (!groups[size_t(k)].count || iteration == 0) continue;
-        const double norm = b * pixels / double(iteration * groups[size_t(k)].steps);
-        for (size_t i = 0; i < sum.size(); ++i) sum[i] += films[size_t(k)].sum[i] * norm;
-    }
-    for (size_t i = 0; i < sum.size(); ++i) res.image.rgb[i] = float(sum[i]);
+    res.image = imageOfRounds();
+    for (int k = kMin; k <= kMax; ++k) res.stats.mmlt.b[size_t(k)] = cSum[size_t(k)] / double(cCount[size_t(k)]);
     res.stats.lengthMeanLuminance = res.stats.mmlt.b;
     return res;
 }
