@@ -28,7 +28,6 @@ constexpr milliseconds kFrameInterval{250};   // frames asked of the render
 constexpr milliseconds kRetryInterval{1000};  // between connection attempts
 constexpr milliseconds kConnectTimeout{1000};
 constexpr milliseconds kFrameTimeout{3000};   // to send one frame; then the connection is dropped
-constexpr milliseconds kFinalGrace{2000};     // after the render, to send its final frame
 constexpr int kTile = 128;                    // tile side, as pbrt-v4 sends
 
 struct Address {
@@ -170,11 +169,13 @@ bool TevSender::Thread::sendFrame(const Image& image) {
 void TevSender::Thread::run() {
     uint64_t sentVersion = 0;
     auto nextAttempt = Clock::now();
-    Clock::time_point giveUp{};
+    int finalAttempts = 0;  // after the render: two tries at the final frame, without waiting
     while (!stop) {
         const ViewHub::Frame newest = hub.latest();
-        if (newest.final && giveUp == Clock::time_point{}) giveUp = Clock::now() + kFinalGrace;
-        if (newest.final && (newest.version == sentVersion || Clock::now() >= giveUp)) break;
+        if (newest.final) {
+            if (newest.version == sentVersion || finalAttempts++ == 2) break;
+            nextAttempt = Clock::now();
+        }
         if (fd < 0) {
             if (Clock::now() < nextAttempt) {
                 std::this_thread::sleep_for(milliseconds(50));

@@ -20,8 +20,8 @@ public:
     // is sent until the thread connects.
     TevSender(ViewHub& hub, const std::string& host, const std::string& port, std::string imageName, bool quiet);
     ~TevSender();  // stops the thread (it does not wait for the final frame)
-    // After hub.finish(): returns once the final frame is sent, or given up on (within a
-    // few seconds when the server is gone or stalled).
+    // After hub.finish(): returns once the final frame is sent, or given up on after two
+    // tries (at once when nothing listens; within seconds when the server is stalled).
     void waitFinalSent();
 
 private:
