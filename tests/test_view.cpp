@@ -25,6 +25,8 @@ const std::string kBin = WAVEMMLT_BIN;
 constexpr double kLimit = 60;  // seconds any child may run
 
 // An X server of its own: Xvfb -displayfd writes the free display number it took.
+// -noreset: by default the server resets when its last client leaves, and a client that
+// connects meanwhile (wavemmlt, just after an xdotool) is refused.
 struct VirtualDisplay {
     child::Process server;
     std::string name;  // ":N"
@@ -33,7 +35,7 @@ struct VirtualDisplay {
         int fds[2];
         if (pipe(fds) != 0) return;
         server = child::spawn({"Xvfb", "-displayfd", std::to_string(fds[1]), "-screen", "0", "640x480x24",
-                               "-nolisten", "tcp"});
+                               "-nolisten", "tcp", "-noreset"});
         close(fds[1]);
         std::string number;
         pollfd p{fds[0], POLLIN, 0};
@@ -101,7 +103,7 @@ struct ViewRun {
         process = child::spawn(args, display.env(), dir + "/out.txt", dir + "/err.txt");
         // The window: within a few seconds of the start, whatever the render does.
         while (window.empty() && process.running() && since(start) < 10) {
-            const std::string ids = xdotool({"search", "--name", "^wavemmlt "});
+            const std::string ids = xdotool({"search", "--onlyvisible", "--name", "^wavemmlt "});
             window = ids.substr(0, ids.find('\n'));
             if (window.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }
@@ -123,7 +125,9 @@ struct ViewRun {
         }
         return false;
     }
-    void key(const std::string& k) const { xdotool({"key", "--window", window, k}); }
+    // A real key press (XTEST) into the focused window: events sent to a window
+    // (xdotool key --window) are synthetic, and SDL may drop them.
+    void key(const std::string& k) const { xdotool({"windowfocus", "--sync", window, "key", k}); }
     Screenshot screenshot() const {
         const std::string path = dir + "/window.xwd";
         child::output({"xwd", "-id", window, "-silent", "-out", path}, display.env());
@@ -159,8 +163,8 @@ TEST_CASE("view: the window shows the PNG the render wrote, pixel for pixel, for
         INFO(tracer);
         const std::string png = dir + "/" + tracer + ".png", exr = dir + "/" + tracer + ".exr";
         ViewRun run(x, dir, {"--tracer", tracer, "--width", "64", "--height", "48", "--spp", "16", "-o", png, "-o", exr});
-        REQUIRE_FALSE(run.window.empty());
         INFO("stderr: " << run.err());
+        REQUIRE_FALSE(run.window.empty());
         REQUIRE(run.waitTitle(": done", kLimit));
         INFO("title: " << run.title());
         // The outputs are written before the final frame is shown, and the window stays open.
@@ -198,8 +202,8 @@ TEST_CASE("view: q and Esc stop a running render as Ctrl-C does: status 130, the
         INFO(tracer << ", key " << key);
         const std::string out = dir + "/" + tracer + ".exr";
         ViewRun run(x, dir, {"--tracer", tracer, "--width", "64", "--height", "48", "--time", "60", "-o", out});
-        REQUIRE_FALSE(run.window.empty());
         INFO("stderr: " << run.err());
+        REQUIRE_FALSE(run.window.empty());
         REQUIRE(run.waitTitle("Mrays/s", 20));  // a frame of the render is shown
         CHECK(run.title().find("done") == std::string::npos);
         const auto t0 = Clock::now();
@@ -220,8 +224,8 @@ TEST_CASE("view: p pauses the render outside its time budget, s saves the image 
     const std::string dir = rstats::tempDir("view-pause");
     const std::string out = dir + "/paused.exr", stats = dir + "/stats.json";
     ViewRun run(x, dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--time", "1.5", "-o", out, "--stats", stats});
-    REQUIRE_FALSE(run.window.empty());
     INFO("stderr: " << run.err());
+    REQUIRE_FALSE(run.window.empty());
     REQUIRE(run.waitTitle("Mrays/s", 20));
     run.key("p");
     REQUIRE(run.waitTitle("paused", 5));

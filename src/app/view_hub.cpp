@@ -2,6 +2,25 @@
 
 namespace wmlt {
 
+namespace {
+constexpr double kMaxShareOfRenderTime = 0.05;  // making snapshots
+}
+
+bool ViewHub::wantsFrame() const {
+    if (!frameWanted_.load(std::memory_order_relaxed)) return false;
+    const Clock::time_point now = Clock::now();
+    if (now < notBefore_) return false;
+    askedAt_ = now;
+    return true;
+}
+
+void ViewHub::publish(Snapshot snapshot) {
+    // What this snapshot cost the render, and the wait that keeps that a small share.
+    const Clock::time_point now = Clock::now();
+    notBefore_ = now + (now - askedAt_) * int(1 / kMaxShareOfRenderTime - 1);
+    store(std::move(snapshot), false);
+}
+
 void ViewHub::store(Snapshot snapshot, bool final) {
     auto shared = std::make_shared<const Snapshot>(std::move(snapshot));
     {

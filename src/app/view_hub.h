@@ -2,8 +2,11 @@
 // render publishes a snapshot at a pass or round boundary when a viewer has asked for a
 // frame; viewers ask about four times a second and read the newest snapshot. The render
 // never waits on a viewer: it takes the lock only to swap a pointer, and only the newest
-// snapshot is kept (a viewer that falls behind skips frames). After the render, main()
-// publishes the final image as written (finish()), so the last frame equals the file.
+// snapshot is kept (a viewer that falls behind skips frames). Making a snapshot costs the
+// render time (it runs on the render's thread), so frames are asked for at most as often as
+// keeps that cost under 5% of the render's time (a large image is shown less often).
+// After the render, main() publishes the final image as written (finish()), so the last
+// frame equals the file.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -28,8 +31,8 @@ public:
     explicit ViewHub(std::atomic<bool>* cancel) : cancel_(cancel) {}
 
     // RenderView: the render's thread.
-    bool wantsFrame() const override { return frameWanted_.load(std::memory_order_relaxed); }
-    void publish(Snapshot snapshot) override { store(std::move(snapshot), false); }
+    bool wantsFrame() const override;
+    void publish(Snapshot snapshot) override;
     double waitWhilePaused() override;
 
     // The viewers' side.
@@ -52,7 +55,11 @@ public:
 private:
     void store(Snapshot snapshot, bool final);
 
+    using Clock = std::chrono::steady_clock;
     std::atomic<bool>* cancel_;
+    // wantsFrame() said yes at askedAt_; no frame is made before notBefore_.
+    mutable Clock::time_point askedAt_;
+    Clock::time_point notBefore_;
     std::atomic<bool> frameWanted_{false}, paused_{false};
     std::atomic<double> progress_{0};
     mutable std::mutex mutex_;

@@ -90,11 +90,15 @@ bool ViewWindow::Thread::open() {
         w = std::max(1, int(w * s));
         h = std::max(1, int(h * s));
     }
-    title = titleText();
-    window = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h, SDL_WINDOW_RESIZABLE);
+    // Hidden and untitled until the renderer exists: SDL may replace the X window then (for
+    // OpenGL), and whoever looks for the window by its title must find the one that stays.
+    window = SDL_CreateWindow("", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h,
+                              SDL_WINDOW_RESIZABLE | SDL_WINDOW_HIDDEN);
     if (!window) return false;
     renderer = SDL_CreateRenderer(window, -1, 0);
     if (!renderer) return false;
+    updateTitle();
+    SDL_ShowWindow(window);
     SDL_RenderSetLogicalSize(renderer, opt.width, opt.height);
     texture = SDL_CreateTexture(renderer, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, opt.width, opt.height);
     if (!texture) return false;
