@@ -21,6 +21,7 @@ extern char** environ;
 namespace child {
 
 using Clock = std::chrono::steady_clock;
+constexpr double kLimit = 60;  // seconds a test lets any child run before it kills it
 
 inline double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 

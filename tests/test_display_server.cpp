@@ -25,11 +25,11 @@
 namespace fs = std::filesystem;
 using child::Clock;
 using child::since;
+using child::kLimit;
 
 namespace {
 
 const std::string kBin = WAVEMMLT_BIN;
-constexpr double kLimit = 60;  // seconds any child may run
 
 // What tev would hold: the image that CreateImage and UpdateImage packets built.
 struct Received {
