@@ -97,6 +97,7 @@ bool ViewWindow::Thread::open() {
     SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");  // Ctrl-C stays wavemmlt's
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "nearest");
     SDL_SetHint(SDL_HINT_VIDEO_X11_NET_WM_BYPASS_COMPOSITOR, "0");
+    SDL_SetHint(SDL_HINT_VIDEO_ALLOW_SCREENSAVER, "1");  // a long render need not keep the screen on
     // Only the display named by the environment: SDL would otherwise fall back to drivers
     // that show nothing (KMSDRM, offscreen) and the render would run in an unseen window.
     if (!isSet("SDL_VIDEODRIVER"))
