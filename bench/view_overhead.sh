@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # What watching costs: the same render with and without --view (on an Xvfb of its own),
 # and with --display-server to a listener that reads and drops everything, in pairs, for
-# PT and MMLT. Prints the render's own seconds (--stats "seconds": scene building and the
-# window's lifetime left out) per run, then the median ratio per tracer. The goal: within 5%.
+# PT and MMLT. Prints per run the render's own seconds (--stats "seconds": scene building
+# and the window's lifetime left out) and the process's CPU seconds (user + system: less
+# sensitive than wall time to what else the machine runs, but it counts the window's whole
+# life), then the medians per tracer. The goal: within 5%.
 #   RUNS     pairs per tracer (default 3)
 #   SIZE     image size WxH (default 320x240)
 #   SPP      samples per pixel (default 64: a few seconds per render on 2 cores)
-# Needs Xvfb, xdotool and python3 (scripts/setup.sh installs the first two).
+# Needs Xvfb, xdotool (scripts/setup.sh installs both), python3 and /usr/bin/time (package time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=build/wavemmlt
@@ -42,17 +44,17 @@ port=$(cat "$work/port")
 
 seconds() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["seconds"])' "$1"; }
 
-# render TRACER MODE: one render; prints its seconds.
+# render TRACER MODE: one render; prints its seconds and the process's CPU seconds.
 render() {
-  local tracer=$1 mode=$2 stats="$work/stats.json"
+  local tracer=$1 mode=$2 stats="$work/stats.json" cpu="$work/cpu.txt"
   rm -f "$stats"
   local args=(--tracer "$tracer" --width "$width" --height "$height" --spp "$spp" --quiet
               -o "$work/out.exr" --stats "$stats")
   case $mode in
-    alone) nice -n 19 "$bin" "${args[@]}" ;;
-    display) nice -n 19 "$bin" "${args[@]}" --display-server "127.0.0.1:$port" ;;
+    alone) nice -n 19 /usr/bin/time -o "$cpu" -f "%U %S" "$bin" "${args[@]}" ;;
+    display) nice -n 19 /usr/bin/time -o "$cpu" -f "%U %S" "$bin" "${args[@]}" --display-server "127.0.0.1:$port" ;;
     view)
-      nice -n 19 "$bin" "${args[@]}" --view &
+      nice -n 19 /usr/bin/time -o "$cpu" -f "%U %S" "$bin" "${args[@]}" --view &
       local pid=$!
       # The window stays open on the final image: close it once the render is done.
       local id
@@ -60,11 +62,11 @@ render() {
       xdotool windowfocus --sync "$id" key q 2>/dev/null || true
       wait "$pid" ;;
   esac
-  seconds "$stats"
+  echo "$(seconds "$stats"),$(awk '{print $1 + $2}' "$cpu")"
 }
 
 {
-  echo "tracer,mode,run,seconds"
+  echo "tracer,mode,run,seconds,cpu_seconds"
   for tracer in pt mmlt; do
     for r in $(seq "$runs"); do
       for mode in alone view display; do
@@ -78,9 +80,10 @@ python3 - "$work/runs.csv" <<'EOF'
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 for tracer in sorted({r["tracer"] for r in rows}):
-    t = {m: statistics.median(float(r["seconds"]) for r in rows if r["tracer"] == tracer and r["mode"] == m)
-         for m in ("alone", "view", "display")}
-    for m in ("view", "display"):
-        print(f"{tracer}: --{m if m == 'view' else 'display-server'}: median {t[m]:.3f} s against {t['alone']:.3f} s "
-              f"alone: {100 * (t[m] / t['alone'] - 1):+.1f}%")
+    for col, unit in (("seconds", "render s"), ("cpu_seconds", "CPU s")):
+        t = {m: statistics.median(float(r[col]) for r in rows if r["tracer"] == tracer and r["mode"] == m)
+             for m in ("alone", "view", "display")}
+        for m in ("view", "display"):
+            print(f"{tracer}: --{m if m == 'view' else 'display-server'}: median {t[m]:.3f} {unit} against "
+                  f"{t['alone']:.3f} alone: {100 * (t[m] / t['alone'] - 1):+.1f}%")
 EOF
