@@ -133,7 +133,7 @@ bool TevSender::Thread::sendFrame(const Image& image) {
     if (sent.width != image.width || sent.height != image.height) {
         sent = Image(image.width, image.height);
         TevPacketWriter p(TevPacket::CreateImage);
-        p.putBool(false).putString(imageName).putInt(image.width).putInt(image.height).putInt(3);
+        p.putBool(true).putString(imageName).putInt(image.width).putInt(image.height).putInt(3);  // tev shows it
         for (const char* c : {"R", "G", "B"}) p.putString(c);
         if (!sendAll(p.finish(), deadline)) return false;
     }
