@@ -118,9 +118,9 @@ TEST_CASE("snapshots: a pause does not count against the time budget", "[snapsho
         const RenderResult r = render(rstats::cornell64(5), opt);
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         INFO("wall " << wall << " s, render " << r.stats.seconds << " s");
-        CHECK(r.stats.seconds >= 0.95);
-        CHECK(r.stats.seconds <= 1.05 + 0.1);
-        CHECK(wall >= 1.95);  // the budget and the pause
+        CHECK(r.stats.seconds >= 0.95);  // the whole budget is spent rendering
+        CHECK(r.stats.seconds <= 1.5);   // and the pause is not in it (it would make it 2 s or more)
+        CHECK(wall >= 1.95);             // the budget and the pause
         for (const Snapshot& s : view.snapshots) CHECK(s.seconds <= r.stats.seconds);
     }
 }
