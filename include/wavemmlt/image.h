@@ -37,6 +37,11 @@ void writeImage(const std::string& path, const Image& image, float exposure = 0.
 // True when the extension is one writeImage accepts (.exr, .pfm, .png; case-insensitive).
 bool isWritableImageExtension(const std::string& path);
 
+// What a PNG file holds (and the --view window shows): each channel times 2^exposure,
+// through the sRGB curve, clamped to [0, 1] (NaN as 0), rounded to 8 bits; 3 bytes per
+// pixel, top row first.
+std::vector<unsigned char> toSrgb8(const Image& image, float exposure);
+
 // sRGB transfer functions (IEC 61966-2-1).
 float srgbToLinear(float v);
 float linearToSrgb(float v);

@@ -14,6 +14,31 @@ namespace wmlt {
 
 constexpr int kMaxPathLength = 64;  // the scene format's limit
 
+// The image of the work a render has completed so far, made by the same function that
+// makes its final image, and what the render has done (RenderView).
+struct Snapshot {
+    Image image;
+    double fraction = 0;  // done, in [0, 1] (with a time budget: the budget spent)
+    double seconds = 0;   // render time so far; paused time is left out
+    uint64_t spp = 0;     // samples per pixel so far (MMLT: mutations per pixel)
+    uint64_t rays = 0;    // rays traced so far (closest hit and shadow)
+};
+
+// A viewer of a running render (--view, --display-server): RenderOptions::view. Tracers
+// call it on their own thread at each pass (PT, LT, BPT) or round (MMLT) boundary, while
+// no batch runs: stages/preview.h, offerSnapshot().
+class RenderView {
+public:
+    virtual ~RenderView() = default;
+    // True when a viewer has asked for a frame since the last publish (one atomic load):
+    // the image is made only then.
+    virtual bool wantsFrame() const = 0;
+    virtual void publish(Snapshot snapshot) = 0;
+    // Blocks while the viewer has paused the render; returns when it resumes or the render
+    // is cancelled, with the seconds it waited (left out of the time budget and the stats).
+    virtual double waitWhilePaused() = 0;
+};
+
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
     int spp = 16;              // samples per pixel
@@ -39,6 +64,8 @@ struct RenderOptions {
     // Called now and then with the fraction done in [0, 1] (never with a time budget's
     // unknown total: then with the fraction of the budget spent).
     std::function<void(double)> progress;
+    // A viewer: offered the image so far between passes or rounds (nullptr: none, no cost).
+    RenderView* view = nullptr;
 };
 
 struct RenderStats {

@@ -39,6 +39,28 @@ double parseReal(const std::string& opt, const std::string& v, double lo, double
     return x;
 }
 
+// "HOST:PORT", HOST a name, an IPv4 address or an [IPv6] address; PORT 1..65535.
+void parseHostPort(const std::string& v, std::string& host, std::string& port) {
+    const std::string opt = "--display-server: '" + v + "' ";
+    const size_t colon = v.find_last_of(':');
+    if (colon == std::string::npos || (v[0] == '[' && colon < v.find(']')))
+        fail(opt + "has no port (HOST:PORT, e.g. 127.0.0.1:14158)");
+    host = v.substr(0, colon);
+    port = v.substr(colon + 1);
+    const bool digits = !port.empty() && port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos;
+    if (!digits || std::stoi(port) < 1 || std::stoi(port) > 65535)
+        fail(opt + "has no valid port ('" + port + "': 1 to 65535)");
+    if (host.size() > 2 && host.front() == '[' && host.back() == ']') {
+        host = host.substr(1, host.size() - 2);
+        if (host.find_first_not_of("0123456789abcdefABCDEF:.") == std::string::npos) return;
+    } else if (!host.empty() && host.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                       "0123456789.-") == std::string::npos &&
+               host.front() != '-' && host.front() != '.') {
+        return;
+    }
+    fail(opt + "has no valid host ('" + host + "': a name, an IPv4 address or an [IPv6] address)");
+}
+
 }  // namespace
 
 std::string usageText() {
@@ -65,6 +87,9 @@ std::string usageText() {
         "  -o FILE                  output image, .exr/.pfm/.png (repeatable; default: the scene's Output)\n"
         "  --exposure E             PNG exposure: pixels are scaled by 2^E before sRGB\n"
         "  --stats FILE.json        write render statistics\n"
+        "  --view                   watch the render in a window: + / - exposure, s saves the outputs now,\n"
+        "                           p pauses, q / Esc / closing it stops like Ctrl-C; stays open when done\n"
+        "  --display-server HOST:PORT  stream the render to a running tev (e.g. 127.0.0.1:14158)\n"
         "  --describe               print the scene's feature set and exit\n"
         "  --quiet                  no progress or warnings\n"
         "  --help, --version\n"
@@ -112,6 +137,8 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "-o" || a == "--output") cl.outputs.push_back(value());
         else if (a == "--exposure") cl.exposure = float(parseReal(a, value(), -64, 64));
         else if (a == "--stats") cl.statsPath = value();
+        else if (a == "--view") cl.view = true;
+        else if (a == "--display-server") parseHostPort(value(), cl.displayHost, cl.displayPort);
         else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "' (see --help)");
         else if (cl.scenePath.empty()) cl.scenePath = a;
         else fail("more than one scene given ('" + cl.scenePath + "', '" + a + "')");

@@ -23,6 +23,8 @@ struct CommandLine {
     std::vector<std::string> outputs;
     std::string statsPath;
     float exposure = 0;
+    bool view = false;                     // --view: the SDL2 window
+    std::string displayHost, displayPort;  // --display-server HOST:PORT (tev); empty: none
     bool describe = false, quiet = false, help = false, version = false;
 };
 

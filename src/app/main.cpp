@@ -11,10 +11,12 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <mutex>
 #include <sstream>
 
 #include "app/cli.h"
 #include "app/progress.h"
+#include "app/watchers.h"
 #include "scene/features.h"
 #include "stages/memory.h"
 #include "stages/mmlt.h"
@@ -160,6 +162,7 @@ int run(int argc, char** argv) {
     CommandLine cl = parseCommandLine(argc, argv);
     if (cl.help) { std::cout << usageText(); return 0; }
     if (cl.version) { std::cout << "wavemmlt " << WAVEMMLT_VERSION << "\n"; return 0; }
+    if (cl.view && !cl.describe) checkViewPossible();
 
     SceneDesc scene = cl.scenePath.empty()
         ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
@@ -196,14 +199,36 @@ int run(int argc, char** argv) {
     opt.minPathLength = s.minPathLength;
     opt.maxPathLength = s.maxPathLength;
     opt.cancel = &gCancel;
-    Progress progress(cl.quiet);
-    opt.progress = [&](double f) { progress.update(f); };
     std::signal(SIGINT, onInterrupt);
+
+    // The outputs: at the end, and from the --view window's s key (its own thread).
+    std::mutex outputsMutex;
+    auto writeOutputs = [&](const Image& image) {
+        std::lock_guard<std::mutex> lock(outputsMutex);
+        for (const std::string& o : outputs) writeImage(o, image, cl.exposure);
+    };
+    auto saveNow = [&](const Snapshot& snap) {
+        try {
+            writeOutputs(snap.image);
+            if (!cl.quiet) std::fprintf(stderr, "\nsaved the image so far (%llu spp)\n", (unsigned long long)snap.spp);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "\nwarning: %s\n", e.what());
+        }
+    };
+    const std::string imageName = std::filesystem::path(outputs[0]).filename().string() + " (" +
+                                  std::to_string(getpid()) + ")";
+    Watchers watchers(cl, tracerName(opt.tracer), s.width, s.height, imageName, &gCancel, saveNow);
+    opt.view = watchers.view();
+    Progress progress(cl.quiet);
+    opt.progress = [&](double f) {
+        progress.update(f);
+        watchers.progress(f);
+    };
 
     Settings settings = s;
     RenderResult r = render(std::move(scene), opt);
     progress.finish();
-    for (const std::string& o : outputs) writeImage(o, r.image, cl.exposure);
+    writeOutputs(r.image);
     for (const StrategyImage& si : r.strategyImages) {
         const std::string stem = opt.strategyImages + "/s" + std::to_string(si.s) + "_t" + std::to_string(si.t);
         writeImage(stem + "_weighted.exr", si.weighted, 0);
@@ -217,6 +242,7 @@ int run(int argc, char** argv) {
     if (r.stats.samplesNonfiniteDiscarded && !cl.quiet)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were discarded\n",
                      (unsigned long long)r.stats.samplesNonfiniteDiscarded);
+    watchers.finish(r);  // with --view: until the window is closed
     return r.stats.cancelled ? 130 : 0;
 }
 

@@ -186,14 +186,7 @@ struct WriteSink {
 };
 
 void writePng(std::FILE* f, const Image& img, float exposure) {
-    const float scale = std::exp2(exposure);
-    std::vector<unsigned char> bytes(size_t(img.width) * size_t(img.height) * 3);
-    for (size_t i = 0; i < bytes.size(); ++i) {
-        float s = linearToSrgb(img.rgb[i] * scale);
-        if (!(s > 0)) s = 0;  // also NaN
-        if (s > 1) s = 1;
-        bytes[i] = static_cast<unsigned char>(s * 255.0f + 0.5f);
-    }
+    const std::vector<unsigned char> bytes = toSrgb8(img, exposure);
     WriteSink sink{f};
     auto write = [](void* ctx, void* data, int size) {
         auto* s = static_cast<WriteSink*>(ctx);
@@ -205,6 +198,18 @@ void writePng(std::FILE* f, const Image& img, float exposure) {
 }
 
 }  // namespace
+
+std::vector<unsigned char> toSrgb8(const Image& img, float exposure) {
+    const float scale = std::exp2(exposure);
+    std::vector<unsigned char> bytes(img.rgb.size());
+    for (size_t i = 0; i < bytes.size(); ++i) {
+        float s = linearToSrgb(img.rgb[i] * scale);
+        if (!(s > 0)) s = 0;  // also NaN
+        if (s > 1) s = 1;
+        bytes[i] = static_cast<unsigned char>(s * 255.0f + 0.5f);
+    }
+    return bytes;
+}
 
 bool isWritableImageExtension(const std::string& path) {
     std::string ext = lowerExtension(path);

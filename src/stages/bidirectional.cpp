@@ -69,6 +69,15 @@ std::vector<StrategyImage> resolveStrategies(const StrategyFilms& sf, const Film
     return out;
 }
 
+// The image: the camera-side strategies' per-pixel means plus the splats of the complete
+// passes (spp samples per pixel).
+Image imageOf(const Film& film, const SplatFilm& splatFilm, uint64_t spp) {
+    Image image = film.resolve();
+    const Image splats = splatFilm.resolve(spp);
+    for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] += splats.rgb[i];
+    return image;
+}
+
 }  // namespace
 
 RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
@@ -114,12 +123,11 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
                 o.nonfinite = 0;
                 o.lengths = PathLengthSums();
             }
-        });
+        },
+        {[&](uint32_t spp) { return imageOf(film, splatFilm, spp); }, &counters});
 
     RenderResult res = startResult("bpt", scene, opt, pr, counters);
-    res.image = film.resolve();
-    Image splats = splatFilm.resolve(pr.completedSpp);
-    for (size_t i = 0; i < res.image.rgb.size(); ++i) res.image.rgb[i] += splats.rgb[i];
+    res.image = imageOf(film, splatFilm, pr.completedSpp);
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
     if (strategyFilms) res.strategyImages = resolveStrategies(*strategyFilms, film, pr.completedSpp, opt.minPathLength);

@@ -83,7 +83,8 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
                 o.splats.clear();
                 o.nonfinite = 0;
             }
-        });
+        },
+        {[&](uint32_t spp) { return film.resolve(spp); }, &counters});
 
     RenderResult res = startResult("lt", scene, opt, pr, counters);
     res.image = film.resolve(pr.completedSpp);

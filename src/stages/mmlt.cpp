@@ -34,6 +34,7 @@
 #include "stages/memory.h"
 #include "stages/mmlt_stages.h"
 #include "stages/passes.h"
+#include "stages/preview.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
@@ -63,7 +64,9 @@ private:
     void planBatches();
     void runRounds(uint64_t passEnd);
     RenderResult resolve();
-    double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
+    // Render time: paused time (a viewer's) is left out.
+    double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count() - paused_; }
+    Image image() const;
     bool timed() const { return opt_.timeBudget > 0; }
     bool stopRequested() const { return opt_.cancel && opt_.cancel->load(); }
     // Entries the pool of length k may hold before it is thinned to half: 8 per chain of
@@ -87,6 +90,7 @@ private:
     uint32_t pass_ = 0;
     uint64_t iteration_ = 0;               // iterations of every chain so far (T)
     bool stopped_ = false;
+    double paused_ = 0;                    // seconds a viewer held the render between rounds
     double perIteration_ = 0;              // seconds per iteration of all chains, measured
     double sampleSeconds_ = 0;             // seconds per pool sample, measured
 
@@ -364,8 +368,11 @@ void MmltRender::runRounds(uint64_t passEnd) {
         for (const ChainGroup& g : groups_) stats_.proposals[size_t(g.k)] += uint64_t(r) * g.count;
         iteration_ += r;
         perIteration_ = (elapsed() - roundStart) / r;
-        if (opt_.progress)
-            opt_.progress(timed() ? std::min(1.0, elapsed() / opt_.timeBudget) : double(iteration_) / double(target_));
+        const double fraction = timed() ? std::min(1.0, elapsed() / opt_.timeBudget) : double(iteration_) / double(target_);
+        if (opt_.progress) opt_.progress(fraction);
+        paused_ += offerSnapshot(opt_, [&] {
+            return Snapshot{image(), fraction, elapsed(), uint64_t(double(iteration_) * chains_ / pixels_), raysSoFar(rays_)};
+        });
     }
 }
 
@@ -440,7 +447,16 @@ RenderResult MmltRender::run() {
     return resolve();
 }
 
-// The image: pixels * film / T (each length already weighted per pass), and the stats.
+// The image so far: pixels * film / T, T the iterations per chain (each length's splats
+// already weighted per pass). The final image and every snapshot (preview.h).
+Image MmltRender::image() const {
+    const double norm = iteration_ ? pixels_ / double(iteration_) : 0.0;
+    Image im(scene_.camera.width, scene_.camera.height);
+    for (size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = float(film_.sum[i] * norm);
+    return im;
+}
+
+// The image and the stats.
 RenderResult MmltRender::resolve() {
     PassResult pr;
     pr.seconds = elapsed();
@@ -462,8 +478,7 @@ RenderResult MmltRender::resolve() {
     res.stats.samplesNonfiniteDiscarded = counters_.nonfinite;
     res.stats.lengthMeanLuminance = stats_.b;
     const double norm = iteration_ ? pixels_ / double(iteration_) : 0.0;
-    res.image = Image(scene_.camera.width, scene_.camera.height);
-    for (size_t i = 0; i < res.image.rgb.size(); ++i) res.image.rgb[i] = float(film_.sum[i] * norm);
+    res.image = image();
     for (const SplatFilm& f : lengthFilms_) {
         res.lengthImages.emplace_back(f.width, f.height);
         for (size_t i = 0; i < f.sum.size(); ++i) res.lengthImages.back().rgb[i] = float(f.sum[i] * norm);

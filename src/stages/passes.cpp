@@ -7,6 +7,8 @@
 #include <chrono>
 #include <mutex>
 
+#include "stages/preview.h"
+
 namespace wmlt {
 
 PassSchedule makePassSchedule(int w, int h, const RenderOptions& opt, uint32_t maxPathsPerBatch) {
@@ -23,10 +25,11 @@ PassSchedule makePassSchedule(int w, int h, const RenderOptions& opt, uint32_t m
 
 PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
                      const std::function<void(size_t, const PtTile&)>& runBatch,
-                     const std::function<void()>& endPass) {
+                     const std::function<void()>& endPass, const PassImage& snapshot) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    double paused = 0;  // seconds a viewer held the render between passes
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count() - paused; };
     const bool timed = opt.timeBudget > 0;
     const uint32_t perRound = uint32_t(std::max(1, opt.spp));
     const size_t passesPerRound = (perRound + s.samplesPerBatch - 1) / s.samplesPerBatch;
@@ -61,6 +64,11 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
             if (stop) break;
             if (endPass) endPass();
             result.completedSpp = s1;
+            const double fraction = timed ? std::min(1.0, elapsed() / opt.timeBudget)
+                                          : double(batchesDone.load()) / double(totalBatches);
+            paused += offerSnapshot(opt, [&] {
+                return Snapshot{snapshot.image(s1), fraction, elapsed(), s1, raysSoFar(*snapshot.rays)};
+            });
         }
         if (!timed) break;
     }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "stages/pt_stages.h"
+#include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 
 namespace wmlt {
@@ -36,11 +37,19 @@ struct PassResult {
     bool stopped = false;       // cancelled or out of time
 };
 
+// What runPasses shows a viewer (opt.view) after each complete pass: the image of the
+// passes so far, made by the function that makes the final image, and the ray counters.
+struct PassImage {
+    std::function<Image(uint32_t completedSpp)> image;
+    const tbb::enumerable_thread_specific<PtCounters>* rays = nullptr;
+};
+
 // runBatch(tileIndex, tile) runs in parallel, each tile once per pass; endPass() runs on
-// the calling thread after each pass that completed (an interrupted pass gets none).
+// the calling thread after each pass that completed (an interrupted pass gets none), then
+// the snapshot for a viewer (preview.h). Time paused by the viewer is not counted.
 PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
                      const std::function<void(size_t, const PtTile&)>& runBatch,
-                     const std::function<void()>& endPass = {});
+                     const std::function<void()>& endPass, const PassImage& snapshot);
 
 // The statistics every tracer reports the same way: name, time, spp, ray counts (summed
 // over the threads' counters), cancellation and the scene's features.

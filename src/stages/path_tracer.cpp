@@ -54,9 +54,12 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<PtCounters> counters;
     std::vector<TileTotals> totals(schedule.tiles.size());
     // Each batch adds to its own tile's pixels only: no two threads touch one pixel.
-    PassResult pr = runPasses(schedule, opt, [&](size_t t, const PtTile& tile) {
-        traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
-    });
+    PassResult pr = runPasses(
+        schedule, opt,
+        [&](size_t t, const PtTile& tile) {
+            traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
+        },
+        {}, {[&](uint32_t) { return film.resolve(); }, &counters});
 
     RenderResult res = startResult("pt", scene, opt, pr, counters);
     res.image = film.resolve();

@@ -1,0 +1,266 @@
+// The --view window with SDL2 (built when CMake finds SDL2; view_window_none.cpp otherwise).
+// Every SDL call is made on the window's own thread, which SDL allows on X11 and Wayland.
+#include "app/view_window.h"
+
+#include <SDL.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <future>
+#include <thread>
+
+#include "wavemmlt/error.h"
+
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/lsan_interface.h>
+#endif
+
+namespace wmlt {
+
+namespace {
+
+// SDL_Quit unloads the libraries SDL loaded (X11 extensions, dbus) and leaves their
+// allocations unreachable: LeakSanitizer would report those libraries' memory as leaks. In
+// sanitizer builds what SDL allocates (in a scope holding this) is not leak-checked; what
+// wavemmlt's own code allocates is.
+struct NotLeakChecked {
+#if defined(__SANITIZE_ADDRESS__)
+    NotLeakChecked() { __lsan_disable(); }
+    ~NotLeakChecked() { __lsan_enable(); }
+#else
+    NotLeakChecked() {}
+    ~NotLeakChecked() {}
+#endif
+};
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kFrameInterval = std::chrono::milliseconds(250);  // frames asked of the render
+constexpr int kEventWaitMs = 50;                                  // the loop's tick
+constexpr float kExposureStep = 0.5f;                             // stops per + or -
+
+std::string format(const char* fmt, double a, double b = 0, double c = 0) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, fmt, a, b, c);
+    return buf;
+}
+
+bool isSet(const char* name) {
+    const char* v = std::getenv(name);
+    return v && *v;
+}
+
+}  // namespace
+
+void checkViewPossible() {
+    if (!isSet("DISPLAY") && !isSet("WAYLAND_DISPLAY"))
+        throw InputError("wavemmlt: --view needs a display, and neither DISPLAY nor WAYLAND_DISPLAY is set "
+                         "(render without --view, or watch in tev with --display-server HOST:PORT)");
+}
+
+struct ViewWindow::Thread {
+    ViewHub& hub;
+    ViewWindowOptions opt;
+    std::promise<std::string> opened;  // "" once the window is shown, else why it is not
+    std::thread thread;
+
+    SDL_Window* window = nullptr;
+    SDL_Renderer* renderer = nullptr;
+    SDL_Texture* texture = nullptr;
+    std::shared_ptr<const Snapshot> shown;
+    bool final = false;
+    float exposure = 0;
+    int mouseX = -1, mouseY = -1;  // image pixel under the mouse; -1: none
+    Clock::time_point start = Clock::now();
+    std::string title;
+
+    Thread(ViewHub& h, ViewWindowOptions o) : hub(h), opt(std::move(o)), exposure(opt.exposure) {}
+
+    bool open();
+    void run();
+    void close();
+    void upload();
+    void draw();
+    std::string titleText() const;
+    void updateTitle();
+    void onKey(SDL_Keycode key);
+    bool nextEvent(SDL_Event& e, bool wait) {
+        NotLeakChecked notChecked;
+        return wait ? SDL_WaitEventTimeout(&e, kEventWaitMs) : SDL_PollEvent(&e);
+    }
+};
+
+bool ViewWindow::Thread::open() {
+    NotLeakChecked notChecked;
+    SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");  // Ctrl-C stays wavemmlt's
+    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "nearest");
+    SDL_SetHint(SDL_HINT_VIDEO_X11_NET_WM_BYPASS_COMPOSITOR, "0");
+    SDL_SetHint(SDL_HINT_VIDEO_ALLOW_SCREENSAVER, "1");  // a long render need not keep the screen on
+    // Only the display named by the environment: SDL would otherwise fall back to drivers
+    // that show nothing (KMSDRM, offscreen) and the render would run in an unseen window.
+    if (!isSet("SDL_VIDEODRIVER"))
+        SDL_SetHint(SDL_HINT_VIDEODRIVER, isSet("DISPLAY") && isSet("WAYLAND_DISPLAY") ? "x11,wayland"
+                                          : isSet("DISPLAY")                          ? "x11"
+                                                                                      : "wayland");
+    if (SDL_Init(SDL_INIT_VIDEO) != 0) return false;
+    // The image's size, enlarged by a whole factor when tiny, shrunk to fit the display.
+    const int zoom = std::max(1, int(std::ceil(64.0 / std::max(opt.width, opt.height))));
+    int w = opt.width * zoom, h = opt.height * zoom;
+    SDL_Rect usable;
+    if (SDL_GetDisplayUsableBounds(0, &usable) == 0 && usable.w > 0 && usable.h > 0) {
+        const double s = std::min({1.0, 0.95 * usable.w / w, 0.95 * usable.h / h});
+        w = std::max(1, int(w * s));
+        h = std::max(1, int(h * s));
+    }
+    // Hidden and untitled until the renderer exists: SDL may replace the X window then (for
+    // OpenGL), and whoever looks for the window by its title must find the one that stays.
+    window = SDL_CreateWindow("", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h,
+                              SDL_WINDOW_RESIZABLE | SDL_WINDOW_HIDDEN);
+    if (!window) return false;
+    renderer = SDL_CreateRenderer(window, -1, 0);
+    if (!renderer) return false;
+    updateTitle();
+    SDL_ShowWindow(window);
+    SDL_RenderSetLogicalSize(renderer, opt.width, opt.height);
+    texture = SDL_CreateTexture(renderer, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, opt.width, opt.height);
+    if (!texture) return false;
+    draw();
+    return true;
+}
+
+void ViewWindow::Thread::close() {
+    NotLeakChecked notChecked;
+    if (texture) SDL_DestroyTexture(texture);
+    if (renderer) SDL_DestroyRenderer(renderer);
+    if (window) SDL_DestroyWindow(window);
+    SDL_Quit();
+}
+
+// The shown snapshot, tone-mapped as the PNG output is, into the texture.
+void ViewWindow::Thread::upload() {
+    if (!shown) return;
+    const std::vector<unsigned char> bytes = toSrgb8(shown->image, exposure);
+    NotLeakChecked notChecked;
+    SDL_UpdateTexture(texture, nullptr, bytes.data(), opt.width * 3);
+}
+
+void ViewWindow::Thread::draw() {
+    NotLeakChecked notChecked;
+    SDL_SetRenderDrawColor(renderer, 40, 40, 40, 255);
+    SDL_RenderClear(renderer);
+    if (shown) SDL_RenderCopy(renderer, texture, nullptr, nullptr);
+    SDL_RenderPresent(renderer);
+}
+
+std::string ViewWindow::Thread::titleText() const {
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    std::string t = "wavemmlt " + opt.tracer + ": ";
+    const double mrays = shown && shown->seconds > 0 ? double(shown->rays) / shown->seconds * 1e-6 : 0;
+    if (final)
+        t += format("done, %.0f spp in %.1f s, %.2f Mrays/s", double(shown->spp), shown->seconds, mrays);
+    else
+        t += format("%.0f%%, %.1f s", std::floor(hub.progress() * 100), wall) +
+             (shown ? format(", %.2f Mrays/s", mrays) : std::string(", preparing")) +
+             (hub.paused() ? ", paused" : "");
+    if (exposure != 0) t += format(", exposure %+.1f", exposure);
+    if (shown && mouseX >= 0 && mouseY >= 0 && mouseX < opt.width && mouseY < opt.height) {
+        const Vec3 v = shown->image.at(mouseX, mouseY);
+        t += format(" | (%.0f, %.0f)", mouseX, mouseY) + format(" %.4g %.4g %.4g", v.x, v.y, v.z);
+    }
+    return t;
+}
+
+void ViewWindow::Thread::updateTitle() {
+    const std::string t = titleText();
+    if (t != title) {
+        title = t;
+        NotLeakChecked notChecked;
+        SDL_SetWindowTitle(window, title.c_str());
+    }
+}
+
+void ViewWindow::Thread::onKey(SDL_Keycode key) {
+    switch (key) {
+        case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS:  // '+' is shift + '=' on many layouts
+            exposure += kExposureStep;
+            break;
+        case SDLK_MINUS: case SDLK_KP_MINUS:
+            exposure -= kExposureStep;
+            break;
+        case SDLK_p:
+            if (!final) hub.setPaused(!hub.paused());
+            return;
+        case SDLK_s:
+            if (shown) opt.save(*shown);
+            return;
+        case SDLK_q: case SDLK_ESCAPE:
+            hub.cancel();
+            return;
+        default:
+            return;
+    }
+    upload();
+    draw();
+}
+
+void ViewWindow::Thread::run() {
+    if (!open()) {
+        const char* display = std::getenv(isSet("DISPLAY") ? "DISPLAY" : "WAYLAND_DISPLAY");
+        opened.set_value(std::string("cannot open a window on display '") + (display ? display : "") +
+                         "': " + SDL_GetError());
+        close();
+        return;
+    }
+    opened.set_value("");
+    uint64_t version = 0;
+    auto lastRequest = Clock::now() - kFrameInterval;
+    // Ends when the user closes the window or the render is cancelled (q, Ctrl-C).
+    while (!hub.cancelled()) {
+        if (!final && Clock::now() - lastRequest >= kFrameInterval) {
+            hub.requestFrame();
+            lastRequest = Clock::now();
+        }
+        const ViewHub::Frame f = hub.latest();
+        bool redraw = false;
+        if (f.version != version && f.snapshot) {
+            version = f.version;
+            shown = f.snapshot;
+            final = f.final;
+            upload();
+            redraw = true;
+        }
+        SDL_Event e;
+        for (bool got = nextEvent(e, true); got; got = nextEvent(e, false)) {
+            if (e.type == SDL_QUIT) hub.cancel();
+            else if (e.type == SDL_KEYDOWN) onKey(e.key.keysym.sym);
+            else if (e.type == SDL_MOUSEMOTION) mouseX = e.motion.x, mouseY = e.motion.y;
+            else if (e.type == SDL_WINDOWEVENT && e.window.event == SDL_WINDOWEVENT_LEAVE) mouseX = mouseY = -1;
+            else if (e.type == SDL_WINDOWEVENT) redraw = true;  // exposed, resized
+        }
+        if (redraw) draw();
+        updateTitle();
+    }
+    close();
+}
+
+ViewWindow::ViewWindow(ViewHub& hub, ViewWindowOptions options) {
+    checkViewPossible();
+    thread_ = std::make_unique<Thread>(hub, std::move(options));
+    std::future<std::string> opened = thread_->opened.get_future();
+    thread_->thread = std::thread([t = thread_.get()] { t->run(); });
+    const std::string error = opened.get();
+    if (!error.empty()) {
+        thread_->thread.join();
+        throw InputError("wavemmlt: --view: " + error);
+    }
+}
+
+ViewWindow::~ViewWindow() { waitClosed(); }
+
+void ViewWindow::waitClosed() {
+    if (thread_ && thread_->thread.joinable()) thread_->thread.join();
+}
+
+}  // namespace wmlt
