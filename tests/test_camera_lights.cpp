@@ -97,9 +97,8 @@ std::pair<double, double> integrateOverSphere(PdfOfDirection pdfOf, int n) {
     return {mean, std::sqrt(var / n)};
 }
 
-}  // namespace
-
-TEST_CASE("rect light: rectLightPdf integrates to 1", "[lights]") {
+// A 1 x 0.5 rectangle light at y = 2 facing down.
+Light testRectLight() {
     Light l;
     l.type = LightType::Rect;
     l.L = Vec3(1.0f);
@@ -108,6 +107,13 @@ TEST_CASE("rect light: rectLightPdf integrates to 1", "[lights]") {
     l.e2 = {0, 0, 0.5f};
     l.n = {0, -1, 0};
     l.area = 0.5f;
+    return l;
+}
+
+}  // namespace
+
+TEST_CASE("rect light: rectLightPdf integrates to 1", "[lights]") {
+    const Light l = testRectLight();
     Vec3 ref(0.3f, 0, 0.1f);
     // Integral of the pdf over directions that hit the rectangle = 1.
     auto pdfOf = [&](Vec3 w) -> double {
@@ -166,14 +172,7 @@ TEST_CASE("sphere light: cone sampling lands on the sphere, and its pdf integrat
 // 0.02^2 N / 4 = 400 over ~255 degrees of freedom (mean 255, sd 23): p < 1e-30, against the
 // test's 1e-4 (with N = 10^6 it would be 100: p ~ 1e-3, too weak).
 TEST_CASE("rect light: sampled directions follow rectLightPdf (chi-square)", "[lights]") {
-    Light l;
-    l.type = LightType::Rect;
-    l.L = Vec3(1.0f);
-    l.corner = {-0.5f, 2, -0.25f};
-    l.e1 = {1, 0, 0};
-    l.e2 = {0, 0, 0.5f};
-    l.n = {0, -1, 0};
-    l.area = 0.5f;
+    const Light l = testRectLight();
     const int N = 4000000, G = 16;
     for (Vec3 ref : {Vec3(0.3f, 0, 0.1f), Vec3(-3, 1.8f, 0), Vec3(0, 1.5f, 0)}) {
         std::vector<double> expected(G * G), observed(G * G, 0.0);

@@ -28,6 +28,20 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
     mb.used[kBptConnect][i] = uint8_t(StrategyLayout::connectUsed(s, t));
 }
 
+// Calls fn(i, j, d) for every coordinate d > 0 that slot i (chain sl.c0 + j) of the slice
+// reads, coordinate by coordinate across the slice: coordinate d of consecutive chains is
+// contiguous in the chain state.
+template <class Fn>
+void forEachUsedCoordinate(const ChainGroup& g, const MmltBatch& mb, const BatchSlice& sl, Fn&& fn) {
+    for (int stream = 0; stream < 3; ++stream) {
+        const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
+        const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
+        for (uint32_t jj = 0; jj < size; ++jj)
+            for (uint32_t j = 0; j < sl.n; ++j)
+                if (jj < mb.used[stream][sl.slot0 + j]) fn(sl.slot0 + j, j, base + jj);
+    }
+}
+
 uint32_t slotsOf(const MmltBatch& mb) {
     return mb.slices.empty() ? 0 : mb.slices.back().slot0 + mb.slices.back().n;
 }
@@ -101,17 +115,9 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
             row[0] = propose(i, c, 0);
             setStrategy(mb, i, g.k, row[0]);
         }
-        // Coordinate by coordinate across the slice: coordinate d of consecutive chains is
-        // contiguous in the chain state.
-        for (int stream = 0; stream < 3; ++stream) {
-            const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
-            const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
-            for (uint32_t jj = 0; jj < size; ++jj)
-                for (uint32_t j = 0; j < sl.n; ++j) {
-                    const uint32_t i = sl.slot0 + j;
-                    if (jj < mb.used[stream][i]) mb.u[size_t(i) * mb.stride + base + jj] = propose(i, sl.c0 + j, base + jj);
-                }
-        }
+        forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t j, uint32_t d) {
+            mb.u[size_t(i) * mb.stride + d] = propose(i, sl.c0 + j, d);
+        });
     }
     mb.bpt.numSlots = slotsOf(mb);
 }
@@ -168,19 +174,13 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             g.pixel[c] = pixel;
         }
         // Commit the accepted proposals' coordinates, coordinate by coordinate (contiguous).
-        for (int stream = 0; stream < 3; ++stream) {
-            const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
-            const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
-            for (uint32_t jj = 0; jj < size; ++jj)
-                for (uint32_t j = 0; j < sl.n; ++j) {
-                    const uint32_t i = sl.slot0 + j;
-                    if (!mb.accept[i] || jj >= mb.used[stream][i]) continue;
-                    const uint32_t c = mb.chain[i];
-                    const size_t at = size_t(base + jj) * g.count + c;
-                    g.value[at] = mb.u[size_t(i) * mb.stride + base + jj];
-                    g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
-                }
-        }
+        forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t, uint32_t d) {
+            if (!mb.accept[i]) return;
+            const uint32_t c = mb.chain[i];
+            const size_t at = size_t(d) * g.count + c;
+            g.value[at] = mb.u[size_t(i) * mb.stride + d];
+            g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
+        });
     }
 }
 
