@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Prints the SHA-256 of every tracer's image of a few scenes rendered with a fixed seed:
+# a refactor must change no image, so run it with the binary before and after and compare.
+#
+#   scripts/image-hashes.sh [BINARY] > hashes.txt      # default BINARY: build/wavemmlt
+#   diff <(scripts/image-hashes.sh old/wavemmlt) <(scripts/image-hashes.sh build/wavemmlt)
+#
+# Scenes: the built-in scene; the Cornell box and the seed room of tests/data; the seed
+# appendix (an environment map, textures); and a small outdoor scene written here with a
+# thin lens, a bump map, a glossy floor, glass and a mirror under the same environment map.
+# Each with PT, LT, BPT and MMLT (16 samples or mutations per pixel, 1024 chains, seed 7,
+# 2 threads).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${1:-build/wavemmlt}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+data=tests/data/scenes
+cp "$data/seed-room/sky-4x2.pfm" "$tmp/"
+cat > "$tmp/outdoor.xml" <<'EOF'
+<Scene>
+  <Settings><Width value="48"/><Height value="32"/><MaxPathLength value="8"/><EnvMap name="sky-4x2.pfm"/></Settings>
+  <Camera Type="Camera"><Position x="0" y="1" z="-3.5"/><LookAt x="0" y="0.4" z="0"/><FOV value="40"/>
+    <DOF value="1"/><F-Length value="3.5"/><F-Stop value="4"/></Camera>
+  <Texture Type="Checker" ID="1"><Colour1 r="0" g="0" b="0"/><Colour2 r="1" g="1" b="1"/><Repeat u="6" v="6"/></Texture>
+  <Shader Type="Glossy" ID="0"><Diffuse r="0.5" g="0.45" b="0.4"/><Specular r="0.3" g="0.3" b="0.3"/>
+    <Shininess value="40"/><Bump value="1"/></Shader>
+  <Shader Type="Dielectric" ID="1"><Reflect r="1" g="1" b="1"/><Refract r="1" g="1" b="1"/><iIOR value="1.5"/><oIOR value="1"/></Shader>
+  <Shader Type="Reflective" ID="2"><Reflect r="0.9" g="0.9" b="0.9"/></Shader>
+  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="6"/><Depth value="6"/><Shader value="0"/></Geometry>
+  <Geometry Type="Sphere" ID="glass"><Position x="0.6" y="0.35" z="-0.5"/><Radius value="0.35"/><Shader value="1"/></Geometry>
+  <Geometry Type="Sphere" ID="mirror"><Position x="-0.5" y="0.45" z="0"/><Radius value="0.45"/><Shader value="2"/></Geometry>
+  <Light Type="Area" ID="lamp"><Position x="0" y="2" z="0"/><Radius value="0.2"/><Intensity value="10"/></Light>
+</Scene>
+EOF
+scenes=("builtin|"
+        "cornell|$data/bitterli-cornell/bitterli-cornell-256.xml --width 48 --height 48 --max-length 6"
+        "seed-room|$data/seed-room/seed-room.xml --width 48 --height 48 --max-length 6"
+        "seed-appendix|$data/seed-room/seed-appendix.xml --width 48 --height 32 --max-length 6"
+        "outdoor|$tmp/outdoor.xml")
+for entry in "${scenes[@]}"; do
+  name=${entry%%|*} args=${entry#*|}
+  [ "$name" = builtin ] && args="--width 48 --height 32"
+  for tracer in pt lt bpt mmlt; do
+    # shellcheck disable=SC2086
+    "$bin" $args --tracer "$tracer" --spp 16 --chains 1024 --seed 7 --threads 2 --quiet -o "$tmp/out.pfm"
+    echo "$name $tracer $(sha256sum "$tmp/out.pfm" | cut -c1-16)"
+  done
+done
