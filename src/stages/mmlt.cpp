@@ -152,10 +152,12 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
 void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
     const uint32_t chunk = kBatchChains;
     uint32_t done = 0;
+    uint32_t slabSize = bootstrap && timed() ? 64 : perLength;
     while (done < perLength) {
         const double start = elapsed();
-        // A slab of up to 2^16 samples per length at a time (so a timed bootstrap can stop).
-        const uint32_t slab = std::min(perLength - done, bootstrap && timed() ? 4096u : perLength);
+        // Under a time budget the bootstrap runs in slabs that grow while they are short (64
+        // samples per length, then about 1% of the budget each), so that it can stop on time.
+        const uint32_t slab = std::min(perLength - done, slabSize);
         std::vector<PoolTask> tasks;
         for (int k = kMin_; k <= kMax_; ++k)
             for (uint32_t i = done; i < done + slab; i += chunk) tasks.push_back({k, i, std::min(chunk, done + slab - i)});
@@ -183,7 +185,11 @@ void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
         }
         done += slab;
         sampleSeconds_ = (elapsed() - start) / (double(slab) * (kMax_ - kMin_ + 1));
-        if (bootstrap && timed() && done >= 256 && elapsed() >= 0.05 * opt_.timeBudget) break;
+        if (bootstrap && timed()) {
+            if (elapsed() >= 0.05 * opt_.timeBudget) break;
+            const double perSlab = 0.01 * opt_.timeBudget / (sampleSeconds_ * (kMax_ - kMin_ + 1));
+            slabSize = uint32_t(std::clamp(perSlab, 64.0, double(1 << 16)));
+        }
         if (stopRequested()) break;
     }
     if (bootstrap) stats_.bootstrapSamples = done;
@@ -378,12 +384,12 @@ void MmltRender::runRounds(uint64_t passEnd) {
 
 RenderResult MmltRender::run() {
     const int nLengths = kMax_ - kMin_ + 1;
-    // The bootstrap: opt.bootstrap samples per length, or 5% of the mutations asked for
-    // (at least 4096 and two per chain, at most 2^20 per length).
+    // The bootstrap: opt.bootstrap samples per length, or 5% of the mutations asked for or two
+    // per chain, whichever is more (256 to 2^20 per length); under a time budget at most 5%
+    // of it (tracePool stops it).
+    const double autoBoot = timed() ? double(1 << 20) : std::max(0.05 * targetMutations_, 2.0 * chains_) / nLengths;
     const uint32_t nBoot =
-        opt_.bootstrap > 0
-            ? uint32_t(opt_.bootstrap)
-            : uint32_t(std::clamp(std::max(0.05 * targetMutations_, 2.0 * chains_) / nLengths, 4096.0, double(1 << 20)));
+        opt_.bootstrap > 0 ? uint32_t(opt_.bootstrap) : uint32_t(std::clamp(autoBoot, 256.0, double(1 << 20)));
     tracePool(nBoot, true);
     stats_.bBootstrap.assign(size_t(kMax_) + 1, 0.0);
     for (int k = kMin_; k <= kMax_; ++k) {
