@@ -33,7 +33,15 @@ struct CameraDesc {
     float fStop = 1;        // aperture radius = focalLength / (2 fStop)
 };
 
-enum class MaterialKind : uint8_t { Matte, Glossy, Reflective, Dielectric };
+// The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and
+// rough conductor, rough and thin dielectric, smooth and rough plastic.
+enum class MaterialKind : uint8_t {
+    Matte, Glossy, Reflective, Dielectric,
+    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic
+};
+constexpr int kMaterialKinds = 10;
+
+enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
 struct MaterialDesc {
     int id = 0;
@@ -46,6 +54,14 @@ struct MaterialDesc {
     float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
     int texture = -1;     // index into SceneDesc::textures, -1: none
     int bump = -1;        // index into SceneDesc::textures, -1: none
+    // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
+    // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.
+    MicrofacetType distribution = MicrofacetType::Beckmann;
+    float alpha = 0.1f;                      // rough kinds
+    Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
+    bool nonlinear = false;                  // Plastic, RoughPlastic
+    bool twoSided = true;                    // false: black seen from below the shading normal
+    float bumpScale = 0;                     // > 0: Mitsuba bumpmap (height = scale * texture)
 };
 
 enum class TextureKind : uint8_t { Checker, ImageFile, Marble };

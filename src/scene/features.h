@@ -8,8 +8,8 @@
 namespace wmlt {
 
 struct SceneFeatures {
-    bool material[4] = {false, false, false, false};  // indexed by MaterialKind
-    bool textures = false;      // some Matte/Glossy has a Texture
+    bool material[kMaterialKinds] = {};  // indexed by MaterialKind
+    bool textures = false;      // some Matte/Glossy/plastic has a Texture
     bool bump = false;          // some shader has a Bump
     bool envMap = false;
     bool depthOfField = false;
@@ -17,7 +17,8 @@ struct SceneFeatures {
     bool smoothNormals = false; // some mesh interpolates vertex normals
     bool spheres = false;       // sphere geometry (not lights)
     bool needUv = false;        // textures or bump: the surface stage computes (u, v)
-    bool delta = false;         // a Reflective or Dielectric material exists
+    bool delta = false;         // a material with a delta lobe exists
+    bool oneSided = false;      // some material is black from below (Mitsuba without twosided)
 
     bool has(MaterialKind k) const { return material[int(k)]; }
     // Human-readable listing for `wavemmlt --describe`.

@@ -79,7 +79,9 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->rtc = rtcNewScene(s->device);
     rtcSetSceneBuildQuality(s->rtc, RTC_BUILD_QUALITY_HIGH);
 
-    for (const MaterialDesc& m : d.materials) {
+    s->bsdfExtras.resize(d.materials.size());  // not resized again: materials point into it
+    for (size_t i = 0; i < d.materials.size(); ++i) {
+        const MaterialDesc& m = d.materials[i];
         BsdfParams b;
         b.kind = m.kind;
         b.diffuse = m.diffuse;
@@ -88,6 +90,20 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         b.reflect = m.reflect;
         b.refract = m.refract;
         b.eta = m.iorInside / m.iorOutside;
+        if (int(m.kind) >= int(MaterialKind::Conductor)) {
+            BsdfExtra& x = s->bsdfExtras[i];
+            x.dist = Microfacet{m.distribution, m.alpha};
+            x.etaC = m.conductorEta;
+            x.kC = m.conductorK;
+            x.nonlinear = m.nonlinear;
+            // Mitsuba's specular sampling weight: mean(Ks) / (mean(Kd) + mean(Ks)), Kd
+            // without its texture (the material's base value).
+            const float ks = (m.reflect.x + m.reflect.y + m.reflect.z) / 3, kd = (m.diffuse.x + m.diffuse.y + m.diffuse.z) / 3;
+            x.specularWeight = ks + kd > 0 ? ks / (ks + kd) : 0.5f;
+            if (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic)
+                preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
+            b.x = &x;
+        }
         s->materials.push_back(b);
     }
 

@@ -47,6 +47,7 @@ public:
     RTCScene rtc = nullptr;
     std::vector<GeomRecord> geoms;  // by geomID
     std::vector<BsdfParams> materials;  // by material index, before textures
+    std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;
     std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)

@@ -106,12 +106,13 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     const BptVertexKind zKind = b.cam.kind[zi];
     // Which strategies exist for these subpaths.
     if (s == 0 && zKind != BptVertexKind::Light && zKind != BptVertexKind::Env) return false;
-    if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || b.cam.delta[zi])) return false;
+    // A connection needs a non-delta lobe at both ends, whichever lobe the walk took there.
+    if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind))) return false;
     if (s == 1 && t >= 2 && scene.lights.empty()) return false;
     if (s >= 2 || (s == 1 && t == 1)) {
         if (s > nL) return false;
         const size_t yi = b.light.at(slot, s - 1);
-        if (b.light.delta[yi]) return false;
+        if (b.light.kind[yi] == BptVertexKind::Surface && isDeltaMaterial(b.light.bsdf[yi].kind)) return false;
         if (s == 1 && b.light.kind[yi] == BptVertexKind::Env) return false;  // at infinity
     }
     PathVertex* x = scratch.x;
@@ -217,6 +218,8 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     if (isBlack(value)) return false;
     delta[0] = 0;
     delta[k] = 0;
+    // The connected path scatters by the non-delta lobes at the connection's two ends.
+    if (s >= 1) delta[s - 1] = delta[s] = 0;
     const bool x0Infinite = x[0].kind == BptVertexKind::Env;
     if (!bptStrategyValid(k, s, delta, x0Infinite)) return false;
     // Densities the other side's walk would have used at the connection.

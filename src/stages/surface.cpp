@@ -99,9 +99,13 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     return sp;
 }
 
-BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp) {
+BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo) {
     BsdfParams b = scene.materials[sp.material];
     const MaterialDesc& m = scene.desc.materials[sp.material];
+    if (scene.features.oneSided && !m.twoSided && !(dot(wo, sp.ns) > 0)) {
+        BsdfParams black;  // a black Matte: f = 0, every sample ends the path
+        return black;
+    }
     if (scene.features.textures && m.texture >= 0)
         b.diffuse = b.diffuse * evalTexture(scene.desc.textures[m.texture], sp.u, sp.v, sp.p);
     return b;
