@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wavemmlt/image.h"
@@ -31,6 +32,7 @@ struct CameraDesc {
     bool dof = false;
     float focalLength = 1;  // focus distance
     float fStop = 1;        // aperture radius = focalLength / (2 fStop)
+    bool flipX = false;     // image right = up x forward instead (a mirroring Mitsuba to_world)
 };
 
 // The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and
@@ -120,8 +122,14 @@ struct SceneDesc {
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };
 
-// Loads and validates a scene file. Throws InputError("file:line: problem").
-SceneDesc loadScene(const std::string& path);
+// Loads and validates a scene file: the thesis' format, or a Mitsuba 3 file (a root
+// <scene version="...">, load_mitsuba.cpp) with `defines` overriding its <default>s
+// (-D name=value). Throws InputError("file:line: problem").
+using Defines = std::vector<std::pair<std::string, std::string>>;
+SceneDesc loadScene(const std::string& path, const Defines& defines = {});
+bool isMitsubaXml(const std::string& xml);
+SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
+                                const Defines& defines = {});
 // The same from XML text in memory; `name` is used in messages, `baseDir` resolves
 // relative file names (OBJ, images).
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,

@@ -611,10 +611,11 @@ SceneDesc Loader::run() {
 }  // namespace
 
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name, const std::string& baseDir) {
+    if (isMitsubaXml(xml)) return loadMitsubaFromString(xml, name, baseDir);
     return Loader(xml, name, baseDir).run();
 }
 
-SceneDesc loadScene(const std::string& path) {
+SceneDesc loadScene(const std::string& path, const Defines& defines) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError(path, 0, "cannot open the scene file");
     std::string xml;
@@ -624,7 +625,11 @@ SceneDesc loadScene(const std::string& path) {
     const bool bad = std::ferror(f);
     std::fclose(f);
     if (bad) throw InputError(path, 0, "cannot read the scene file");
-    SceneDesc s = loadSceneFromString(xml, path, std::filesystem::path(path).parent_path().string());
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    const bool mitsuba = isMitsubaXml(xml);
+    if (!mitsuba && !defines.empty())
+        throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
+    SceneDesc s = mitsuba ? loadMitsubaFromString(xml, path, base, defines) : Loader(xml, path, base).run();
     s.path = path;
     return s;
 }
