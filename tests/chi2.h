@@ -164,10 +164,26 @@ struct SphereBins {
         return b;
     }
     int count() const { return int(thetaEdges.size() - 1) * nPhi; }
+    // theta from atan2 of the components in the double frame: exact for small angles too
+    // (acos of a z rounded near 1 would bin a narrow cone in rings).
+    void local(wmlt::Vec3 w, double l[3]) const {
+        const double v[3] = {w.x, w.y, w.z};
+        l[0] = l[1] = l[2] = 0;
+        for (int i = 0; i < 3; ++i) {
+            l[0] += s[i] * v[i];
+            l[1] += t[i] * v[i];
+            l[2] += n[i] * v[i];
+        }
+    }
+    double theta(wmlt::Vec3 w) const {
+        double l[3];
+        local(w, l);
+        return std::atan2(std::sqrt(l[0] * l[0] + l[1] * l[1]), l[2]);
+    }
     int index(wmlt::Vec3 w) const {
-        wmlt::Vec3 l = frame.toLocal(w);
-        double z = std::min(1.0, std::max(-1.0, double(l.z) / std::sqrt(double(wmlt::dot(l, l)))));
-        double th = std::acos(z), ph = std::atan2(double(l.y), double(l.x));
+        double l[3];
+        local(w, l);
+        double th = std::atan2(std::sqrt(l[0] * l[0] + l[1] * l[1]), l[2]), ph = std::atan2(l[1], l[0]);
         if (ph < 0) ph += 2 * M_PI;
         int it = int(std::upper_bound(thetaEdges.begin(), thetaEdges.end(), th) - thetaEdges.begin()) - 1;
         it = std::min(std::max(it, 0), int(thetaEdges.size()) - 2);

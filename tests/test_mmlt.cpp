@@ -2,15 +2,14 @@
 // measured variance over K independent runs (render_stats.h), never hand-tuned. Runs with
 // different seeds are independent (every random number is hashed from the seed), so their
 // per-run means give a valid z test however correlated the samples inside a run are.
-// An MMLT image's mean luminance is sum_k b_k, fixed by the bootstrap (every proposal
-// splats luminance b_k / chains_k in all), an error shared by all pixels of a run; images
-// are therefore compared as their mean luminance (one z) and their shape (block means per
-// channel over the run's mean luminance, nearly independent z values); see ImageRuns.
+// An MMLT image's mean luminance is sum_k b_k (every proposal splats luminance b_k /
+// chains_k in all), an error shared by all pixels of a run; images are compared with
+// power.h: brightness (one z), blocks (max |z|, valid under that shared error) and the
+// blocks' shape (brightness divided out), each one test at p = 1e-4.
 //  1. the bootstrap: b_k = BPT's mean image luminance by path length, within the two
 //     tracers' standard errors; the image's mean luminance is sum_k b_k; chains are
 //     allocated by largest remainders, never drawn at random;
-//  2. MMLT image = BPT image on the Cornell box, the glass caustic scene and the seed room
-//     (its light hidden above a drop ceiling);
+//  2. MMLT image = BPT image, with stated power, per length: test_mmlt_power.cpp;
 //  3. invariance: 1, 64 and 65536 chains, seeds far apart, bootstrap counts 1024 to 2^18;
 //  4. extremes: ProbLarge 1e-3 and 1, MaxPathLength 1 and 64; a scene where no light
 //     reaches the camera is an InputError (and exit status 2 on the command line);
@@ -30,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "power.h"
 #include "render_stats.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
@@ -92,74 +92,49 @@ RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
     (void)chains;
     CHECK(m.mutations == proposals);
     CHECK(double(m.mutations) >= double(o.spp) * r.image.width * r.image.height);
-    CHECK(r.stats.lengthMeanLuminance == m.b);
+    if (o.lengthImages) {  // the lengths' images add up to the image
+        REQUIRE(r.lengthImages.size() == size_t(o.maxPathLength) + 1);
+        for (size_t i = 0; i < r.image.rgb.size(); ++i) {
+            double sum = 0;
+            for (const Image& l : r.lengthImages) sum += l.rgb.empty() ? 0.0 : double(l.rgb[i]);
+            REQUIRE(sum == Approx(r.image.rgb[i]).epsilon(1e-5).margin(1e-12));
+        }
+    }
     if (o.bootstrap > 0) CHECK(m.bootstrapSamples == uint64_t(o.bootstrap));
     CHECK(meanLuminance(r.image) == Approx(bSum).epsilon(1e-5));
     return r;
 }
 
-// K runs of an image, split into its scale and its shape: the mean luminance of each run,
-// and per channel the b x b block means divided by that run's mean luminance. MMLT's mean
-// luminance is sum_k b_k, fixed by the bootstrap: one error shared by every pixel of a
-// run, which would make the blocks' z values correlated (and the z test's checks of
-// sum z^2 and mean z invalid); the shape is what the chains estimate, and its blocks'
-// errors are far less correlated (they sum to about 0: if anything, mean z is too small).
-// The shape's ratio estimator is biased by O(1 / samples), far below its se here.
-struct ImageRuns {
-    int block;
-    rstats::RunStats mean, shape[3];
-    explicit ImageRuns(int b) : block(b) {}
-    void add(const Image& im) {
-        const double m = meanLuminance(im);
-        REQUIRE(m > 0);
-        mean.add({m});
-        for (int c = 0; c < 3; ++c) {
-            std::vector<double> v = rstats::blockMeans(im, block, c);
-            for (double& x : v) x /= m;
-            shape[c].add(v);
-        }
-    }
-};
-
-// a against ref: the mean luminance (one z) and each channel's shape (block z values, se
-// of both tracers' runs, Welch), the false-alarm budget p split over the four tests.
-void checkSameImage(const ImageRuns& a, const ImageRuns& ref, double p, const std::string& what) {
-    {
-        rstats::ZTestResult z = rstats::compareRuns(a.mean, ref.mean, p / 4);
-        const double ratio = a.mean.mean(0) / ref.mean.mean(0);
-        INFO(what << ", mean luminance: ratio " << ratio << "; " << z.describe());
-        if (verbose()) WARN(what << ", mean luminance: ratio " << ratio << "; " << z.describe());
-        CHECK(z.pass);
-    }
-    for (int c = 0; c < 3; ++c) {
-        rstats::ZTestResult z = rstats::compareRuns(a.shape[c], ref.shape[c], p / 4);
-        INFO(what << ", channel " << c << " / mean luminance: " << z.describe());
-        if (verbose()) WARN(what << ", channel " << c << " / mean luminance: " << z.describe());
-        CHECK(z.pass);
+// a against ref with power.h: brightness, blocks and the blocks' shape, each one test at
+// p; the brightness error the comparison detects (power 0.9) is printed with WMLT_TEST_VERBOSE.
+void checkSameImage(const power::Runs& a, const power::Runs& ref, double p, const std::string& what) {
+    for (const power::Verdict& v : {power::brightness(a, ref, p), power::blocks(a, ref, p), power::scatter(a, ref, p)}) {
+        INFO(what << ", " << v.text);
+        if (verbose()) WARN(what << ", " << v.text);
+        CHECK(v.pass);
     }
 }
 
 // K BPT runs at spp, seeds seed0 + i.
-ImageRuns bptRuns(const SceneDesc& desc, int spp, int K, int minLength, int maxLength, uint64_t seed0, int B) {
-    ImageRuns runs(B);
+power::Runs bptRuns(const SceneDesc& desc, int spp, int K, int minLength, int maxLength, uint64_t seed0, int B) {
+    power::Runs runs(B);
     for (int i = 0; i < K; ++i) {
         RenderResult r = render(desc, rstats::renderOptions(TracerKind::BPT, spp, seed0 + i, minLength, maxLength));
         REQUIRE(r.stats.samplesNonfiniteDiscarded == 0);
-        runs.add(r.image);
+        runs.add(r);
     }
     return runs;
 }
 
 // K MMLT runs, seeds seed0 + i, with options o (its seed replaced).
-ImageRuns mmltRuns(const SceneDesc& desc, RenderOptions o, int K, uint64_t seed0, int B) {
-    ImageRuns runs(B);
+power::Runs mmltRuns(const SceneDesc& desc, RenderOptions o, int K, uint64_t seed0, int B) {
+    power::Runs runs(B);
     for (int i = 0; i < K; ++i) {
         o.seed = seed0 + uint64_t(i);
-        runs.add(renderMmlt(desc, o).image);
+        runs.add(renderMmlt(desc, o));
     }
     return runs;
 }
-
 
 SceneDesc caustic(int maxLength, int size = 32) {
     SceneDesc d = loadSceneFromString(rstats::causticXml(32, maxLength), "caustic.xml", ".");
@@ -273,40 +248,19 @@ TEST_CASE("MMLT allocates chains to lengths by largest remainders, never at rand
 
 // ---- 2. MMLT = BPT ------------------------------------------------------------------------
 
-TEST_CASE("MMLT matches BPT on the Cornell box", "[mmlt][render]") {
-    const int K = 8, B = 8;
-    const SceneDesc desc = cornell(32, 5);
-    ImageRuns ref = bptRuns(desc, 64, K, 1, 5, 1000, B);
-    ImageRuns m = mmltRuns(desc, mmltOptions(256, 0, 1, 5, 1024), K, 2000, B);
-    checkSameImage(m, ref, 1e-4, "Cornell box, MMLT 1024 chains vs BPT");
-}
-
-TEST_CASE("MMLT matches BPT with glossy, glass and mirror (caustics)", "[mmlt][render]") {
-    const int K = 8, B = 8;
-    const SceneDesc desc = caustic(6);
-    ImageRuns ref = bptRuns(desc, 64, K, 1, 6, 1100, B);
-    ImageRuns m = mmltRuns(desc, mmltOptions(256, 0, 1, 6, 1024, 1 << 17), K, 2100, B);
-    checkSameImage(m, ref, 1e-4, "caustic scene, MMLT 1024 chains vs BPT");
-}
-
-TEST_CASE("MMLT matches BPT in the seed room (light hidden above a drop ceiling)", "[mmlt][render]") {
-    const int K = 8, B = 4;
-    const SceneDesc desc = seedRoom(16, 6);
-    ImageRuns ref = bptRuns(desc, 256, K, 1, 6, 1200, B);
-    ImageRuns m = mmltRuns(desc, mmltOptions(1024, 0, 1, 6, 1024, 1 << 16), K, 2200, B);
-    checkSameImage(m, ref, 1e-4, "seed room, MMLT 1024 chains vs BPT");
-}
+// MMLT = BPT on the Cornell box, the caustic scene, the seed room and more scenes, with
+// stated power: test_mmlt_power.cpp.
 
 // ---- 3. invariance --------------------------------------------------------------------------
 
 TEST_CASE("MMLT: 1, 64 and 65536 chains, seeds far apart and bootstrap counts give one image", "[mmlt][render]") {
-    // One BPT reference (16 x 16 Cornell box, 4 x 4 blocks), every MMLT setting against it;
-    // the false-alarm budget is split over the 6 settings. One chain means one chain per
+    // One BPT reference (16 x 16 Cornell box, 4 x 4 blocks), every MMLT setting against it,
+    // each comparison at p. One chain means one chain per
     // path length with b_k > 0 (5 here), each making spp * pixels / 5 proposals.
     const int K = 8, B = 4, L = 5;
-    const double p = 1e-4 / 6;
+    const double p = 1e-4;
     const SceneDesc desc = cornell(16, L);
-    ImageRuns ref = bptRuns(desc, 64, K, 1, L, 3000, B);
+    power::Runs ref = bptRuns(desc, 64, K, 1, L, 3000, B);
     checkSameImage(mmltRuns(desc, mmltOptions(1024, 0, 1, L, 1), K, 3100, B), ref, p, "1 chain");
     checkSameImage(mmltRuns(desc, mmltOptions(1024, 0, 1, L, 64), K, 3200, B), ref, p, "64 chains");
     checkSameImage(mmltRuns(desc, mmltOptions(256, 0, 1, L, 65536), K, 3300, B), ref, p, "65536 chains");
@@ -317,28 +271,30 @@ TEST_CASE("MMLT: 1, 64 and 65536 chains, seeds far apart and bootstrap counts gi
                    "bootstrap 262144");
 }
 
-TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[mmlt][render]") {
+TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[mmlt][render][stat]") {
     // pbrt-v4's open MLT report: each seed's image looks converged, yet seeds (and bootstrap
     // sizes) converge to different images, i.e. an error fixed per seed that more mutations
     // never remove (a random allocation of chains to lengths leaves one). Here the variance
     // between K seeds' images, S = sum over blocks and channels of the K-run variance, must
-    // fall with 16 times the mutations, the bootstrap held at 4096 samples, as 1 / work does
-    // (b_k takes in every large step, so its error shrinks with the mutations too) (S_hi /
-    // S_lo ~ 1/16; 64 chains making >= 1024 proposals each, well past their correlation
-    // time); an error fixed per seed keeps the ratio near 1 once it dominates. Passing needs
-    // S_hi / S_lo < 1/4. The per-run squared distances to the group mean are independent
-    // across seeds, so their spread gives the ratio's standard error (reported).
-    const int K = 8, B = 4, L = 5;
+    // fall as 1 / work when the mutations grow W = 8 times, the bootstrap held at 4096
+    // samples (b_k takes in every large step, so its error shrinks with the mutations too):
+    // E[S_hi / S_lo] = 1 / W. An error fixed per seed keeps the ratio near 1 once it
+    // dominates. The per-run squared distances to the group mean d_i are (nearly)
+    // independent across seeds, so their spread gives each S a relative standard error, and
+    // ln(S_hi / S_lo) one of sqrt(se_lo^2 + se_hi^2): the test is |ln(W S_hi / S_lo)| <=
+    // z(p / 2) times it, at p = 1e-4. With K = 32 that fails a ratio 2.2 times too large
+    // (printed: the factor it detects with power 0.9).
+    const int K = 32, B = 4, L = 5, W = 8;
     const SceneDesc desc = cornell(16, L);
     struct Level {
-        int spp, bootstrap;
+        int spp;
         double S = 0, relSe = 0;
     };
-    Level levels[2] = {{256, 4096}, {4096, 4096}};
+    Level levels[2] = {{128}, {128 * W}};
     for (Level& lv : levels) {
         std::vector<std::vector<double>> x;
         for (int i = 0; i < K; ++i) {
-            RenderResult r = renderMmlt(desc, mmltOptions(lv.spp, 7000 + uint64_t(lv.spp) + i, 1, L, 64, lv.bootstrap));
+            RenderResult r = renderMmlt(desc, mmltOptions(lv.spp, 7000 + uint64_t(lv.spp) + i, 1, L, 64, 4096));
             std::vector<double> v;
             for (int c = 0; c < 3; ++c) {
                 std::vector<double> m = rstats::blockMeans(r.image, B, c);
@@ -360,12 +316,18 @@ TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[
         lv.relSe = std::sqrt(std::max(0.0, sumD2 / K - md * md) / (K - 1)) / md;
     }
     const double ratio = levels[1].S / levels[0].S;
-    INFO("S at " << levels[0].spp << " mutations per pixel: " << levels[0].S << " (relative se " << levels[0].relSe
-                 << "), at " << levels[1].spp << ": " << levels[1].S << " (relative se " << levels[1].relSe
-                 << "); ratio " << ratio << " (1/16 = 0.0625 expected)");
-    if (verbose()) WARN("S_hi / S_lo = " << ratio << ": S_lo " << levels[0].S << " +- " << levels[0].relSe * 100
-                                         << "%, S_hi " << levels[1].S << " +- " << levels[1].relSe * 100 << "%");
-    CHECK(ratio < 0.25);
+    const double seLn = std::sqrt(levels[0].relSe * levels[0].relSe + levels[1].relSe * levels[1].relSe);
+    const double zc = power::zCritical(1e-4), z = std::log(ratio * W) / seLn;
+    const double detects = std::exp(power::detectableInSe(zc) * seLn);
+    std::ostringstream msg;
+    msg << "S at " << levels[0].spp << " mutations per pixel: " << levels[0].S << " (relative se " << levels[0].relSe
+        << "), at " << levels[1].spp << ": " << levels[1].S << " (relative se " << levels[1].relSe << "); ratio " << ratio
+        << " (1/" << W << " expected), z " << z << " (allowed +-" << zc << "); fails a ratio " << detects
+        << " times too large or small (power 0.9)";
+    INFO(msg.str());
+    if (verbose()) WARN(msg.str());
+    CHECK(std::fabs(z) <= zc);
+    CHECK(detects <= 2.5);  // the power it claims
 }
 
 // ---- 4. extremes ----------------------------------------------------------------------------
@@ -373,11 +335,11 @@ TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[
 TEST_CASE("MMLT with ProbLarge 1e-3 and 1 matches BPT", "[mmlt][render]") {
     const int K = 8, B = 4, L = 5;
     const SceneDesc desc = cornell(16, L);
-    ImageRuns ref = bptRuns(desc, 64, K, 1, L, 4000, B);
+    power::Runs ref = bptRuns(desc, 64, K, 1, L, 4000, B);
     for (float pl : {1e-3f, 1.0f}) {
         RenderOptions o = mmltOptions(1024, 0, 1, L, 256, 0, pl);
-        ImageRuns m = mmltRuns(desc, o, K, pl < 1 ? 4100 : 4200, B);
-        checkSameImage(m, ref, 1e-4 / 2, "ProbLarge " + std::to_string(pl));
+        power::Runs m = mmltRuns(desc, o, K, pl < 1 ? 4100 : 4200, B);
+        checkSameImage(m, ref, 1e-4, "ProbLarge " + std::to_string(pl));
     }
     // ProbLarge 1: every proposal is a large step; 1e-3: (almost) none is.
     RenderResult a = renderMmlt(desc, mmltOptions(64, 9, 1, L, 256, 0, 1.0f));
@@ -395,9 +357,9 @@ TEST_CASE("MMLT with MaxPathLength 1 and 64 matches BPT", "[mmlt][render]") {
     const int K = 8, B = 4;
     for (int L : {1, 64}) {
         const SceneDesc desc = cornell(16, L);
-        ImageRuns ref = bptRuns(desc, L == 1 ? 64 : 16, K, 1, L, 5000 + 100 * L, B);
-        ImageRuns m = mmltRuns(desc, mmltOptions(L == 1 ? 256 : 128, 0, 1, L, 1024), K, 5050 + 100 * L, B);
-        checkSameImage(m, ref, 1e-4 / 2, "MaxPathLength " + std::to_string(L));
+        power::Runs ref = bptRuns(desc, L == 1 ? 64 : 16, K, 1, L, 5000 + 100 * L, B);
+        power::Runs m = mmltRuns(desc, mmltOptions(L == 1 ? 256 : 128, 0, 1, L, 1024), K, 5050 + 100 * L, B);
+        checkSameImage(m, ref, 1e-4, "MaxPathLength " + std::to_string(L));
     }
 }
 

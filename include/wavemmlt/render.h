@@ -28,6 +28,9 @@ struct RenderOptions {
     float probLarge = 0.3f;    // probability of a large step, (0, 1]
     // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
     std::string strategyImages;
+    // BPT and MMLT: also return the image of each path length k (RenderResult::lengthImages;
+    // they add up to the image). Costs a film per length; for tests and diagnostics.
+    bool lengthImages = false;
     // Set from another thread (e.g. a SIGINT handler) to stop early; the image so far
     // is returned, each pixel averaged over the samples it received.
     const std::atomic<bool>* cancel = nullptr;
@@ -77,6 +80,7 @@ struct RenderResult {
     RenderStats stats;
     std::string featuresJson;
     std::vector<StrategyImage> strategyImages;  // BPT with strategyImages set
+    std::vector<Image> lengthImages;            // index k (0 unused): with RenderOptions::lengthImages
 };
 
 // Throws InputError for settings it cannot render (and "not implemented yet" for the

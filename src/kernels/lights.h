@@ -71,9 +71,12 @@ inline bool sampleSphereLight(const Light& l, Vec3 ref, float u1, float u2, Ligh
     Vec3 toC = l.center - ref;
     float dc = length(toC);
     Frame f = Frame::fromNormal(toC / dc);
-    float oneMinusCosMax = omega / (2.0f * kPi);
-    float cosTheta = 1.0f - u1 * oneMinusCosMax;
-    float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    // 1 - cos(theta) = u1 (1 - cos(theta_max)) and sin^2 = (1 - cos)(1 + cos), both from
+    // 1 - cos, never from a cos rounded near 1 (for a far sphere, cos in float would take
+    // only a few thousand values over the cone: rings, not a uniform cone).
+    float oneMinusCos = u1 * (omega / (2.0f * kPi));
+    float cosTheta = 1.0f - oneMinusCos;
+    float sinTheta = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
     float phi = 2.0f * kPi * u2;
     s.wi = f.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta});
     // Nearest intersection with the sphere along wi.

@@ -83,11 +83,11 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     std::unique_ptr<StrategyFilms> strategyFilms;
     constexpr size_t kStrategyFilmsLimit = size_t(8) << 30;
     const size_t filmBytes = StrategyFilms::bytes(scene.camera.width, scene.camera.height, opt.maxPathLength);
-    if (!opt.strategyImages.empty() && filmBytes > kStrategyFilmsLimit)
+    if ((!opt.strategyImages.empty() || opt.lengthImages) && filmBytes > kStrategyFilmsLimit)
         throw InputError(opt.strategyImages, 0,
                          "strategy images would need " + std::to_string(filmBytes >> 20) +
                              " MiB (over 8 GiB): lower --max-length or the image size");
-    if (!opt.strategyImages.empty())
+    if (!opt.strategyImages.empty() || opt.lengthImages)
         strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
         BptBatch b;
@@ -123,6 +123,13 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
     if (strategyFilms) res.strategyImages = resolveStrategies(*strategyFilms, film, pr.completedSpp, opt.minPathLength);
+    if (opt.lengthImages) {  // the weighted strategies of each length add up to its image
+        res.lengthImages.assign(size_t(opt.maxPathLength) + 1, Image(scene.camera.width, scene.camera.height));
+        for (const StrategyImage& si : res.strategyImages)
+            for (size_t i = 0; i < si.weighted.rgb.size(); ++i)
+                res.lengthImages[size_t(si.s + si.t - 1)].rgb[i] += si.weighted.rgb[i];
+    }
+    if (opt.strategyImages.empty()) res.strategyImages.clear();
     return res;
 }
 

@@ -319,12 +319,15 @@ RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) {
     res.stats.samplesNonfiniteDiscarded = discarded;
     res.image = Image(scene.camera.width, scene.camera.height);
     std::vector<double> sum(res.image.rgb.size(), 0.0);
+    if (opt.lengthImages) res.lengthImages.assign(size_t(kMax) + 1, Image(scene.camera.width, scene.camera.height));
     for (int k = kMin; k <= kMax; ++k) {
         const double b = cSum[size_t(k)] / double(cCount[size_t(k)]);
         res.stats.mmlt.b[size_t(k)] = b;
         if (!groups[size_t(k)].count || iteration == 0) continue;
         const double norm = b * pixels / double(iteration * groups[size_t(k)].steps);
         for (size_t i = 0; i < sum.size(); ++i) sum[i] += films[size_t(k)].sum[i] * norm;
+        if (opt.lengthImages)
+            for (size_t i = 0; i < sum.size(); ++i) res.lengthImages[size_t(k)].rgb[i] = float(films[size_t(k)].sum[i] * norm);
     }
     for (size_t i = 0; i < sum.size(); ++i) res.image.rgb[i] = float(sum[i]);
     res.stats.lengthMeanLuminance = res.stats.mmlt.b;
