@@ -79,9 +79,14 @@ inline bool sampleSphereLight(const Light& l, Vec3 ref, float u1, float u2, Ligh
     float sinTheta = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
     float phi = 2.0f * kPi * u2;
     s.wi = f.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta});
-    // Nearest intersection with the sphere along wi.
+    // Nearest intersection with the sphere along wi. The squared distance of the line from
+    // the centre is |toC - b wi|^2, not dc^2 - b^2: that difference of two nearly equal
+    // numbers loses the digits a small far sphere needs (Haines et al. 2019, "Precision
+    // improvements for ray/sphere intersection"), and a point computed inside the sphere
+    // makes the shadow ray towards it hit the light itself.
     float b = dot(s.wi, toC);
-    float h2 = l.radius * l.radius - (dc * dc - b * b);
+    float rho = length(toC - s.wi * b);
+    float h2 = (l.radius - rho) * (l.radius + rho);
     s.dist = b - std::sqrt(std::max(0.0f, h2));
     s.p = ref + s.wi * s.dist;
     s.Le = l.L;
