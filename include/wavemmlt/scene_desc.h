@@ -93,7 +93,7 @@ struct ShapeDesc {
     int line = 0;       // line of the element in the scene file
     ShapeKind kind = ShapeKind::Mesh;
     UvKind uv = UvKind::None;
-    int material = -1;  // index into SceneDesc::materials; -1 for lights
+    int material = -1;  // index into SceneDesc::materials; -1: an emitter that only absorbs
     int light = -1;     // index into SceneDesc::lights; -1 for non-emitters
     TriangleMesh mesh;  // Mesh (planes and rectangle lights are two triangles)
     Vec3 center;        // Sphere, world space

@@ -110,19 +110,7 @@ void Importer::shape(Node n) {
     if (bsdfs.size() > 1) p.fail(bsdfs[1], "a shape has one BSDF");
     std::vector<Node> emitters = p.nested("emitter");
     if (emitters.size() > 1) p.fail(emitters[1], "a shape has one emitter");
-    if (!emitters.empty()) {
-        sh.material = -1;
-        if (!bsdfs.empty()) {  // wavemmlt's emitters absorb: a reflecting one is an approximation
-            const MaterialDesc& m = s_.materials[material(bsdfs[0])];
-            if (!(m.kind == MaterialKind::Matte && isBlack(m.diffuse)))
-                warn(bsdfs[0], "the BSDF of an emitting shape is ignored: wavemmlt's emitters absorb light");
-        }
-        s_.shapes.push_back(std::move(sh));
-        emitter(emitters[0], int(s_.shapes.size()) - 1);
-        p.finish();
-        return;
-    }
-    if (bsdfs.empty()) {  // Mitsuba's default: a diffuse 0.5 (one-sided)
+    if (bsdfs.empty()) {  // Mitsuba's default, emitters included: a diffuse 0.5 (one-sided)
         MaterialDesc m;
         m.id = int(s_.materials.size());
         m.twoSided = false;
@@ -130,6 +118,16 @@ void Importer::shape(Node n) {
         sh.material = m.id;
     } else {
         sh.material = material(bsdfs[0]);
+    }
+    if (!emitters.empty()) {
+        // Emitters scatter by their BSDF as Mitsuba's do; a black diffuse one only absorbs,
+        // which wavemmlt's emitters without a material (-1) do at no cost.
+        const MaterialDesc& m = s_.materials[sh.material];
+        if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.texture < 0) sh.material = -1;
+        s_.shapes.push_back(std::move(sh));
+        emitter(emitters[0], int(s_.shapes.size()) - 1);
+        p.finish();
+        return;
     }
     p.finish();
     s_.shapes.push_back(std::move(sh));

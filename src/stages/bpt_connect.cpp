@@ -105,7 +105,11 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     const size_t zi = b.cam.at(slot, t - 1);
     const BptVertexKind zKind = b.cam.kind[zi];
     // Which strategies exist for these subpaths.
-    if (s == 0 && zKind != BptVertexKind::Light && zKind != BptVertexKind::Env) return false;
+    // s = 0: the camera subpath ends on an emitter (a Surface vertex of an emitter with a
+    // material both ends this path and scatters for the longer ones).
+    const bool zEmits = zKind == BptVertexKind::Light || zKind == BptVertexKind::Env ||
+                        (zKind == BptVertexKind::Surface && b.cam.light[zi] >= 0);
+    if (s == 0 && !zEmits) return false;
     // A connection needs a non-delta lobe at both ends, whichever lobe the walk took there.
     if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind))) return false;
     if (s == 1 && t >= 2 && scene.lights.empty()) return false;
@@ -143,6 +147,7 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     // evaluate the unweighted contribution.
     if (s == 0) {
         li = b.cam.light[zi];
+        if (x[0].kind == BptVertexKind::Surface) x[0].kind = BptVertexKind::Light;  // the path's light end
         Vec3 Le = x[0].kind == BptVertexKind::Env ? scene.env.Le(-x[0].ng)
                                                   : areaLe(scene.lights[li], x[0].ng, dirTo(x[0].p, x[1].p));
         value = b.cam.beta[zi] * Le;

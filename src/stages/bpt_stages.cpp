@@ -164,7 +164,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             continue;
         }
         SurfacePoint sp = surfaceAt(scene, rh);
-        if (sp.light >= 0 && !cameraWalk) continue;  // emitters absorb light subpaths
+        if (sp.material < 0 && !cameraWalk) continue;  // emitters without a material absorb light subpaths
         const uint32_t slot = b.pathSlot[i];
         const int idx = v.count[slot];
         if (idx >= v.maxCount[slot]) continue;
@@ -179,9 +179,9 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
                             : solidAngleToArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;
-        if (sp.light >= 0) {  // camera walk: the path ends on the emitter
+        v.light[cur] = int16_t(sp.light);  // a Surface on an emitter keeps its light (s = 0)
+        if (sp.material < 0) {  // camera walk: the path ends on the emitter
             v.kind[cur] = BptVertexKind::Light;
-            v.light[cur] = int16_t(sp.light);
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;

@@ -117,7 +117,7 @@ void resolveLightHits(const Scene& scene, LtBatch& b) {
         const RTCRayHit& rh = b.ray[i];
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene
         SurfacePoint sp = surfaceAt(scene, rh);
-        if (sp.light >= 0) continue;  // emitters are opaque and do not scatter
+        if (sp.material < 0) continue;  // an emitter without a material absorbs
         recordHit(scene, b, h++, i, sp, -rayDir(rh));
     }
     b.numHits = h;

@@ -74,13 +74,13 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
             continue;
         }
         SurfacePoint sp = surfaceAt(scene, rh);
-        if (sp.light >= 0) {  // emitters are opaque and do not scatter: the path ends
+        if (sp.light >= 0) {  // an emitter: without a material it absorbs and the path ends
             if (countEmission && dot(d, sp.ng) < 0) {
                 float w = b.prevDelta[i] ? 1.0f
                     : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d));
                 addRadiance(b, slot, b.beta[i] * scene.lights[sp.light].L * w, depth);
             }
-            continue;
+            if (sp.material < 0) continue;
         }
         if (depth >= maxLength) continue;  // no longer path can count
         recordHit(scene, b, h++, i, sp, -d);
