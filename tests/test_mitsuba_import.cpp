@@ -141,6 +141,11 @@ TEST_CASE("Mitsuba import: bad inputs name file, line and plugin", "[mitsuba][im
     e = errorOf(scene(kSensor + "<shape type=\"sphere\"><float name=\"radius\" value=\"1.5x\"/></shape>"));
     CHECK(e.find("t.xml:6:") == 0);
     CHECK(e.find("1.5x") != std::string::npos);
+    for (const char* bad : {"+-1", "nan", "1e39", ""}) {  // scene/number.h, shared with the thesis' format
+        e = errorOf(scene(kSensor + "<shape type=\"sphere\"><float name=\"radius\" value=\"" + bad + "\"/></shape>"));
+        INFO(bad << ": " << e);
+        CHECK(e.find("is not a finite number") != std::string::npos);
+    }
     // Wrong nesting: a float where a transform belongs; a shape inside a bsdf.
     e = errorOf(scene(kSensor + "<shape type=\"cube\"><float name=\"to_world\" value=\"1\"/></shape>"));
     CHECK(e.find("t.xml:6:") == 0);

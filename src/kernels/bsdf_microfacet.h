@@ -51,7 +51,8 @@ bool roughPlasticSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, flo
 
 // Fills x's plastic constants for relative index eta: fdrInt (smooth coating when
 // !rough) and, when rough, the transmittance table and Fdr_int of the rough coating
-// (numerical integration over the visible normals; allocation-free, ~1 ms).
+// (numerical integration over the visible normals; allocation-free, but 25-80 ms per
+// rough material at scene build: ~26 ms GGX, ~80 ms Beckmann, measured with -O2).
 void preparePlastic(BsdfExtra& x, float eta, bool rough);
 
 }  // namespace wmlt

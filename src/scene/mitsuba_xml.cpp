@@ -1,12 +1,11 @@
 #include "scene/mitsuba_xml.h"
 
 #include <algorithm>
-#include <cfloat>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
+#include "scene/number.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt::mitsuba {
@@ -127,22 +126,9 @@ void substitute(const Files& f, Node n, const std::map<std::string, std::string>
         if (c.type() == pugi::node_element) substitute(f, c, params);
 }
 
-double parseNumber(const Files& f, Node n, const std::string& text, bool integer) {
-    size_t b = text.find_first_not_of(" \t\r\n"), e = text.find_last_not_of(" \t\r\n");
-    const std::string t = b == std::string::npos ? "" : text.substr(b, e - b + 1);
-    const char* p = t.data();
-    const char* end = p + t.size();
-    if (p != end && *p == '+') ++p;
+double number(const Files& f, Node n, const std::string& text, bool integer) {
     double v = 0;
-    std::from_chars_result r{};
-    if (integer) {
-        long long i = 0;
-        r = std::from_chars(p, end, i);
-        v = double(i);
-    } else {
-        r = std::from_chars(p, end, v);
-    }
-    if (r.ec != std::errc() || r.ptr != end || p == end || !std::isfinite(v) || std::fabs(v) > FLT_MAX)
+    if (!parseNumber(text, integer, v))
         f.fail(n, "\"" + text.substr(0, 40) + "\" is not " + (integer ? "an integer" : "a finite number"));
     return v;
 }
@@ -166,7 +152,7 @@ std::vector<double> numbers(const Files& f, Node n, const std::string& text) {
     for (size_t i = 0; i <= text.size(); ++i) {
         const char c = i < text.size() ? text[i] : ' ';
         if (c == ',' || std::isspace((unsigned char)c)) {
-            if (!tok.empty()) v.push_back(parseNumber(f, n, tok));
+            if (!tok.empty()) v.push_back(number(f, n, tok));
             tok.clear();
         } else {
             tok += c;
@@ -219,13 +205,13 @@ float Props::getFloat(const std::string& name, float def) {
     Item* it = find(name);
     if (!it) return def;
     expectTag(files_, it->n, {"float", "integer"});
-    return float(parseNumber(files_, it->n, value(files_, it->n)));
+    return float(number(files_, it->n, value(files_, it->n)));
 }
 int Props::getInt(const std::string& name, int def) {
     Item* it = find(name);
     if (!it) return def;
     expectTag(files_, it->n, {"integer"});
-    const double v = parseNumber(files_, it->n, value(files_, it->n), true);
+    const double v = number(files_, it->n, value(files_, it->n), true);
     if (std::fabs(v) > 2147483647.0) files_.fail(it->n, "out of range");
     return int(v);
 }
@@ -267,7 +253,7 @@ Vec3 Props::getPoint(const std::string& name, Vec3 def) {
     Vec3 p;
     const char* xyz[3] = {"x", "y", "z"};
     for (int i = 0; i < 3; ++i)
-        if (it->n.attribute(xyz[i])) p[i] = float(parseNumber(files_, it->n, it->n.attribute(xyz[i]).value()));
+        if (it->n.attribute(xyz[i])) p[i] = float(number(files_, it->n, it->n.attribute(xyz[i]).value()));
     return p;
 }
 
@@ -292,7 +278,7 @@ Matrix Props::getTransform(const std::string& name) {
         }
         const char* a[3] = {"x", "y", "z"};
         for (int i = 0; i < 3; ++i)
-            if (n.attribute(a[i])) v[i] = parseNumber(files_, n, n.attribute(a[i]).value());
+            if (n.attribute(a[i])) v[i] = number(files_, n, n.attribute(a[i]).value());
         return v;
     };
     for (Node op : it->n.children()) {
@@ -310,7 +296,7 @@ Matrix Props::getTransform(const std::string& name) {
             const double len = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
             if (!(len > 0)) files_.fail(op, "the rotation axis is zero");
             if (!op.attribute("angle")) files_.fail(op, "missing attribute \"angle\"");
-            const double ang = parseNumber(files_, op, op.attribute("angle").value()) * M_PI / 180;
+            const double ang = number(files_, op, op.attribute("angle").value()) * M_PI / 180;
             const double c = std::cos(ang), s = std::sin(ang), x = a[0] / len, y = a[1] / len, z = a[2] / len;
             const double r[3][3] = {{c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s},
                                     {y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s},

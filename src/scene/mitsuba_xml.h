@@ -90,7 +90,7 @@ private:
     Node resolve(Node n) const;  // <ref id> -> the element with that id
 };
 
-// A number parsed whole ("1.5x", "nan", "1e39" rejected); the node names the error.
-double parseNumber(const Files& f, Node n, const std::string& text, bool integer = false);
+// A number parsed whole (scene/number.h); the node names the error.
+double number(const Files& f, Node n, const std::string& text, bool integer = false);
 
 }  // namespace wmlt::mitsuba
