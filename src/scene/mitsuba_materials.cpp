@@ -15,6 +15,21 @@ const std::map<std::string, float> kIor = {
     {"pyrex", 1.47f}, {"acrylic glass", 1.49f}, {"polypropylene", 1.49f}, {"bk7", 1.5046f},
     {"sodium chloride", 1.544f}, {"amber", 1.55f}, {"pet", 1.575f}, {"diamond", 2.419f}};
 
+// Named conductors: the complex index eta + i k of each metal as RGB, the values Mitsuba
+// 0.5-0.6 scene conversions use (Tungsten's table; Bitterli's veach-mis copper and
+// veach-bidir VN are these). Mitsuba 3 projects its spectra onto RGB at load time, which
+// may differ in the third digit. Other names of Mitsuba's table are refused.
+struct ComplexIor {
+    Vec3 eta, k;
+};
+const std::map<std::string, ComplexIor> kConductors = {
+    {"Ag", {{0.1552646489f, 0.1167232965f, 0.1383806959f}, {4.8283433224f, 3.1222459278f, 2.1469504455f}}},
+    {"Al", {{1.6574599595f, 0.8803689579f, 0.5212287346f}, {9.2238691996f, 6.2695232477f, 4.8370012281f}}},
+    {"Au", {{0.1431189557f, 0.3749570432f, 1.4424785571f}, {3.9831604247f, 2.3857207478f, 1.6032152899f}}},
+    {"Cr", {{4.3696828663f, 2.9167024892f, 1.6547005413f}, {5.2064337956f, 4.2313645277f, 3.7549467933f}}},
+    {"Cu", {{0.2004376970f, 0.9240334304f, 1.1022119527f}, {3.9129485033f, 2.4528477015f, 2.1421879552f}}},
+    {"VN", {{2.8656011588f, 2.1191817791f, 1.9400767149f}, {3.0323264950f, 2.0561075580f, 1.6162930914f}}}};
+
 }  // namespace
 
 float Importer::ior(Props& p, const char* name, float def) {
@@ -73,11 +88,23 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
     } else if (t == "conductor" || t == "roughconductor") {
         m.kind = t == "conductor" ? MaterialKind::Conductor : MaterialKind::RoughConductor;
         if (t == "roughconductor") rough();
-        const std::string mat = p.getString("material", p.has("eta") || p.has("k") ? "" : "none");
-        if (!mat.empty() && mat != "none")
-            p.fail(p.node(), "the named conductor \"" + mat + "\" is not in wavemmlt's table (only \"none\"): give eta and k");
-        m.conductorEta = colour("eta", Vec3(0.0f));
-        m.conductorK = colour("k", Vec3(1.0f));
+        // Mitsuba 3: eta and k, or a named material; "none" (the default) is eta 0, k 1.
+        const std::string mat = p.getString("material", "none");
+        if (mat == "none") {
+            m.conductorEta = colour("eta", Vec3(0.0f));
+            m.conductorK = colour("k", Vec3(1.0f));
+        } else {
+            if (p.has("eta") || p.has("k")) p.fail(p.node(), "give either eta and k or material, not both");
+            auto it = kConductors.find(mat);
+            if (it == kConductors.end()) {
+                std::string names;
+                for (const auto& c : kConductors) names += " " + c.first;
+                p.fail(p.node().find_child_by_attribute("name", "material"),
+                       "the conductor \"" + mat + "\" is not in wavemmlt's table (none" + names + "): give eta and k");
+            }
+            m.conductorEta = it->second.eta;
+            m.conductorK = it->second.k;
+        }
         m.reflect = colour("specular_reflectance", Vec3(1.0f));
     } else if (t == "plastic" || t == "roughplastic") {
         m.kind = t == "plastic" ? MaterialKind::Plastic : MaterialKind::RoughPlastic;
