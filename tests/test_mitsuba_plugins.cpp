@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "kernels/bump.h"
 #include "render_stats.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
@@ -79,4 +80,203 @@ TEST_CASE("Mitsuba plugins: an emitter keeps its BSDF (Mitsuba's default diffuse
     CHECK(!d.materials[d.shapes[1].material].twoSided);
     CHECK(d.shapes[2].material == -1);  // black: an emitter that only absorbs
     for (const ShapeDesc& s : d.shapes) CHECK(s.light >= 0);
+}
+
+namespace {
+
+// A w x h image whose texel (x, y) (y = 0: the top row) is c(x, y).
+template <class F>
+Image texels(int w, int h, F c) {
+    Image im(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) im.set(x, y, c(x, y));
+    return im;
+}
+
+TextureDesc bitmap(const Image& im, bool nearest, TextureWrap wrap) {
+    TextureDesc t;
+    t.kind = TextureKind::Bitmap;
+    t.image = im;
+    t.nearest = nearest;
+    t.wrap = wrap;
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("Mitsuba textures: bitmap lookup conventions (v = 0 the top row, filters, wrap modes, to_uv)", "[mitsuba][texture]") {
+    const Image im = texels(4, 2, [](int x, int y) { return Vec3(float(x), float(y), 1.0f); });
+    TextureDesc t = bitmap(im, true, TextureWrap::Repeat);
+    // Nearest: texel (x, y) covers [x/4, (x+1)/4) x [y/2, (y+1)/2); v = 0 is the top row.
+    CHECK(evalTexture(t, 0.1f, 0.1f, Vec3()).x == 0.0f);
+    CHECK(evalTexture(t, 0.1f, 0.1f, Vec3()).y == 0.0f);
+    CHECK(evalTexture(t, 0.8f, 0.9f, Vec3()).x == 3.0f);
+    CHECK(evalTexture(t, 0.8f, 0.9f, Vec3()).y == 1.0f);
+    CHECK(evalTexture(t, 1.1f, -0.1f, Vec3()).x == 0.0f);  // repeat
+    CHECK(evalTexture(t, 1.1f, -0.1f, Vec3()).y == 1.0f);
+    // Bilinear: exact at texel centres, linear between them.
+    t.nearest = false;
+    CHECK(evalTexture(t, 0.375f, 0.25f, Vec3()).x == Approx(1.0f));
+    CHECK(evalTexture(t, 0.5f, 0.25f, Vec3()).x == Approx(1.5f));
+    CHECK(evalTexture(t, 0.5f, 0.5f, Vec3()).y == Approx(0.5f));
+    // Repeat wraps the last texel into the first: halfway between x = 3 and x = 0.
+    CHECK(evalTexture(t, 1.0f, 0.25f, Vec3()).x == Approx(1.5f));
+    // Clamp holds the edge texel; mirror reflects about u = 0 and u = 1 (Mitsuba's test03).
+    t.wrap = TextureWrap::Clamp;
+    CHECK(evalTexture(t, 1.0f, 0.25f, Vec3()).x == Approx(3.0f));
+    CHECK(evalTexture(t, -3.0f, 0.25f, Vec3()).x == Approx(0.0f));
+    t.wrap = TextureWrap::Mirror;
+    for (float u : {0.05f, 0.3f, 0.61f, 0.93f}) {
+        CHECK(evalTexture(t, -u, 0.3f, Vec3()).x == Approx(evalTexture(t, u, 0.3f, Vec3()).x));
+        CHECK(evalTexture(t, 2.0f - u, 0.3f, Vec3()).x == Approx(evalTexture(t, u, 0.3f, Vec3()).x));
+    }
+    // to_uv: u' = 2 u (scale), then repeat.
+    t.wrap = TextureWrap::Repeat;
+    t.nearest = true;
+    t.uvTransform[0] = 2;
+    CHECK(evalTexture(t, 0.45f, 0.1f, Vec3()).x == 3.0f);
+    CHECK(evalTexture(t, 0.55f, 0.1f, Vec3()).x == 0.0f);
+    // The luminance gradient of the bilinear bitmap: red grows by 1 per texel across (4
+    // texels per unit of u, times 2 from to_uv), green by 1 per row (2 rows per unit of v),
+    // weighted as luminance.
+    t.nearest = false;
+    float du, dv;
+    bitmapLuminanceGradient(t, 0.2f, 0.25f, du, dv);
+    CHECK(du == Approx(0.2126f * 4 * 2).epsilon(1e-3));
+    CHECK(dv == Approx(0.7152f * 2).epsilon(1e-3));
+}
+
+TEST_CASE("Mitsuba textures: checkerboard", "[mitsuba][texture]") {
+    TextureDesc t;
+    t.kind = TextureKind::Checkerboard;
+    t.colour1 = Vec3(0.4f);
+    t.colour2 = Vec3(0.2f);
+    CHECK(evalTexture(t, 0.25f, 0.25f, Vec3()).x == 0.4f);
+    CHECK(evalTexture(t, 0.75f, 0.25f, Vec3()).x == 0.2f);
+    CHECK(evalTexture(t, 0.25f, 0.75f, Vec3()).x == 0.2f);
+    CHECK(evalTexture(t, 0.75f, 0.75f, Vec3()).x == 0.4f);
+    CHECK(evalTexture(t, -0.25f, 0.25f, Vec3()).x == 0.2f);
+    t.uvTransform[0] = t.uvTransform[4] = 4;  // to_uv scale 4: a 4 x 4 board per unit
+    CHECK(evalTexture(t, 0.2f, 0.05f, Vec3()).x == 0.2f);
+}
+
+TEST_CASE("Mitsuba textures: importer (bitmap, checkerboard, ref, to_uv) and bad inputs", "[mitsuba][import][texture]") {
+    const std::string dir = rstats::tempDir("mitsuba-textures");
+    writeImage(dir + "/t.pfm", texels(4, 2, [](int x, int y) { return Vec3(float(x), float(y), 0.5f); }));
+    SceneDesc d = load(scene(R"(
+<texture type="checkerboard" id="board"><rgb name="color0" value="0.9"/><transform name="to_uv"><scale x="8" y="4"/></transform></texture>
+<shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/>
+  <string name="filter_type" value="nearest"/><string name="wrap_mode" value="mirror"/></texture></bsdf></shape>
+<shape type="rectangle"><bsdf type="roughplastic"><ref name="diffuse_reflectance" id="board"/></bsdf></shape>
+<shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="board"/></bsdf></shape>)"), dir);
+    REQUIRE(d.textures.size() == 2);
+    const MaterialDesc& m0 = d.materials[d.shapes[0].material];
+    REQUIRE(m0.texture >= 0);
+    CHECK(m0.diffuse.x == 1.0f);  // the texture is the colour
+    const TextureDesc& bm = d.textures[m0.texture];
+    CHECK(bm.kind == TextureKind::Bitmap);
+    CHECK(bm.nearest);
+    CHECK(bm.wrap == TextureWrap::Mirror);
+    CHECK(bm.image.width == 4);
+    const MaterialDesc& m1 = d.materials[d.shapes[1].material];
+    const MaterialDesc& m2 = d.materials[d.shapes[2].material];
+    CHECK(m1.texture == m2.texture);  // one texture, referenced twice
+    const TextureDesc& cb = d.textures[m1.texture];
+    CHECK(cb.kind == TextureKind::Checkerboard);
+    CHECK(cb.colour1.x == Approx(0.9f));
+    CHECK(cb.colour2.x == Approx(0.2f));  // Mitsuba's default color1
+    CHECK(cb.uvTransform[0] == 8.0f);
+    CHECK(cb.uvTransform[4] == 4.0f);
+    // Bad inputs: a missing file, an unknown filter or wrap mode, a texture where wavemmlt
+    // has no textured parameter, an unknown texture type.
+    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
+             {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="nope.png"/></texture>)", "nope.png"},
+             {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="filter_type" value="cubic"/></texture>)", "cubic"},
+             {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="wrap_mode" value="tile"/></texture>)", "tile"},
+             {R"(<texture type="noise" name="reflectance"/>)", "noise"}}) {
+        const std::string e = errorOf(scene("<shape type=\"cube\"><bsdf type=\"diffuse\">" + xml + "</bsdf></shape>"), dir);
+        INFO(e);
+        CHECK(e.find("t.xml:6:") == 0);
+        CHECK(e.find(what) != std::string::npos);
+    }
+    const std::string e = errorOf(scene(R"(<shape type="cube"><bsdf type="roughconductor"><texture type="checkerboard" name="specular_reflectance"/></bsdf></shape>)"));
+    CHECK(e.find("specular_reflectance") != std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+// A bitmap (nearest, 4 x 4 texels) on a rectangle seen face-on, filling a 16 x 16 image,
+// under a uniform sky, direct light only: each 4 x 4 block of pixels is one texel's
+// albedo times the sky (a diffuse plane under a full hemisphere: L_o = rho L). Mitsuba's
+// rectangle has uv = (x + 1, y + 1) / 2 and v = 0 is the bitmap's top row, so the image
+// shows the bitmap upside down: block (i, j) from the top is texel (i, 3 - j).
+TEST_CASE("Mitsuba textures: a bitmap on a rectangle, end to end (rectangle uv, v = 0 the top row)", "[mitsuba][texture][render]") {
+    const std::string dir = rstats::tempDir("mitsuba-bitmap-render");
+    auto albedo = [](int x, int y) { return Vec3(0.1f + 0.2f * float(x), 0.1f + 0.2f * float(y), 0.5f); };
+    writeImage(dir + "/t.pfm", texels(4, 4, albedo));
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="53.130102"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+  <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+    <string name="filename" value="t.pfm"/><string name="filter_type" value="nearest"/></texture></bsdf></shape>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+</scene>)", "bitmap.xml", dir);
+    rstats::RunStats runs;
+    for (int k = 0; k < 8; ++k) {
+        const RenderResult r = render(d, rstats::renderOptions(TracerKind::PT, 64, 40 + uint64_t(k), 1, 2));
+        std::vector<double> v;
+        for (int c = 0; c < 3; ++c) {
+            const std::vector<double> b = rstats::blockMeans(r.image, 4, c);
+            v.insert(v.end(), b.begin(), b.end());
+        }
+        runs.add(v);
+    }
+    std::vector<double> expected;
+    for (int c = 0; c < 3; ++c)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) expected.push_back(2.0 * albedo(i, 3 - j)[c]);
+    const rstats::ZTestResult z = rstats::zTest(runs, expected);
+    INFO(z.describe());
+    CHECK(z.pass);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba bumpmap: importer, and the normal of a linear height ramp", "[mitsuba][import][bump]") {
+    const std::string dir = rstats::tempDir("mitsuba-bumpmap");
+    // Grey ramp: luminance x / 4 in texel column x (8 columns), constant down the rows.
+    writeImage(dir + "/h.pfm", texels(8, 2, [](int x, int) { return Vec3(float(x) / 4.0f); }));
+    SceneDesc d = load(scene(R"(
+<shape type="rectangle"><bsdf type="bumpmap"><texture type="bitmap" name="arbitrary"><string name="filename" value="h.pfm"/></texture>
+  <float name="scale" value="0.5"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
+<shape type="rectangle"><bsdf type="twosided"><bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture>
+  <bsdf type="roughconductor"/></bsdf></bsdf></shape>)"), dir);
+    const MaterialDesc& m0 = d.materials[d.shapes[0].material];
+    CHECK(m0.kind == MaterialKind::Matte);
+    CHECK(m0.twoSided);
+    CHECK(m0.bumpMitsuba);
+    CHECK(m0.bumpScale == 0.5f);
+    REQUIRE(m0.bump >= 0);
+    CHECK(d.textures[m0.bump].kind == TextureKind::Bitmap);
+    const MaterialDesc& m1 = d.materials[d.shapes[1].material];
+    CHECK(m1.kind == MaterialKind::RoughConductor);
+    CHECK(m1.twoSided);
+    CHECK(m1.bumpScale == 1.0f);  // Mitsuba's default
+    // h = 0.5 * luminance: dh/du = 0.5 * (1/4 per texel) * 8 texels per unit = 1 inside the
+    // ramp; with dp/du = x, dp/dv = y and n = z: n' = (-1, 0, 1) / sqrt(2).
+    const Vec3 n = bumpedNormalMitsuba(d.textures[m0.bump], 0.5f, 0.4f, 0.3f, Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    CHECK(n.x == Approx(-std::sqrt(0.5f)).epsilon(1e-4));
+    CHECK(n.y == Approx(0.0f).margin(1e-5));
+    CHECK(n.z == Approx(std::sqrt(0.5f)).epsilon(1e-4));
+    // Bad: no texture, a checkerboard (Mitsuba differentiates bitmaps only), no nested BSDF.
+    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
+             {R"(<bsdf type="bumpmap"><bsdf type="diffuse"/></bsdf>)", "exactly one nested texture"},
+             {R"(<bsdf type="bumpmap"><texture type="checkerboard"/><bsdf type="diffuse"/></bsdf>)", "must be a bitmap"},
+             {R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture></bsdf>)", "exactly one nested BSDF"}}) {
+        const std::string e = errorOf(scene("<shape type=\"cube\">" + xml + "</shape>"), dir);
+        INFO(e);
+        CHECK(e.find("t.xml:6:") == 0);
+        CHECK(e.find(what) != std::string::npos);
+    }
+    std::filesystem::remove_all(dir);
 }

@@ -63,21 +63,35 @@ struct MaterialDesc {
     Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
     bool nonlinear = false;                  // Plastic, RoughPlastic
     bool twoSided = true;                    // false: black seen from below the shading normal
-    float bumpScale = 0;                     // > 0: Mitsuba bumpmap (height = scale * texture)
+    bool bumpMitsuba = false;                // bump is Mitsuba's bumpmap: height = bumpScale * luminance
+    float bumpScale = 1;
+    // Mitsuba's mask: the surface is there with probability opacity (or the texture's
+    // luminance at the hit), else rays pass straight through (an any-hit test).
+    float opacity = 1;
+    int opacityTexture = -1;                 // index into SceneDesc::textures, -1: none
 };
 
-enum class TextureKind : uint8_t { Checker, ImageFile, Marble };
+// The thesis' three textures, then Mitsuba's bitmap and checkerboard (docs/mitsuba.md).
+enum class TextureKind : uint8_t { Checker, ImageFile, Marble, Bitmap, Checkerboard };
+enum class TextureWrap : uint8_t { Repeat, Mirror, Clamp };
 
 struct TextureDesc {
     int id = 0;
     TextureKind kind = TextureKind::Checker;
-    Vec3 colour1{0.0f}, colour2{1.0f}, colour3{0.5f};
+    Vec3 colour1{0.0f}, colour2{1.0f}, colour3{0.5f};  // Checkerboard: color0, color1
     float repeatU = 1, repeatV = 1;
-    Image image;  // ImageFile: linear RGB
+    Image image;  // ImageFile, Bitmap: linear RGB
+    // Bitmap and Checkerboard: Mitsuba's to_uv, (u, v) -> (a u + b v + c, d u + e v + f)
+    // as {a, b, c, d, e, f}, applied first; v = 0 is the image's TOP row (Mitsuba's).
+    float uvTransform[6] = {1, 0, 0, 0, 1, 0};
+    bool nearest = false;                    // Bitmap: filter_type nearest (else bilinear)
+    TextureWrap wrap = TextureWrap::Repeat;  // Bitmap: wrap_mode
 };
 
 // How a shape maps surface points to (u, v) (scene-format.md, "UV coordinates").
-enum class UvKind : uint8_t { None, Plane, Sphere, Mesh };
+// SphereMitsuba: Mitsuba's (u, v) = (phi / 2 pi, theta / pi) about the local +z pole,
+// phi from +x towards +y.
+enum class UvKind : uint8_t { None, Plane, Sphere, Mesh, SphereMitsuba };
 
 struct TriangleMesh {
     std::vector<Vec3> positions;    // world space

@@ -95,13 +95,15 @@ void Importer::shape(Node n) {
                     p.fail(n, "a sphere's to_world must be a uniform scale, rotation and translation");
             }
         sh.kind = ShapeKind::Sphere;
-        sh.uv = UvKind::Sphere;
+        sh.uv = UvKind::SphereMitsuba;
         sh.center = M.point(c);
         sh.radius = float(r * col[0]);
+        // The unit sphere to world, rotation included (Mitsuba's (u, v) turn with to_world).
         Matrix T;
-        for (int i = 0; i < 3; ++i) { T.m[i][i] = sh.radius; T.m[i][3] = sh.center[i]; }
-        sh.toWorld = T.affine();
-        sh.toLocal = T.inverse().affine();
+        for (int i = 0; i < 3; ++i) { T.m[i][i] = r; T.m[i][3] = c[i]; }
+        const Matrix W = M * T;
+        sh.toWorld = W.affine();
+        sh.toLocal = W.inverse().affine();
     } else {
         p.fail(n, "shape not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
     }

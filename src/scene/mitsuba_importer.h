@@ -24,6 +24,7 @@ private:
     std::set<std::string> overridden_;
     std::map<std::string, Node> ids_;
     std::map<const void*, int> materialOf_;  // bsdf element -> material index
+    std::map<const void*, int> textureOf_;   // texture element -> texture index
     bool camel_ = false;
     SceneDesc s_;
     bool haveSensor_ = false, haveIntegrator_ = false;
@@ -44,6 +45,8 @@ private:
     void topLevel(Node scene);
     float ior(Props& p, const char* name, float def);
     int material(Node bsdf);
+    int texture(Node tex);
+    Node textureParam(Props& p, const std::string& name);
     void materialParams(Props& p, MaterialDesc& m);
     void shape(Node n);
     void emitter(Node n, int shape);

@@ -1,7 +1,10 @@
 // The Mitsuba importer's BSDFs (docs/mitsuba.md, "BSDFs").
 #include <cmath>
+#include <filesystem>
 
 #include "scene/mitsuba_importer.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
 
 namespace wmlt::mitsuba {
 namespace {
@@ -46,11 +49,81 @@ float Importer::ior(Props& p, const char* name, float def) {
     return v;
 }
 
+// A <texture> (bitmap, checkerboard) into SceneDesc::textures, once per element.
+int Importer::texture(Node n) {
+    auto it = textureOf_.find(n.internal_object());
+    if (it != textureOf_.end()) return it->second;
+    Props p = props(n);
+    const std::string t = p.type();
+    TextureDesc tex;
+    auto toUv = [&]() {
+        const Matrix M = p.getTransform("to_uv");  // Mitsuba reads its 2D part: rows 0-1, columns 0, 1, 3
+        const double a[6] = {M.m[0][0], M.m[0][1], M.m[0][3], M.m[1][0], M.m[1][1], M.m[1][3]};
+        for (int i = 0; i < 6; ++i) tex.uvTransform[i] = float(a[i]);
+    };
+    if (t == "bitmap") {
+        tex.kind = TextureKind::Bitmap;
+        if (!p.has("filename")) p.fail(n, "a bitmap needs a filename");
+        const std::string path = resolve(p.getString("filename", ""));
+        try { tex.image = readImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        const std::string filter = p.getString("filter_type", "bilinear");
+        if (filter == "nearest") tex.nearest = true;
+        else if (filter != "bilinear") p.fail(n, "filter_type \"" + filter + "\" is not bilinear or nearest");
+        const std::string wrap = p.getString("wrap_mode", "repeat");
+        if (wrap == "repeat") tex.wrap = TextureWrap::Repeat;
+        else if (wrap == "mirror") tex.wrap = TextureWrap::Mirror;
+        else if (wrap == "clamp") tex.wrap = TextureWrap::Clamp;
+        else p.fail(n, "wrap_mode \"" + wrap + "\" is not repeat, mirror or clamp");
+        // raw: the file's values as stored. readImage linearises 8-bit sRGB files (PNG,
+        // JPEG); raw undoes that (exactly, up to float rounding).
+        const std::string ext = std::filesystem::path(path).extension().string();
+        const bool encoded = ext == ".png" || ext == ".PNG" || ext == ".jpg" || ext == ".JPG" || ext == ".jpeg" || ext == ".JPEG";
+        if (p.getBool("raw", false) && encoded)
+            for (float& v : tex.image.rgb) v = linearToSrgb(v);
+        toUv();
+    } else if (t == "checkerboard") {
+        tex.kind = TextureKind::Checkerboard;
+        for (const char* c : {"color0", "color1"})
+            if (Node x = p.node().find_child_by_attribute("name", c); x && (std::string(x.name()) == "texture" || std::string(x.name()) == "ref"))
+                p.fail(x, "a texture inside a checkerboard is not supported (a colour is)");
+        tex.colour1 = p.getColor("color0", Vec3(0.4f));
+        tex.colour2 = p.getColor("color1", Vec3(0.2f));
+        toUv();
+    } else {
+        p.fail(n, "texture not supported by wavemmlt's Mitsuba importer (bitmap and checkerboard are)");
+    }
+    p.finish();
+    tex.id = int(s_.textures.size());
+    textureOf_[n.internal_object()] = tex.id;
+    s_.textures.push_back(std::move(tex));
+    return int(s_.textures.size()) - 1;
+}
+
+// The texture a parameter names (<texture name=...> or <ref name=... id=...> of one), or
+// a null node when the parameter is a plain value or absent.
+Node Importer::textureParam(Props& p, const std::string& name) {
+    Node c = p.node().find_child_by_attribute("name", name.c_str());
+    if (!c) return Node();
+    const std::string tag = c.name();
+    if (tag == "texture") return p.getNested("texture", name);
+    if (tag == "ref") {
+        Node r = ids_.count(c.attribute("id").value()) ? ids_.at(c.attribute("id").value()) : Node();
+        if (r && std::string(r.name()) == "texture") return p.getNested("texture", name);
+    }
+    return Node();
+}
+
 void Importer::materialParams(Props& p, MaterialDesc& m) {
     const std::string t = p.type();
     auto colour = [&](const char* name, Vec3 def) {
-        if (Node n = p.node().find_child_by_attribute("name", name); n && std::string(n.name()) == "texture")
-            p.fail(n, "textures are not supported by the importer yet (docs/mitsuba.md)");
+        if (Node tx = textureParam(p, name)) {
+            // A texture multiplies the diffuse colour (wavemmlt's textured parameter).
+            if (std::string(name) != "reflectance" && std::string(name) != "diffuse_reflectance")
+                p.fail(p.node().find_child_by_attribute("name", name),
+                       std::string("a texture on \"") + name + "\" is not supported (on reflectance and diffuse_reflectance it is)");
+            m.texture = texture(tx);
+            return Vec3(1.0f);
+        }
         Vec3 c = p.getColor(name, def);
         if (!(c.x >= 0 && c.y >= 0 && c.z >= 0)) p.fail(p.node(), std::string(name) + " must be >= 0");
         return c;
@@ -126,13 +199,46 @@ int Importer::material(Node bsdf) {
     if (it != materialOf_.end()) return it->second;
     Props p = props(bsdf);
     MaterialDesc m;
+    auto inner = [&](const char* what) {  // the one nested BSDF of a wrapper
+        std::vector<Node> b = p.nested("bsdf");
+        if (b.size() != 1) p.fail(bsdf, std::string(what) + " needs exactly one nested BSDF");
+        return s_.materials[material(b[0])];
+    };
     if (p.type() == "twosided") {  // one nested BSDF, both faces alike
-        std::vector<Node> inner = p.nested("bsdf");
-        if (inner.size() != 1) p.fail(bsdf, "twosided needs exactly one nested BSDF (two different faces are not supported)");
-        m = s_.materials[material(inner[0])];
+        std::vector<Node> b = p.nested("bsdf");
+        if (b.size() != 1) p.fail(bsdf, "twosided needs exactly one nested BSDF (two different faces are not supported)");
+        m = s_.materials[material(b[0])];
         if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::ThinDielectric || m.kind == MaterialKind::RoughDielectric)
             p.fail(bsdf, "twosided cannot wrap a transmitting BSDF");
         m.twoSided = true;
+    } else if (p.type() == "bumpmap") {  // a height texture (any name) over the nested BSDF
+        m = inner("bumpmap");
+        std::vector<Node> tx;
+        for (Node c : p.node().children())
+            if (c.type() == pugi::node_element && std::string(c.name()) == "texture") tx.push_back(c);
+        for (Node c : p.node().children())
+            if (c.type() == pugi::node_element && std::string(c.name()) == "ref" && ids_.count(c.attribute("id").value()) &&
+                std::string(ids_.at(c.attribute("id").value()).name()) == "texture")
+                tx.push_back(c);
+        if (tx.size() != 1) p.fail(bsdf, "bumpmap needs exactly one nested texture (the height)");
+        const std::string tname = tx[0].attribute("name").value();
+        Node tn = tname.empty() ? p.nested("texture").at(0) : p.getNested("texture", tname);
+        if (m.bump >= 0) p.fail(bsdf, "a bumpmap inside a bumpmap is not supported");
+        m.bump = texture(tn);
+        if (s_.textures[m.bump].kind != TextureKind::Bitmap)
+            p.fail(tx[0], "a bumpmap's height must be a bitmap (Mitsuba differentiates only those)");
+        m.bumpMitsuba = true;
+        m.bumpScale = p.getFloat("scale", 1.0f);
+    } else if (p.type() == "mask") {  // opacity: a float or a texture's luminance
+        p.fail(bsdf, "mask is not supported yet");
+        m = inner("mask");
+        if (m.opacity < 1 || m.opacityTexture >= 0) p.fail(bsdf, "a mask inside a mask is not supported");
+        if (Node tx = textureParam(p, "opacity")) {
+            m.opacityTexture = texture(tx);
+        } else {
+            m.opacity = p.getFloat("opacity", 0.5f);
+            if (!(m.opacity >= 0 && m.opacity <= 1)) p.fail(bsdf, "opacity must be in [0, 1]");
+        }
     } else {
         materialParams(p, m);
     }
