@@ -12,6 +12,7 @@
 
 #include "kernels/bump.h"
 #include "render_stats.h"
+#include "scene/scene.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
@@ -277,6 +278,67 @@ TEST_CASE("Mitsuba bumpmap: importer, and the normal of a linear height ramp", "
         INFO(e);
         CHECK(e.find("t.xml:6:") == 0);
         CHECK(e.find(what) != std::string::npos);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba mask: importer and bad inputs", "[mitsuba][import][mask]") {
+    const std::string dir = rstats::tempDir("mitsuba-mask");
+    writeImage(dir + "/a.pfm", texels(2, 2, [](int x, int y) { return Vec3((x + y) % 2 ? 1.0f : 0.0f); }));
+    SceneDesc d = load(scene(R"(
+<shape type="rectangle"><bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="diffuse"/></bsdf></shape>
+<shape type="rectangle"><bsdf type="mask"><texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/></texture>
+  <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
+<shape type="rectangle"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></shape>)"), dir);
+    CHECK(d.materials[d.shapes[0].material].opacity == Approx(0.3f));
+    CHECK(d.materials[d.shapes[1].material].opacityTexture >= 0);
+    CHECK(d.materials[d.shapes[1].material].twoSided);
+    CHECK(d.materials[d.shapes[2].material].opacity == Approx(0.5f));  // Mitsuba's default
+    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
+             {R"(<bsdf type="mask"><float name="opacity" value="1.5"/><bsdf type="diffuse"/></bsdf>)", "opacity must be in [0, 1]"},
+             {R"(<bsdf type="mask"><float name="opacity" value="0.5"/></bsdf>)", "exactly one nested BSDF"},
+             {R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf><emitter type="area"/>)", "emitting"}}) {
+        const std::string e = errorOf(scene("<shape type=\"rectangle\">" + xml + "</shape>"), dir);
+        INFO(e);
+        CHECK(e.find("t.xml:6:") == 0);
+        CHECK(e.find(what) != std::string::npos);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+// A diffuse plate of opacity 0.3 (and one whose opacity is a 2 x 2 checker of 0 and 1)
+// filling the view, under a uniform sky L, direct light only: a pixel is the sky with
+// probability 1 - alpha and the plate (rho L) with alpha, so (1 - alpha) L + alpha rho L.
+TEST_CASE("Mitsuba mask: a partly transparent plate under a sky, end to end", "[mitsuba][mask][render]") {
+    const std::string dir = rstats::tempDir("mitsuba-mask-render");
+    writeImage(dir + "/a.pfm", texels(2, 2, [](int x, int y) { return Vec3((x + y) % 2 ? 1.0f : 0.0f); }));
+    for (const std::string opacity : {R"(<float name="opacity" value="0.3"/>)",
+                                      R"(<texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/><string name="filter_type" value="nearest"/></texture>)"}) {
+        const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="53.130102"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+  <shape type="rectangle"><bsdf type="mask">)" + opacity + R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf></shape>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+</scene>)", "mask.xml", dir);
+        REQUIRE(Scene::build(d)->features.masks);
+        rstats::RunStats runs;
+        for (int k = 0; k < 8; ++k) {
+            const RenderResult r = render(d, rstats::renderOptions(TracerKind::PT, 64, 60 + uint64_t(k), 1, 2));
+            runs.add(rstats::blockMeans(r.image, 4, 1));
+        }
+        // The checker: texel (x, y) opaque where x + y is odd; the image shows the bitmap
+        // upside down (block (i, j) from the top is texel (i, 1 - j)).
+        std::vector<double> expected;
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                const double alpha = opacity.find("0.3") != std::string::npos ? 0.3 : (i + (1 - j)) % 2 ? 1.0 : 0.0;
+                expected.push_back((1 - alpha) * 2.0 + alpha * 0.6 * 2.0);
+            }
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO(opacity << ": " << z.describe());
+        CHECK(z.pass);
     }
     std::filesystem::remove_all(dir);
 }

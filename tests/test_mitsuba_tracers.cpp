@@ -8,12 +8,14 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "power.h"
 #include "render_stats.h"
+#include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -107,4 +109,27 @@ TEST_CASE("Mitsuba tracers: emitters with a BSDF reflect in every tracer", "[mit
   <shape type="sphere"><point name="center" x="0.55" y="0.3" z="0.3"/><float name="radius" value="0.2"/>
     <emitter type="area"><rgb name="radiance" value="2, 1.5, 1"/></emitter></shape>
 )"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+}
+
+// A ceiling light casting shadows through masks: a plate whose opacity is a 4 x 4 checker
+// bitmap of 0 and 1 (a leaf's cut-out) and one of opacity 0.4 (stochastic transparency),
+// both twosided diffuse: light passes through, reflects off them, and their shadows on the
+// floor are partial. Every tracer traces the same filtered rays (Embree's filter on the
+// masked shapes only).
+TEST_CASE("Mitsuba tracers: masks in every tracer", "[mitsuba][render][stat]") {
+    const std::string dir = rstats::tempDir("mitsuba-tracers-mask");
+    Image im(4, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) im.set(x, y, Vec3((x + y) % 2 ? 1.0f : 0.0f));
+    writeImage(dir + "/leaf.pfm", im);
+    agree("masks", scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
+    <emitter type="area"><rgb name="radiance" value="6"/></emitter></shape>
+  <shape type="rectangle"><transform name="to_world"><scale value="0.45"/><rotate x="1" angle="-45"/><translate x="-0.45" y="1.1"/></transform>
+    <bsdf type="mask"><texture type="bitmap" name="opacity"><string name="filename" value="leaf.pfm"/><string name="filter_type" value="nearest"/></texture>
+      <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.7, 0.2"/></bsdf></bsdf></bsdf></shape>
+  <shape type="rectangle"><transform name="to_world"><scale value="0.4"/><rotate x="1" angle="-90"/><translate x="0.45" y="0.35"/></transform>
+    <bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></bsdf></bsdf></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
+    std::filesystem::remove_all(dir);
 }

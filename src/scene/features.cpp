@@ -18,6 +18,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
             f.textures = true;
         if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0) f.bump = true;
+        if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
     }
@@ -49,6 +50,7 @@ std::string SceneFeatures::describe() const {
     o << "sphere geometry: " << (spheres ? "yes" : "no") << "\n";
     o << "delta lobes: " << (delta ? "yes" : "no") << "\n";
     o << "one-sided materials: " << (oneSided ? "yes" : "no") << "\n";
+    o << "masks (opacity): " << (masks ? "yes" : "no") << "\n";
     return o.str();
 }
 
@@ -62,7 +64,7 @@ std::string SceneFeatures::json() const {
     o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
       << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures)
       << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
-      << ", \"smooth_normals\": " << b(smoothNormals) << "}";
+      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << "}";
     return o.str();
 }
 

@@ -19,6 +19,7 @@ struct SceneFeatures {
     bool needUv = false;        // textures or bump: the surface stage computes (u, v)
     bool delta = false;         // a material with a delta lobe exists
     bool oneSided = false;      // some material is black from below (Mitsuba without twosided)
+    bool masks = false;         // some shape is partly transparent (Mitsuba's mask: Embree filters)
 
     bool has(MaterialKind k) const { return material[int(k)]; }
     // Human-readable listing for `wavemmlt --describe`.

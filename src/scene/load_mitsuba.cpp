@@ -125,6 +125,8 @@ void Importer::shape(Node n) {
         // Emitters scatter by their BSDF as Mitsuba's do; a black diffuse one only absorbs,
         // which wavemmlt's emitters without a material (-1) do at no cost.
         const MaterialDesc& m = s_.materials[sh.material];
+        if (m.opacity < 1 || m.opacityTexture >= 0)
+            p.fail(bsdfs[0], "a mask on an emitting shape is not supported (its light would be partly there)");
         if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.texture < 0) sh.material = -1;
         s_.shapes.push_back(std::move(sh));
         emitter(emitters[0], int(s_.shapes.size()) - 1);

@@ -230,7 +230,6 @@ int Importer::material(Node bsdf) {
         m.bumpMitsuba = true;
         m.bumpScale = p.getFloat("scale", 1.0f);
     } else if (p.type() == "mask") {  // opacity: a float or a texture's luminance
-        p.fail(bsdf, "mask is not supported yet");
         m = inner("mask");
         if (m.opacity < 1 || m.opacityTexture >= 0) p.fail(bsdf, "a mask inside a mask is not supported");
         if (Node tx = textureParam(p, "opacity")) {

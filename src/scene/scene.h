@@ -32,6 +32,17 @@ struct GeomRecord {
     Affine toLocal, toWorld;
 };
 
+// Mitsuba's mask on a shape: what its Embree filter functions read (scene.cpp).
+struct MaskRecord {
+    const TriangleMesh* mesh = nullptr;  // meshes: (u, v) from the hit's barycentrics
+    UvKind uv = UvKind::None;
+    Affine toLocal;                      // spheres: (u, v) from the local normal
+    Vec3 center;
+    float opacity = 1;
+    const TextureDesc* texture = nullptr;  // opacity = its luminance at the hit
+    unsigned geomID = 0;
+};
+
 class Scene {
 public:
     // Takes the description; `threads` is the number of worker threads (0: all).
@@ -48,6 +59,7 @@ public:
     std::vector<GeomRecord> geoms;  // by geomID
     std::vector<BsdfParams> materials;  // by material index, before textures
     std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
+    std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;
     std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)
