@@ -1,15 +1,55 @@
 // The Mitsuba 3 importer: a <scene version="3.x"> file (also 2.x, and 0.6.x/0.5.x with
 // camelCase names) into a SceneDesc. What is supported and the conventions chosen:
 // docs/mitsuba.md. Anything else is one InputError naming the file, line and plugin.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "scene/mitsuba_importer.h"
 #include "scene/mitsuba_shapes.h"
+#include "kernels/envmap.h"
 #include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 
 namespace wmlt::mitsuba {
+
+namespace {
+
+// Mitsuba 3's envmap: local direction d -> (u, v) = (atan2(d.x, -d.z) / 2 pi, acos(d.y) / pi),
+// bilinear with texel centres at u = (i + 1/2) / W (wrapping) and v = j / (H - 1) (row 0
+// at the +y pole, row H - 1 at -y), times scale. Its (u, v) orientation is wavemmlt's own
+// (envmap.h), but wavemmlt looks up the nearest pixel of rows covering [j, j + 1) pi / H:
+// the map is resampled onto wavemmlt's grid at f = 4, 3, 2 or 1 times the resolution (the
+// largest that keeps it under 2^23 pixels), each pixel Mitsuba's value at its centre's
+// direction, rotated by to_world: within 1 / (2 f) texel of Mitsuba's lookup.
+Image resampleEnvMap(const Image& src, const Matrix& toWorld, float scale) {
+    const int W = src.width, H = src.height;
+    int f = 4;
+    while (f > 1 && double(W) * H * f * f > double(1 << 23)) --f;
+    Image out(W * f, H * f);
+    auto texel = [&](int x, int y) { return src.at(((x % W) + W) % W, std::min(std::max(y, 0), H - 1)); };
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            const Vec3 dw = envDirection((float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height));
+            // World to the map's frame: the inverse (transpose) of the rotation.
+            const double lx = toWorld.m[0][0] * dw.x + toWorld.m[1][0] * dw.y + toWorld.m[2][0] * dw.z;
+            const double ly = toWorld.m[0][1] * dw.x + toWorld.m[1][1] * dw.y + toWorld.m[2][1] * dw.z;
+            const double lz = toWorld.m[0][2] * dw.x + toWorld.m[1][2] * dw.y + toWorld.m[2][2] * dw.z;
+            double u = std::atan2(lx, -lz) / (2 * M_PI) - 0.5 / W;
+            u -= std::floor(u);
+            const double v = std::acos(std::clamp(ly / std::sqrt(lx * lx + ly * ly + lz * lz), -1.0, 1.0)) / M_PI;
+            const double px = u * W, py = v * (H - 1);
+            const int x0 = std::min(int(px), W - 1), y0 = std::min(int(py), H - 2);
+            const float tx = float(px - x0), ty = float(py - y0);
+            const Vec3 c = texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) +
+                           texel(x0, y0 + 1) * ((1 - tx) * ty) + texel(x0 + 1, y0 + 1) * (tx * ty);
+            out.set(x, y, c * scale);
+        }
+    return out;
+}
+
+}  // namespace
 
 
 // <default> values and <include> files first (defaults may be used before they appear),
@@ -153,6 +193,27 @@ void Importer::emitter(Node n, int shape) {
         l.shape = shape;
         sh.light = int(s_.lights.size());
         s_.lights.push_back(l);
+    } else if (t == "envmap") {
+        if (shape >= 0) p.fail(n, "an envmap cannot be attached to a shape");
+        if (s_.envMap.width > 0) p.fail(n, "a second environment emitter");
+        if (!p.has("filename")) p.fail(n, "an envmap needs a filename");
+        const std::string path = resolve(p.getString("filename", ""));
+        Image src;
+        try { src = readImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        if (src.width < 2 || src.height < 3) p.fail(n, "the environment map must be at least 2 x 3 pixels (Mitsuba's rule)");
+        const float scale = p.getFloat("scale", 1.0f);
+        if (!(scale >= 0)) p.fail(n, "scale must be >= 0");
+        const Matrix M = p.getTransform("to_world");
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                double d = 0;
+                for (int k = 0; k < 3; ++k) d += M.m[k][i] * M.m[k][j];
+                if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-4)
+                    p.fail(n, "an envmap's to_world must be a rotation (no scale or shear)");
+            }
+        p.getBool("mis_compensation", false);  // sampling only
+        s_.envMap = resampleEnvMap(src, M, scale);
+        s_.settings.envMap = path;
     } else if (t == "constant") {  // a uniform sky: a 2 x 2 map of one colour
         const Vec3 L = p.getColor("radiance", Vec3(1.0f));
         if (s_.envMap.width > 0) p.fail(n, "a second environment emitter");
