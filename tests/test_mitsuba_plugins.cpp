@@ -5,7 +5,9 @@
 // each feature is in test_mitsuba_tracers.cpp.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -416,5 +418,129 @@ TEST_CASE("Mitsuba envmap: a uniform map with scale renders as the constant sky"
     const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(4, 0.6 * 4 * 0.5));
     INFO(z.describe());
     CHECK(z.pass);
+    std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+void writeFile(const std::string& path, const std::string& bytes) {
+    std::ofstream f(path, std::ios::binary);
+    f << bytes;
+}
+
+// A unit quad (one 4-gon face) with normals, uv, colours (read past), and an extra element.
+std::string plyHeader(const std::string& format, const std::string& faceCount = "1") {
+    return "ply\nformat " + format + " 1.0\ncomment a quad\nelement vertex 4\nproperty float x\nproperty float y\n"
+           "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\n"
+           "property uchar red\nelement face " + faceCount + "\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
+           "element edge 1\nproperty int a\nproperty int b\nend_header\n";
+}
+const float kQuad[4][8] = {{0, 0, 0, 0, 0, 1, 0, 0}, {1, 0, 0, 0, 0, 1, 1, 0}, {1, 1, 0, 0, 0, 1, 1, 1}, {0, 1, 0, 0, 0, 1, 0, 1}};
+
+template <class T>
+void put(std::string& s, T v, bool big) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    if (big) std::reverse(b, b + sizeof(T));
+    s.append(b, sizeof(T));
+}
+
+std::string binaryQuad(bool big) {
+    std::string s = plyHeader(big ? "binary_big_endian" : "binary_little_endian");
+    for (const auto& v : kQuad) {
+        for (float x : v) put(s, x, big);
+        put(s, uint8_t(200), big);
+    }
+    put(s, uint8_t(4), big);
+    for (int32_t i : {0, 1, 2, 3}) put(s, i, big);
+    put(s, uint8_t(0), big);
+    put(s, int32_t(0), big);
+    put(s, int32_t(1), big);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("Mitsuba ply: ASCII, binary little and big endian, the same mesh", "[mitsuba][import][ply]") {
+    const std::string dir = rstats::tempDir("mitsuba-ply");
+    std::string ascii = plyHeader("ascii");
+    for (const auto& v : kQuad) {
+        for (float x : v) ascii += std::to_string(x) + " ";
+        ascii += "200\n";
+    }
+    ascii += "4 0 1 2 3 0\n0 1\n";
+    writeFile(dir + "/a.ply", ascii);
+    writeFile(dir + "/le.ply", binaryQuad(false));
+    writeFile(dir + "/be.ply", binaryQuad(true));
+    for (const char* f : {"a.ply", "le.ply", "be.ply"}) {
+        INFO(f);
+        const TriangleMesh m = loadPly(dir + "/" + f, true);
+        REQUIRE(m.positions.size() == 4);
+        REQUIRE(m.indices.size() == 6);  // the 4-gon as a fan of two triangles
+        CHECK(m.indices[3] == 0);
+        CHECK(m.indices[5] == 3);
+        CHECK(m.positions[2].x == 1.0f);
+        CHECK(m.positions[2].y == 1.0f);
+        REQUIRE(m.uvs.size() == 8);
+        CHECK(m.uvs[5] == 1.0f);  // vertex 2's v, as stored
+        REQUIRE(m.normals.size() == 4);
+        CHECK(m.normals[1].z == 1.0f);
+        CHECK(loadPly(dir + "/" + f, false).normals.empty());  // flat: none
+    }
+    // The importer: a ply shape with to_world (and Mitsuba's face_normals).
+    SceneDesc d = load(scene(R"(<shape type="ply"><string name="filename" value="be.ply"/><boolean name="face_normals" value="true"/>
+      <transform name="to_world"><translate x="5"/></transform></shape>)"), dir);
+    CHECK(d.shapes[0].mesh.positions[0].x == 5.0f);
+    CHECK(d.shapes[0].mesh.normals.empty());
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (binary)", "[mitsuba][ply][bad-input]") {
+    const std::string dir = rstats::tempDir("mitsuba-ply-bad");
+    auto errorIn = [&](const std::string& bytes) {
+        writeFile(dir + "/x.ply", bytes);
+        try { loadPly(dir + "/x.ply", true); } catch (const InputError& e) { return std::string(e.what()); }
+        return std::string();
+    };
+    const std::string p = dir + "/x.ply";
+    const std::string tri = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    CHECK(errorIn(tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").empty());  // the good one
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"plx\n", p + ":1: not a PLY file"},
+        {"ply\nformat ascii 2.0\nend_header\n", p + ":2: PLY version"},
+        {"ply\nformat ebcdic 1.0\nend_header\n", p + ":2: unknown format"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n", p + ":5: the header has no end_header"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty quaternion x\nend_header\n", p + ":4: unknown type"},
+        {"ply\nformat ascii 1.0\nwhatever\nend_header\n", p + ":3: unknown header line"},
+        {tri + "0 0 0\n1 0x 0\n0 1 0\n3 0 1 2\n", p + ":11: \"0x\" is not a finite number"},
+        {tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", p + ":13: vertex index 7 is out of range"},
+        {tri + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", p + ":13: a face with 2 vertices"},
+        {tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n", p + ":13: the data ends early"},
+        {tri + "0 0 0\n1 0 0\n", p + ":3: element vertex declares 3 items, more than the file holds"},
+        {"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+         p + ":3: element vertex declares 1000000000 items, more than the file holds"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", p + ":3: the vertex element needs properties x, y and z"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0 1 0 0 0 1 0\n", p + ": no faces"},
+    };
+    for (const auto& [bytes, want] : cases) {
+        const std::string e = errorIn(bytes);
+        INFO(e);
+        CHECK(e.find(want) == 0);
+    }
+    // Binary: truncated data names the byte offset where it runs out: the vertices, the
+    // face's count and two of its four indices.
+    std::string le = binaryQuad(false);
+    const size_t header = plyHeader("binary_little_endian").size();
+    le.resize(header + 4 * (8 * 4 + 1) + 1 + 2 * 4 + 2);
+    const std::string e = errorIn(le);
+    INFO(e);
+    CHECK(e.find(p + ": byte " + std::to_string(header + 4 * 33 + 1 + 2 * 4)) == 0);
+    CHECK(e.find("ends early") != std::string::npos);
+    // The importer names the scene file's line and the PLY's own message.
+    writeFile(dir + "/y.ply", "ply\nformat ascii 1.0\nbogus\nend_header\n");
+    const std::string ie = errorOf(scene(R"(<shape type="ply"><string name="filename" value="y.ply"/></shape>)"), dir);
+    CHECK(ie.find("t.xml:6:") == 0);
+    CHECK(ie.find("y.ply:3: unknown header line") != std::string::npos);
     std::filesystem::remove_all(dir);
 }

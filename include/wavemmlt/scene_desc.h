@@ -154,4 +154,8 @@ SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
 // of range, or no faces.
 TriangleMesh loadObj(const std::string& path, bool smoothShading);
 
+// Loads a Stanford PLY mesh (ASCII or binary, load_ply.cpp) in its own coordinates, uv as
+// stored. Throws InputError("file:line: problem" or "file: byte N: problem").
+TriangleMesh loadPly(const std::string& path, bool smoothShading);
+
 }  // namespace wmlt

@@ -115,6 +115,11 @@ void Importer::shape(Node n) {
         if (flipUv)  // Mitsuba's v = 1 - the file's
             for (size_t i = 1; i < sh.mesh.uvs.size(); i += 2) sh.mesh.uvs[i] = 1 - sh.mesh.uvs[i];
         transformMesh(sh.mesh, M, flip);
+    } else if (t == "ply") {  // uv as stored (Mitsuba flips only OBJ's)
+        const std::string path = resolve(p.getString("filename", ""));
+        const bool faceNormals = p.getBool("face_normals", false);
+        try { sh.mesh = loadPly(path, !faceNormals); } catch (const InputError& e) { p.fail(n, e.what()); }
+        transformMesh(sh.mesh, M, flip);
     } else if (t == "rectangle" || t == "cube" || t == "disk") {
         sh.mesh = t == "rectangle" ? rectangleMesh() : t == "cube" ? cubeMesh() : diskMesh(kDiskSegments);
         if (t == "disk") warn(n, "disk: approximated by a polygon of " + std::to_string(kDiskSegments) + " sides");
