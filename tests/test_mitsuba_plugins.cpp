@@ -10,9 +10,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include "kernels/bump.h"
+#include "kernels/camera.h"
 #include "kernels/envmap.h"
 #include "render_stats.h"
 #include "scene/scene.h"
@@ -543,4 +545,80 @@ TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (bin
     CHECK(ie.find("t.xml:6:") == 0);
     CHECK(ie.find("y.ply:3: unknown header line") != std::string::npos);
     std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// A diffuse floor (y = 0, reflectance rho) seen from y = 1 (below the light, which would
+// hide it) by a 16 x 16 camera looking down, lit by
+// `emitter` only, direct light only: the exact 4 x 4 block means of rho / pi * E(p), E the
+// floor's irradiance at p, averaged over 8 x 8 points per pixel, against K runs of each of
+// PT, LT and BPT (rstats::zTest, p = 1e-4).
+void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& irradiance, const std::string& what) {
+    const double rho = 0.6;
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="90"/>
+    <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+  <shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+)" + emitter + "\n</scene>",
+                                              what + ".xml", ".");
+    const Camera cam = makeCamera(d.camera, 16, 16);
+    std::vector<double> expected(16, 0.0);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i) {
+                    Vec3 o, dir;
+                    generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 8, float(y) + (float(j) + 0.5f) / 8, 0.5f, 0.5f, o, dir);
+                    const Vec3 p = o + dir * (-o.y / dir.y);
+                    expected[size_t(y / 4) * 4 + size_t(x / 4)] += rho / M_PI * irradiance(p) / (16 * 64);
+                }
+    for (TracerKind t : {TracerKind::PT, TracerKind::LT, TracerKind::BPT}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 8; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(t, 64, 90 + uint64_t(k), 1, 2)).image, 4, 1));
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO(what << ", tracer " << int(t) << ": " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
+}  // namespace
+
+// A point light of intensity I at height h: E = I cos(theta) / r^2 = I h / r^3.
+TEST_CASE("Mitsuba point light: the floor's irradiance I cos / r^2, in PT, LT and BPT", "[mitsuba][render][point]") {
+    const Vec3 c(0.7f, 1.5f, -0.4f);
+    floorUnder(R"(<emitter type="point"><point name="position" x="0.7" y="1.5" z="-0.4"/><rgb name="intensity" value="3"/></emitter>)",
+               [&](Vec3 p) {
+                   const Vec3 d = c - p;
+                   const double r = length(d);
+                   return 3.0 * double(c.y) / (r * r * r);
+               },
+               "point");
+    // The same light given by to_world, and the importer's checks.
+    SceneDesc d = load(scene(R"(<emitter type="point"><transform name="to_world"><translate x="1" y="2" z="3"/></transform></emitter>)", false));
+    REQUIRE(d.lights.size() == 1);
+    CHECK(d.lights[0].kind == LightKind::Point);
+    CHECK(d.lights[0].position.z == 3.0f);
+    CHECK(d.lights[0].radiance.x == 1.0f);  // Mitsuba's default intensity
+    CHECK(errorOf(scene(R"(<emitter type="point"><point name="position" x="0" y="0" z="0"/><transform name="to_world"/></emitter>)")).find("not both") != std::string::npos);
+    CHECK(errorOf(scene(R"(<shape type="sphere"><emitter type="point"/></shape>)")).find("cannot be attached") != std::string::npos);
+}
+
+// A disk emitter (Mitsuba's disk: a 512-gon here, a triangle mesh light) of radius R and
+// radiance L facing down at height h: a parallel receiver at lateral distance q gets
+// E = (pi L / 2) (1 - (h^2 + q^2 - R^2) / sqrt((h^2 + q^2 + R^2)^2 - 4 R^2 q^2)).
+// (The polygon's area is the disk's to 2.5e-5.)
+TEST_CASE("Mitsuba area light on a mesh (a disk): the floor's irradiance, in PT, LT and BPT", "[mitsuba][render][meshlight]") {
+    const double R = 0.8, h = 1.2, L = 2.0;
+    floorUnder(R"(<shape type="disk"><transform name="to_world"><scale value="0.8"/><rotate x="1" angle="90"/><translate x="0.3" y="1.2"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)",
+               [&](Vec3 p) {
+                   const double q2 = (p.x - 0.3) * (p.x - 0.3) + double(p.z) * p.z;
+                   const double a = h * h + q2 + R * R;
+                   return M_PI * L / 2 * (1 - (h * h + q2 - R * R) / std::sqrt(a * a - 4 * R * R * q2));
+               },
+               "disk");
 }

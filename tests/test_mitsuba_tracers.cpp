@@ -133,3 +133,16 @@ TEST_CASE("Mitsuba tracers: masks in every tracer", "[mitsuba][render][stat]") {
 )"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
     std::filesystem::remove_all(dir);
 }
+
+// A point light (a delta in position: PT's and BPT's next-event estimation alone find it,
+// light subpaths start at it, it is never seen) and a small glowing cube (a triangle mesh
+// light: area-uniform over its 12 triangles), over a rough plastic floor patch.
+TEST_CASE("Mitsuba tracers: point lights and mesh lights in every tracer", "[mitsuba][render][stat]") {
+    agree("point and mesh lights", scene(R"(
+  <emitter type="point"><point name="position" x="-0.3" y="1.6" z="0.2"/><rgb name="intensity" value="2, 1.8, 1.5"/></emitter>
+  <shape type="cube"><transform name="to_world"><scale value="0.12"/><rotate y="1" angle="30"/><translate x="0.5" y="0.12" z="0.1"/></transform>
+    <emitter type="area"><rgb name="radiance" value="3, 4, 6"/></emitter></shape>
+  <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="-90"/><translate x="-0.3" y="0.01"/></transform>
+    <bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="diffuse_reflectance" value="0.3, 0.3, 0.6"/></bsdf></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+}

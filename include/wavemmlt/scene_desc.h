@@ -116,12 +116,15 @@ struct ShapeDesc {
     Affine toLocal;     // world to object
 };
 
-enum class LightKind : uint8_t { Rect, Sphere };
+// Mesh: any triangle mesh emitting on its winding's side (Mitsuba's area on obj, ply,
+// cube, disk); Point: Mitsuba's point light (no shape).
+enum class LightKind : uint8_t { Rect, Sphere, Mesh, Point };
 
 struct LightDesc {
     LightKind kind = LightKind::Rect;
-    Vec3 radiance{1.0f};  // Intensity * Colour
-    int shape = -1;       // index into SceneDesc::shapes
+    Vec3 radiance{1.0f};  // Intensity * Colour (Point: the intensity I, W / sr)
+    int shape = -1;       // index into SceneDesc::shapes (-1 for Point)
+    Vec3 position;        // Point
 };
 
 struct SceneDesc {

@@ -191,12 +191,23 @@ void Importer::emitter(Node n, int shape) {
         LightDesc l;
         l.radiance = p.getColor("radiance", Vec3(1.0f));
         if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
+        // A rectangle: the analytic rect light; any other mesh (obj, ply, cube, disk): a
+        // triangle mesh light emitting on its winding's side.
         if (sh.kind == ShapeKind::Sphere) l.kind = LightKind::Sphere;
-        else if (files_.line(n) && std::string(n.parent().attribute("type").value()) == "rectangle") l.kind = LightKind::Rect;
-        else p.fail(n, "area emitters on a " + std::string(n.parent().attribute("type").value()) +
-                           " are not supported (only on rectangle and sphere)");
+        else if (std::string(n.parent().attribute("type").value()) == "rectangle") l.kind = LightKind::Rect;
+        else l.kind = LightKind::Mesh;
         l.shape = shape;
         sh.light = int(s_.lights.size());
+        s_.lights.push_back(l);
+    } else if (t == "point") {  // a delta in position: intensity I (W / sr), never seen
+        if (shape >= 0) p.fail(n, "a point emitter cannot be attached to a shape");
+        LightDesc l;
+        l.kind = LightKind::Point;
+        l.radiance = p.getColor("intensity", Vec3(1.0f));
+        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "intensity must be >= 0");
+        const bool hasPosition = p.has("position"), hasTransform = p.has("to_world");
+        if (hasPosition && hasTransform) p.fail(n, "give position or to_world, not both");
+        l.position = hasPosition ? p.getPoint("position", Vec3(0.0f)) : p.getTransform("to_world").point(Vec3(0.0f));
         s_.lights.push_back(l);
     } else if (t == "envmap") {
         if (shape >= 0) p.fail(n, "an envmap cannot be attached to a shape");

@@ -219,10 +219,36 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->epsilonScale = 1e-6f * s->radius;
 
     for (const LightDesc& ld : d.lights) {
-        const ShapeDesc& sh = d.shapes[ld.shape];
         Light l;
+        if (ld.kind == LightKind::Point) {
+            l.type = LightType::Point;
+            l.L = ld.radiance;
+            l.center = ld.position;
+            s->lights.push_back(l);
+            continue;
+        }
+        const ShapeDesc& sh = d.shapes[ld.shape];
         if (ld.kind == LightKind::Rect) {
             l = rectLight(sh.mesh, ld.radiance);
+        } else if (ld.kind == LightKind::Mesh) {
+            MeshLight ml;
+            ml.mesh = &sh.mesh;
+            std::vector<float> areas(sh.mesh.indices.size() / 3);
+            double total = 0;
+            for (size_t t = 0; t < areas.size(); ++t) {
+                const Vec3 p0 = sh.mesh.positions[sh.mesh.indices[3 * t]], p1 = sh.mesh.positions[sh.mesh.indices[3 * t + 1]],
+                           p2 = sh.mesh.positions[sh.mesh.indices[3 * t + 2]];
+                areas[t] = 0.5f * length(cross(p1 - p0, p2 - p0));
+                if (!std::isfinite(areas[t])) areas[t] = 0;
+                total += areas[t];
+            }
+            if (!(total > 0)) throw InputError(d.path, sh.line, "an emitting mesh of zero area");
+            ml.triangles.build(areas.data(), areas.size());
+            l.type = LightType::Mesh;
+            l.L = ld.radiance;
+            l.area = float(total);
+            l.mesh = int(s->meshLights.size());
+            s->meshLights.push_back(std::move(ml));
         } else {
             l.type = LightType::Sphere;
             l.L = ld.radiance;

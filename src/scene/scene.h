@@ -32,6 +32,12 @@ struct GeomRecord {
     Affine toLocal, toWorld;
 };
 
+// A triangle mesh emitter's triangles, chosen in proportion to their areas.
+struct MeshLight {
+    const TriangleMesh* mesh = nullptr;
+    Distribution1D triangles;
+};
+
 // Mitsuba's mask on a shape: what its Embree filter functions read (scene.cpp).
 struct MaskRecord {
     const TriangleMesh* mesh = nullptr;  // meshes: (u, v) from the hit's barycentrics
@@ -62,6 +68,7 @@ public:
     std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;
+    std::vector<MeshLight> meshLights;  // Light::mesh indexes it
     std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)
     Distribution1D lightDistribution;
     int envLight = -1;              // index of the environment light, -1: none
