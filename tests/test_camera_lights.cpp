@@ -125,13 +125,20 @@ TEST_CASE("rect light: rectLightPdf integrates to 1", "[lights]") {
     CHECK_FALSE(sampleRectLight(l, Vec3(0, 3, 0), 0.5f, 0.5f, s));
 }
 
-TEST_CASE("sphere light: cone sampling lands on the sphere, and its pdf integrates to 1", "[lights]") {
+namespace {
+Light sphereLight(Vec3 center, float radius, Vec3 L) {
     Light l;
     l.type = LightType::Sphere;
-    l.center = {1, 2, 3};
-    l.radius = 0.7f;
-    l.L = Vec3(2.0f);
-    l.area = 4 * kPi * l.radius * l.radius;
+    l.center = center;
+    l.radius = radius;
+    l.L = L;
+    l.area = 4 * kPi * radius * radius;
+    return l;
+}
+}  // namespace
+
+TEST_CASE("sphere light: cone sampling lands on the sphere, and its pdf integrates to 1", "[lights]") {
+    const Light l = sphereLight({1, 2, 3}, 0.7f, Vec3(2.0f));
     Vec3 ref(0, 0, 0);
     for (int i = 0; i < 200; ++i) {
         LightSample s;
@@ -153,7 +160,6 @@ TEST_CASE("sphere light: cone sampling lands on the sphere, and its pdf integrat
     CHECK_FALSE(sampleSphereLight(l, l.center, 0.3f, 0.3f, s));
 }
 
-
 // A small far sphere (veach-mis' smallest light: r = 0.05 seen from ~10 away): every
 // sampled point lies on the near side of the sphere to float precision, so the stages'
 // shadow ray towards it, shortened by 1e-4 of its length, never reaches the light
@@ -161,12 +167,7 @@ TEST_CASE("sphere light: cone sampling lands on the sphere, and its pdf integrat
 // digits this needs: ~1.5% of the samples (those near the rim) landed inside the sphere
 // and the light occluded its own shadow rays (PT and BPT were 1.5% dark on veach-mis).
 TEST_CASE("sphere light: a small far sphere's sampled points are on its near surface", "[lights]") {
-    Light l;
-    l.type = LightType::Sphere;
-    l.center = {0.0f, 6.5f, 2.7f};
-    l.radius = 0.05f;
-    l.L = Vec3(1.0f);
-    l.area = 4 * kPi * l.radius * l.radius;
+    const Light l = sphereLight({0.0f, 6.5f, 2.7f}, 0.05f, Vec3(1.0f));
     const Vec3 refs[] = {{5, 0, 0}, {10, 0, 5}, {-4.9f, 3, 8}, {14, 0, -8}};
     int inside = 0, n = 0;
     double worstOff = 0;

@@ -47,6 +47,17 @@ std::string errorOf(const std::string& xml, const std::string& dir = ".") {
     return "";
 }
 
+// Each (body, words) pair: scene(wrap(body)) fails on the body's line (6) with the words.
+void expectErrors(const std::vector<std::pair<std::string, std::string>>& cases, const std::string& dir,
+                  const std::function<std::string(const std::string&)>& wrap) {
+    for (const auto& [body, words] : cases) {
+        const std::string e = errorOf(scene(wrap(body)), dir);
+        INFO(e);
+        CHECK(e.find("t.xml:6:") == 0);
+        CHECK(e.find(words) != std::string::npos);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("Mitsuba plugins: named conductors", "[mitsuba][import]") {
@@ -195,16 +206,11 @@ TEST_CASE("Mitsuba textures: importer (bitmap, checkerboard, ref, to_uv) and bad
     CHECK(cb.uvTransform[4] == 4.0f);
     // Bad inputs: a missing file, an unknown filter or wrap mode, a texture where wavemmlt
     // has no textured parameter, an unknown texture type.
-    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
-             {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="nope.png"/></texture>)", "nope.png"},
-             {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="filter_type" value="cubic"/></texture>)", "cubic"},
-             {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="wrap_mode" value="tile"/></texture>)", "tile"},
-             {R"(<texture type="noise" name="reflectance"/>)", "noise"}}) {
-        const std::string e = errorOf(scene("<shape type=\"cube\"><bsdf type=\"diffuse\">" + xml + "</bsdf></shape>"), dir);
-        INFO(e);
-        CHECK(e.find("t.xml:6:") == 0);
-        CHECK(e.find(what) != std::string::npos);
-    }
+    expectErrors({{R"(<texture type="bitmap" name="reflectance"><string name="filename" value="nope.png"/></texture>)", "nope.png"},
+                  {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="filter_type" value="cubic"/></texture>)", "cubic"},
+                  {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="wrap_mode" value="tile"/></texture>)", "tile"},
+                  {R"(<texture type="noise" name="reflectance"/>)", "noise"}},
+                 dir, [](const std::string& b) { return "<shape type=\"cube\"><bsdf type=\"diffuse\">" + b + "</bsdf></shape>"; });
     const std::string e = errorOf(scene(R"(<shape type="cube"><bsdf type="roughconductor"><texture type="checkerboard" name="specular_reflectance"/></bsdf></shape>)"));
     CHECK(e.find("specular_reflectance") != std::string::npos);
     std::filesystem::remove_all(dir);
@@ -275,15 +281,10 @@ TEST_CASE("Mitsuba bumpmap: importer, and the normal of a linear height ramp", "
     CHECK(n.y == Approx(0.0f).margin(1e-5));
     CHECK(n.z == Approx(std::sqrt(0.5f)).epsilon(1e-4));
     // Bad: no texture, a checkerboard (Mitsuba differentiates bitmaps only), no nested BSDF.
-    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
-             {R"(<bsdf type="bumpmap"><bsdf type="diffuse"/></bsdf>)", "exactly one nested texture"},
-             {R"(<bsdf type="bumpmap"><texture type="checkerboard"/><bsdf type="diffuse"/></bsdf>)", "must be a bitmap"},
-             {R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture></bsdf>)", "exactly one nested BSDF"}}) {
-        const std::string e = errorOf(scene("<shape type=\"cube\">" + xml + "</shape>"), dir);
-        INFO(e);
-        CHECK(e.find("t.xml:6:") == 0);
-        CHECK(e.find(what) != std::string::npos);
-    }
+    expectErrors({{R"(<bsdf type="bumpmap"><bsdf type="diffuse"/></bsdf>)", "exactly one nested texture"},
+                  {R"(<bsdf type="bumpmap"><texture type="checkerboard"/><bsdf type="diffuse"/></bsdf>)", "must be a bitmap"},
+                  {R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture></bsdf>)", "exactly one nested BSDF"}},
+                 dir, [](const std::string& b) { return "<shape type=\"cube\">" + b + "</shape>"; });
     std::filesystem::remove_all(dir);
 }
 
@@ -299,15 +300,10 @@ TEST_CASE("Mitsuba mask: importer and bad inputs", "[mitsuba][import][mask]") {
     CHECK(d.materials[d.shapes[1].material].opacityTexture >= 0);
     CHECK(d.materials[d.shapes[1].material].twoSided);
     CHECK(d.materials[d.shapes[2].material].opacity == Approx(0.5f));  // Mitsuba's default
-    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
-             {R"(<bsdf type="mask"><float name="opacity" value="1.5"/><bsdf type="diffuse"/></bsdf>)", "opacity must be in [0, 1]"},
-             {R"(<bsdf type="mask"><float name="opacity" value="0.5"/></bsdf>)", "exactly one nested BSDF"},
-             {R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf><emitter type="area"/>)", "emitting"}}) {
-        const std::string e = errorOf(scene("<shape type=\"rectangle\">" + xml + "</shape>"), dir);
-        INFO(e);
-        CHECK(e.find("t.xml:6:") == 0);
-        CHECK(e.find(what) != std::string::npos);
-    }
+    expectErrors({{R"(<bsdf type="mask"><float name="opacity" value="1.5"/><bsdf type="diffuse"/></bsdf>)", "opacity must be in [0, 1]"},
+                  {R"(<bsdf type="mask"><float name="opacity" value="0.5"/></bsdf>)", "exactly one nested BSDF"},
+                  {R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf><emitter type="area"/>)", "emitting"}},
+                 dir, [](const std::string& b) { return "<shape type=\"rectangle\">" + b + "</shape>"; });
     std::filesystem::remove_all(dir);
 }
 
@@ -388,16 +384,11 @@ TEST_CASE("Mitsuba envmap: orientation, to_world, scale, bad inputs", "[mitsuba]
             CHECK(turned.Le(t).x == Approx(3.0f * (1.0f + float(i))).margin(0.45));
             CHECK(turned.Le(t).y == Approx(3.0f * (1.0f + float(j))).margin(0.45));
         }
-    for (const auto& [xml, what] : std::vector<std::pair<std::string, std::string>>{
-             {R"(<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>)", "nope.exr"},
-             {R"(<emitter type="envmap"/>)", "filename"},
-             {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/><transform name="to_world"><scale value="2"/></transform></emitter>)", "rotation"},
-             {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/></emitter><emitter type="constant"/>)", "second environment"}}) {
-        const std::string e = errorOf(scene(xml), dir);
-        INFO(e);
-        CHECK(e.find("t.xml:6:") == 0);
-        CHECK(e.find(what) != std::string::npos);
-    }
+    expectErrors({{R"(<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>)", "nope.exr"},
+                  {R"(<emitter type="envmap"/>)", "filename"},
+                  {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/><transform name="to_world"><scale value="2"/></transform></emitter>)", "rotation"},
+                  {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/></emitter><emitter type="constant"/>)", "second environment"}},
+                 dir, [](const std::string& b) { return b; });
     std::filesystem::remove_all(dir);
 }
 
