@@ -4,7 +4,7 @@
 // the blocks' shape (sum z^2, chi^2)). Each scene uses one feature where it matters:
 // emitters that also reflect (their BSDF), point lights, area lights on meshes, masks,
 // and the environment map. The analytic checks are in test_mitsuba_plugins.cpp.
-// Tagged [stat]: the sanitizer pass leaves them out.
+// Tagged [stat] (heavy statistical renders, for a pass that leaves those out).
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
