@@ -214,8 +214,8 @@ TEST_CASE("Mitsuba MIS plates: BPT matches Tungsten's direct-light reference", "
 //  - MMLT on lengths 2-5: the image and each length's brightness (its b_k).
 // Brightness and blocks (max |z|, Bonferroni) only: the near-mirror plates' highlights of
 // the small lights are spiky in every tracer and dominate a run's mean, so the blocks'
-// shape is not normal (sum z^2 measured 64 for PT, 344 for MMLT, against chi^2's
-// [87, 220]); nor MMLT's per-length blocks, which at this budget (8 chains for length 4)
+// shape is not normal (sum z^2 measured 64 for PT and 344 for MMLT in a trial of these
+// runs, against chi^2's [87, 220]); nor MMLT's per-length blocks, which at this budget (8 chains for length 4)
 // are mostly empty in a run. The power (WMLT_TEST_VERBOSE=1 prints it): a brightness
 // error of about 10 % (PT) and 18 % (MMLT; 5-14 % per length from 3 on).
 TEST_CASE("Mitsuba MIS plates: PT and MMLT match BPT", "[render][mitsuba][stat]") {

@@ -51,7 +51,6 @@ Image resampleEnvMap(const Image& src, const Matrix& toWorld, float scale) {
 
 }  // namespace
 
-
 // <default> values and <include> files first (defaults may be used before they appear),
 // then every id (references may point forward).
 void Importer::collect(Node scene, int depth) {
