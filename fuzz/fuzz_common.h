@@ -11,7 +11,19 @@
 #include <filesystem>
 #include <string>
 
+#include "wavemmlt/scene_desc.h"
+
 namespace fuzz {
+
+// A loaded mesh must be consistent: every index names a vertex, and normals and (u, v)
+// (when present) go with every vertex. Traps (a finding) otherwise.
+inline void checkMesh(const wmlt::TriangleMesh& m) {
+    if (m.indices.size() % 3) __builtin_trap();
+    for (uint32_t i : m.indices)
+        if (i >= m.positions.size()) __builtin_trap();  // an index past the vertices
+    if (!m.normals.empty() && m.normals.size() != m.positions.size()) __builtin_trap();
+    if (!m.uvs.empty() && m.uvs.size() != 2 * m.positions.size()) __builtin_trap();
+}
 
 inline const std::string& tempDir() {
     static const std::string dir = [] {

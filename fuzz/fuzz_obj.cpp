@@ -8,11 +8,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string path = fuzz::writeFile("input.obj", data, size);
     for (bool smooth : {false, true}) {
         try {
-            wmlt::TriangleMesh m = wmlt::loadObj(path, smooth);
-            for (uint32_t i : m.indices)
-                if (i >= m.positions.size()) __builtin_trap();  // an index past the vertices
-            if (!m.normals.empty() && m.normals.size() != m.positions.size()) __builtin_trap();
-            if (!m.uvs.empty() && m.uvs.size() != 2 * m.positions.size()) __builtin_trap();
+            fuzz::checkMesh(wmlt::loadObj(path, smooth));
         } catch (const wmlt::InputError&) {
         }
     }

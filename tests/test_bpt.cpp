@@ -134,6 +134,33 @@ TEST_CASE("BPT MIS: a mirror vertex leaves only the strategies that avoid it", "
     }
 }
 
+TEST_CASE("BPT MIS: a point light (x_0 a delta in position) leaves out s = 0 and, for k = 1, s = 1", "[bpt][mis]") {
+    // x_0 point light, x_1, x_2 diffuse, x_3 camera: pL[0] = pL0Nee (the choice pmf);
+    // s = 0 is impossible (no camera path hits a point), the others share the path.
+    float pL[4] = {0.25f, 0.2f, 0.6f, 1.0f}, pE[4] = {0.3f, 0.5f, 0.7f, 1.0f};
+    uint8_t delta[4] = {0, 0, 0, 0};
+    for (float beta : {1.0f, 2.0f}) {
+        CHECK(bptMisWeight(3, 0, pL, pE, delta, 0.25f, beta, false, true) == 0.0f);
+        double sum = 0, p[4];
+        for (int s = 1; s <= 3; ++s) {
+            double prod = 1;
+            for (int i = 0; i < s; ++i) prod *= pL[i];
+            for (int i = s; i < 3; ++i) prod *= pE[i];
+            p[s] = std::pow(prod, beta);
+            sum += p[s];
+        }
+        double total = 0;
+        for (int s = 1; s <= 3; ++s) {
+            const float w = bptMisWeight(3, s, pL, pE, delta, 0.25f, beta, false, true);
+            CHECK(w == Approx(p[s] / sum).epsilon(1e-5));
+            total += w;
+        }
+        CHECK(total == Approx(1.0).epsilon(1e-6));
+        // k = 1: the camera does not see a point light.
+        CHECK(bptMisWeight(1, 1, pL, pE, delta, 0.25f, beta, false, true) == 0.0f);
+    }
+}
+
 // ---- 2. BPT = PT ------------------------------------------------------------------------
 
 TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render]") {

@@ -437,6 +437,7 @@ TEST_CASE("MMLT: every seeded chain replays its pool sample bit for bit", "[mmlt
                 INFO("MaxPathLength " << cs.maxLength << ", " << threads << " threads, " << seeded << " chains seeded in "
                                       << r.stats.mmlt.passes << " passes");
                 CHECK(seeded >= uint64_t(std::min(chains, 16 * 16)) * r.stats.mmlt.passes);
+                CHECK(r.stats.mmlt.replayed >= uint64_t(std::min(chains, 16 * 16 * 64)));  // every seed of the first pass
                 CHECK(r.stats.mmlt.replayMismatches == 0);
             }
 }

@@ -97,7 +97,8 @@ struct RenderStats {
         uint32_t passes = 0, passLength = 0;      // passes started; iterations per pass
         uint32_t tasksPerRound = 0;               // batches of chains run in parallel
         double longestTaskRatio = 0;              // longest task / mean task of a round, averaged over rounds
-        uint64_t replayMismatches = 0;            // seeded chains whose replay differed (a bug)
+        uint64_t replayed = 0;                    // seeded chains replayed (all in the first pass, then 1 in 8)
+        uint64_t replayMismatches = 0;            // replays that differed from their pool entry (a bug)
         uint64_t chainBytes = 0;                  // memory of the chain state (largest pass)
     } mmlt;
     // Bytes of the render's large buffers (films, chain state, pools, splat lists), by name.

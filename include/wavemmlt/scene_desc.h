@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wavemmlt/image.h"
@@ -31,9 +32,18 @@ struct CameraDesc {
     bool dof = false;
     float focalLength = 1;  // focus distance
     float fStop = 1;        // aperture radius = focalLength / (2 fStop)
+    bool flipX = false;     // image right = up x forward instead (a mirroring Mitsuba to_world)
 };
 
-enum class MaterialKind : uint8_t { Matte, Glossy, Reflective, Dielectric };
+// The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and
+// rough conductor, rough and thin dielectric, smooth and rough plastic.
+enum class MaterialKind : uint8_t {
+    Matte, Glossy, Reflective, Dielectric,
+    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic
+};
+constexpr int kMaterialKinds = 10;
+
+enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
 struct MaterialDesc {
     int id = 0;
@@ -46,20 +56,42 @@ struct MaterialDesc {
     float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
     int texture = -1;     // index into SceneDesc::textures, -1: none
     int bump = -1;        // index into SceneDesc::textures, -1: none
+    // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
+    // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.
+    MicrofacetType distribution = MicrofacetType::Beckmann;
+    float alpha = 0.1f;                      // rough kinds
+    Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
+    bool nonlinear = false;                  // Plastic, RoughPlastic
+    bool twoSided = true;                    // false: black seen from below the shading normal
+    bool bumpMitsuba = false;                // bump is Mitsuba's bumpmap: height = bumpScale * luminance
+    float bumpScale = 1;
+    // Mitsuba's mask: the surface is there with probability opacity (or the texture's
+    // luminance at the hit), else rays pass straight through (an any-hit test).
+    float opacity = 1;
+    int opacityTexture = -1;                 // index into SceneDesc::textures, -1: none
 };
 
-enum class TextureKind : uint8_t { Checker, ImageFile, Marble };
+// The thesis' three textures, then Mitsuba's bitmap and checkerboard (docs/mitsuba.md).
+enum class TextureKind : uint8_t { Checker, ImageFile, Marble, Bitmap, Checkerboard };
+enum class TextureWrap : uint8_t { Repeat, Mirror, Clamp };
 
 struct TextureDesc {
     int id = 0;
     TextureKind kind = TextureKind::Checker;
-    Vec3 colour1{0.0f}, colour2{1.0f}, colour3{0.5f};
+    Vec3 colour1{0.0f}, colour2{1.0f}, colour3{0.5f};  // Checkerboard: color0, color1
     float repeatU = 1, repeatV = 1;
-    Image image;  // ImageFile: linear RGB
+    Image image;  // ImageFile, Bitmap: linear RGB
+    // Bitmap and Checkerboard: Mitsuba's to_uv, (u, v) -> (a u + b v + c, d u + e v + f)
+    // as {a, b, c, d, e, f}, applied first; v = 0 is the image's TOP row (Mitsuba's).
+    float uvTransform[6] = {1, 0, 0, 0, 1, 0};
+    bool nearest = false;                    // Bitmap: filter_type nearest (else bilinear)
+    TextureWrap wrap = TextureWrap::Repeat;  // Bitmap: wrap_mode
 };
 
 // How a shape maps surface points to (u, v) (scene-format.md, "UV coordinates").
-enum class UvKind : uint8_t { None, Plane, Sphere, Mesh };
+// SphereMitsuba: Mitsuba's (u, v) = (phi / 2 pi, theta / pi) about the local +z pole,
+// phi from +x towards +y.
+enum class UvKind : uint8_t { None, Plane, Sphere, Mesh, SphereMitsuba };
 
 struct TriangleMesh {
     std::vector<Vec3> positions;    // world space
@@ -75,7 +107,7 @@ struct ShapeDesc {
     int line = 0;       // line of the element in the scene file
     ShapeKind kind = ShapeKind::Mesh;
     UvKind uv = UvKind::None;
-    int material = -1;  // index into SceneDesc::materials; -1 for lights
+    int material = -1;  // index into SceneDesc::materials; -1: an emitter that only absorbs
     int light = -1;     // index into SceneDesc::lights; -1 for non-emitters
     TriangleMesh mesh;  // Mesh (planes and rectangle lights are two triangles)
     Vec3 center;        // Sphere, world space
@@ -84,12 +116,15 @@ struct ShapeDesc {
     Affine toLocal;     // world to object
 };
 
-enum class LightKind : uint8_t { Rect, Sphere };
+// Mesh: any triangle mesh emitting on its winding's side (Mitsuba's area on obj, ply,
+// cube, disk); Point: Mitsuba's point light (no shape).
+enum class LightKind : uint8_t { Rect, Sphere, Mesh, Point };
 
 struct LightDesc {
     LightKind kind = LightKind::Rect;
-    Vec3 radiance{1.0f};  // Intensity * Colour
-    int shape = -1;       // index into SceneDesc::shapes
+    Vec3 radiance{1.0f};  // Intensity * Colour (Point: the intensity I, W / sr)
+    int shape = -1;       // index into SceneDesc::shapes (-1 for Point)
+    Vec3 position;        // Point
 };
 
 struct SceneDesc {
@@ -104,8 +139,14 @@ struct SceneDesc {
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };
 
-// Loads and validates a scene file. Throws InputError("file:line: problem").
-SceneDesc loadScene(const std::string& path);
+// Loads and validates a scene file: the thesis' format, or a Mitsuba 3 file (a root
+// <scene version="...">, load_mitsuba.cpp) with `defines` overriding its <default>s
+// (-D name=value). Throws InputError("file:line: problem").
+using Defines = std::vector<std::pair<std::string, std::string>>;
+SceneDesc loadScene(const std::string& path, const Defines& defines = {});
+bool isMitsubaXml(const std::string& xml);
+SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
+                                const Defines& defines = {});
 // The same from XML text in memory; `name` is used in messages, `baseDir` resolves
 // relative file names (OBJ, images).
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
@@ -115,5 +156,9 @@ SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
 // Throws InputError("file:line: problem") on a missing file, bad data, indices out
 // of range, or no faces.
 TriangleMesh loadObj(const std::string& path, bool smoothShading);
+
+// Loads a Stanford PLY mesh (ASCII or binary, load_ply.cpp) in its own coordinates, uv as
+// stored. Throws InputError("file:line: problem" or "file: byte N: problem").
+TriangleMesh loadPly(const std::string& path, bool smoothShading);
 
 }  // namespace wmlt

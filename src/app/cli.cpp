@@ -66,7 +66,8 @@ void parseHostPort(const std::string& v, std::string& host, std::string& port) {
 std::string usageText() {
     return
         "usage: wavemmlt [scene.xml] [options]\n"
-        "Renders the scene (the built-in default scene when none is given).\n"
+        "Renders the scene (the built-in default scene when none is given): the thesis' format\n"
+        "or a Mitsuba 3 scene file (<scene version=\"3.x\">; see docs/mitsuba.md).\n"
         "Options override the scene's Settings:\n"
         "  --tracer pt|lt|bpt|mmlt  light transport algorithm (pt, lt and bpt so far)\n"
         "  --mis-beta B             BPT, MMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
@@ -90,6 +91,7 @@ std::string usageText() {
         "  --view                   watch the render in a window: + / - exposure, s saves the outputs now,\n"
         "                           p pauses, q / Esc / closing it stops like Ctrl-C; stays open when done\n"
         "  --display-server HOST:PORT  stream the render to a running tev (e.g. 127.0.0.1:14158)\n"
+        "  -D name=value            Mitsuba scene files: set a <default> parameter ($name)\n"
         "  --describe               print the scene's feature set and exit\n"
         "  --quiet                  no progress or warnings\n"
         "  --help, --version\n"
@@ -135,6 +137,12 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--max-length") cl.maxLength = int(parseInt(a, value(), 1, 64));
         else if (a == "--min-length") cl.minLength = int(parseInt(a, value(), 1, 64));
         else if (a == "-o" || a == "--output") cl.outputs.push_back(value());
+        else if (a == "-D" || (a.size() > 2 && a.compare(0, 2, "-D") == 0)) {
+            const std::string d = a == "-D" ? value() : a.substr(2);
+            const size_t eq = d.find('=');
+            if (eq == std::string::npos || eq == 0) fail("-D: '" + d + "' is not name=value");
+            cl.defines.emplace_back(d.substr(0, eq), d.substr(eq + 1));
+        }
         else if (a == "--exposure") cl.exposure = float(parseReal(a, value(), -64, 64));
         else if (a == "--stats") cl.statsPath = value();
         else if (a == "--view") cl.view = true;

@@ -21,6 +21,7 @@ struct CommandLine {
     std::string strategyImages;            // BPT: folder for per-strategy EXRs
     uint64_t seed = 0;
     std::vector<std::string> outputs;
+    Defines defines;                       // -D name=value (Mitsuba scene files)
     std::string statsPath;
     float exposure = 0;
     bool view = false;                     // --view: the SDL2 window

@@ -164,9 +164,10 @@ int run(int argc, char** argv) {
     if (cl.version) { std::cout << "wavemmlt " << WAVEMMLT_VERSION << "\n"; return 0; }
     if (cl.view && !cl.describe) checkViewPossible();
 
+    if (cl.scenePath.empty() && !cl.defines.empty()) throw InputError("wavemmlt: -D needs a Mitsuba scene file");
     SceneDesc scene = cl.scenePath.empty()
         ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
-        : loadScene(cl.scenePath);
+        : loadScene(cl.scenePath, cl.defines);
     applyCommandLine(cl, scene.settings);
     if (!cl.quiet)
         for (const std::string& w : scene.warnings) std::cerr << "warning: " << w << "\n";

@@ -10,13 +10,29 @@
 //   lobe, so f * |cos wi| / pdf is the throughput weight in both cases.
 // - Radiance crossing a dielectric interface is scaled by 1/eta^2 in
 //   TransportMode::Radiance (camera paths) only (Veach 1997, section 5.2).
+// - f(wo, wi) is always the radiance-mode BSDF, wo towards the camera side and wi towards
+//   the light side (the connections evaluate it so); in TransportMode::Importance the
+//   sample's f is the adjoint, f(wi, wo) (bsdf_microfacet.h).
 #pragma once
+#include "kernels/microfacet.h"
 #include "kernels/sampling.h"
 #include "wavemmlt/scene_desc.h"
 
 namespace wmlt {
 
 enum class TransportMode : uint8_t { Radiance, Importance };
+
+// Per-material constants of the Mitsuba materials, built once with the scene (the table
+// and the internal reflectance by bsdf_plastic.cpp's preparePlastic).
+struct BsdfExtra {
+    Microfacet dist;                   // rough kinds
+    Vec3 etaC{0.0f}, kC{1.0f};         // conductors: complex index relative to the outside
+    float specularWeight = 0.5f;       // plastics: mean(Ks) / (mean(Kd) + mean(Ks))
+    float fdrInt = 0;                  // plastics: diffuse reflectance of the coating from inside
+    bool nonlinear = false;            // plastics: Mitsuba's `nonlinear`
+    static constexpr int kRes = 64;    // roughplastic: T(cos) at cos = i / (kRes - 1)
+    float transmittance[kRes] = {};
+};
 
 // A material at one hit, with its texture already applied to `diffuse`.
 struct BsdfParams {
@@ -27,6 +43,7 @@ struct BsdfParams {
     Vec3 reflect{0.0f};
     Vec3 refract{0.0f};
     float eta = 1.5f;  // iorInside / iorOutside
+    const BsdfExtra* x = nullptr;  // the Mitsuba kinds' constants (owned by the Scene)
 };
 
 struct BsdfSample {
@@ -36,8 +53,10 @@ struct BsdfSample {
     bool delta = false;
 };
 
+// Every lobe is a delta (Plastic mixes a delta coating with a diffuse base: not delta).
 inline bool isDeltaMaterial(MaterialKind k) {
-    return k == MaterialKind::Reflective || k == MaterialKind::Dielectric;
+    return k == MaterialKind::Reflective || k == MaterialKind::Dielectric || k == MaterialKind::Conductor ||
+           k == MaterialKind::ThinDielectric;
 }
 
 inline float absCosTheta(Vec3 w) { return std::fabs(w.z); }
@@ -66,6 +85,11 @@ float glossyPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
 bool glossySample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, BsdfSample& s);
 bool mirrorSample(const BsdfParams& m, Vec3 wo, BsdfSample& s);
 bool dielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, TransportMode mode, BsdfSample& s);
+}  // namespace wmlt
+
+#include "kernels/bsdf_microfacet.h"  // the Mitsuba kinds
+
+namespace wmlt {
 
 // Shading-normal correction of the adjoint BSDF (Veach 1997, eq. 5.19; pbrt-v3 16.1):
 // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|), wo towards the light side, wi onwards.
@@ -79,6 +103,10 @@ inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     switch (m.kind) {
         case MaterialKind::Matte: return matteF(m, wo, wi);
         case MaterialKind::Glossy: return glossyF(m, wo, wi);
+        case MaterialKind::RoughConductor: return roughConductorF(m, wo, wi);
+        case MaterialKind::RoughDielectric: return roughDielectricF(m, wo, wi);
+        case MaterialKind::Plastic: return plasticF(m, wo, wi);
+        case MaterialKind::RoughPlastic: return roughPlasticF(m, wo, wi);
         default: return Vec3(0.0f);  // delta lobes
     }
 }
@@ -86,6 +114,10 @@ inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     switch (m.kind) {
         case MaterialKind::Matte: return mattePdf(m, wo, wi);
         case MaterialKind::Glossy: return glossyPdf(m, wo, wi);
+        case MaterialKind::RoughConductor: return roughConductorPdf(m, wo, wi);
+        case MaterialKind::RoughDielectric: return roughDielectricPdf(m, wo, wi);
+        case MaterialKind::Plastic: return plasticPdf(m, wo, wi);
+        case MaterialKind::RoughPlastic: return roughPlasticPdf(m, wo, wi);
         default: return 0.0f;
     }
 }
@@ -96,6 +128,12 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
         case MaterialKind::Glossy: return glossySample(m, wo, uLobe, u1, u2, s);
         case MaterialKind::Reflective: return mirrorSample(m, wo, s);
         case MaterialKind::Dielectric: return dielectricSample(m, wo, uLobe, mode, s);
+        case MaterialKind::Conductor: return conductorSample(m, wo, s);
+        case MaterialKind::RoughConductor: return roughConductorSample(m, wo, u1, u2, s);
+        case MaterialKind::RoughDielectric: return roughDielectricSample(m, wo, uLobe, u1, u2, mode, s);
+        case MaterialKind::ThinDielectric: return thinDielectricSample(m, wo, uLobe, s);
+        case MaterialKind::Plastic: return plasticSample(m, wo, uLobe, u1, u2, s);
+        case MaterialKind::RoughPlastic: return roughPlasticSample(m, wo, uLobe, u1, u2, s);
     }
     return false;
 }

@@ -28,4 +28,20 @@ inline Vec3 bumpedNormal(const TextureDesc& tex, Vec3 p, float u, float v, Vec3 
     return dot(n, ns) < 0 ? -n : n;
 }
 
+// Mitsuba's bumpmap: height h = scale * the bitmap's luminance, its exact gradient in
+// (u, v); the tangents lose their normal component and gain the height's slope,
+// dp/du' = dp/du + n (scale dh/du - n.dp/du), and the normal is theirs, on ng's side.
+inline Vec3 bumpedNormalMitsuba(const TextureDesc& tex, float scale, float u, float v, Vec3 ns, Vec3 ng, Vec3 dpdu,
+                                Vec3 dpdv) {
+    float gu, gv;
+    bitmapLuminanceGradient(tex, u, v, gu, gv);
+    const Vec3 dpu = dpdu + ns * (scale * gu - dot(ns, dpdu));
+    const Vec3 dpv = dpdv + ns * (scale * gv - dot(ns, dpdv));
+    Vec3 n = cross(dpu, dpv);
+    const float len = length(n);
+    if (!(len > 0) || !std::isfinite(len)) return ns;
+    n = n / len;
+    return dot(n, ng) < 0 ? -n : n;
+}
+
 }  // namespace wmlt

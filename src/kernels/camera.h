@@ -23,6 +23,7 @@ inline Camera makeCamera(const CameraDesc& d, int width, int height) {
     c.position = d.position;
     c.forward = normalize(d.lookAt - d.position);
     c.right = normalize(cross(c.forward, d.up));
+    if (d.flipX) c.right = -c.right;
     c.up = cross(c.right, c.forward);
     float tanHalf = std::tan(0.5f * d.fovDegrees * kPi / 180.0f);
     float shorter = float(std::min(width, height));

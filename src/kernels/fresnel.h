@@ -4,6 +4,8 @@
 // the outside; eta = iorInside / iorOutside. cosThetaI < 0 means the light arrives from
 // the inside: the relative index is then 1 / eta (pbrt-v4, section 9.3.1).
 #pragma once
+#include <complex>
+
 #include "wavemmlt/math.h"
 
 namespace wmlt {
@@ -42,6 +44,24 @@ inline float fresnelSchlick(float cosThetaI, float etaF) {
     }
     double m = 1.0 - c, m2 = m * m;
     return float(r0 + (1.0 - r0) * m2 * m2 * m);
+}
+
+// Conductor: the Fresnel equations with a complex relative index eta + i k (pbrt-v4,
+// section 9.3.6, eq. 9.6 with complex cos_t), per RGB channel; cosThetaI = |cos| to the
+// normal. eta = 0, k = 1 (a purely imaginary index) reflects everything.
+inline float fresnelComplex(float cosThetaI, float etaRe, float etaIm) {
+    using C = std::complex<double>;
+    const double c = std::min(1.0, std::fabs(double(cosThetaI)));
+    const C eta(etaRe, etaIm);
+    const C sin2T = (1.0 - c * c) / (eta * eta);
+    const C cosT = std::sqrt(1.0 - sin2T);
+    const C rPar = (eta * c - cosT) / (eta * c + cosT);
+    const C rPerp = (c - eta * cosT) / (c + eta * cosT);
+    return float(0.5 * (std::norm(rPar) + std::norm(rPerp)));
+}
+inline Vec3 fresnelConductor(float cosThetaI, Vec3 eta, Vec3 k) {
+    return {fresnelComplex(cosThetaI, eta.x, k.x), fresnelComplex(cosThetaI, eta.y, k.y),
+            fresnelComplex(cosThetaI, eta.z, k.z)};
 }
 
 }  // namespace wmlt

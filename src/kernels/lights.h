@@ -1,29 +1,38 @@
-// Emitters: one-sided rectangles, spheres emitting outward (scene-format.md, "Lights").
-// Emitted radiance is uniform over the surface and over directions. Sampling functions
-// return solid-angle pdfs as seen from a reference point (next-event estimation);
-// the environment map is sampled by EnvMapSampler (envmap.h).
+// Emitters: one-sided rectangles, spheres emitting outward (scene-format.md, "Lights"),
+// and for Mitsuba scenes one-sided triangle meshes (emitting on their winding's side;
+// sampled in scene_lights.h, which holds the triangles) and point lights (a delta in
+// position: intensity I in every direction, never hit by a ray, invisible to the camera).
+// Area emitters' radiance is uniform over the surface and over directions. Sampling
+// functions return solid-angle pdfs as seen from a reference point (next-event
+// estimation; a point light: the discrete pdf 1 with delta set); the environment map is
+// sampled by EnvMapSampler (envmap.h).
 #pragma once
 #include "kernels/sampling.h"
 
 namespace wmlt {
 
-enum class LightType : uint8_t { Rect, Sphere, Env };
+enum class LightType : uint8_t { Rect, Sphere, Env, Mesh, Point };
 
 struct Light {
     LightType type = LightType::Rect;
-    Vec3 L{0.0f};            // emitted radiance
+    Vec3 L{0.0f};            // emitted radiance (Point: intensity, W / sr)
     Vec3 corner, e1, e2, n;  // Rect: corner + s e1 + t e2, unit normal on the emitting side
-    Vec3 center;             // Sphere
+    Vec3 center;             // Sphere; Point: the position
     float radius = 0;
-    float area = 0;
+    float area = 0;          // Rect, Sphere, Mesh: the emitting area; Point: 0
+    int mesh = -1;           // Mesh: index into Scene::meshLights
 };
+
+inline bool isDeltaLight(const Light& l) { return l.type == LightType::Point; }
 
 struct LightSample {
     Vec3 p;         // point on the light
+    Vec3 n;         // the light's normal at p (the emitting side; Env: -wi; Point: -wi)
     Vec3 wi;        // unit direction from the reference point to p
     float dist = 0; // distance to p (infinite lights: +inf)
-    Vec3 Le;        // radiance arriving along -wi
-    float pdf = 0;  // solid angle
+    Vec3 Le;        // radiance arriving along -wi (Point: I / dist^2, the irradiance's factor)
+    float pdf = 0;  // solid angle (Point: 1, a discrete choice)
+    bool delta = false;  // a point light: no other strategy finds it (MIS weight 1)
 };
 
 // Emitted radiance leaving a rect light's point in direction w (towards the viewer).
@@ -39,6 +48,7 @@ inline bool sampleRectLight(const Light& l, Vec3 ref, float u1, float u2, LightS
     s.wi = d / s.dist;
     float cosL = -dot(s.wi, l.n);
     if (cosL <= 0) return false;  // the back of a one-sided light
+    s.n = l.n;
     s.Le = l.L;
     s.pdf = dist2 / (cosL * l.area);
     return std::isfinite(s.pdf);
@@ -79,18 +89,42 @@ inline bool sampleSphereLight(const Light& l, Vec3 ref, float u1, float u2, Ligh
     float sinTheta = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
     float phi = 2.0f * kPi * u2;
     s.wi = f.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta});
-    // Nearest intersection with the sphere along wi.
+    // Nearest intersection with the sphere along wi. The squared distance of the line from
+    // the centre is |toC - b wi|^2, not dc^2 - b^2: that difference of two nearly equal
+    // numbers loses the digits a small far sphere needs (Haines et al. 2019, "Precision
+    // improvements for ray/sphere intersection"), and a point computed inside the sphere
+    // makes the shadow ray towards it hit the light itself.
     float b = dot(s.wi, toC);
-    float h2 = l.radius * l.radius - (dc * dc - b * b);
+    float rho = length(toC - s.wi * b);
+    float h2 = (l.radius - rho) * (l.radius + rho);
     s.dist = b - std::sqrt(std::max(0.0f, h2));
     s.p = ref + s.wi * s.dist;
+    s.n = normalize(s.p - l.center);
     s.Le = l.L;
     s.pdf = 1.0f / omega;
     return s.dist > 0;
 }
 
-// Power (flux) of a light, used to choose lights in proportion to it.
-inline float lightPower(const Light& l) { return kPi * l.area * luminance(l.L); }
+// A point light from ref: the one direction to it, Le = I / dist^2, discrete pdf 1.
+inline bool samplePointLight(const Light& l, Vec3 ref, LightSample& s) {
+    const Vec3 d = l.center - ref;
+    const float dist2 = lengthSquared(d);
+    if (!(dist2 > 0) || !std::isfinite(dist2)) return false;
+    s.dist = std::sqrt(dist2);
+    s.wi = d / s.dist;
+    s.p = l.center;
+    s.n = -s.wi;
+    s.Le = l.L / dist2;
+    s.pdf = 1.0f;
+    s.delta = true;
+    return true;
+}
+
+// Power (flux) of a light, used to choose lights in proportion to it: pi A L for area
+// lights (one-sided, cosine-weighted), 4 pi I for a point light.
+inline float lightPower(const Light& l) {
+    return l.type == LightType::Point ? 4.0f * kPi * luminance(l.L) : kPi * l.area * luminance(l.L);
+}
 
 // ---- Emission sampling: the start of a light subpath (scene-format.md, "Lights") ----
 // A point (area density pdfPos) and a direction (solid-angle density pdfDir about the
@@ -126,6 +160,18 @@ inline bool sampleSphereEmission(const Light& l, float u1, float u2, float u3, f
     sampleCosineAbout(e.n, u3, u4, e);
     e.Le = l.L;
     return e.pdfDir > 0;
+}
+
+// Point light: the point, a uniform direction (pdfDir = 1 / 4 pi), the discrete position
+// pdf 1; n = dir, so that the caller's |n.dir| / (pdfPos pdfDir) is 4 pi; Le = I.
+inline bool samplePointEmission(const Light& l, float u2, float u3, LightEmission& e) {
+    e.p = l.center;
+    e.dir = sampleUniformSphere(u2, u3);
+    e.n = e.dir;
+    e.pdfPos = 1.0f;
+    e.pdfDir = kUniformSpherePdf;
+    e.Le = l.L;
+    return true;
 }
 
 // Radiance an area light's surface point with outward normal n emits in direction w.

@@ -15,6 +15,7 @@
 //   (x_0 on the environment: pL[0] and pL0Nee are the direction's solid-angle density,
 //   pE[0] the solid-angle density of the direction towards it, pL[1] the density of the
 //   emission disc's point, pdfPos |cos| at x_1; pbrt-v3 16.3.)
+//   (x_0 a point light: pL[0] = pL0Nee = the choice pmf, pE[0] unused: s = 0 is invalid.)
 //   delta[i] x_i scatters by a delta lobe: its densities are set to 0 and remapped to 1
 //          (the delta factors cancel in every ratio) and no strategy may connect at it or
 //          at its neighbour edge; delta[0] and delta[k] must be 0.
@@ -29,11 +30,12 @@ namespace wmlt {
 
 // Whether strategy s can sample a path with these delta flags (no connection at a delta
 // vertex). x0AtInfinity: x_0 is on the environment, which cannot be connected to the
-// camera (s = 1, t = 1).
-inline bool bptStrategyValid(int k, int s, const uint8_t* delta, bool x0AtInfinity = false) {
+// camera (s = 1, t = 1). x0Delta: x_0 is a point light (a delta in position): no camera
+// path hits it (s = 0) and the camera does not see it (s = 1, t = 1).
+inline bool bptStrategyValid(int k, int s, const uint8_t* delta, bool x0AtInfinity = false, bool x0Delta = false) {
     if (s < 0 || s > k) return false;
-    if (s == 0) return !delta[0];
-    if (s == 1 && k == 1 && x0AtInfinity) return false;
+    if (s == 0) return !delta[0] && !x0Delta;
+    if (s == 1 && k == 1 && (x0AtInfinity || x0Delta)) return false;
     return !delta[s - 1] && !delta[s];
 }
 
@@ -44,8 +46,8 @@ inline double bptRatioPow(double r, float beta) {
 // The MIS weight of strategy s for a path of length k (see above). 0 when s cannot
 // sample the path.
 inline float bptMisWeight(int k, int s, const float* pL, const float* pE, const uint8_t* delta,
-                          float pL0Nee, float beta, bool x0AtInfinity = false) {
-    if (!bptStrategyValid(k, s, delta, x0AtInfinity)) return 0.0f;
+                          float pL0Nee, float beta, bool x0AtInfinity = false, bool x0Delta = false) {
+    if (!bptStrategyValid(k, s, delta, x0AtInfinity, x0Delta)) return 0.0f;
     auto remap = [](float p) { return p > 0 ? double(p) : 1.0; };
     // step(j) = p_{j+1} / p_j: x_j moves from the camera side to the light side.
     auto step = [&](int j) {
@@ -57,12 +59,12 @@ inline float bptMisWeight(int k, int s, const float* pL, const float* pE, const 
     double r = 1.0;
     for (int j = s; j < k; ++j) {  // p_{j+1} / p_s
         r *= step(j);
-        if (bptStrategyValid(k, j + 1, delta, x0AtInfinity)) sum += bptRatioPow(r, beta);
+        if (bptStrategyValid(k, j + 1, delta, x0AtInfinity, x0Delta)) sum += bptRatioPow(r, beta);
     }
     r = 1.0;
     for (int j = s - 1; j >= 0; --j) {  // p_j / p_s
         r /= step(j);
-        if (bptStrategyValid(k, j, delta, x0AtInfinity)) sum += bptRatioPow(r, beta);
+        if (bptStrategyValid(k, j, delta, x0AtInfinity, x0Delta)) sum += bptRatioPow(r, beta);
     }
     float w = float(1.0 / sum);
     return std::isfinite(w) ? w : 0.0f;

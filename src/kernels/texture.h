@@ -4,6 +4,11 @@
 //    (u', v') = (u * repeatU, v * repeatV): a 2 x 2 grid per unit of scaled (u, v).
 //  - ImageFile: bilinear lookup, wrapping (repeat) in both directions; (u', v') mod 1,
 //    v = 0 is the image's BOTTOM row (pbrt's convention), pixel centres at half-integers.
+//  - Bitmap (Mitsuba's): (u, v) through to_uv, then nearest or bilinear lookup with
+//    Mitsuba's conventions: v = 0 is the image's TOP row, pixel centres at half-integers,
+//    the wrap mode (repeat, mirror, clamp) applied to the pixel indices.
+//  - Checkerboard (Mitsuba's): (u, v) through to_uv; colour1 (color0) where the
+//    fractional parts of u and v are both above 0.5 or both not, colour2 (color1) elsewhere.
 //  - Marble: a solid texture of p (Repeat is not used): Perlin's improved gradient noise
 //    (Perlin 2002) with a permutation table made here by a seeded Fisher-Yates shuffle,
 //    turbulence(q) = sum_{i<6} |noise(2^i q)| / 2^i, and
@@ -11,6 +16,7 @@
 //    colour1 -> colour2 over t in [0, 0.5], colour2 -> colour3 over [0.5, 1]
 //    (Shirley and Morley 2000, "Realistic Ray Tracing", 2nd ed.).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -83,6 +89,95 @@ inline Vec3 lookupBilinearWrap(const Image& img, float u, float v) {
            img.at(x0, y1) * ((1 - tx) * ty) + img.at(x1, y1) * (tx * ty);
 }
 
+inline int wrapTexel(int i, int n, TextureWrap w) {
+    switch (w) {
+        case TextureWrap::Repeat: i %= n; return i < 0 ? i + n : i;
+        case TextureWrap::Clamp: return i < 0 ? 0 : i >= n ? n - 1 : i;
+        case TextureWrap::Mirror: {
+            const int p = 2 * n;
+            i %= p;
+            if (i < 0) i += p;
+            return i < n ? i : p - 1 - i;
+        }
+    }
+    return 0;
+}
+
+// Mitsuba's to_uv.
+inline void mitsubaUv(const TextureDesc& t, float& u, float& v) {
+    const float* a = t.uvTransform;
+    const float x = a[0] * u + a[1] * v + a[2], y = a[3] * u + a[4] * v + a[5];
+    u = std::isfinite(x) ? x : 0.0f;
+    v = std::isfinite(y) ? y : 0.0f;
+}
+
+// The bitmap's bilinear cell at (u, v) (after to_uv): texel indices and weights; fx, fy
+// in texels, so d(value)/du = width * d(value)/dfx.
+struct BitmapCell {
+    int x0, x1, y0, y1;
+    float tx, ty;
+};
+inline BitmapCell bitmapCell(const TextureDesc& t, float u, float v) {
+    const Image& img = t.image;
+    // Far outside [0, 1] the float position loses its fraction; wrap it first (exact for
+    // repeat and mirror with an even period; clamp needs no more than [-1, 2]).
+    if (t.wrap == TextureWrap::Clamp) {
+        u = std::clamp(u, -1.0f, 2.0f);
+        v = std::clamp(v, -1.0f, 2.0f);
+    } else {
+        u -= 2.0f * std::floor(0.5f * u);
+        v -= 2.0f * std::floor(0.5f * v);
+    }
+    const float fx = u * float(img.width) - 0.5f, fy = v * float(img.height) - 0.5f;
+    const float x0f = std::floor(fx), y0f = std::floor(fy);
+    BitmapCell c;
+    c.tx = fx - x0f;
+    c.ty = fy - y0f;
+    c.x0 = wrapTexel(int(x0f), img.width, t.wrap);
+    c.x1 = wrapTexel(int(x0f) + 1, img.width, t.wrap);
+    c.y0 = wrapTexel(int(y0f), img.height, t.wrap);
+    c.y1 = wrapTexel(int(y0f) + 1, img.height, t.wrap);
+    return c;
+}
+
+inline Vec3 lookupBitmap(const TextureDesc& t, float u, float v) {
+    const Image& img = t.image;
+    if (img.width <= 0 || img.height <= 0) return Vec3(0.0f);
+    mitsubaUv(t, u, v);
+    if (t.nearest) {
+        if (t.wrap != TextureWrap::Clamp) {
+            u -= 2.0f * std::floor(0.5f * u);
+            v -= 2.0f * std::floor(0.5f * v);
+        } else {
+            u = std::clamp(u, -1.0f, 2.0f);
+            v = std::clamp(v, -1.0f, 2.0f);
+        }
+        return img.at(wrapTexel(int(std::floor(u * float(img.width))), img.width, t.wrap),
+                      wrapTexel(int(std::floor(v * float(img.height))), img.height, t.wrap));
+    }
+    const BitmapCell c = bitmapCell(t, u, v);
+    return img.at(c.x0, c.y0) * ((1 - c.tx) * (1 - c.ty)) + img.at(c.x1, c.y0) * (c.tx * (1 - c.ty)) +
+           img.at(c.x0, c.y1) * ((1 - c.tx) * c.ty) + img.at(c.x1, c.y1) * (c.tx * c.ty);
+}
+
+// The gradient (d/du, d/dv, in the shape's (u, v)) of the bilinear bitmap's luminance,
+// as Mitsuba's bumpmap reads it (eval_1_grad): exact inside a texel cell.
+inline void bitmapLuminanceGradient(const TextureDesc& t, float u, float v, float& du, float& dv) {
+    const Image& img = t.image;
+    du = dv = 0;
+    if (img.width <= 0 || img.height <= 0) return;
+    mitsubaUv(t, u, v);
+    const BitmapCell c = bitmapCell(t, u, v);
+    const float h00 = luminance(img.at(c.x0, c.y0)), h10 = luminance(img.at(c.x1, c.y0));
+    const float h01 = luminance(img.at(c.x0, c.y1)), h11 = luminance(img.at(c.x1, c.y1));
+    const float dfx = ((1 - c.ty) * (h10 - h00) + c.ty * (h11 - h01)) * float(img.width);  // per unit of u'
+    const float dfy = ((1 - c.tx) * (h01 - h00) + c.tx * (h11 - h10)) * float(img.height);  // per unit of v'
+    // Chain rule through to_uv: u' = a u + b v + c, v' = d u + e v + f.
+    const float* a = t.uvTransform;
+    du = dfx * a[0] + dfy * a[3];
+    dv = dfx * a[1] + dfy * a[4];
+}
+
 inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
     switch (t.kind) {
         case TextureKind::Checker: {
@@ -94,6 +189,13 @@ inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
             return lookupBilinearWrap(t.image, u * t.repeatU, v * t.repeatV);
         case TextureKind::Marble:
             return marbleColour(t, p);
+        case TextureKind::Bitmap:
+            return lookupBitmap(t, u, v);
+        case TextureKind::Checkerboard: {
+            mitsubaUv(t, u, v);
+            const bool hu = u - std::floor(u) > 0.5f, hv = v - std::floor(v) > 0.5f;
+            return hu == hv ? t.colour1 : t.colour2;
+        }
     }
     return Vec3(0.0f);
 }

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "kernels/bsdf.h"
+
 namespace wmlt {
 
 SceneFeatures deriveFeatures(const SceneDesc& d) {
@@ -11,36 +13,45 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (s.material < 0) continue;
         const MaterialDesc& m = d.materials[s.material];
         f.material[int(m.kind)] = true;
-        if (m.texture >= 0 && (m.kind == MaterialKind::Matte || m.kind == MaterialKind::Glossy))
+        if (m.texture >= 0 && (m.kind == MaterialKind::Matte || m.kind == MaterialKind::Glossy ||
+                               m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic))
             f.textures = true;
+        if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0) f.bump = true;
+        if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
     }
     for (const LightDesc& l : d.lights)
-        (l.kind == LightKind::Rect ? f.rectLights : f.sphereLights) = true;
+        (l.kind == LightKind::Rect ? f.rectLights : l.kind == LightKind::Sphere ? f.sphereLights
+                                                 : l.kind == LightKind::Mesh ? f.meshLights : f.pointLights) = true;
     f.envMap = d.envMap.width > 0;
     f.depthOfField = d.camera.dof;
     f.needUv = f.textures || f.bump;
-    f.delta = f.has(MaterialKind::Reflective) || f.has(MaterialKind::Dielectric);
+    for (int k = 0; k < kMaterialKinds; ++k)
+        if (f.material[k] && (isDeltaMaterial(MaterialKind(k)) || MaterialKind(k) == MaterialKind::Plastic)) f.delta = true;
     return f;
 }
 
-static const char* kMaterialNames[4] = {"matte", "glossy", "reflective", "dielectric"};
+static const char* kMaterialNames[kMaterialKinds] = {
+    "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
+    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic"};
 
 std::string SceneFeatures::describe() const {
     std::ostringstream o;
     o << "materials:";
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < kMaterialKinds; ++k)
         if (material[k]) o << ' ' << kMaterialNames[k];
-    o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "")
-      << (envMap ? " environment-map" : "") << "\n";
+    o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "") << (meshLights ? " mesh" : "")
+      << (pointLights ? " point" : "") << (envMap ? " environment-map" : "") << "\n";
     o << "textures: " << (textures ? "yes" : "no") << "\n";
     o << "bump mapping: " << (bump ? "yes" : "no") << "\n";
     o << "depth of field: " << (depthOfField ? "yes" : "no") << "\n";
     o << "smooth normals: " << (smoothNormals ? "yes" : "no") << "\n";
     o << "sphere geometry: " << (spheres ? "yes" : "no") << "\n";
     o << "delta lobes: " << (delta ? "yes" : "no") << "\n";
+    o << "one-sided materials: " << (oneSided ? "yes" : "no") << "\n";
+    o << "masks (opacity): " << (masks ? "yes" : "no") << "\n";
     return o.str();
 }
 
@@ -48,13 +59,14 @@ std::string SceneFeatures::json() const {
     std::ostringstream o;
     o << "{\"materials\": [";
     bool first = true;
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < kMaterialKinds; ++k)
         if (material[k]) { o << (first ? "" : ", ") << '"' << kMaterialNames[k] << '"'; first = false; }
     auto b = [](bool v) { return v ? "true" : "false"; };
     o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
+      << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights)
       << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures)
       << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
-      << ", \"smooth_normals\": " << b(smoothNormals) << "}";
+      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << "}";
     return o.str();
 }
 

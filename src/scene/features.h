@@ -8,16 +8,18 @@
 namespace wmlt {
 
 struct SceneFeatures {
-    bool material[4] = {false, false, false, false};  // indexed by MaterialKind
-    bool textures = false;      // some Matte/Glossy has a Texture
+    bool material[kMaterialKinds] = {};  // indexed by MaterialKind
+    bool textures = false;      // some Matte/Glossy/plastic has a Texture
     bool bump = false;          // some shader has a Bump
     bool envMap = false;
     bool depthOfField = false;
-    bool rectLights = false, sphereLights = false;
+    bool rectLights = false, sphereLights = false, meshLights = false, pointLights = false;
     bool smoothNormals = false; // some mesh interpolates vertex normals
     bool spheres = false;       // sphere geometry (not lights)
     bool needUv = false;        // textures or bump: the surface stage computes (u, v)
-    bool delta = false;         // a Reflective or Dielectric material exists
+    bool delta = false;         // a material with a delta lobe exists
+    bool oneSided = false;      // some material is black from below (Mitsuba without twosided)
+    bool masks = false;         // some shape is partly transparent (Mitsuba's mask: Embree filters)
 
     bool has(MaterialKind k) const { return material[int(k)]; }
     // Human-readable listing for `wavemmlt --describe`.

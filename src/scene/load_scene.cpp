@@ -4,8 +4,6 @@
 // Choices where the spec is silent are marked "(choice)".
 #include <algorithm>
 #include <cctype>
-#include <cfloat>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/number.h"
 #include "scene/transform.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
@@ -166,25 +165,10 @@ private:
     }
 
     // ---- values ----
-    // A finite number that fits a float, the whole attribute (trimmed) consumed:
-    // "1.5x", "nan", "inf", "1e39" are rejected. from_chars is locale-independent.
+    // A number (scene/number.h: finite, fits a float, the whole attribute).
     double number(Node n, const char* a, bool integer = false) const {
-        std::string t = attr(n, a);
-        size_t b = t.find_first_not_of(" \t\r\n"), e = t.find_last_not_of(" \t\r\n");
-        t = b == std::string::npos ? "" : t.substr(b, e - b + 1);
-        const char* p = t.data();
-        const char* end = p + t.size();
-        if (p != end && *p == '+' && p + 1 != end && p[1] != '-') ++p;
         double v = 0;
-        std::from_chars_result r{};
-        if (integer) {
-            long long i = 0;
-            r = std::from_chars(p, end, i);
-            v = double(i);
-        } else {
-            r = std::from_chars(p, end, v);
-        }
-        if (r.ec != std::errc() || r.ptr != end || p == end || !std::isfinite(v) || std::fabs(v) > FLT_MAX)
+        if (!parseNumber(attr(n, a), integer, v))
             fail(n, std::string(a) + "=\"" + n.attribute(a).value() + "\" is not " +
                         (integer ? "an integer" : "a finite number"));
         return v;
@@ -611,10 +595,11 @@ SceneDesc Loader::run() {
 }  // namespace
 
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name, const std::string& baseDir) {
+    if (isMitsubaXml(xml)) return loadMitsubaFromString(xml, name, baseDir);
     return Loader(xml, name, baseDir).run();
 }
 
-SceneDesc loadScene(const std::string& path) {
+SceneDesc loadScene(const std::string& path, const Defines& defines) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError(path, 0, "cannot open the scene file");
     std::string xml;
@@ -624,7 +609,11 @@ SceneDesc loadScene(const std::string& path) {
     const bool bad = std::ferror(f);
     std::fclose(f);
     if (bad) throw InputError(path, 0, "cannot read the scene file");
-    SceneDesc s = loadSceneFromString(xml, path, std::filesystem::path(path).parent_path().string());
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    const bool mitsuba = isMitsubaXml(xml);
+    if (!mitsuba && !defines.empty())
+        throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
+    SceneDesc s = mitsuba ? loadMitsubaFromString(xml, path, base, defines) : Loader(xml, path, base).run();
     s.path = path;
     return s;
 }

@@ -1,7 +1,11 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+#include <cstring>
 #include <string>
 
+#include "kernels/rng.h"
+#include "kernels/texture.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
@@ -32,6 +36,53 @@ RTCGeometry buildSphere(RTCDevice device, Vec3 c, float r) {
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
     v[0] = c.x; v[1] = c.y; v[2] = c.z; v[3] = r;
     return g;
+}
+
+// Mitsuba's mask: the surface is hit with probability alpha (its opacity, or its texture's
+// luminance at the hit), decided by a hash of the ray, the primitive and the geometry so
+// that one ray decides alike in the closest-hit and occlusion queries, two surfaces along
+// it decide independently, and every render is repeatable (pbrt-v4's alpha test). Set on
+// masked geometries only: other scenes call no filter.
+float maskAlpha(const MaskRecord& m, RTCRayN* ray, RTCHitN* hit, unsigned N, unsigned i) {
+    if (!m.texture) return m.opacity;
+    float u = 0, v = 0;
+    if (m.mesh) {
+        if (!m.mesh->uvs.empty()) {
+            const uint32_t* tri = &m.mesh->indices[size_t(RTCHitN_primID(hit, N, i)) * 3];
+            const float b1 = RTCHitN_u(hit, N, i), b2 = RTCHitN_v(hit, N, i), b0 = 1 - b1 - b2;
+            const float* uv = m.mesh->uvs.data();
+            u = uv[2 * tri[0]] * b0 + uv[2 * tri[1]] * b1 + uv[2 * tri[2]] * b2;
+            v = uv[2 * tri[0] + 1] * b0 + uv[2 * tri[1] + 1] * b1 + uv[2 * tri[2] + 1] * b2;
+        }
+    } else {  // a sphere: Mitsuba's (u, v) of the hit point's local direction
+        const Vec3 p(RTCRayN_org_x(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_x(ray, N, i),
+                     RTCRayN_org_y(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_y(ray, N, i),
+                     RTCRayN_org_z(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_z(ray, N, i));
+        const Vec3 l = normalize(m.toLocal.vector(p - m.center));
+        u = std::atan2(l.y, l.x) * kInv2Pi;
+        if (u < 0) u += 1;
+        v = std::acos(std::clamp(l.z, -1.0f, 1.0f)) * kInvPi;
+    }
+    return luminance(evalTexture(*m.texture, u, v, Vec3(0.0f)));
+}
+
+void maskFilter(const RTCFilterFunctionNArguments* args) {
+    const MaskRecord& m = *static_cast<const MaskRecord*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const float alpha = maskAlpha(m, args->ray, args->hit, args->N, i);
+        if (alpha >= 1) continue;
+        uint64_t h = mix64(0x6d61736bull ^ (uint64_t(m.geomID) << 32 | RTCHitN_primID(args->hit, args->N, i)));
+        for (float f : {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                        RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                        RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)}) {
+            uint32_t bits;
+            std::memcpy(&bits, &f, 4);
+            h = mix64(h ^ bits);
+        }
+        const float xi = float(h >> 40) * 0x1p-24f;
+        if (!(xi < alpha)) args->valid[i] = 0;  // the ray passes through
+    }
 }
 
 // A rectangle light from the loader's two triangles: the corner opposite the shared
@@ -79,7 +130,9 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->rtc = rtcNewScene(s->device);
     rtcSetSceneBuildQuality(s->rtc, RTC_BUILD_QUALITY_HIGH);
 
-    for (const MaterialDesc& m : d.materials) {
+    s->bsdfExtras.resize(d.materials.size());  // not resized again: materials point into it
+    for (size_t i = 0; i < d.materials.size(); ++i) {
+        const MaterialDesc& m = d.materials[i];
         BsdfParams b;
         b.kind = m.kind;
         b.diffuse = m.diffuse;
@@ -88,11 +141,26 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         b.reflect = m.reflect;
         b.refract = m.refract;
         b.eta = m.iorInside / m.iorOutside;
+        if (int(m.kind) >= int(MaterialKind::Conductor)) {
+            BsdfExtra& x = s->bsdfExtras[i];
+            x.dist = Microfacet{m.distribution, m.alpha};
+            x.etaC = m.conductorEta;
+            x.kC = m.conductorK;
+            x.nonlinear = m.nonlinear;
+            // Mitsuba's specular sampling weight: mean(Ks) / (mean(Kd) + mean(Ks)), Kd
+            // without its texture (the material's base value).
+            const float ks = (m.reflect.x + m.reflect.y + m.reflect.z) / 3, kd = (m.diffuse.x + m.diffuse.y + m.diffuse.z) / 3;
+            x.specularWeight = ks + kd > 0 ? ks / (ks + kd) : 0.5f;
+            if (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic)
+                preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
+            b.x = &x;
+        }
         s->materials.push_back(b);
     }
 
     Vec3 lo(INFINITY), hi(-INFINITY);
     s->geoms.resize(d.shapes.size());
+    s->masks.reserve(d.shapes.size());  // not reallocated: the filters point into it
     for (size_t i = 0; i < d.shapes.size(); ++i) {
         const ShapeDesc& sh = d.shapes[i];
         GeomRecord& r = s->geoms[i];
@@ -119,6 +187,23 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             hi = vmax(hi, sh.center + Vec3(sh.radius));
             g = buildSphere(s->device, sh.center, sh.radius);
         }
+        if (sh.material >= 0) {
+            const MaterialDesc& m = d.materials[sh.material];
+            if (m.opacity < 1 || m.opacityTexture >= 0) {
+                MaskRecord mr;
+                mr.mesh = sh.kind == ShapeKind::Mesh ? &sh.mesh : nullptr;
+                mr.uv = sh.uv;
+                mr.toLocal = sh.toLocal;
+                mr.center = sh.center;
+                mr.opacity = m.opacity;
+                mr.texture = m.opacityTexture >= 0 ? &d.textures[m.opacityTexture] : nullptr;
+                mr.geomID = unsigned(i);
+                s->masks.push_back(mr);
+                rtcSetGeometryUserData(g, &s->masks.back());
+                rtcSetGeometryIntersectFilterFunction(g, maskFilter);
+                rtcSetGeometryOccludedFilterFunction(g, maskFilter);
+            }
+        }
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(s->rtc, g, unsigned(i));
         rtcReleaseGeometry(g);
@@ -134,10 +219,36 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->epsilonScale = 1e-6f * s->radius;
 
     for (const LightDesc& ld : d.lights) {
-        const ShapeDesc& sh = d.shapes[ld.shape];
         Light l;
+        if (ld.kind == LightKind::Point) {
+            l.type = LightType::Point;
+            l.L = ld.radiance;
+            l.center = ld.position;
+            s->lights.push_back(l);
+            continue;
+        }
+        const ShapeDesc& sh = d.shapes[ld.shape];
         if (ld.kind == LightKind::Rect) {
             l = rectLight(sh.mesh, ld.radiance);
+        } else if (ld.kind == LightKind::Mesh) {
+            MeshLight ml;
+            ml.mesh = &sh.mesh;
+            std::vector<float> areas(sh.mesh.indices.size() / 3);
+            double total = 0;
+            for (size_t t = 0; t < areas.size(); ++t) {
+                const Vec3 p0 = sh.mesh.positions[sh.mesh.indices[3 * t]], p1 = sh.mesh.positions[sh.mesh.indices[3 * t + 1]],
+                           p2 = sh.mesh.positions[sh.mesh.indices[3 * t + 2]];
+                areas[t] = 0.5f * length(cross(p1 - p0, p2 - p0));
+                if (!std::isfinite(areas[t])) areas[t] = 0;
+                total += areas[t];
+            }
+            if (!(total > 0)) throw InputError(d.path, sh.line, "an emitting mesh of zero area");
+            ml.triangles.build(areas.data(), areas.size());
+            l.type = LightType::Mesh;
+            l.L = ld.radiance;
+            l.area = float(total);
+            l.mesh = int(s->meshLights.size());
+            s->meshLights.push_back(std::move(ml));
         } else {
             l.type = LightType::Sphere;
             l.L = ld.radiance;

@@ -32,6 +32,23 @@ struct GeomRecord {
     Affine toLocal, toWorld;
 };
 
+// A triangle mesh emitter's triangles, chosen in proportion to their areas.
+struct MeshLight {
+    const TriangleMesh* mesh = nullptr;
+    Distribution1D triangles;
+};
+
+// Mitsuba's mask on a shape: what its Embree filter functions read (scene.cpp).
+struct MaskRecord {
+    const TriangleMesh* mesh = nullptr;  // meshes: (u, v) from the hit's barycentrics
+    UvKind uv = UvKind::None;
+    Affine toLocal;                      // spheres: (u, v) from the local normal
+    Vec3 center;
+    float opacity = 1;
+    const TextureDesc* texture = nullptr;  // opacity = its luminance at the hit
+    unsigned geomID = 0;
+};
+
 class Scene {
 public:
     // Takes the description; `threads` is the number of worker threads (0: all).
@@ -47,8 +64,11 @@ public:
     RTCScene rtc = nullptr;
     std::vector<GeomRecord> geoms;  // by geomID
     std::vector<BsdfParams> materials;  // by material index, before textures
+    std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
+    std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;
+    std::vector<MeshLight> meshLights;  // Light::mesh indexes it
     std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)
     Distribution1D lightDistribution;
     int envLight = -1;              // index of the environment light, -1: none

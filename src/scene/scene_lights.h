@@ -5,17 +5,48 @@
 
 namespace wmlt {
 
+// A triangle mesh emitter: a triangle in proportion to its area (u1 picks it and is
+// reused within it), a uniform point in it: area density 1 / area; the normal is the
+// winding's, cross(p1 - p0, p2 - p0) (Embree's Ng, the side it emits on).
+inline void sampleMeshPoint(const Scene& s, const Light& l, float u1, float u2, Vec3& p, Vec3& n) {
+    const MeshLight& m = s.meshLights[size_t(l.mesh)];
+    float ur = 0;
+    const int t = m.triangles.sampleDiscrete(u1, nullptr, &ur);
+    const uint32_t* tri = &m.mesh->indices[size_t(t) * 3];
+    const Vec3 p0 = m.mesh->positions[tri[0]], p1 = m.mesh->positions[tri[1]], p2 = m.mesh->positions[tri[2]];
+    float b0, b1;
+    sampleUniformTriangle(ur, u2, b0, b1);
+    p = p0 * b0 + p1 * b1 + p2 * (1.0f - b0 - b1);
+    n = normalize(cross(p1 - p0, p2 - p0));
+}
+inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, float u2, LightSample& ls) {
+    sampleMeshPoint(s, l, u1, u2, ls.p, ls.n);
+    const Vec3 d = ls.p - ref;
+    const float dist2 = lengthSquared(d);
+    if (!(dist2 > 0)) return false;
+    ls.dist = std::sqrt(dist2);
+    ls.wi = d / ls.dist;
+    const float cosL = -dot(ls.wi, ls.n);
+    if (!(cosL > 0)) return false;  // the back of a one-sided emitter
+    ls.Le = l.L;
+    ls.pdf = dist2 / (cosL * l.area);
+    return std::isfinite(ls.pdf);
+}
+
 // Samples light `li` from reference point ref (solid-angle pdf, without the choice pmf).
 inline bool sampleLightFrom(const Scene& s, int li, Vec3 ref, float u1, float u2, LightSample& ls) {
     const Light& l = s.lights[li];
     switch (l.type) {
         case LightType::Rect: return sampleRectLight(l, ref, u1, u2, ls);
         case LightType::Sphere: return sampleSphereLight(l, ref, u1, u2, ls);
+        case LightType::Mesh: return sampleMeshLight(s, l, ref, u1, u2, ls);
+        case LightType::Point: return samplePointLight(l, ref, ls);
         case LightType::Env: {
             ls.wi = s.env.sample(u1, u2, ls.pdf);
             ls.dist = INFINITY;
             ls.Le = s.env.Le(ls.wi);
             ls.p = ref + ls.wi * (2.0f * s.radius);
+            ls.n = -ls.wi;
             return ls.pdf > 0;
         }
     }
@@ -23,14 +54,23 @@ inline bool sampleLightFrom(const Scene& s, int li, Vec3 ref, float u1, float u2
 }
 
 // Solid-angle pdf (times the choice pmf) with which next-event estimation from ref
-// would have produced the emitter point pLight of light li, in direction dir.
-inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 dir) {
+// would have produced the emitter point pLight (normal nLight) of light li, in
+// direction dir. Point lights: the discrete pmf (their only strategy is this one).
+inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 dir, Vec3 nLight) {
     const Light& l = s.lights[li];
     float pdf = 0;
     switch (l.type) {
         case LightType::Rect: pdf = rectLightPdf(l, ref, pLight); break;
         case LightType::Sphere: pdf = sphereLightPdf(l, ref); break;
         case LightType::Env: pdf = s.env.pdf(dir); break;
+        case LightType::Point: pdf = 1.0f; break;
+        case LightType::Mesh: {
+            const Vec3 d = pLight - ref;
+            const float dist2 = lengthSquared(d);
+            const float cosL = std::fabs(dot(d, nLight)) / std::sqrt(dist2);
+            pdf = cosL > 0 ? dist2 / (cosL * l.area) : 0.0f;
+            break;
+        }
     }
     return pdf * s.lightPmf[li];
 }
@@ -45,6 +85,14 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
     switch (l.type) {
         case LightType::Rect: return sampleRectEmission(l, u0, u1, u2, u3, e);
         case LightType::Sphere: return sampleSphereEmission(l, u0, u1, u2, u3, e);
+        case LightType::Point: return samplePointEmission(l, u2, u3, e);
+        case LightType::Mesh: {  // area-uniform point, cosine-weighted direction about its normal
+            sampleMeshPoint(s, l, u0, u1, e.p, e.n);
+            e.pdfPos = 1.0f / l.area;
+            sampleCosineAbout(e.n, u2, u3, e);
+            e.Le = l.L;
+            return e.pdfDir > 0;
+        }
         case LightType::Env: {
             Vec3 d = s.env.sample(u0, u1, e.pdfDir);
             if (!(e.pdfDir > 0)) return false;

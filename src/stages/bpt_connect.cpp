@@ -11,11 +11,6 @@ namespace wmlt {
 
 namespace {
 
-// Normal of a light's point p (the emitting side).
-inline Vec3 lightNormalAt(const Light& l, Vec3 p) {
-    return l.type == LightType::Sphere ? normalize(p - l.center) : l.n;
-}
-
 // Emission direction density (cosine about n) towards `to`, as area density at `to`.
 inline float lightDirPdfArea(Vec3 p, Vec3 n, Vec3 to, Vec3 nTo, bool toOnSurface) {
     Vec3 d = to - p;
@@ -40,19 +35,22 @@ inline float pdfAt(float pdfSa, Vec3 from, const PathVertex& to) {
 }
 
 // Density with which a light subpath starts at x0 (light li): emission position times
-// the choice pmf; the environment: its direction's density times the pmf.
+// the choice pmf; the environment: its direction's density times the pmf; a point
+// light: the pmf (its position is a discrete choice).
 inline float originPdf(const Scene& scene, int li, const PathVertex& x0) {
     const float pmf = scene.lightDistribution.discretePmf(li);
     if (x0.kind == BptVertexKind::Env) return pmf * scene.env.pdf(-x0.ng);
+    if (isDeltaLight(scene.lights[li])) return pmf;
     return pmf / scene.lights[li].area;
 }
 
-// Density of x1 as the first scattering vertex of a light subpath from x0: emitted
-// direction (cosine about the normal) as area density; the environment: the emission
-// disc's density 1 / (pi R^2) projected onto x1's surface.
-inline float emissionPdfAt(const Scene& scene, const PathVertex& x0, const PathVertex& x1) {
+// Density of x1 as the first scattering vertex of a light subpath from x0 (light li):
+// emitted direction (cosine about the normal; a point light: uniform) as area density;
+// the environment: the emission disc's density 1 / (pi R^2) projected onto x1's surface.
+inline float emissionPdfAt(const Scene& scene, int li, const PathVertex& x0, const PathVertex& x1) {
     if (x0.kind == BptVertexKind::Env)
         return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
+    if (isDeltaLight(scene.lights[li])) return solidAngleToArea(kUniformSpherePdf, x0.p, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
     return lightDirPdfArea(x0.p, x0.ng, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
 }
 
@@ -105,13 +103,18 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     const size_t zi = b.cam.at(slot, t - 1);
     const BptVertexKind zKind = b.cam.kind[zi];
     // Which strategies exist for these subpaths.
-    if (s == 0 && zKind != BptVertexKind::Light && zKind != BptVertexKind::Env) return false;
-    if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || b.cam.delta[zi])) return false;
+    // s = 0: the camera subpath ends on an emitter (a Surface vertex of an emitter with a
+    // material both ends this path and scatters for the longer ones).
+    const bool zEmits = zKind == BptVertexKind::Light || zKind == BptVertexKind::Env ||
+                        (zKind == BptVertexKind::Surface && b.cam.light[zi] >= 0);
+    if (s == 0 && !zEmits) return false;
+    // A connection needs a non-delta lobe at both ends, whichever lobe the walk took there.
+    if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind))) return false;
     if (s == 1 && t >= 2 && scene.lights.empty()) return false;
     if (s >= 2 || (s == 1 && t == 1)) {
         if (s > nL) return false;
         const size_t yi = b.light.at(slot, s - 1);
-        if (b.light.delta[yi]) return false;
+        if (b.light.kind[yi] == BptVertexKind::Surface && isDeltaMaterial(b.light.bsdf[yi].kind)) return false;
         if (s == 1 && b.light.kind[yi] == BptVertexKind::Env) return false;  // at infinity
     }
     PathVertex* x = scratch.x;
@@ -142,6 +145,7 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     // evaluate the unweighted contribution.
     if (s == 0) {
         li = b.cam.light[zi];
+        if (x[0].kind == BptVertexKind::Surface) x[0].kind = BptVertexKind::Light;  // the path's light end
         Vec3 Le = x[0].kind == BptVertexKind::Env ? scene.env.Le(-x[0].ng)
                                                   : areaLe(scene.lights[li], x[0].ng, dirTo(x[0].p, x[1].p));
         value = b.cam.beta[zi] * Le;
@@ -152,7 +156,7 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
         if (!(pmf > 0) || !sampleLightFrom(scene, li, x[1].p, uc(1), uc(2), ls)) return false;
         const bool infinite = std::isinf(ls.dist);
         x[0].p = ls.p;
-        x[0].ng = infinite ? -ls.wi : lightNormalAt(scene.lights[li], ls.p);
+        x[0].ng = infinite ? -ls.wi : ls.n;
         scratch.lightFrame = Frame::fromNormal(x[0].ng);
         x[0].shading = &scratch.lightFrame;
         x[0].bsdf = &scratch.noBsdf;
@@ -179,6 +183,7 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
         const PathVertex& y = x[s - 1];
         if (s == 1) {
             li = b.light.light[yi];
+            if (isDeltaLight(scene.lights[li])) return false;  // a point light is not seen
             Vec3 Le = areaLe(scene.lights[li], y.ng, cs.wi);
             value = b.light.beta[yi] * Le * (std::fabs(dot(cs.wi, y.ng)) * cs.We / cs.pdf);
         } else {
@@ -217,12 +222,15 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     if (isBlack(value)) return false;
     delta[0] = 0;
     delta[k] = 0;
+    // The connected path scatters by the non-delta lobes at the connection's two ends.
+    if (s >= 1) delta[s - 1] = delta[s] = 0;
     const bool x0Infinite = x[0].kind == BptVertexKind::Env;
     if (!bptStrategyValid(k, s, delta, x0Infinite)) return false;
     // Densities the other side's walk would have used at the connection.
+    const int l0 = s == 0 ? li : (s == 1 && t >= 2) ? li : b.light.light[b.light.at(slot, 0)];
     if (s == 0) {
         pL[0] = originPdf(scene, li, x[0]);
-        if (k >= 2) pL[1] = emissionPdfAt(scene, x[0], x[1]);
+        if (k >= 2) pL[1] = emissionPdfAt(scene, li, x[0], x[1]);
     } else {
         if (t == 1)
             pE[s - 1] = pdfAt(cameraPdfDir(cam, x[k].p, dirTo(x[k].p, x[s - 1].p)), x[k].p, x[s - 1]);
@@ -232,7 +240,7 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
             pE[s - 2] = pdfAt(scatterPdf(x[s - 1], dirTo(x[s - 1].p, x[s].p), dirTo(x[s - 1].p, x[s - 2].p)),
                               x[s - 1].p, x[s - 2]);
         if (s < k) {
-            pL[s] = s == 1 ? emissionPdfAt(scene, x[0], x[1])
+            pL[s] = s == 1 ? emissionPdfAt(scene, l0, x[0], x[1])
                            : solidAngleToArea(scatterPdf(x[s - 1], dirTo(x[s - 1].p, x[s - 2].p), dirTo(x[s - 1].p, x[s].p)),
                                               x[s - 1].p, x[s].p, x[s].ng, true);
             if (s + 1 < k)
@@ -241,14 +249,15 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
         }
     }
     // x_0 under next-event estimation from x_1 (k = 1: s = 1 is the light subpath's own
-    // vertex connected to the camera).
-    const int l0 = s == 0 ? li : (s == 1 && t >= 2) ? li : b.light.light[b.light.at(slot, 0)];
+    // vertex connected to the camera). A point light: NEE chooses it as emission does
+    // (the pmf), and no camera path reaches it (s = 0 has no density).
+    const bool x0Delta = isDeltaLight(scene.lights[l0]);
     float pL0Nee = pL[0];
-    if (k >= 2) {
+    if (k >= 2 && !x0Delta) {
         Vec3 w = x0Infinite ? -x[0].ng : dirTo(x[1].p, x[0].p);
-        pL0Nee = pdfAt(lightPdfFrom(scene, l0, x[1].p, x[0].p, w), x[1].p, x[0]);
+        pL0Nee = pdfAt(lightPdfFrom(scene, l0, x[1].p, x[0].p, w, x[0].ng), x[1].p, x[0]);
     }
-    out.weight = bptMisWeight(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite);
+    out.weight = bptMisWeight(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite, x0Delta);
     out.value = value;
     return out.weight > 0;
 }

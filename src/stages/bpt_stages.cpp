@@ -164,7 +164,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             continue;
         }
         SurfacePoint sp = surfaceAt(scene, rh);
-        if (sp.light >= 0 && !cameraWalk) continue;  // emitters absorb light subpaths
+        if (sp.material < 0 && !cameraWalk) continue;  // emitters without a material absorb light subpaths
         const uint32_t slot = b.pathSlot[i];
         const int idx = v.count[slot];
         if (idx >= v.maxCount[slot]) continue;
@@ -179,13 +179,13 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
                             : solidAngleToArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;
-        if (sp.light >= 0) {  // camera walk: the path ends on the emitter
+        v.light[cur] = int16_t(sp.light);  // a Surface on an emitter keeps its light (s = 0)
+        if (sp.material < 0) {  // camera walk: the path ends on the emitter
             v.kind[cur] = BptVertexKind::Light;
-            v.light[cur] = int16_t(sp.light);
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;
-        v.bsdf[cur] = materialAt(scene, sp);
+        v.bsdf[cur] = materialAt(scene, sp, -rayDir(rh));
         v.delta[cur] = isDeltaMaterial(v.bsdf[cur].kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
         b.hitPath[h] = uint32_t(i);
@@ -220,6 +220,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             if (!B::sample(v.bsdf[cur], wo, u(slot, stream, j(0)), u(slot, stream, j(1)), u(slot, stream, j(2)), mode, s))
                 continue;
             if (!(s.pdf > 0) || isBlack(s.f)) continue;
+            v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)
             Vec3 wi = normalize(fr.toWorld(s.wi));
             float corr = cameraWalk ? 1.0f : shadingCorrection(woW, wi, fr.n, v.ng[cur]);
             Vec3 beta = b.pathBeta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);

@@ -38,10 +38,11 @@ template <class U>
 void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u);
 // Traces the live paths (closest hit).
 void intersectBptPaths(const Scene& scene, BptBatch& b, bool coherent, PtCounters& c);
-// Reads paths; appends the vertex each hits to v (camera walk: an emitter ends the path
-// with a Light vertex, an escape with an Env vertex when the scene has an environment;
-// light walk: emitters absorb); writes hits for the paths that go on (the vertex is
-// below v's capacity - 1).
+// Reads paths; appends the vertex each hits to v (camera walk: an emitter without a
+// material ends the path with a Light vertex, one with a material is a Surface vertex
+// that keeps its light index for s = 0 and scatters on; an escape ends it with an Env
+// vertex when the scene has an environment; light walk: emitters without a material
+// absorb); writes hits for the paths that go on (the vertex is below v's capacity - 1).
 void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk);
 // Counting sort of the hits by material kind.
 void groupBptHits(BptBatch& b);

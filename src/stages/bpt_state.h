@@ -78,7 +78,7 @@ struct BptBatch {
     std::vector<uint32_t> hitPath;
     std::vector<uint32_t> order;
     std::vector<BsdfParams> hitBsdf; // copy for the kind sort
-    uint32_t kindStart[5] = {0, 0, 0, 0, 0};
+    uint32_t kindStart[kMaterialKinds + 1] = {};
     std::vector<uint8_t> alive;
     std::vector<Vec3> nextDir;
 

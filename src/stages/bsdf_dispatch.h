@@ -40,23 +40,85 @@ template <> struct BsdfOf<MaterialKind::Dielectric> {
     }
 };
 
+// The Mitsuba kinds (bsdf_microfacet.h). `delta`: every lobe is a delta, so no light
+// sampling or connection is tried there; Plastic mixes a delta coating with a diffuse base
+// and is not (its sample reports which lobe it took).
+template <> struct BsdfOf<MaterialKind::Conductor> {
+    static constexpr bool delta = true;
+    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
+    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
+    static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) {
+        return conductorSample(m, wo, s);
+    }
+};
+template <> struct BsdfOf<MaterialKind::RoughConductor> {
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughConductorF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughConductorPdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3 wo, float, float u1, float u2, TransportMode, BsdfSample& s) {
+        return roughConductorSample(m, wo, u1, u2, s);
+    }
+};
+template <> struct BsdfOf<MaterialKind::RoughDielectric> {
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughDielectricF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughDielectricPdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3 wo, float ul, float u1, float u2, TransportMode mode, BsdfSample& s) {
+        return roughDielectricSample(m, wo, ul, u1, u2, mode, s);
+    }
+};
+template <> struct BsdfOf<MaterialKind::ThinDielectric> {
+    static constexpr bool delta = true;
+    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
+    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
+    static bool sample(const BsdfParams& m, Vec3 wo, float ul, float, float, TransportMode, BsdfSample& s) {
+        return thinDielectricSample(m, wo, ul, s);
+    }
+};
+template <> struct BsdfOf<MaterialKind::Plastic> {
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return plasticF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return plasticPdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3 wo, float ul, float u1, float u2, TransportMode, BsdfSample& s) {
+        return plasticSample(m, wo, ul, u1, u2, s);
+    }
+};
+template <> struct BsdfOf<MaterialKind::RoughPlastic> {
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughPlasticF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughPlasticPdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3 wo, float ul, float u1, float u2, TransportMode, BsdfSample& s) {
+        return roughPlasticSample(m, wo, ul, u1, u2, s);
+    }
+};
+
 // A stable counting sort of n hits by material kind: kind k's hits are
 // order[kindStart[k] .. kindStart[k + 1]), in their original order.
-inline void groupByMaterialKind(const BsdfParams* bsdf, size_t n, uint32_t* order, uint32_t kindStart[5]) {
-    uint32_t count[4] = {0, 0, 0, 0};
+inline void groupByMaterialKind(const BsdfParams* bsdf, size_t n, uint32_t* order,
+                                uint32_t kindStart[kMaterialKinds + 1]) {
+    uint32_t count[kMaterialKinds] = {};
     for (size_t h = 0; h < n; ++h) ++count[int(bsdf[h].kind)];
     kindStart[0] = 0;
-    for (int k = 0; k < 4; ++k) kindStart[k + 1] = kindStart[k] + count[k];
-    uint32_t next[4] = {kindStart[0], kindStart[1], kindStart[2], kindStart[3]};
+    for (int k = 0; k < kMaterialKinds; ++k) kindStart[k + 1] = kindStart[k] + count[k];
+    uint32_t next[kMaterialKinds];
+    for (int k = 0; k < kMaterialKinds; ++k) next[k] = kindStart[k];
     for (size_t h = 0; h < n; ++h) order[next[int(bsdf[h].kind)]++] = uint32_t(h);
 }
 
-// Calls fn(std::integral_constant<MaterialKind, K>{}) for each of the four kinds.
+// Calls fn(std::integral_constant<MaterialKind, K>{}) for each kind (a kind with no hits
+// costs one empty loop).
 template <class Fn> void forEachMaterialKind(Fn&& fn) {
     fn(std::integral_constant<MaterialKind, MaterialKind::Matte>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Glossy>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Reflective>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Dielectric>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::Conductor>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::RoughConductor>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::RoughDielectric>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::ThinDielectric>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::Plastic>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::RoughPlastic>{});
 }
+static_assert(kMaterialKinds == 10, "forEachMaterialKind lists every kind");
 
 }  // namespace wmlt

@@ -70,7 +70,7 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const PtTile& t, uint64_
                 const bool infinite = scene.lights[li].type == LightType::Env;
                 // Light vertex: alpha = Le-carrying weight 1 / (pmf pdfPos) (Veach 10.2).
                 const float invPos = 1.0f / (pmf * e.pdfPos);
-                if (connectLength1 && !infinite) {
+                if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
                     CameraSample cs = sampleCameraFrom(cam, e.p, sampleDimension(key, 5), sampleDimension(key, 6));
                     if (cs.valid) {
                         Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi);
@@ -117,7 +117,7 @@ void resolveLightHits(const Scene& scene, LtBatch& b) {
         const RTCRayHit& rh = b.ray[i];
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene
         SurfacePoint sp = surfaceAt(scene, rh);
-        if (sp.light >= 0) continue;  // emitters are opaque and do not scatter
+        if (sp.material < 0) continue;  // an emitter without a material absorbs
         recordHit(scene, b, h++, i, sp, -rayDir(rh));
     }
     b.numHits = h;

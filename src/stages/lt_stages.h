@@ -30,7 +30,8 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const PtTile& tile, uint
 void traceConnections(const Scene& scene, LtBatch& b, int length, PtCounters& c);
 // Traces the live paths (closest hit).
 void intersectLightPaths(const Scene& scene, LtBatch& b, PtCounters& c);
-// Reads paths; writes hits for paths that hit a non-emitting surface (emitters absorb).
+// Reads paths; writes hits for paths that hit a surface with a material (emitters
+// without one absorb).
 void resolveLightHits(const Scene& scene, LtBatch& b);
 // Reads hits; writes order and kindStart (counting sort by material kind).
 void groupLightHits(LtBatch& b);

@@ -35,7 +35,7 @@ struct LtBatch {
     std::vector<Frame> shading;
     std::vector<BsdfParams> bsdf;
     std::vector<uint32_t> order;
-    uint32_t kindStart[5] = {0, 0, 0, 0, 0};
+    uint32_t kindStart[kMaterialKinds + 1] = {};
 
     // Camera connections (index c < numConn).
     size_t numConn = 0;

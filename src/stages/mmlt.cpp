@@ -46,6 +46,8 @@ constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB
 
 using Clock = std::chrono::steady_clock;
 
+uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0 : b.back().slot0 + b.back().n; }
+
 // One pool-tracing task: samples [i0, i0 + n) of length k.
 struct PoolTask {
     int k;
@@ -62,6 +64,7 @@ private:
     bool allocateChains();
     void seedChains();
     void planBatches();
+    void replaySeeds();
     void runRounds(uint64_t passEnd);
     RenderResult resolve();
     // Render time: paused time (a viewer's) is left out.
@@ -174,7 +177,7 @@ void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
                 const float c = targetOf(F);
                 if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
                 out[ti].sumWC += double(c);
-                if (c > 0) out[ti].lit.push_back({mb.bpt.key[i], c, 1.0f});
+                if (c > 0) out[ti].lit.push_back({mb.bpt.key[i], c, 1.0f, F, mb.bpt.pixel[i]});
             }
             out[ti].count = t.n;
             nonfinite[ti] = mb.counters.nonfinite;
@@ -260,8 +263,11 @@ void MmltRender::seedChains() {
                 ++e;
                 cum += double(pool.lit[e].w) * double(pool.lit[e].c);
             }
-            g.seed[c] = pool.lit[e].key;
-            g.c[c] = pool.lit[e].c;  // expected: checked by the replay
+            const PoolEntry& entry = pool.lit[e];
+            g.seed[c] = entry.key;
+            g.F[c] = entry.F;
+            g.c[c] = entry.c;
+            g.pixel[c] = entry.pixel;
             distinct.insert(g.seed[c]);
             for (uint32_t d = 0; d < g.dims; ++d) g.value[size_t(d) * g.count + c] = poolCoordinate(g.seed[c], d);
         }
@@ -271,26 +277,43 @@ void MmltRender::seedChains() {
     }
     stats_.chainBytes = std::max(stats_.chainBytes, bytes);
     planBatches();
-    std::vector<uint64_t> mismatches(plan_.size(), 0);
-    tbb::parallel_for(size_t(0), plan_.size(), [&](size_t ti) {
+    replaySeeds();
+}
+
+// Replays seeds (every one in the first pass, one in kReplayShare of them by their key's
+// hash after that): the evaluation of the seed's u must give its pool entry's F, c and
+// pixel bit for bit, or the estimator would be wrong (counted in mmlt_replay_mismatches).
+void MmltRender::replaySeeds() {
+    constexpr uint64_t kReplayShare = 8;
+    std::vector<std::vector<BatchSlice>> plan(1);
+    for (size_t gi = 0; gi < groups_.size(); ++gi)
+        for (uint32_t c = 0; c < groups_[gi].count; ++c) {
+            if (pass_ > 0 && mix64(groups_[gi].seed[c]) % kReplayShare != 0) continue;
+            if (slotsIn(plan.back()) >= kBatchChains) plan.emplace_back();
+            std::vector<BatchSlice>& b = plan.back();
+            if (!b.empty() && b.back().group == int(gi) && b.back().c0 + b.back().n == c) ++b.back().n;
+            else b.push_back({int(gi), c, 1, slotsIn(b)});
+        }
+    std::vector<uint64_t> mismatches(plan.size(), 0);
+    tbb::parallel_for(size_t(0), plan.size(), [&](size_t ti) {
         MmltBatch& mb = batches_.local();
-        mb.slices = plan_[ti];
+        mb.slices = plan[ti];
         fillSeedRows(groups_, mb);
         evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
         for (const BatchSlice& sl : mb.slices) {
-            ChainGroup& g = groups_[size_t(sl.group)];
+            const ChainGroup& g = groups_[size_t(sl.group)];
             for (uint32_t j = 0; j < sl.n; ++j) {
                 const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
                 const Vec3 F = contributionOf(mb, i);
                 const float cc = targetOf(F);
-                if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0) ++mismatches[ti];
-                g.F[c] = F;
-                g.c[c] = cc;
-                g.pixel[c] = mb.bpt.pixel[i];
+                if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0 || std::memcmp(&F, &g.F[c], sizeof F) != 0 ||
+                    mb.bpt.pixel[i] != g.pixel[c])
+                    ++mismatches[ti];
             }
         }
     });
     for (uint64_t m : mismatches) stats_.replayMismatches += m;
+    for (size_t ti = 0; ti < plan.size(); ++ti) stats_.replayed += slotsIn(plan[ti]);
 }
 
 // Batch j holds chains [C_k j / B, C_k (j + 1) / B) of every length: each batch a share of

@@ -159,7 +159,7 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             if (kind) {  // an independent uniform sample of u: joins the pool
                 pool.sumWC += double(cP);
                 ++pool.count;
-                if (cP > 0) pool.lit.push_back({mb.bpt.key[i], cP, 1.0f});
+                if (cP > 0) pool.lit.push_back({mb.bpt.key[i], cP, 1.0f, F, pixel});
             }
             mb.accept[i] = sampleDimension(mb.bpt.key[i], kDimAccept) < a ? 1 : 0;
             if (!mb.accept[i]) continue;

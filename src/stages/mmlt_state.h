@@ -16,11 +16,15 @@
 
 namespace wmlt {
 
-// A sample of u kept in a pool: its key (u_d = poolCoordinate(key, d)), its target c > 0
-// and its weight w (1, or 1 / the probability it survived the pool's thinning).
+// A sample of u kept in a pool: its key (u_d = poolCoordinate(key, d)), its target c > 0,
+// its weight w (1, or 1 / the probability it survived the pool's thinning), and the
+// contribution F and pixel its evaluation gave (a chain seeded there starts with them; a
+// share of the seeds is replayed to check them, seedChains).
 struct PoolEntry {
     uint64_t key;
     float c, w;
+    Vec3 F;
+    uint32_t pixel;
 };
 
 // Independent uniform samples of u of one length k (mmlt.md, "Many chains"; the design in

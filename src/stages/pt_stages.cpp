@@ -68,19 +68,19 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
             if (countEmission && scene.envLight >= 0) {
                 Vec3 Le = scene.env.Le(d);
                 float w = b.prevDelta[i] ? 1.0f
-                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, scene.envLight, rayOrigin(rh), Vec3(), d));
+                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, scene.envLight, rayOrigin(rh), Vec3(), d, Vec3()));
                 addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
             continue;
         }
         SurfacePoint sp = surfaceAt(scene, rh);
-        if (sp.light >= 0) {  // emitters are opaque and do not scatter: the path ends
+        if (sp.light >= 0) {  // an emitter: without a material it absorbs and the path ends
             if (countEmission && dot(d, sp.ng) < 0) {
                 float w = b.prevDelta[i] ? 1.0f
-                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d));
+                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d, sp.ng));
                 addRadiance(b, slot, b.beta[i] * scene.lights[sp.light].L * w, depth);
             }
-            continue;
+            if (sp.material < 0) continue;
         }
         if (depth >= maxLength) continue;  // no longer path can count
         recordHit(scene, b, h++, i, sp, -d);
@@ -112,7 +112,7 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
                 Vec3 f = B::f(b.bsdf[h], wo, wi) * absCosTheta(wi);
                 if (isBlack(f) || isBlack(ls.Le)) continue;
                 float lightPdf = ls.pdf * pmf;
-                float w = powerHeuristic(lightPdf, B::pdf(b.bsdf[h], wo, wi));
+                float w = ls.delta ? 1.0f : powerHeuristic(lightPdf, B::pdf(b.bsdf[h], wo, wi));
                 // Aim from the offset origin at the light point itself: the direction from
                 // the surface point would pass beside it by up to the offset, into the light.
                 Vec3 origin = scene.offsetRayOrigin(b.p[h], b.ng[h], ls.wi);

@@ -41,7 +41,7 @@ struct PtBatch {
     std::vector<BsdfParams> bsdf;
     // Hits grouped by material kind: order[kindStart[k] .. kindStart[k+1]).
     std::vector<uint32_t> order;
-    uint32_t kindStart[5] = {0, 0, 0, 0, 0};
+    uint32_t kindStart[kMaterialKinds + 1] = {};
 
     // Shadow rays of next-event estimation.
     size_t numShadow = 0;

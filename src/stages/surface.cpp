@@ -36,10 +36,22 @@ void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv) 
     dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), -sinT, cosT * std::sin(phi)) * (-kPi * r));
 }
 
+// Mitsuba's sphere (u, v) = (phi / 2 pi, theta / pi) about local +z (l: the local unit
+// normal), and its derivatives through the sphere's toWorld (which maps the unit sphere).
+void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv) {
+    const float phi = std::atan2(l.y, l.x), cosT = std::clamp(l.z, -1.0f, 1.0f);
+    const float sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
+    dpdu = g.toWorld.vector(Vec3(-std::sin(phi), std::cos(phi), 0) * (2.0f * kPi * sinT));
+    dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), cosT * std::sin(phi), -sinT) * kPi);
+}
+
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
     const MaterialDesc& m = scene.desc.materials[sp.material];
     if (m.bump < 0) return;
-    sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
+    if (m.bumpMitsuba)
+        sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+    else
+        sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
 }
 
 }  // namespace
@@ -57,12 +69,19 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
         sp.ns = sp.ng;
         if (scene.features.needUv) {
             Vec3 l = normalize(g.toLocal.vector(sp.ng));
-            // Longitude from +x towards +z, latitude with v = 1 at the north pole (+y).
-            sp.u = 0.5f + std::atan2(l.z, l.x) * kInv2Pi;
-            sp.v = 1.0f - std::acos(std::clamp(l.y, -1.0f, 1.0f)) * kInvPi;
+            const bool mitsuba = g.uv == UvKind::SphereMitsuba;
+            if (mitsuba) {  // phi from +x towards +y about the +z pole, v = 0 at +z
+                const float u = std::atan2(l.y, l.x) * kInv2Pi;
+                sp.u = u < 0 ? u + 1.0f : u;
+                sp.v = std::acos(std::clamp(l.z, -1.0f, 1.0f)) * kInvPi;
+            } else {  // longitude from +x towards +z, latitude with v = 1 at the north pole (+y)
+                sp.u = 0.5f + std::atan2(l.z, l.x) * kInv2Pi;
+                sp.v = 1.0f - std::acos(std::clamp(l.y, -1.0f, 1.0f)) * kInvPi;
+            }
             if (scene.features.bump && sp.material >= 0) {
                 Vec3 dpdu, dpdv;
-                sphereDerivatives(g, l, dpdu, dpdv);
+                if (mitsuba) sphereDerivativesMitsuba(g, l, dpdu, dpdv);
+                else sphereDerivatives(g, l, dpdu, dpdv);
                 applyBump(scene, sp, dpdu, dpdv);
             }
         }
@@ -99,9 +118,13 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     return sp;
 }
 
-BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp) {
+BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo) {
     BsdfParams b = scene.materials[sp.material];
     const MaterialDesc& m = scene.desc.materials[sp.material];
+    if (scene.features.oneSided && !m.twoSided && !(dot(wo, sp.ns) > 0)) {
+        BsdfParams black;  // a black Matte: f = 0, every sample ends the path
+        return black;
+    }
     if (scene.features.textures && m.texture >= 0)
         b.diffuse = b.diffuse * evalTexture(scene.desc.textures[m.texture], sp.u, sp.v, sp.p);
     return b;

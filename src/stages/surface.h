@@ -21,8 +21,9 @@ struct SurfacePoint {
 SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh);
 
 // The material of a hit with textures applied (the scene's features decide, per scene,
-// whether textures are looked up at all).
-BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp);
+// whether textures are looked up at all). wo (world, towards the previous vertex) decides
+// the side of a one-sided (Mitsuba) material: seen from below its shading normal it is black.
+BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo);
 
 // Writes hit h of a batch (PT, LT: the same hit arrays) from path i's surface point:
 // position, geometric normal, wo, shading frame and material.
@@ -33,7 +34,7 @@ inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const Su
     b.ng[h] = sp.ng;
     b.wo[h] = wo;
     b.shading[h] = Frame::fromNormal(sp.ns);
-    b.bsdf[h] = materialAt(scene, sp);
+    b.bsdf[h] = materialAt(scene, sp, wo);
 }
 
 }  // namespace wmlt

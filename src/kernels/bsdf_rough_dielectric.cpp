@@ -1,0 +1,78 @@
+// Rough dielectric (bsdf_microfacet.h): Walter et al. 2007 with the generalised half
+// vector, in pbrt-v4's form (section 9.7). eta = iorInside / iorOutside, z points outside.
+#include "kernels/bsdf.h"
+#include "kernels/fresnel.h"
+
+namespace wmlt {
+namespace {
+
+// The generalised half vector of (wo, wi), facing +z, and eta' = n(wi side) / n(wo side)
+// (1 for reflection). False for a degenerate pair or one that sees a facet's back.
+inline bool halfVector(const BsdfParams& m, Vec3 wo, Vec3 wi, Vec3& wm, float& etap) {
+    if (wo.z == 0 || wi.z == 0) return false;
+    const bool reflect = wo.z * wi.z > 0;
+    etap = reflect ? 1.0f : (wo.z > 0 ? m.eta : 1.0f / m.eta);
+    wm = wi * etap + wo;
+    if (!(lengthSquared(wm) > 0)) return false;
+    wm = normalize(wm);
+    if (wm.z < 0) wm = -wm;
+    // Discard back-facing microfacets (Walter 2007: wo and wi each on their facet's side).
+    return dot(wm, wi) * wi.z > 0 && dot(wm, wo) * wo.z > 0;
+}
+
+}  // namespace
+
+Vec3 roughDielectricF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    Vec3 wm;
+    float etap;
+    if (!halfVector(m, wo, wi, wm, etap)) return Vec3(0.0f);
+    const Microfacet& d = m.x->dist;
+    const float DG = microfacetD(d, wm) * microfacetG(d, wo, wi, wm);
+    // F from the direction in the less dense medium (for a refraction pair it is the same
+    // from both, but the denser side's cosine near the critical angle amplifies rounding):
+    // so f stays reciprocal.
+    const bool useWo = wo.z * wi.z > 0 || (wo.z > 0) == (m.eta >= 1);
+    const float F = fresnelDielectric(useWo ? dot(wo, wm) : dot(wi, wm), m.eta);
+    const float cosCos = std::fabs(wo.z * wi.z);
+    if (wo.z * wi.z > 0) return m.reflect * (DG * F / (4.0f * cosCos));
+    const float a = dot(wi, wm), b = dot(wo, wm) / etap, denom = (a + b) * (a + b) * cosCos;
+    if (!(denom > 0)) return Vec3(0.0f);
+    // Radiance mode: 1 / eta'^2 (Veach 1997, 5.2), as the smooth dielectric.
+    return m.refract * (DG * (1.0f - F) * std::fabs(a * dot(wo, wm)) / denom / (etap * etap));
+}
+
+float roughDielectricPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    Vec3 wm;
+    float etap;
+    if (!halfVector(m, wo, wi, wm, etap)) return 0.0f;
+    const float F = fresnelDielectric(dot(wo, wm), m.eta);
+    const float pdfM = visibleNormalPdf(m.x->dist, wo, wm);
+    if (wo.z * wi.z > 0) return F * pdfM / (4.0f * std::fabs(dot(wo, wm)));
+    const float a = dot(wi, wm), b = dot(wo, wm) / etap;
+    const float denom = (a + b) * (a + b);
+    return denom > 0 ? (1.0f - F) * pdfM * std::fabs(a) / denom : 0.0f;  // dwm/dwi (Walter eq. 17)
+}
+
+bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode,
+                           BsdfSample& s) {
+    if (wo.z == 0) return false;
+    const Vec3 wm = sampleVisibleNormal(m.x->dist, wo, u1, u2);  // wm.z > 0
+    const float cosM = dot(wo, wm);
+    const float F = fresnelDielectric(cosM, m.eta);
+    Vec3 wi;
+    if (uLobe < F) {
+        wi = reflectAbout(wo, wm);
+        if (!(wi.z * wo.z > 0)) return false;
+    } else {
+        const Vec3 mSide = cosM > 0 ? wm : -wm;  // the facet normal on wo's side
+        if (!refractAbout(wo, mSide, cosM > 0 ? m.eta : 1.0f / m.eta, wi)) return false;
+        if (!(wi.z * wo.z < 0)) return false;
+    }
+    s.wi = wi;
+    s.f = mode == TransportMode::Radiance ? roughDielectricF(m, wo, wi) : roughDielectricF(m, wi, wo);
+    s.pdf = roughDielectricPdf(m, wo, wi);
+    s.delta = false;
+    return s.pdf > 0;
+}
+
+}  // namespace wmlt

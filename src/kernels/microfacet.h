@@ -1,0 +1,87 @@
+// Isotropic microfacet distributions (Walter et al. 2007, "Microfacet models for refraction
+// through rough surfaces"; Heitz 2014, "Understanding the masking-shadowing function"):
+// GGX and Beckmann, with the exact Smith Lambda of each, the separable shadowing-masking
+// G = G1(wo, m) G1(wi, m) (as Mitsuba 3 uses), and sampling of the visible normals
+// D_wo(m) = G1(wo, m) max(0, wo.m) D(m) / wo.z (Heitz 2018 for GGX; Heitz and d'Eon 2014
+// for Beckmann, inverting the slope CDF numerically).
+// Directions are in the local frame, z = the macro-surface normal; m.z > 0.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "wavemmlt/math.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+struct Microfacet {
+    MicrofacetType type = MicrofacetType::Beckmann;
+    float alpha = 0.1f;  // RMS slope (Beckmann) / width (GGX)
+};
+
+// D(m), normalised so that the projected area int D(m) m.z dm = 1 (Walter 2007, eqs. 25, 33).
+inline float microfacetD(const Microfacet& d, Vec3 m) {
+    if (!(m.z > 0)) return 0.0f;
+    const double c2 = double(m.z) * m.z, a2 = double(d.alpha) * d.alpha;
+    const double s2 = std::max(0.0, double(m.x) * m.x + double(m.y) * m.y);
+    const double tan2 = s2 / c2, c4 = c2 * c2;
+    if (d.type == MicrofacetType::Beckmann) return float(std::exp(-tan2 / a2) / (M_PI * a2 * c4));
+    const double k = 1.0 + tan2 / a2;
+    return float(1.0 / (M_PI * a2 * c4 * k * k));
+}
+
+// Smith's Lambda(w) (Heitz 2014, eqs. 72 and 86): GGX (-1 + sqrt(1 + alpha^2 tan^2)) / 2;
+// Beckmann (exp(-a^2) / (a sqrt(pi)) - erfc(a)) / 2 with a = 1 / (alpha tan).
+inline double microfacetLambda(const Microfacet& d, Vec3 w) {
+    const double s2 = std::max(0.0, double(w.x) * w.x + double(w.y) * w.y), c = std::fabs(double(w.z));
+    if (s2 == 0) return 0.0;
+    if (c == 0) return INFINITY;
+    const double alpha = d.alpha;
+    if (d.type == MicrofacetType::GGX) {
+        const double t2 = alpha * alpha * s2 / (c * c);
+        return 0.5 * t2 / (1.0 + std::sqrt(1.0 + t2));  // = (-1 + sqrt(1 + t2)) / 2, no cancellation
+    }
+    const double a = c / (alpha * std::sqrt(s2));
+    if (a > 26) return 0.0;  // exp(-a^2) underflows: Lambda < 1e-300
+    return 0.5 * (std::exp(-a * a) / (a * std::sqrt(M_PI)) - std::erfc(a));
+}
+
+// G1(w, m): masking of microfacet m seen from w; 0 when w sees m's back (Walter 2007, eq. 7).
+inline float microfacetG1(const Microfacet& d, Vec3 w, Vec3 m) {
+    if (!(dot(w, m) * w.z > 0)) return 0.0f;
+    return float(1.0 / (1.0 + microfacetLambda(d, w)));
+}
+
+// The separable shadowing-masking term.
+inline float microfacetG(const Microfacet& d, Vec3 wo, Vec3 wi, Vec3 m) {
+    return microfacetG1(d, wo, m) * microfacetG1(d, wi, m);
+}
+
+// Density of the visible normal m seen from wo (solid angle of m), D_wo(m) (Heitz 2018,
+// eq. 2); wo on either side: the distribution of -wo's upper-side mirror is used.
+inline float visibleNormalPdf(const Microfacet& d, Vec3 wo, Vec3 m) {
+    if (wo.z < 0) wo = -wo;
+    const float cosO = wo.z, wm = dot(wo, m);
+    if (!(cosO > 0) || !(wm > 0)) return 0.0f;
+    return microfacetG1(d, wo, m) * wm * microfacetD(d, m) / cosO;
+}
+
+// A microfacet normal (m.z > 0) distributed as D_wo; wo below the surface is mirrored
+// first (as visibleNormalPdf does). microfacet.cpp.
+Vec3 sampleVisibleNormal(const Microfacet& d, Vec3 wo, float u1, float u2);
+
+// Mirror reflection of w about m (unit): 2 (w.m) m - w.
+inline Vec3 reflectAbout(Vec3 w, Vec3 m) { return m * (2.0f * dot(w, m)) - w; }
+
+// Refraction of w about m (pbrt-v4 eq. 9.8). etaRel = n(transmitted side) / n(w's side);
+// m on w's side. False under total internal reflection.
+inline bool refractAbout(Vec3 w, Vec3 m, float etaRel, Vec3& wt) {
+    const double c = dot(w, m), s2 = std::max(0.0, 1.0 - c * c);
+    const double t2 = 1.0 - s2 / (double(etaRel) * etaRel);
+    if (!(t2 > 0)) return false;
+    const double ct = std::sqrt(t2);
+    wt = normalize(-w / etaRel + m * float(c / etaRel - ct));
+    return true;
+}
+
+}  // namespace wmlt

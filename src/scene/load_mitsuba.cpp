@@ -1,0 +1,365 @@
+// The Mitsuba 3 importer: a <scene version="3.x"> file (also 2.x, and 0.6.x/0.5.x with
+// camelCase names) into a SceneDesc. What is supported and the conventions chosen:
+// docs/mitsuba.md. Anything else is one InputError naming the file, line and plugin.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "scene/mitsuba_importer.h"
+#include "scene/mitsuba_shapes.h"
+#include "kernels/envmap.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+#include "wavemmlt/render.h"
+
+namespace wmlt::mitsuba {
+
+namespace {
+
+// Mitsuba 3's envmap: local direction d -> (u, v) = (atan2(d.x, -d.z) / 2 pi, acos(d.y) / pi),
+// bilinear with texel centres at u = (i + 1/2) / W (wrapping) and v = j / (H - 1) (row 0
+// at the +y pole, row H - 1 at -y), times scale. Its (u, v) orientation is wavemmlt's own
+// (envmap.h), but wavemmlt looks up the nearest pixel of rows covering [j, j + 1) pi / H:
+// the map is resampled onto wavemmlt's grid at f = 4, 3, 2 or 1 times the resolution (the
+// largest that keeps it under 2^23 pixels), each pixel Mitsuba's value at its centre's
+// direction, rotated by to_world: within 1 / (2 f) texel of Mitsuba's lookup.
+Image resampleEnvMap(const Image& src, const Matrix& toWorld, float scale) {
+    const int W = src.width, H = src.height;
+    int f = 4;
+    while (f > 1 && double(W) * H * f * f > double(1 << 23)) --f;
+    Image out(W * f, H * f);
+    auto texel = [&](int x, int y) { return src.at(((x % W) + W) % W, std::min(std::max(y, 0), H - 1)); };
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            const Vec3 dw = envDirection((float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height));
+            // World to the map's frame: the inverse (transpose) of the rotation.
+            const double lx = toWorld.m[0][0] * dw.x + toWorld.m[1][0] * dw.y + toWorld.m[2][0] * dw.z;
+            const double ly = toWorld.m[0][1] * dw.x + toWorld.m[1][1] * dw.y + toWorld.m[2][1] * dw.z;
+            const double lz = toWorld.m[0][2] * dw.x + toWorld.m[1][2] * dw.y + toWorld.m[2][2] * dw.z;
+            double u = std::atan2(lx, -lz) / (2 * M_PI) - 0.5 / W;
+            u -= std::floor(u);
+            const double v = std::acos(std::clamp(ly / std::sqrt(lx * lx + ly * ly + lz * lz), -1.0, 1.0)) / M_PI;
+            const double px = u * W, py = v * (H - 1);
+            const int x0 = std::min(int(px), W - 1), y0 = std::min(int(py), H - 2);
+            const float tx = float(px - x0), ty = float(py - y0);
+            const Vec3 c = texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) +
+                           texel(x0, y0 + 1) * ((1 - tx) * ty) + texel(x0 + 1, y0 + 1) * (tx * ty);
+            out.set(x, y, c * scale);
+        }
+    return out;
+}
+
+}  // namespace
+
+// <default> values and <include> files first (defaults may be used before they appear),
+// then every id (references may point forward).
+void Importer::collect(Node scene, int depth) {
+    if (depth > 16) files_.fail(scene, "includes nested too deeply (a cycle?)");
+    for (Node c : scene.children()) {
+        if (c.type() != pugi::node_element) continue;
+        const std::string tag = c.name();
+        if (tag == "default") {
+            const std::string name = c.attribute("name").value();
+            if (name.empty() || !c.attribute("value")) files_.fail(c, "needs name and value");
+            if (!overridden_.count(name)) params_[name] = c.attribute("value").value();
+        } else if (tag == "include") {
+            if (!c.attribute("filename")) files_.fail(c, "missing attribute \"filename\"");
+            Node inc = files_.addFile(resolve(c.attribute("filename").value()), c);
+            collect(inc, depth + 1);
+            for (Node k = inc.first_child(); k; k = k.next_sibling())  // included in place
+                scene.insert_copy_before(k, c);
+        }
+    }
+}
+
+void Importer::topLevel(Node scene) {
+    std::function<void(Node)> ids = [&](Node n) {
+        for (Node c : n.children()) {
+            if (c.type() != pugi::node_element) continue;
+            if (const char* id = c.attribute("id").value(); *id && std::string(c.name()) != "ref") {
+                if (ids_.count(id)) files_.fail(c, std::string("id \"") + id + "\" is already used on " + files_.where(ids_[id]));
+                ids_[id] = c;
+            }
+            ids(c);
+        }
+    };
+    ids(scene);
+    for (Node c : scene.children()) {
+        if (c.type() != pugi::node_element) continue;
+        const std::string tag = c.name();
+        if (tag == "default" || tag == "include" || tag == "bsdf" || tag == "texture") continue;  // bsdfs when used
+        if (tag == "shape") shape(c);
+        else if (tag == "sensor") sensor(c);
+        else if (tag == "integrator") integrator(c);
+        else if (tag == "emitter") emitter(c, -1);
+        else files_.fail(c, "not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
+    }
+    if (!haveSensor_) files_.fail(scene, "no <sensor>");
+}
+
+void Importer::shape(Node n) {
+    Props p = props(n);
+    const std::string t = p.type();
+    ShapeDesc sh;
+    sh.id = n.attribute("id").value();
+    sh.line = files_.line(n);
+    const Matrix M = p.getTransform("to_world");
+    if (M.det3() == 0) p.fail(n, "to_world is singular");
+    const bool flip = p.getBool("flip_normals", false);
+    if (t == "obj") {
+        const std::string path = resolve(p.getString("filename", ""));
+        const bool faceNormals = p.getBool("face_normals", false);
+        const bool flipUv = p.getBool("flip_tex_coords", true);
+        try { sh.mesh = loadObj(path, !faceNormals); } catch (const InputError& e) { p.fail(n, e.what()); }
+        if (flipUv)  // Mitsuba's v = 1 - the file's
+            for (size_t i = 1; i < sh.mesh.uvs.size(); i += 2) sh.mesh.uvs[i] = 1 - sh.mesh.uvs[i];
+        transformMesh(sh.mesh, M, flip);
+    } else if (t == "ply") {  // uv as stored (Mitsuba flips only OBJ's)
+        const std::string path = resolve(p.getString("filename", ""));
+        const bool faceNormals = p.getBool("face_normals", false);
+        try { sh.mesh = loadPly(path, !faceNormals); } catch (const InputError& e) { p.fail(n, e.what()); }
+        transformMesh(sh.mesh, M, flip);
+    } else if (t == "rectangle" || t == "cube" || t == "disk") {
+        sh.mesh = t == "rectangle" ? rectangleMesh() : t == "cube" ? cubeMesh() : diskMesh(kDiskSegments);
+        if (t == "disk") warn(n, "disk: approximated by a polygon of " + std::to_string(kDiskSegments) + " sides");
+        // A rectangle's or disk's normal is M^-T z (Mitsuba); the winding turns with det < 0.
+        transformMesh(sh.mesh, M, flip != (t != "cube" && M.det3() < 0));
+    } else if (t == "sphere") {
+        const Vec3 c = p.getPoint("center", Vec3(0.0f));
+        const float r = p.getFloat("radius", 1.0f);
+        if (!(r > 0)) p.fail(n, "radius must be > 0");
+        if (flip) p.fail(n, "flip_normals on a sphere is not supported (its normal points outwards)");
+        // to_world must keep spheres spheres: a uniform scale times a rotation.
+        double col[3];
+        for (int j = 0; j < 3; ++j) col[j] = std::sqrt(M.m[0][j] * M.m[0][j] + M.m[1][j] * M.m[1][j] + M.m[2][j] * M.m[2][j]);
+        for (int i = 0; i < 3; ++i)
+            for (int j = i + 1; j < 3; ++j) {
+                const double d = M.m[0][i] * M.m[0][j] + M.m[1][i] * M.m[1][j] + M.m[2][i] * M.m[2][j];
+                if (std::fabs(d) > 1e-5 * col[i] * col[j] || std::fabs(col[i] - col[j]) > 1e-5 * col[i])
+                    p.fail(n, "a sphere's to_world must be a uniform scale, rotation and translation");
+            }
+        sh.kind = ShapeKind::Sphere;
+        sh.uv = UvKind::SphereMitsuba;
+        sh.center = M.point(c);
+        sh.radius = float(r * col[0]);
+        // The unit sphere to world, rotation included (Mitsuba's (u, v) turn with to_world).
+        Matrix T;
+        for (int i = 0; i < 3; ++i) { T.m[i][i] = r; T.m[i][3] = c[i]; }
+        const Matrix W = M * T;
+        sh.toWorld = W.affine();
+        sh.toLocal = W.inverse().affine();
+    } else {
+        p.fail(n, "shape not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
+    }
+    if (sh.kind == ShapeKind::Mesh) sh.uv = sh.mesh.uvs.empty() ? UvKind::None : UvKind::Mesh;
+    std::vector<Node> bsdfs = p.nested("bsdf");
+    if (bsdfs.size() > 1) p.fail(bsdfs[1], "a shape has one BSDF");
+    std::vector<Node> emitters = p.nested("emitter");
+    if (emitters.size() > 1) p.fail(emitters[1], "a shape has one emitter");
+    if (bsdfs.empty()) {  // Mitsuba's default, emitters included: a diffuse 0.5 (one-sided)
+        MaterialDesc m;
+        m.id = int(s_.materials.size());
+        m.twoSided = false;
+        s_.materials.push_back(m);
+        sh.material = m.id;
+    } else {
+        sh.material = material(bsdfs[0]);
+    }
+    if (!emitters.empty()) {
+        // Emitters scatter by their BSDF as Mitsuba's do; a black diffuse one only absorbs,
+        // which wavemmlt's emitters without a material (-1) do at no cost.
+        const MaterialDesc& m = s_.materials[sh.material];
+        if (m.opacity < 1 || m.opacityTexture >= 0)
+            p.fail(bsdfs[0], "a mask on an emitting shape is not supported (its light would be partly there)");
+        if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.texture < 0) sh.material = -1;
+        s_.shapes.push_back(std::move(sh));
+        emitter(emitters[0], int(s_.shapes.size()) - 1);
+        p.finish();
+        return;
+    }
+    p.finish();
+    s_.shapes.push_back(std::move(sh));
+}
+
+void Importer::emitter(Node n, int shape) {
+    Props p = props(n);
+    const std::string t = p.type();
+    if (t == "area") {
+        if (shape < 0) p.fail(n, "an area emitter belongs inside a <shape>");
+        ShapeDesc& sh = s_.shapes[shape];
+        LightDesc l;
+        l.radiance = p.getColor("radiance", Vec3(1.0f));
+        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
+        // A rectangle: the analytic rect light; any other mesh (obj, ply, cube, disk): a
+        // triangle mesh light emitting on its winding's side.
+        if (sh.kind == ShapeKind::Sphere) l.kind = LightKind::Sphere;
+        else if (std::string(n.parent().attribute("type").value()) == "rectangle") l.kind = LightKind::Rect;
+        else l.kind = LightKind::Mesh;
+        l.shape = shape;
+        sh.light = int(s_.lights.size());
+        s_.lights.push_back(l);
+    } else if (t == "point") {  // a delta in position: intensity I (W / sr), never seen
+        if (shape >= 0) p.fail(n, "a point emitter cannot be attached to a shape");
+        LightDesc l;
+        l.kind = LightKind::Point;
+        l.radiance = p.getColor("intensity", Vec3(1.0f));
+        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "intensity must be >= 0");
+        const bool hasPosition = p.has("position"), hasTransform = p.has("to_world");
+        if (hasPosition && hasTransform) p.fail(n, "give position or to_world, not both");
+        l.position = hasPosition ? p.getPoint("position", Vec3(0.0f)) : p.getTransform("to_world").point(Vec3(0.0f));
+        s_.lights.push_back(l);
+    } else if (t == "envmap") {
+        if (shape >= 0) p.fail(n, "an envmap cannot be attached to a shape");
+        if (s_.envMap.width > 0) p.fail(n, "a second environment emitter");
+        if (!p.has("filename")) p.fail(n, "an envmap needs a filename");
+        const std::string path = resolve(p.getString("filename", ""));
+        Image src;
+        try { src = readImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        if (src.width < 2 || src.height < 3) p.fail(n, "the environment map must be at least 2 x 3 pixels (Mitsuba's rule)");
+        const float scale = p.getFloat("scale", 1.0f);
+        if (!(scale >= 0)) p.fail(n, "scale must be >= 0");
+        const Matrix M = p.getTransform("to_world");
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                double d = 0;
+                for (int k = 0; k < 3; ++k) d += M.m[k][i] * M.m[k][j];
+                if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-4)
+                    p.fail(n, "an envmap's to_world must be a rotation (no scale or shear)");
+            }
+        p.getBool("mis_compensation", false);  // sampling only
+        s_.envMap = resampleEnvMap(src, M, scale);
+        s_.settings.envMap = path;
+    } else if (t == "constant") {  // a uniform sky: a 2 x 2 map of one colour
+        const Vec3 L = p.getColor("radiance", Vec3(1.0f));
+        if (s_.envMap.width > 0) p.fail(n, "a second environment emitter");
+        s_.envMap = Image(2, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) s_.envMap.set(x, y, L);
+        s_.settings.envMap = "(constant)";
+    } else {
+        p.fail(n, "emitter not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
+    }
+    p.finish();
+}
+
+void Importer::sensor(Node n) {
+    if (haveSensor_) files_.fail(n, "a second <sensor>");
+    haveSensor_ = true;
+    Props p = props(n);
+    const std::string t = p.type();
+    if (t != "perspective" && t != "thinlens") p.fail(n, "sensor not supported (perspective and thinlens are)");
+    const float fov = p.getFloat("fov", 0);
+    if (!(fov > 0 && fov < 180)) p.fail(n, "fov must be given, 0 < fov < 180 (focal_length is not supported)");
+    const std::string axis = p.getString("fov_axis", "x");
+    const Matrix M = p.getTransform("to_world");
+    p.getFloat("near_clip", 0.01f);  // (accepted: nothing in these scenes is that close)
+    p.getFloat("far_clip", 1e4f);
+    CameraDesc& c = s_.camera;
+    if (t == "thinlens") {
+        c.dof = true;
+        const float r = p.getFloat("aperture_radius", 0.03f), f = p.getFloat("focus_distance", 0);
+        if (!(r > 0) || !(f > 0)) p.fail(n, "thinlens needs aperture_radius > 0 and focus_distance > 0");
+        c.focalLength = f;
+        c.fStop = f / (2 * r);
+    }
+    int w = 768, h = 576;
+    for (Node film : p.nested("film")) {
+        Props fp = props(film);
+        if (fp.type() != "hdrfilm") fp.fail(film, "film not supported (hdrfilm is)");
+        w = fp.getInt("width", 768);
+        h = fp.getInt("height", 576);
+        if (w < 1 || h < 1 || w > 16384 || h > 16384) fp.fail(film, "width and height must be 1 to 16384");
+        for (const char* ignored : {"file_format", "pixel_format", "component_format", "banner"}) fp.getString(ignored, "");
+        for (Node rf : fp.nested("rfilter"))
+            if (std::string(rf.attribute("type").value()) != "box")
+                warn(rf, std::string("rfilter ") + rf.attribute("type").value() + ": wavemmlt averages each pixel (box filter)");
+        fp.finish();
+    }
+    for (Node smp : p.nested("sampler")) {
+        Props sp = props(smp);
+        const int count = sp.getInt("sample_count", 4);
+        if (count < 1) sp.fail(smp, "sample_count must be >= 1");
+        int k = int(std::ceil(std::sqrt(double(count)) - 1e-9));
+        s_.settings.samples = std::min(k, 4096);
+        if (k * k != count) warn(smp, "sample_count " + std::to_string(count) + " is rendered as " + std::to_string(k * k) + " (a square)");
+        sp.getInt("seed", 0);
+        sp.finish();
+    }
+    s_.settings.width = w;
+    s_.settings.height = h;
+    // FOV: wavemmlt's is across the shorter side.
+    const double tx = std::tan(0.5 * fov * M_PI / 180), shorter = std::min(w, h), diag = std::sqrt(double(w) * w + double(h) * h);
+    double ts;
+    if (axis == "x") ts = tx * shorter / w;
+    else if (axis == "y") ts = tx * shorter / h;
+    else if (axis == "diagonal") ts = tx * shorter / diag;
+    else if (axis == "smaller") ts = tx;
+    else if (axis == "larger") ts = tx * shorter / std::max(w, h);
+    else p.fail(n, "fov_axis \"" + axis + "\" is not x, y, diagonal, smaller or larger");
+    c.fovDegrees = float(2 * std::atan(ts) * 180 / M_PI);
+    // Mitsuba looks along +z of to_world with +y up and +x to the image's LEFT: wavemmlt's
+    // right = forward x up is -x for a rotation; a mirroring to_world flips it.
+    c.position = M.point(Vec3(0.0f));
+    c.lookAt = c.position + normalize(M.vector(Vec3(0, 0, 1)));
+    c.up = normalize(M.vector(Vec3(0, 1, 0)));
+    c.flipX = M.det3() < 0;
+    if (length(cross(normalize(c.lookAt - c.position), c.up)) < 1e-6f) p.fail(n, "to_world has no usable view direction");
+    p.finish();
+}
+
+void Importer::integrator(Node n) {
+    if (haveIntegrator_) files_.fail(n, "a second <integrator>");
+    haveIntegrator_ = true;
+    Props p = props(n);
+    const std::string t = p.type();
+    Settings& st = s_.settings;
+    if (t == "path" || t == "volpath") st.tracer = TracerKind::PT;
+    else if (t == "bdpt") st.tracer = TracerKind::BPT;
+    else if (t == "ptracer") st.tracer = TracerKind::LT;
+    else if (t == "pssmlt" || t == "mlt") st.tracer = TracerKind::MMLT;
+    else p.fail(n, "integrator not supported (path, volpath, bdpt, ptracer, pssmlt, mlt are)");
+    const int depth = p.getInt("max_depth", -1);
+    if (depth == 0 || depth < -1) p.fail(n, "max_depth must be -1 (unlimited) or >= 1");
+    st.maxPathLength = depth;  // Mitsuba counts segments, as wavemmlt does
+    if (depth == -1 || depth > kMaxPathLength) {
+        st.maxPathLength = kMaxPathLength;
+        warn(n, "max_depth " + std::to_string(depth) + " is rendered as " + std::to_string(kMaxPathLength) +
+                    " (wavemmlt's longest paths)");
+    }
+    p.getInt("rr_depth", 5);  // Russian roulette: noise only
+    if (p.getBool("hide_emitters", false)) p.fail(n, "hide_emitters is not supported");
+    p.finish();
+}
+
+SceneDesc Importer::run(const std::string& xml, const std::string& name) {
+    Node root = files_.add(xml, name);
+    const std::string v = root.attribute("version").value();
+    if (v.rfind("3.", 0) == 0 || v.rfind("2.", 0) == 0) camel_ = false;
+    else if (v.rfind("0.6.", 0) == 0 || v.rfind("0.5.", 0) == 0) camel_ = true;
+    else files_.fail(root, "version \"" + v + "\" is not supported (3.x, 2.x, 0.6.x, 0.5.x)");
+    s_.settings.tracer = TracerKind::PT;  // Mitsuba's default integrator is `path`
+    s_.settings.maxPathLength = kMaxPathLength;
+    s_.settings.output = std::filesystem::path(name).stem().string() + ".exr";
+    collect(root, 0);
+    substitute(files_, root, params_);
+    topLevel(root);
+    if (s_.lights.empty() && s_.envMap.width == 0) files_.fail(root, "the scene has no emitter");
+    return std::move(s_);
+}
+
+}  // namespace wmlt::mitsuba
+
+namespace wmlt {
+
+bool isMitsubaXml(const std::string& xml) {
+    pugi::xml_document doc;
+    if (!doc.load_buffer(xml.data(), xml.size(), pugi::parse_minimal, pugi::encoding_utf8)) return false;
+    return std::string(doc.document_element().name()) == "scene";
+}
+
+SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
+                                const Defines& defines) {
+    return mitsuba::Importer(baseDir, defines).run(xml, name);
+}
+
+}  // namespace wmlt

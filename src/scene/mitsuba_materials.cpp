@@ -1,0 +1,251 @@
+// The Mitsuba importer's BSDFs (docs/mitsuba.md, "BSDFs").
+#include <cmath>
+#include <filesystem>
+
+#include "scene/mitsuba_importer.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+
+namespace wmlt::mitsuba {
+namespace {
+
+// Mitsuba's named indices of refraction (its dielectric IOR table).
+const std::map<std::string, float> kIor = {
+    {"vacuum", 1.0f}, {"helium", 1.000036f}, {"hydrogen", 1.000132f}, {"air", 1.000277f},
+    {"carbon dioxide", 1.00045f}, {"water", 1.333f}, {"acetone", 1.36f}, {"ethanol", 1.361f},
+    {"carbon tetrachloride", 1.461f}, {"glycerol", 1.4729f}, {"benzene", 1.501f},
+    {"silicone oil", 1.52045f}, {"bromine", 1.661f}, {"water ice", 1.31f}, {"fused quartz", 1.458f},
+    {"pyrex", 1.47f}, {"acrylic glass", 1.49f}, {"polypropylene", 1.49f}, {"bk7", 1.5046f},
+    {"sodium chloride", 1.544f}, {"amber", 1.55f}, {"pet", 1.575f}, {"diamond", 2.419f}};
+
+// Named conductors: the complex index eta + i k of each metal as RGB, the values Mitsuba
+// 0.5-0.6 scene conversions use (Tungsten's table; Bitterli's veach-mis copper and
+// veach-bidir VN are these). Mitsuba 3 projects its spectra onto RGB at load time, which
+// may differ in the third digit. Other names of Mitsuba's table are refused.
+struct ComplexIor {
+    Vec3 eta, k;
+};
+const std::map<std::string, ComplexIor> kConductors = {
+    {"Ag", {{0.1552646489f, 0.1167232965f, 0.1383806959f}, {4.8283433224f, 3.1222459278f, 2.1469504455f}}},
+    {"Al", {{1.6574599595f, 0.8803689579f, 0.5212287346f}, {9.2238691996f, 6.2695232477f, 4.8370012281f}}},
+    {"Au", {{0.1431189557f, 0.3749570432f, 1.4424785571f}, {3.9831604247f, 2.3857207478f, 1.6032152899f}}},
+    {"Cr", {{4.3696828663f, 2.9167024892f, 1.6547005413f}, {5.2064337956f, 4.2313645277f, 3.7549467933f}}},
+    {"Cu", {{0.2004376970f, 0.9240334304f, 1.1022119527f}, {3.9129485033f, 2.4528477015f, 2.1421879552f}}},
+    {"VN", {{2.8656011588f, 2.1191817791f, 1.9400767149f}, {3.0323264950f, 2.0561075580f, 1.6162930914f}}}};
+
+}  // namespace
+
+float Importer::ior(Props& p, const char* name, float def) {
+    if (!p.has(name)) return def;
+    Node n = p.node().find_child_by_attribute("name", name);
+    if (n && std::string(n.name()) == "string") {
+        std::string v = p.getString(name, "");
+        auto it = kIor.find(v);
+        if (it == kIor.end()) p.fail(n, "\"" + v + "\" is not in Mitsuba's table of indices of refraction");
+        return it->second;
+    }
+    const float v = p.getFloat(name, def);
+    if (!(v > 0)) p.fail(n, "an index of refraction must be > 0");
+    return v;
+}
+
+// A <texture> (bitmap, checkerboard) into SceneDesc::textures, once per element.
+int Importer::texture(Node n) {
+    auto it = textureOf_.find(n.internal_object());
+    if (it != textureOf_.end()) return it->second;
+    Props p = props(n);
+    const std::string t = p.type();
+    TextureDesc tex;
+    auto toUv = [&]() {
+        const Matrix M = p.getTransform("to_uv");  // Mitsuba reads its 2D part: rows 0-1, columns 0, 1, 3
+        const double a[6] = {M.m[0][0], M.m[0][1], M.m[0][3], M.m[1][0], M.m[1][1], M.m[1][3]};
+        for (int i = 0; i < 6; ++i) tex.uvTransform[i] = float(a[i]);
+    };
+    if (t == "bitmap") {
+        tex.kind = TextureKind::Bitmap;
+        if (!p.has("filename")) p.fail(n, "a bitmap needs a filename");
+        const std::string path = resolve(p.getString("filename", ""));
+        try { tex.image = readImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        const std::string filter = p.getString("filter_type", "bilinear");
+        if (filter == "nearest") tex.nearest = true;
+        else if (filter != "bilinear") p.fail(n, "filter_type \"" + filter + "\" is not bilinear or nearest");
+        const std::string wrap = p.getString("wrap_mode", "repeat");
+        if (wrap == "repeat") tex.wrap = TextureWrap::Repeat;
+        else if (wrap == "mirror") tex.wrap = TextureWrap::Mirror;
+        else if (wrap == "clamp") tex.wrap = TextureWrap::Clamp;
+        else p.fail(n, "wrap_mode \"" + wrap + "\" is not repeat, mirror or clamp");
+        // raw: the file's values as stored. readImage linearises 8-bit sRGB files (PNG,
+        // JPEG); raw undoes that (exactly, up to float rounding).
+        const std::string ext = std::filesystem::path(path).extension().string();
+        const bool encoded = ext == ".png" || ext == ".PNG" || ext == ".jpg" || ext == ".JPG" || ext == ".jpeg" || ext == ".JPEG";
+        if (p.getBool("raw", false) && encoded)
+            for (float& v : tex.image.rgb) v = linearToSrgb(v);
+        toUv();
+    } else if (t == "checkerboard") {
+        tex.kind = TextureKind::Checkerboard;
+        for (const char* c : {"color0", "color1"})
+            if (Node x = p.node().find_child_by_attribute("name", c); x && (std::string(x.name()) == "texture" || std::string(x.name()) == "ref"))
+                p.fail(x, "a texture inside a checkerboard is not supported (a colour is)");
+        tex.colour1 = p.getColor("color0", Vec3(0.4f));
+        tex.colour2 = p.getColor("color1", Vec3(0.2f));
+        toUv();
+    } else {
+        p.fail(n, "texture not supported by wavemmlt's Mitsuba importer (bitmap and checkerboard are)");
+    }
+    p.finish();
+    tex.id = int(s_.textures.size());
+    textureOf_[n.internal_object()] = tex.id;
+    s_.textures.push_back(std::move(tex));
+    return int(s_.textures.size()) - 1;
+}
+
+// The texture a parameter names (<texture name=...> or <ref name=... id=...> of one), or
+// a null node when the parameter is a plain value or absent.
+Node Importer::textureParam(Props& p, const std::string& name) {
+    Node c = p.node().find_child_by_attribute("name", name.c_str());
+    if (!c) return Node();
+    const std::string tag = c.name();
+    if (tag == "texture") return p.getNested("texture", name);
+    if (tag == "ref") {
+        Node r = ids_.count(c.attribute("id").value()) ? ids_.at(c.attribute("id").value()) : Node();
+        if (r && std::string(r.name()) == "texture") return p.getNested("texture", name);
+    }
+    return Node();
+}
+
+void Importer::materialParams(Props& p, MaterialDesc& m) {
+    const std::string t = p.type();
+    auto colour = [&](const char* name, Vec3 def) {
+        if (Node tx = textureParam(p, name)) {
+            // A texture multiplies the diffuse colour (wavemmlt's textured parameter).
+            if (std::string(name) != "reflectance" && std::string(name) != "diffuse_reflectance")
+                p.fail(p.node().find_child_by_attribute("name", name),
+                       std::string("a texture on \"") + name + "\" is not supported (on reflectance and diffuse_reflectance it is)");
+            m.texture = texture(tx);
+            return Vec3(1.0f);
+        }
+        Vec3 c = p.getColor(name, def);
+        if (!(c.x >= 0 && c.y >= 0 && c.z >= 0)) p.fail(p.node(), std::string(name) + " must be >= 0");
+        return c;
+    };
+    auto rough = [&]() {
+        const std::string d = p.getString("distribution", "beckmann");
+        if (d == "beckmann") m.distribution = MicrofacetType::Beckmann;
+        else if (d == "ggx") m.distribution = MicrofacetType::GGX;
+        else p.fail(p.node().find_child_by_attribute("name", "distribution"), "distribution \"" + d + "\" is not beckmann or ggx");
+        float a = p.getFloat("alpha", 0.1f);
+        if (p.has("alpha_u") || p.has("alpha_v")) {
+            const float au = p.getFloat("alpha_u", a), av = p.getFloat("alpha_v", a);
+            if (au != av) p.fail(p.node(), "anisotropic roughness (alpha_u != alpha_v) is not supported");
+            a = au;
+        }
+        if (!(a > 0 && a <= 10)) p.fail(p.node(), "alpha must be in (0, 10]");
+        m.alpha = std::max(a, 1e-4f);
+        p.getBool("sample_visible", true);  // sampling only: every choice gives the same image
+    };
+    auto iors = [&](float intDef) {
+        m.iorInside = ior(p, "int_ior", intDef);
+        m.iorOutside = ior(p, "ext_ior", 1.000277f);
+    };
+    m.twoSided = false;
+    if (t == "diffuse") {
+        m.kind = MaterialKind::Matte;
+        m.diffuse = colour("reflectance", Vec3(0.5f));
+    } else if (t == "dielectric" || t == "thindielectric" || t == "roughdielectric") {
+        m.kind = t == "dielectric" ? MaterialKind::Dielectric : t == "thindielectric" ? MaterialKind::ThinDielectric : MaterialKind::RoughDielectric;
+        iors(1.5046f);
+        if (t == "roughdielectric") rough();
+        m.reflect = colour("specular_reflectance", Vec3(1.0f));
+        m.refract = colour("specular_transmittance", Vec3(1.0f));
+        m.twoSided = true;  // both sides scatter by definition
+    } else if (t == "conductor" || t == "roughconductor") {
+        m.kind = t == "conductor" ? MaterialKind::Conductor : MaterialKind::RoughConductor;
+        if (t == "roughconductor") rough();
+        // Mitsuba 3: eta and k, or a named material; "none" (the default) is eta 0, k 1.
+        const std::string mat = p.getString("material", "none");
+        if (mat == "none") {
+            m.conductorEta = colour("eta", Vec3(0.0f));
+            m.conductorK = colour("k", Vec3(1.0f));
+        } else {
+            if (p.has("eta") || p.has("k")) p.fail(p.node(), "give either eta and k or material, not both");
+            auto it = kConductors.find(mat);
+            if (it == kConductors.end()) {
+                std::string names;
+                for (const auto& c : kConductors) names += " " + c.first;
+                p.fail(p.node().find_child_by_attribute("name", "material"),
+                       "the conductor \"" + mat + "\" is not in wavemmlt's table (none" + names + "): give eta and k");
+            }
+            m.conductorEta = it->second.eta;
+            m.conductorK = it->second.k;
+        }
+        m.reflect = colour("specular_reflectance", Vec3(1.0f));
+    } else if (t == "plastic" || t == "roughplastic") {
+        m.kind = t == "plastic" ? MaterialKind::Plastic : MaterialKind::RoughPlastic;
+        iors(1.49f);
+        if (t == "roughplastic") rough();
+        m.diffuse = colour("diffuse_reflectance", Vec3(0.5f));
+        m.reflect = colour("specular_reflectance", Vec3(1.0f));
+        m.nonlinear = p.getBool("nonlinear", false);
+    } else {
+        p.fail(p.node(), "BSDF not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
+    }
+    if ((t == "dielectric" || t == "thindielectric" || t == "roughdielectric" || t == "plastic" || t == "roughplastic") &&
+        m.iorInside == m.iorOutside)
+        p.fail(p.node(), "int_ior equals ext_ior");
+}
+
+int Importer::material(Node bsdf) {
+    auto it = materialOf_.find(bsdf.internal_object());
+    if (it != materialOf_.end()) return it->second;
+    Props p = props(bsdf);
+    MaterialDesc m;
+    auto inner = [&](const char* what) {  // the one nested BSDF of a wrapper
+        std::vector<Node> b = p.nested("bsdf");
+        if (b.size() != 1) p.fail(bsdf, std::string(what) + " needs exactly one nested BSDF");
+        return s_.materials[material(b[0])];
+    };
+    if (p.type() == "twosided") {  // one nested BSDF, both faces alike
+        std::vector<Node> b = p.nested("bsdf");
+        if (b.size() != 1) p.fail(bsdf, "twosided needs exactly one nested BSDF (two different faces are not supported)");
+        m = s_.materials[material(b[0])];
+        if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::ThinDielectric || m.kind == MaterialKind::RoughDielectric)
+            p.fail(bsdf, "twosided cannot wrap a transmitting BSDF");
+        m.twoSided = true;
+    } else if (p.type() == "bumpmap") {  // a height texture (any name) over the nested BSDF
+        m = inner("bumpmap");
+        std::vector<Node> tx;
+        for (Node c : p.node().children())
+            if (c.type() == pugi::node_element && std::string(c.name()) == "texture") tx.push_back(c);
+        for (Node c : p.node().children())
+            if (c.type() == pugi::node_element && std::string(c.name()) == "ref" && ids_.count(c.attribute("id").value()) &&
+                std::string(ids_.at(c.attribute("id").value()).name()) == "texture")
+                tx.push_back(c);
+        if (tx.size() != 1) p.fail(bsdf, "bumpmap needs exactly one nested texture (the height)");
+        const std::string tname = tx[0].attribute("name").value();
+        Node tn = tname.empty() ? p.nested("texture").at(0) : p.getNested("texture", tname);
+        if (m.bump >= 0) p.fail(bsdf, "a bumpmap inside a bumpmap is not supported");
+        m.bump = texture(tn);
+        if (s_.textures[m.bump].kind != TextureKind::Bitmap)
+            p.fail(tx[0], "a bumpmap's height must be a bitmap (Mitsuba differentiates only those)");
+        m.bumpMitsuba = true;
+        m.bumpScale = p.getFloat("scale", 1.0f);
+    } else if (p.type() == "mask") {  // opacity: a float or a texture's luminance
+        m = inner("mask");
+        if (m.opacity < 1 || m.opacityTexture >= 0) p.fail(bsdf, "a mask inside a mask is not supported");
+        if (Node tx = textureParam(p, "opacity")) {
+            m.opacityTexture = texture(tx);
+        } else {
+            m.opacity = p.getFloat("opacity", 0.5f);
+            if (!(m.opacity >= 0 && m.opacity <= 1)) p.fail(bsdf, "opacity must be in [0, 1]");
+        }
+    } else {
+        materialParams(p, m);
+    }
+    p.finish();
+    m.id = int(s_.materials.size());
+    materialOf_[bsdf.internal_object()] = m.id;
+    s_.materials.push_back(m);
+    return m.id;
+}
+
+}  // namespace wmlt::mitsuba

@@ -1,0 +1,96 @@
+// Mitsuba 3 XML, the layer below the plugins (load_mitsuba.cpp): the files (with
+// <include>), `$name` substitution from <default> and -D, and a plugin's properties
+// (<float>, <rgb>, <transform>, ...), each read at most once and every one accounted for.
+// Every problem is one InputError "file:line: <element>: problem".
+#pragma once
+#include <map>
+#include <memory>
+#include <pugixml.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "wavemmlt/math.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt::mitsuba {
+
+using Node = pugi::xml_node;
+
+// 4x4 affine transform in double (the last row is 0 0 0 1).
+struct Matrix {
+    double m[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+    Matrix operator*(const Matrix& b) const;
+    double det3() const;
+    Matrix inverse() const;  // of the affine part; the caller checks det3() != 0
+    Affine affine() const;
+    Vec3 point(Vec3 p) const { return affine().point(p); }
+    Vec3 vector(Vec3 v) const { return affine().vector(v); }
+};
+
+// The loaded files: the scene and every included one, kept alive for their nodes.
+class Files {
+public:
+    // Parses `xml` as file `name`; returns its root element (the one <scene>).
+    Node add(const std::string& xml, const std::string& name);
+    Node addFile(const std::string& path, Node from);  // <include>: errors name `from`
+    int line(Node n) const;
+    const std::string& file(Node n) const;
+    [[noreturn]] void fail(Node n, const std::string& msg) const;
+    std::string where(Node n) const;  // "file:line"
+
+private:
+    struct Doc {
+        std::string name, xml;
+        std::vector<size_t> lineStarts;
+        pugi::xml_document doc;
+    };
+    std::vector<std::unique_ptr<Doc>> docs_;
+    const Doc& docOf(Node n) const;
+};
+
+// Applies `$name` substitution to every attribute under n (Mitsuba: default values, -D
+// overrides); an undefined `$name` is an error.
+void substitute(const Files& f, Node n, const std::map<std::string, std::string>& params);
+
+// The properties of one plugin element.
+class Props {
+public:
+    Props(const Files& f, Node plugin, bool camelCase);
+    const std::string& type() const { return type_; }
+    Node node() const { return node_; }
+
+    bool has(const std::string& name) const;
+    float getFloat(const std::string& name, float def);
+    int getInt(const std::string& name, int def);
+    bool getBool(const std::string& name, bool def);
+    std::string getString(const std::string& name, const std::string& def);
+    // A colour: <rgb value="r, g, b" | "v">, <spectrum value="v">, or <float>.
+    Vec3 getColor(const std::string& name, Vec3 def);
+    Vec3 getPoint(const std::string& name, Vec3 def);
+    Matrix getTransform(const std::string& name);  // identity when absent
+    // A named nested plugin or <ref name=...>: the element (the referenced one for a ref).
+    Node getNested(const std::string& tag, const std::string& name);
+    // Unnamed nested plugins of this tag, in file order (refs resolved).
+    std::vector<Node> nested(const std::string& tag);
+    // Every property and nested plugin must have been read: else "not supported".
+    void finish() const;
+    [[noreturn]] void fail(Node n, const std::string& msg) const { files_.fail(n, msg); }
+    void setIds(const std::map<std::string, Node>* ids) { ids_ = ids; }
+
+private:
+    const Files& files_;
+    Node node_;
+    std::string type_;
+    bool camel_;
+    struct Item { Node n; std::string name; bool used = false; };
+    std::vector<Item> items_;
+    const std::map<std::string, Node>* ids_ = nullptr;
+    Item* find(const std::string& name);
+    Node resolve(Node n) const;  // <ref id> -> the element with that id
+};
+
+// A number parsed whole (scene/number.h); the node names the error.
+double number(const Files& f, Node n, const std::string& text, bool integer = false);
+
+}  // namespace wmlt::mitsuba

@@ -1,0 +1,615 @@
+// The Mitsuba plugins added after the first importer (docs/mitsuba.md): named conductors,
+// emitters with BSDFs, textures (bitmap, checkerboard), bumpmap, mask, ply, envmap, point
+// lights and area lights on meshes. Importer checks on small hand-written files, bad
+// inputs, and the analytic checks that fit in a few seconds; the tracers' agreement on
+// each feature is in test_mitsuba_tracers.cpp.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include "kernels/bump.h"
+#include "kernels/camera.h"
+#include "kernels/envmap.h"
+#include "render_stats.h"
+#include "scene/scene.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+
+namespace {
+
+const std::string kSensor = R"(<sensor type="perspective"><float name="fov" value="40"/>
+  <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+  <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+</sensor>
+)";
+
+// A scene with the sensor above, `body`, and (unless `light` is false) a rectangle light.
+std::string scene(const std::string& body, bool light = true) {
+    return "<scene version=\"3.0.0\">\n" + kSensor + body +
+           (light ? "\n<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>" : "") +
+           "\n</scene>\n";
+}
+
+SceneDesc load(const std::string& xml, const std::string& dir = ".") { return loadMitsubaFromString(xml, "t.xml", dir); }
+
+std::string errorOf(const std::string& xml, const std::string& dir = ".") {
+    try { load(xml, dir); } catch (const InputError& e) { return e.what(); }
+    return "";
+}
+
+// Each (body, words) pair: scene(wrap(body)) fails on the body's line (6) with the words.
+void expectErrors(const std::vector<std::pair<std::string, std::string>>& cases, const std::string& dir,
+                  const std::function<std::string(const std::string&)>& wrap) {
+    for (const auto& [body, words] : cases) {
+        const std::string e = errorOf(scene(wrap(body)), dir);
+        INFO(e);
+        CHECK(e.find("t.xml:6:") == 0);
+        CHECK(e.find(words) != std::string::npos);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("Mitsuba plugins: named conductors", "[mitsuba][import]") {
+    SceneDesc d = load(scene(R"(
+<shape type="cube"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>
+<shape type="cube"><bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.2"/></bsdf></shape>
+<shape type="cube"><bsdf type="conductor"/></shape>)"));
+    const MaterialDesc& au = d.materials[d.shapes[0].material];
+    CHECK(au.kind == MaterialKind::Conductor);
+    CHECK(au.conductorEta.z == Approx(1.4424785571f));
+    CHECK(au.conductorK.x == Approx(3.9831604247f));
+    const MaterialDesc& cu = d.materials[d.shapes[1].material];
+    CHECK(cu.kind == MaterialKind::RoughConductor);
+    CHECK(cu.conductorEta.x == Approx(0.200438f).epsilon(1e-5));  // veach-mis' copper
+    const MaterialDesc& none = d.materials[d.shapes[2].material];  // Mitsuba's default: a mirror
+    CHECK(none.conductorEta.x == 0.0f);
+    CHECK(none.conductorK.x == 1.0f);
+    std::string e = errorOf(scene(R"(<shape type="cube"><bsdf type="conductor"><string name="material" value="Unobtainium"/></bsdf></shape>)"));
+    INFO(e);
+    CHECK(e.find("t.xml:6:") == 0);
+    CHECK(e.find("Unobtainium") != std::string::npos);
+    CHECK(e.find("Au") != std::string::npos);  // the names it knows
+    e = errorOf(scene(R"(<shape type="cube"><bsdf type="conductor"><string name="material" value="Au"/><rgb name="eta" value="1"/></bsdf></shape>)"));
+    CHECK(e.find("not both") != std::string::npos);
+}
+
+TEST_CASE("Mitsuba plugins: an emitter keeps its BSDF (Mitsuba's default diffuse when none)", "[mitsuba][import]") {
+    SceneDesc d = load(scene(R"(
+<shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.7"/></bsdf><emitter type="area"/></shape>
+<shape type="sphere"><emitter type="area"/></shape>
+<shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"/></shape>)", false));
+    REQUIRE(d.shapes.size() == 3);
+    REQUIRE(d.shapes[0].material >= 0);
+    CHECK(d.materials[d.shapes[0].material].diffuse.x == Approx(0.7f));
+    REQUIRE(d.shapes[1].material >= 0);
+    CHECK(d.materials[d.shapes[1].material].diffuse.x == Approx(0.5f));
+    CHECK(!d.materials[d.shapes[1].material].twoSided);
+    CHECK(d.shapes[2].material == -1);  // black: an emitter that only absorbs
+    for (const ShapeDesc& s : d.shapes) CHECK(s.light >= 0);
+}
+
+namespace {
+
+// A w x h image whose texel (x, y) (y = 0: the top row) is c(x, y).
+template <class F>
+Image texels(int w, int h, F c) {
+    Image im(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) im.set(x, y, c(x, y));
+    return im;
+}
+
+TextureDesc bitmap(const Image& im, bool nearest, TextureWrap wrap) {
+    TextureDesc t;
+    t.kind = TextureKind::Bitmap;
+    t.image = im;
+    t.nearest = nearest;
+    t.wrap = wrap;
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("Mitsuba textures: bitmap lookup conventions (v = 0 the top row, filters, wrap modes, to_uv)", "[mitsuba][texture]") {
+    const Image im = texels(4, 2, [](int x, int y) { return Vec3(float(x), float(y), 1.0f); });
+    TextureDesc t = bitmap(im, true, TextureWrap::Repeat);
+    // Nearest: texel (x, y) covers [x/4, (x+1)/4) x [y/2, (y+1)/2); v = 0 is the top row.
+    CHECK(evalTexture(t, 0.1f, 0.1f, Vec3()).x == 0.0f);
+    CHECK(evalTexture(t, 0.1f, 0.1f, Vec3()).y == 0.0f);
+    CHECK(evalTexture(t, 0.8f, 0.9f, Vec3()).x == 3.0f);
+    CHECK(evalTexture(t, 0.8f, 0.9f, Vec3()).y == 1.0f);
+    CHECK(evalTexture(t, 1.1f, -0.1f, Vec3()).x == 0.0f);  // repeat
+    CHECK(evalTexture(t, 1.1f, -0.1f, Vec3()).y == 1.0f);
+    // Bilinear: exact at texel centres, linear between them.
+    t.nearest = false;
+    CHECK(evalTexture(t, 0.375f, 0.25f, Vec3()).x == Approx(1.0f));
+    CHECK(evalTexture(t, 0.5f, 0.25f, Vec3()).x == Approx(1.5f));
+    CHECK(evalTexture(t, 0.5f, 0.5f, Vec3()).y == Approx(0.5f));
+    // Repeat wraps the last texel into the first: halfway between x = 3 and x = 0.
+    CHECK(evalTexture(t, 1.0f, 0.25f, Vec3()).x == Approx(1.5f));
+    // Clamp holds the edge texel; mirror reflects about u = 0 and u = 1 (Mitsuba's test03).
+    t.wrap = TextureWrap::Clamp;
+    CHECK(evalTexture(t, 1.0f, 0.25f, Vec3()).x == Approx(3.0f));
+    CHECK(evalTexture(t, -3.0f, 0.25f, Vec3()).x == Approx(0.0f));
+    t.wrap = TextureWrap::Mirror;
+    for (float u : {0.05f, 0.3f, 0.61f, 0.93f}) {
+        CHECK(evalTexture(t, -u, 0.3f, Vec3()).x == Approx(evalTexture(t, u, 0.3f, Vec3()).x));
+        CHECK(evalTexture(t, 2.0f - u, 0.3f, Vec3()).x == Approx(evalTexture(t, u, 0.3f, Vec3()).x));
+    }
+    // to_uv: u' = 2 u (scale), then repeat.
+    t.wrap = TextureWrap::Repeat;
+    t.nearest = true;
+    t.uvTransform[0] = 2;
+    CHECK(evalTexture(t, 0.45f, 0.1f, Vec3()).x == 3.0f);
+    CHECK(evalTexture(t, 0.55f, 0.1f, Vec3()).x == 0.0f);
+    // The luminance gradient of the bilinear bitmap: red grows by 1 per texel across (4
+    // texels per unit of u, times 2 from to_uv), green by 1 per row (2 rows per unit of v),
+    // weighted as luminance.
+    t.nearest = false;
+    float du, dv;
+    bitmapLuminanceGradient(t, 0.2f, 0.25f, du, dv);
+    CHECK(du == Approx(0.2126f * 4 * 2).epsilon(1e-3));
+    CHECK(dv == Approx(0.7152f * 2).epsilon(1e-3));
+}
+
+TEST_CASE("Mitsuba textures: checkerboard", "[mitsuba][texture]") {
+    TextureDesc t;
+    t.kind = TextureKind::Checkerboard;
+    t.colour1 = Vec3(0.4f);
+    t.colour2 = Vec3(0.2f);
+    CHECK(evalTexture(t, 0.25f, 0.25f, Vec3()).x == 0.4f);
+    CHECK(evalTexture(t, 0.75f, 0.25f, Vec3()).x == 0.2f);
+    CHECK(evalTexture(t, 0.25f, 0.75f, Vec3()).x == 0.2f);
+    CHECK(evalTexture(t, 0.75f, 0.75f, Vec3()).x == 0.4f);
+    CHECK(evalTexture(t, -0.25f, 0.25f, Vec3()).x == 0.2f);
+    t.uvTransform[0] = t.uvTransform[4] = 4;  // to_uv scale 4: a 4 x 4 board per unit
+    CHECK(evalTexture(t, 0.2f, 0.05f, Vec3()).x == 0.2f);
+}
+
+TEST_CASE("Mitsuba textures: importer (bitmap, checkerboard, ref, to_uv) and bad inputs", "[mitsuba][import][texture]") {
+    const std::string dir = rstats::tempDir("mitsuba-textures");
+    writeImage(dir + "/t.pfm", texels(4, 2, [](int x, int y) { return Vec3(float(x), float(y), 0.5f); }));
+    SceneDesc d = load(scene(R"(
+<texture type="checkerboard" id="board"><rgb name="color0" value="0.9"/><transform name="to_uv"><scale x="8" y="4"/></transform></texture>
+<shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/>
+  <string name="filter_type" value="nearest"/><string name="wrap_mode" value="mirror"/></texture></bsdf></shape>
+<shape type="rectangle"><bsdf type="roughplastic"><ref name="diffuse_reflectance" id="board"/></bsdf></shape>
+<shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="board"/></bsdf></shape>)"), dir);
+    REQUIRE(d.textures.size() == 2);
+    const MaterialDesc& m0 = d.materials[d.shapes[0].material];
+    REQUIRE(m0.texture >= 0);
+    CHECK(m0.diffuse.x == 1.0f);  // the texture is the colour
+    const TextureDesc& bm = d.textures[m0.texture];
+    CHECK(bm.kind == TextureKind::Bitmap);
+    CHECK(bm.nearest);
+    CHECK(bm.wrap == TextureWrap::Mirror);
+    CHECK(bm.image.width == 4);
+    const MaterialDesc& m1 = d.materials[d.shapes[1].material];
+    const MaterialDesc& m2 = d.materials[d.shapes[2].material];
+    CHECK(m1.texture == m2.texture);  // one texture, referenced twice
+    const TextureDesc& cb = d.textures[m1.texture];
+    CHECK(cb.kind == TextureKind::Checkerboard);
+    CHECK(cb.colour1.x == Approx(0.9f));
+    CHECK(cb.colour2.x == Approx(0.2f));  // Mitsuba's default color1
+    CHECK(cb.uvTransform[0] == 8.0f);
+    CHECK(cb.uvTransform[4] == 4.0f);
+    // Bad inputs: a missing file, an unknown filter or wrap mode, a texture where wavemmlt
+    // has no textured parameter, an unknown texture type.
+    expectErrors({{R"(<texture type="bitmap" name="reflectance"><string name="filename" value="nope.png"/></texture>)", "nope.png"},
+                  {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="filter_type" value="cubic"/></texture>)", "cubic"},
+                  {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="wrap_mode" value="tile"/></texture>)", "tile"},
+                  {R"(<texture type="noise" name="reflectance"/>)", "noise"}},
+                 dir, [](const std::string& b) { return "<shape type=\"cube\"><bsdf type=\"diffuse\">" + b + "</bsdf></shape>"; });
+    const std::string e = errorOf(scene(R"(<shape type="cube"><bsdf type="roughconductor"><texture type="checkerboard" name="specular_reflectance"/></bsdf></shape>)"));
+    CHECK(e.find("specular_reflectance") != std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+// A bitmap (nearest, 4 x 4 texels) on a rectangle seen face-on, filling a 16 x 16 image,
+// under a uniform sky, direct light only: each 4 x 4 block of pixels is one texel's
+// albedo times the sky (a diffuse plane under a full hemisphere: L_o = rho L). Mitsuba's
+// rectangle has uv = (x + 1, y + 1) / 2 and v = 0 is the bitmap's top row, so the image
+// shows the bitmap upside down: block (i, j) from the top is texel (i, 3 - j).
+TEST_CASE("Mitsuba textures: a bitmap on a rectangle, end to end (rectangle uv, v = 0 the top row)", "[mitsuba][texture][render]") {
+    const std::string dir = rstats::tempDir("mitsuba-bitmap-render");
+    auto albedo = [](int x, int y) { return Vec3(0.1f + 0.2f * float(x), 0.1f + 0.2f * float(y), 0.5f); };
+    writeImage(dir + "/t.pfm", texels(4, 4, albedo));
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="53.130102"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+  <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+    <string name="filename" value="t.pfm"/><string name="filter_type" value="nearest"/></texture></bsdf></shape>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+</scene>)", "bitmap.xml", dir);
+    rstats::RunStats runs;
+    for (int k = 0; k < 8; ++k) {
+        const RenderResult r = render(d, rstats::renderOptions(TracerKind::PT, 64, 40 + uint64_t(k), 1, 2));
+        std::vector<double> v;
+        for (int c = 0; c < 3; ++c) {
+            const std::vector<double> b = rstats::blockMeans(r.image, 4, c);
+            v.insert(v.end(), b.begin(), b.end());
+        }
+        runs.add(v);
+    }
+    std::vector<double> expected;
+    for (int c = 0; c < 3; ++c)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) expected.push_back(2.0 * albedo(i, 3 - j)[c]);
+    const rstats::ZTestResult z = rstats::zTest(runs, expected);
+    INFO(z.describe());
+    CHECK(z.pass);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba bumpmap: importer, and the normal of a linear height ramp", "[mitsuba][import][bump]") {
+    const std::string dir = rstats::tempDir("mitsuba-bumpmap");
+    // Grey ramp: luminance x / 4 in texel column x (8 columns), constant down the rows.
+    writeImage(dir + "/h.pfm", texels(8, 2, [](int x, int) { return Vec3(float(x) / 4.0f); }));
+    SceneDesc d = load(scene(R"(
+<shape type="rectangle"><bsdf type="bumpmap"><texture type="bitmap" name="arbitrary"><string name="filename" value="h.pfm"/></texture>
+  <float name="scale" value="0.5"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
+<shape type="rectangle"><bsdf type="twosided"><bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture>
+  <bsdf type="roughconductor"/></bsdf></bsdf></shape>)"), dir);
+    const MaterialDesc& m0 = d.materials[d.shapes[0].material];
+    CHECK(m0.kind == MaterialKind::Matte);
+    CHECK(m0.twoSided);
+    CHECK(m0.bumpMitsuba);
+    CHECK(m0.bumpScale == 0.5f);
+    REQUIRE(m0.bump >= 0);
+    CHECK(d.textures[m0.bump].kind == TextureKind::Bitmap);
+    const MaterialDesc& m1 = d.materials[d.shapes[1].material];
+    CHECK(m1.kind == MaterialKind::RoughConductor);
+    CHECK(m1.twoSided);
+    CHECK(m1.bumpScale == 1.0f);  // Mitsuba's default
+    // h = 0.5 * luminance: dh/du = 0.5 * (1/4 per texel) * 8 texels per unit = 1 inside the
+    // ramp; with dp/du = x, dp/dv = y and n = z: n' = (-1, 0, 1) / sqrt(2).
+    const Vec3 n = bumpedNormalMitsuba(d.textures[m0.bump], 0.5f, 0.4f, 0.3f, Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    CHECK(n.x == Approx(-std::sqrt(0.5f)).epsilon(1e-4));
+    CHECK(n.y == Approx(0.0f).margin(1e-5));
+    CHECK(n.z == Approx(std::sqrt(0.5f)).epsilon(1e-4));
+    // Bad: no texture, a checkerboard (Mitsuba differentiates bitmaps only), no nested BSDF.
+    expectErrors({{R"(<bsdf type="bumpmap"><bsdf type="diffuse"/></bsdf>)", "exactly one nested texture"},
+                  {R"(<bsdf type="bumpmap"><texture type="checkerboard"/><bsdf type="diffuse"/></bsdf>)", "must be a bitmap"},
+                  {R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture></bsdf>)", "exactly one nested BSDF"}},
+                 dir, [](const std::string& b) { return "<shape type=\"cube\">" + b + "</shape>"; });
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba mask: importer and bad inputs", "[mitsuba][import][mask]") {
+    const std::string dir = rstats::tempDir("mitsuba-mask");
+    writeImage(dir + "/a.pfm", texels(2, 2, [](int x, int y) { return Vec3((x + y) % 2 ? 1.0f : 0.0f); }));
+    SceneDesc d = load(scene(R"(
+<shape type="rectangle"><bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="diffuse"/></bsdf></shape>
+<shape type="rectangle"><bsdf type="mask"><texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/></texture>
+  <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
+<shape type="rectangle"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></shape>)"), dir);
+    CHECK(d.materials[d.shapes[0].material].opacity == Approx(0.3f));
+    CHECK(d.materials[d.shapes[1].material].opacityTexture >= 0);
+    CHECK(d.materials[d.shapes[1].material].twoSided);
+    CHECK(d.materials[d.shapes[2].material].opacity == Approx(0.5f));  // Mitsuba's default
+    expectErrors({{R"(<bsdf type="mask"><float name="opacity" value="1.5"/><bsdf type="diffuse"/></bsdf>)", "opacity must be in [0, 1]"},
+                  {R"(<bsdf type="mask"><float name="opacity" value="0.5"/></bsdf>)", "exactly one nested BSDF"},
+                  {R"(<bsdf type="mask"><bsdf type="diffuse"/></bsdf><emitter type="area"/>)", "emitting"}},
+                 dir, [](const std::string& b) { return "<shape type=\"rectangle\">" + b + "</shape>"; });
+    std::filesystem::remove_all(dir);
+}
+
+// A diffuse plate of opacity 0.3 (and one whose opacity is a 2 x 2 checker of 0 and 1)
+// filling the view, under a uniform sky L, direct light only: a pixel is the sky with
+// probability 1 - alpha and the plate (rho L) with alpha, so (1 - alpha) L + alpha rho L.
+TEST_CASE("Mitsuba mask: a partly transparent plate under a sky, end to end", "[mitsuba][mask][render]") {
+    const std::string dir = rstats::tempDir("mitsuba-mask-render");
+    writeImage(dir + "/a.pfm", texels(2, 2, [](int x, int y) { return Vec3((x + y) % 2 ? 1.0f : 0.0f); }));
+    for (const std::string opacity : {R"(<float name="opacity" value="0.3"/>)",
+                                      R"(<texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/><string name="filter_type" value="nearest"/></texture>)"}) {
+        const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="53.130102"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+  <shape type="rectangle"><bsdf type="mask">)" + opacity + R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf></shape>
+  <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
+</scene>)", "mask.xml", dir);
+        REQUIRE(Scene::build(d)->features.masks);
+        rstats::RunStats runs;
+        for (int k = 0; k < 8; ++k) {
+            const RenderResult r = render(d, rstats::renderOptions(TracerKind::PT, 64, 60 + uint64_t(k), 1, 2));
+            runs.add(rstats::blockMeans(r.image, 4, 1));
+        }
+        // The checker: texel (x, y) opaque where x + y is odd; the image shows the bitmap
+        // upside down (block (i, j) from the top is texel (i, 1 - j)).
+        std::vector<double> expected;
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                const double alpha = opacity.find("0.3") != std::string::npos ? 0.3 : (i + (1 - j)) % 2 ? 1.0 : 0.0;
+                expected.push_back((1 - alpha) * 2.0 + alpha * 0.6 * 2.0);
+            }
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO(opacity << ": " << z.describe());
+        CHECK(z.pass);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// Mitsuba's direction for envmap coordinates (u, v) (its uv_to_direction).
+Vec3 mitsubaEnvDirection(double u, double v) {
+    const double theta = v * M_PI, phi = u * 2 * M_PI;
+    return Vec3(float(std::sin(phi) * std::sin(theta)), float(std::cos(theta)), float(-std::cos(phi) * std::sin(theta)));
+}
+
+}  // namespace
+
+// The envmap's orientation, rotation and scale against Mitsuba's formulas: texel (i, j)
+// of a W x H map has its centre at u = (i + 1/2) / W, v = j / (H - 1) in Mitsuba's
+// direction mapping. Texel values are linear in i and j (Mitsuba's bilinear lookup
+// reproduces them exactly between centres); wavemmlt's resampled nearest-pixel map is
+// within 1 / 8 texel of it (4 times the resolution): +-0.15 here, and the wrong
+// orientation (a turn, a mirror, a flip) would be off by whole units.
+TEST_CASE("Mitsuba envmap: orientation, to_world, scale, bad inputs", "[mitsuba][import][envmap]") {
+    const std::string dir = rstats::tempDir("mitsuba-envmap");
+    const int W = 8, H = 5;
+    writeImage(dir + "/env.pfm", texels(W, H, [](int x, int y) { return Vec3(1.0f + float(x), 1.0f + float(y), 1.0f); }));
+    auto env = [&](const std::string& params) {
+        SceneDesc d = load(scene("<emitter type=\"envmap\"><string name=\"filename\" value=\"env.pfm\"/>" + params + "</emitter>", false), dir);
+        CHECK(d.envMap.width == 4 * W);
+        EnvMapSampler s;
+        s.build(d.envMap);
+        return s;
+    };
+    const EnvMapSampler plain = env("");
+    const EnvMapSampler turned = env(R"(<transform name="to_world"><rotate y="1" angle="90"/></transform><float name="scale" value="3"/>)");
+    for (int j = 1; j < H - 1; ++j)      // (rows 0 and H - 1 sit on the poles, where u is moot)
+        for (int i = 0; i < W - 1; ++i) {  // (the last column's right half blends into the first)
+            const Vec3 d = mitsubaEnvDirection((i + 0.5) / W, double(j) / (H - 1));
+            INFO("texel " << i << ", " << j);
+            CHECK(plain.Le(d).x == Approx(1.0f + float(i)).margin(0.15));
+            CHECK(plain.Le(d).y == Approx(1.0f + float(j)).margin(0.15));
+            // to_world turns the map (R_y(90) (x, y, z) = (z, y, -x)) and scale multiplies it.
+            const Vec3 t(d.z, d.y, -d.x);
+            CHECK(turned.Le(t).x == Approx(3.0f * (1.0f + float(i))).margin(0.45));
+            CHECK(turned.Le(t).y == Approx(3.0f * (1.0f + float(j))).margin(0.45));
+        }
+    expectErrors({{R"(<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>)", "nope.exr"},
+                  {R"(<emitter type="envmap"/>)", "filename"},
+                  {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/><transform name="to_world"><scale value="2"/></transform></emitter>)", "rotation"},
+                  {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/></emitter><emitter type="constant"/>)", "second environment"}},
+                 dir, [](const std::string& b) { return b; });
+    std::filesystem::remove_all(dir);
+}
+
+// A uniform envmap times scale is a constant sky: a diffuse plate under it, direct light
+// only, is rho * scale * L in every pixel, as under Mitsuba's constant emitter.
+TEST_CASE("Mitsuba envmap: a uniform map with scale renders as the constant sky", "[mitsuba][envmap][render]") {
+    const std::string dir = rstats::tempDir("mitsuba-envmap-render");
+    writeImage(dir + "/env.pfm", texels(16, 8, [](int, int) { return Vec3(0.5f); }));
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+  <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+  <emitter type="envmap"><string name="filename" value="env.pfm"/><float name="scale" value="4"/>
+    <transform name="to_world"><rotate x="1" angle="30"/></transform></emitter>
+</scene>)", "env.xml", dir);
+    rstats::RunStats runs;
+    for (int k = 0; k < 8; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 80 + uint64_t(k), 1, 2)).image, 4, 1));
+    const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(4, 0.6 * 4 * 0.5));
+    INFO(z.describe());
+    CHECK(z.pass);
+    std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+void writeFile(const std::string& path, const std::string& bytes) {
+    std::ofstream f(path, std::ios::binary);
+    f << bytes;
+}
+
+// A unit quad (one 4-gon face) with normals, uv, colours (read past), and an extra element.
+std::string plyHeader(const std::string& format, const std::string& faceCount = "1") {
+    return "ply\nformat " + format + " 1.0\ncomment a quad\nelement vertex 4\nproperty float x\nproperty float y\n"
+           "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\n"
+           "property uchar red\nelement face " + faceCount + "\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
+           "element edge 1\nproperty int a\nproperty int b\nend_header\n";
+}
+const float kQuad[4][8] = {{0, 0, 0, 0, 0, 1, 0, 0}, {1, 0, 0, 0, 0, 1, 1, 0}, {1, 1, 0, 0, 0, 1, 1, 1}, {0, 1, 0, 0, 0, 1, 0, 1}};
+
+template <class T>
+void put(std::string& s, T v, bool big) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    if (big) std::reverse(b, b + sizeof(T));
+    s.append(b, sizeof(T));
+}
+
+std::string binaryQuad(bool big) {
+    std::string s = plyHeader(big ? "binary_big_endian" : "binary_little_endian");
+    for (const auto& v : kQuad) {
+        for (float x : v) put(s, x, big);
+        put(s, uint8_t(200), big);
+    }
+    put(s, uint8_t(4), big);
+    for (int32_t i : {0, 1, 2, 3}) put(s, i, big);
+    put(s, uint8_t(0), big);
+    put(s, int32_t(0), big);
+    put(s, int32_t(1), big);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("Mitsuba ply: ASCII, binary little and big endian, the same mesh", "[mitsuba][import][ply]") {
+    const std::string dir = rstats::tempDir("mitsuba-ply");
+    std::string ascii = plyHeader("ascii");
+    for (const auto& v : kQuad) {
+        for (float x : v) ascii += std::to_string(x) + " ";
+        ascii += "200\n";
+    }
+    ascii += "4 0 1 2 3 0\n0 1\n";
+    writeFile(dir + "/a.ply", ascii);
+    writeFile(dir + "/le.ply", binaryQuad(false));
+    writeFile(dir + "/be.ply", binaryQuad(true));
+    for (const char* f : {"a.ply", "le.ply", "be.ply"}) {
+        INFO(f);
+        const TriangleMesh m = loadPly(dir + "/" + f, true);
+        REQUIRE(m.positions.size() == 4);
+        REQUIRE(m.indices.size() == 6);  // the 4-gon as a fan of two triangles
+        CHECK(m.indices[3] == 0);
+        CHECK(m.indices[5] == 3);
+        CHECK(m.positions[2].x == 1.0f);
+        CHECK(m.positions[2].y == 1.0f);
+        REQUIRE(m.uvs.size() == 8);
+        CHECK(m.uvs[5] == 1.0f);  // vertex 2's v, as stored
+        REQUIRE(m.normals.size() == 4);
+        CHECK(m.normals[1].z == 1.0f);
+        CHECK(loadPly(dir + "/" + f, false).normals.empty());  // flat: none
+    }
+    // The importer: a ply shape with to_world (and Mitsuba's face_normals).
+    SceneDesc d = load(scene(R"(<shape type="ply"><string name="filename" value="be.ply"/><boolean name="face_normals" value="true"/>
+      <transform name="to_world"><translate x="5"/></transform></shape>)"), dir);
+    CHECK(d.shapes[0].mesh.positions[0].x == 5.0f);
+    CHECK(d.shapes[0].mesh.normals.empty());
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (binary)", "[mitsuba][ply][bad-input]") {
+    const std::string dir = rstats::tempDir("mitsuba-ply-bad");
+    auto errorIn = [&](const std::string& bytes) {
+        writeFile(dir + "/x.ply", bytes);
+        try { loadPly(dir + "/x.ply", true); } catch (const InputError& e) { return std::string(e.what()); }
+        return std::string();
+    };
+    const std::string p = dir + "/x.ply";
+    const std::string tri = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    CHECK(errorIn(tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").empty());  // the good one
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"plx\n", p + ":1: not a PLY file"},
+        {"ply\nformat ascii 2.0\nend_header\n", p + ":2: PLY version"},
+        {"ply\nformat ebcdic 1.0\nend_header\n", p + ":2: unknown format"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n", p + ":5: the header has no end_header"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty quaternion x\nend_header\n", p + ":4: unknown type"},
+        {"ply\nformat ascii 1.0\nwhatever\nend_header\n", p + ":3: unknown header line"},
+        {tri + "0 0 0\n1 0x 0\n0 1 0\n3 0 1 2\n", p + ":11: \"0x\" is not a finite number"},
+        {tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", p + ":13: vertex index 7 is out of range"},
+        {tri + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", p + ":13: a face with 2 vertices"},
+        {tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n", p + ":13: the data ends early"},
+        {tri + "0 0 0\n1 0 0\n", p + ":3: element vertex declares 3 items, more than the file holds"},
+        {"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+         p + ":3: element vertex declares 1000000000 items, more than the file holds"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", p + ":3: the vertex element needs properties x, y and z"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0 1 0 0 0 1 0\n", p + ": no faces"},
+    };
+    for (const auto& [bytes, want] : cases) {
+        const std::string e = errorIn(bytes);
+        INFO(e);
+        CHECK(e.find(want) == 0);
+    }
+    // Binary: truncated data names the byte offset where it runs out: the vertices, the
+    // face's count and two of its four indices.
+    std::string le = binaryQuad(false);
+    const size_t header = plyHeader("binary_little_endian").size();
+    le.resize(header + 4 * (8 * 4 + 1) + 1 + 2 * 4 + 2);
+    const std::string e = errorIn(le);
+    INFO(e);
+    CHECK(e.find(p + ": byte " + std::to_string(header + 4 * 33 + 1 + 2 * 4)) == 0);
+    CHECK(e.find("ends early") != std::string::npos);
+    // The importer names the scene file's line and the PLY's own message.
+    writeFile(dir + "/y.ply", "ply\nformat ascii 1.0\nbogus\nend_header\n");
+    const std::string ie = errorOf(scene(R"(<shape type="ply"><string name="filename" value="y.ply"/></shape>)"), dir);
+    CHECK(ie.find("t.xml:6:") == 0);
+    CHECK(ie.find("y.ply:3: unknown header line") != std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// A diffuse floor (y = 0, reflectance rho) seen from y = 1 (below the light, which would
+// hide it) by a 16 x 16 camera looking down, lit by
+// `emitter` only, direct light only: the exact 4 x 4 block means of rho / pi * E(p), E the
+// floor's irradiance at p, averaged over 8 x 8 points per pixel, against K runs of each of
+// PT, LT and BPT (rstats::zTest, p = 1e-4).
+void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& irradiance, const std::string& what) {
+    const double rho = 0.6;
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="perspective"><float name="fov" value="90"/>
+    <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+  <shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate x="1" angle="-90"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+)" + emitter + "\n</scene>",
+                                              what + ".xml", ".");
+    const Camera cam = makeCamera(d.camera, 16, 16);
+    std::vector<double> expected(16, 0.0);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i) {
+                    Vec3 o, dir;
+                    generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 8, float(y) + (float(j) + 0.5f) / 8, 0.5f, 0.5f, o, dir);
+                    const Vec3 p = o + dir * (-o.y / dir.y);
+                    expected[size_t(y / 4) * 4 + size_t(x / 4)] += rho / M_PI * irradiance(p) / (16 * 64);
+                }
+    for (TracerKind t : {TracerKind::PT, TracerKind::LT, TracerKind::BPT}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 8; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(t, 64, 90 + uint64_t(k), 1, 2)).image, 4, 1));
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO(what << ", tracer " << int(t) << ": " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
+}  // namespace
+
+// A point light of intensity I at height h: E = I cos(theta) / r^2 = I h / r^3.
+TEST_CASE("Mitsuba point light: the floor's irradiance I cos / r^2, in PT, LT and BPT", "[mitsuba][render][point]") {
+    const Vec3 c(0.7f, 1.5f, -0.4f);
+    floorUnder(R"(<emitter type="point"><point name="position" x="0.7" y="1.5" z="-0.4"/><rgb name="intensity" value="3"/></emitter>)",
+               [&](Vec3 p) {
+                   const Vec3 d = c - p;
+                   const double r = length(d);
+                   return 3.0 * double(c.y) / (r * r * r);
+               },
+               "point");
+    // The same light given by to_world, and the importer's checks.
+    SceneDesc d = load(scene(R"(<emitter type="point"><transform name="to_world"><translate x="1" y="2" z="3"/></transform></emitter>)", false));
+    REQUIRE(d.lights.size() == 1);
+    CHECK(d.lights[0].kind == LightKind::Point);
+    CHECK(d.lights[0].position.z == 3.0f);
+    CHECK(d.lights[0].radiance.x == 1.0f);  // Mitsuba's default intensity
+    CHECK(errorOf(scene(R"(<emitter type="point"><point name="position" x="0" y="0" z="0"/><transform name="to_world"/></emitter>)")).find("not both") != std::string::npos);
+    CHECK(errorOf(scene(R"(<shape type="sphere"><emitter type="point"/></shape>)")).find("cannot be attached") != std::string::npos);
+}
+
+// A disk emitter (Mitsuba's disk: a 512-gon here, a triangle mesh light) of radius R and
+// radiance L facing down at height h: a parallel receiver at lateral distance q gets
+// E = (pi L / 2) (1 - (h^2 + q^2 - R^2) / sqrt((h^2 + q^2 + R^2)^2 - 4 R^2 q^2)).
+// (The polygon's area is the disk's to 2.5e-5.)
+TEST_CASE("Mitsuba area light on a mesh (a disk): the floor's irradiance, in PT, LT and BPT", "[mitsuba][render][meshlight]") {
+    const double R = 0.8, h = 1.2, L = 2.0;
+    floorUnder(R"(<shape type="disk"><transform name="to_world"><scale value="0.8"/><rotate x="1" angle="90"/><translate x="0.3" y="1.2"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)",
+               [&](Vec3 p) {
+                   const double q2 = (p.x - 0.3) * (p.x - 0.3) + double(p.z) * p.z;
+                   const double a = h * h + q2 + R * R;
+                   return M_PI * L / 2 * (1 - (h * h + q2 - R * R) / std::sqrt(a * a - 4 * R * R * q2));
+               },
+               "disk");
+}
