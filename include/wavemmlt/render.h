@@ -100,6 +100,7 @@ struct RenderStats {
         uint64_t replayed = 0;                    // seeded chains replayed (all in the first pass, then 1 in 8)
         uint64_t replayMismatches = 0;            // replays that differed from their pool entry (a bug)
         uint64_t chainBytes = 0;                  // memory of the chain state (largest pass)
+        uint32_t chainsAsked = 0, chainsRun = 0;  // --chains, and the chains run (fewer only under a tight --time)
     } mmlt;
     // Bytes of the render's large buffers (films, chain state, pools, splat lists), by name.
     std::vector<std::pair<std::string, uint64_t>> buffers;

@@ -120,7 +120,8 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << ",\n  \"mmlt_tasks_per_round\": " << m.tasksPerRound
       << ",\n  \"mmlt_longest_task_ratio\": " << m.longestTaskRatio
       << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
-      << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes;
+      << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes
+      << ",\n  \"mmlt_chains_asked\": " << m.chainsAsked << ",\n  \"mmlt_chains_run\": " << m.chainsRun;
 }
 
 void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
@@ -243,6 +244,11 @@ int run(int argc, char** argv) {
     if (r.stats.samplesNonfiniteDiscarded && !cl.quiet)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were discarded\n",
                      (unsigned long long)r.stats.samplesNonfiniteDiscarded);
+    if (r.stats.mmlt.chainsRun < r.stats.mmlt.chainsAsked && !cl.quiet)
+        std::fprintf(stderr,
+                     "warning: ran %u chains, not %u: one iteration of them all costs at most 2%% of --time "
+                     "(a longer budget runs them all)\n",
+                     r.stats.mmlt.chainsRun, r.stats.mmlt.chainsAsked);
     watchers.finish(r);  // with --view: until the window is closed
     return r.stats.cancelled ? 130 : 0;
 }

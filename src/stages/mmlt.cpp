@@ -432,6 +432,15 @@ RenderResult MmltRender::run() {
         stats_.bBootstrap[size_t(k)] = pools_[size_t(k)].mean();
         thin(pools_[size_t(k)], k);
     }
+    // Under a time budget one iteration of all chains (about C samples) may cost at most 2%
+    // of the budget, or the render could not end within it (--time 3 with 65536 chains on
+    // a slow build): the chains are capped there, and --stats and a warning say so.
+    stats_.chainsAsked = chains_;
+    if (timed()) {
+        const double cap = std::floor(0.02 * opt_.timeBudget / std::max(sampleSeconds_, 1e-12));
+        if (double(chains_) > cap) chains_ = uint32_t(std::max(1.0, cap));
+    }
+    stats_.chainsRun = chains_;
     if (!allocateChains())
         throw InputError("no light reaches the camera: the bootstrap's " + std::to_string(stats_.bootstrapSamples) +
                          " samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
