@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -44,7 +46,13 @@ int prepareOnRanks(Distributed& ranks, const std::function<int()>& prepare) {
 }
 
 void failRanks(Distributed& ranks, int status, const std::string& message) {
-    if (!ranks.root()) sleep(2);
+    if (!ranks.root()) {
+        // mpirun ends this rank with SIGTERM once rank 0 aborts: by default, not by the
+        // handler that turns it into a cancel (which would also cut the sleep short).
+        std::signal(SIGTERM, SIG_DFL);
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+        while (std::chrono::steady_clock::now() < until) usleep(20000);
+    }
     std::cerr << "error: " << (ranks.root() ? "" : "(rank " + std::to_string(ranks.rank()) + ") ") << message << "\n";
     std::cerr.flush();
     abortRanks(status);
