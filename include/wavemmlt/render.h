@@ -85,8 +85,9 @@ struct RenderStats {
     // per-length split of the image's mean, which MMLT's b_k must reproduce.
     std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
-    // The ranks of a render split across processes (RenderOptions::ranks), per rank: bytes
-    // it sent and received, and seconds inside exchanges (waiting for the others included).
+    // The ranks of a render split across processes (RenderOptions::ranks), per rank: the
+    // payload bytes it received (their sum is the job's traffic), and seconds inside
+    // exchanges (waiting for the others included).
     struct Ranks {
         int count = 1;
         std::vector<uint64_t> bytes;

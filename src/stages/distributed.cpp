@@ -79,7 +79,7 @@ void sumStatsToRoot(Distributed* ranks, RenderStats& st) {
     for (int r = 0; r < ranks->size(); ++r) {
         Distributed::Cost c;
         std::memcpy(&c, all.data() + size_t(r) * sizeof c, sizeof c);
-        st.ranks.bytes.push_back(c.bytesSent + c.bytesReceived);
+        st.ranks.bytes.push_back(c.bytesReceived);  // each byte once, at its receiver
         st.ranks.seconds.push_back(c.seconds);
         if (r == 0) st.ranks.exchanges = c.calls;
     }

@@ -47,8 +47,8 @@ struct PassImage {
 };
 
 // runBatch(tileIndex, tile) runs in parallel, each tile once per pass (split across ranks:
-// the tiles of this rank, tilesOfRank); endPass() runs on
-// the calling thread after each pass that completed (an interrupted pass gets none), then
+// this rank's tiles, tilesOfRank); endPass() runs on the calling thread after each pass that
+// completed (an interrupted pass gets none: across ranks, a pass any rank interrupted), then
 // the snapshot for a viewer (preview.h). Time paused by the viewer is not counted.
 PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
                      const std::function<void(size_t, const PtTile&)>& runBatch,
