@@ -27,12 +27,6 @@ bool many(const Distributed* ranks) { return ranks && ranks->many(); }
 
 std::unique_ptr<Distributed> singleProcess() { return std::make_unique<OneProcess>(); }
 
-#ifndef WAVEMMLT_HAVE_MPI
-bool ranksBuilt() { return false; }
-std::unique_ptr<Distributed> startRanks(int&, char**&) { return singleProcess(); }
-void abortRanks(int status) { std::exit(status); }
-#endif
-
 Agreement agree(Distributed* ranks, bool stop, bool cancel, uint64_t rootValue) {
     if (!many(ranks)) return {stop, cancel, rootValue};
     uint64_t v[3] = {stop ? 1u : 0u, cancel ? 1u : 0u, ranks->root() ? rootValue : 0};

@@ -1,7 +1,7 @@
 // The ranks of one render (docs/mpi.md): what the tracers exchange when a render is split
 // across processes (mpirun), behind a small interface with two implementations: one
 // process (every call a no-op or a copy) and MPI (src/mpi/distributed_mpi.cpp, built only
-// when CMake finds MPI). Every call is collective: every rank makes it, in the same order,
+// when CMake finds MPI, into the library wavemmlt_ranks with startRanks()). Every call is collective: every rank makes it, in the same order,
 // from the render's own thread (never from a TBB task). Every exchange is in a fixed rank
 // order, so a seed and a rank count give one result, bit for bit.
 #pragma once
