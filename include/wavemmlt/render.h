@@ -39,6 +39,8 @@ public:
     virtual double waitWhilePaused() = 0;
 };
 
+class Distributed;  // the ranks of a render split across processes (stages/distributed.h)
+
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
     int spp = 16;              // samples per pixel
@@ -66,6 +68,10 @@ struct RenderOptions {
     std::function<void(double)> progress;
     // A viewer: offered the image so far between passes or rounds (nullptr: none, no cost).
     RenderView* view = nullptr;
+    // A render split across processes (mpirun; docs/mpi.md): every rank calls render() with
+    // the same options and its own Distributed; the ranks share out the work, and rank 0's
+    // result holds the job's image and statistics. nullptr: this process renders alone.
+    Distributed* ranks = nullptr;
 };
 
 struct RenderStats {
@@ -79,6 +85,16 @@ struct RenderStats {
     // per-length split of the image's mean, which MMLT's b_k must reproduce.
     std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
+    // The ranks of a render split across processes (RenderOptions::ranks), per rank: the
+    // payload bytes it received (their sum is the job's traffic), and seconds inside
+    // exchanges (waiting for the others included).
+    struct Ranks {
+        int count = 1;
+        std::vector<uint64_t> bytes;
+        std::vector<double> seconds;
+        uint64_t exchanges = 0;   // exchanges each rank made
+        uint64_t boundaries = 0;  // pass (PT, LT, BPT) or round (MMLT) boundaries they met at
+    } ranks;
     // MMLT, indexed by path length k (0 unused). A pass: the chains start from a pool of
     // independent samples, run passLength iterations, and are restarted from the next pool.
     struct Mmlt {
@@ -101,6 +117,8 @@ struct RenderStats {
         uint64_t replayMismatches = 0;            // replays that differed from their pool entry (a bug)
         uint64_t chainBytes = 0;                  // memory of the chain state (largest pass)
         uint32_t chainsAsked = 0, chainsRun = 0;  // --chains, and the chains run (fewer only under a tight --time)
+        std::vector<std::vector<double>> bByRank; // b as each rank computed it (split across ranks)
+        std::vector<uint64_t> poolDigestByRank;   // a hash of each rank's pools, every pass (split across ranks)
     } mmlt;
     // Bytes of the render's large buffers (films, chain state, pools, splat lists), by name.
     std::vector<std::pair<std::string, uint64_t>> buffers;

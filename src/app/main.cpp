@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <mutex>
@@ -17,7 +18,9 @@
 #include "app/cli.h"
 #include "app/progress.h"
 #include "app/watchers.h"
+#include "app/ranks.h"
 #include "scene/features.h"
+#include "stages/distributed.h"
 #include "stages/memory.h"
 #include "stages/mmlt.h"
 #include "wavemmlt/error.h"
@@ -29,9 +32,9 @@ namespace {
 
 std::atomic<bool> gCancel{false};
 
-void onInterrupt(int) {
+void onInterrupt(int signal) {
     gCancel = true;
-    std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+    std::signal(signal, SIG_DFL);  // a second Ctrl-C ends the process at once
 }
 
 const char* tracerName(wmlt::TracerKind t) {
@@ -122,6 +125,43 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
       << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes
       << ",\n  \"mmlt_chains_asked\": " << m.chainsAsked << ",\n  \"mmlt_chains_run\": " << m.chainsRun;
+    if (!m.poolDigestByRank.empty()) o << ",\n  \"mmlt_pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
+    if (st.ranks.count > 1) {  // what each rank computed: the same on every rank (docs/mpi.md)
+        o << ",\n  \"mmlt_b_by_rank\": [";
+        for (size_t r = 0; r < m.bByRank.size(); ++r) {
+            o << (r ? ", " : "") << "{";
+            for (int k = s.minPathLength; k <= s.maxPathLength && k < int(m.bByRank[r].size()); ++k)
+                o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << std::setprecision(17) << m.bByRank[r][size_t(k)];
+            o << "}";
+        }
+        o << std::setprecision(9) << "],\n  \"mmlt_pool_digest_by_rank\": [";
+        for (size_t r = 0; r < m.poolDigestByRank.size(); ++r)
+            o << (r ? ", " : "") << '"' << std::hex << m.poolDigestByRank[r] << std::dec << '"';
+        o << "]";
+    }
+}
+
+// The ranks of a render split across processes: their count always, the exchanges' cost
+// (per rank) when there are several.
+void writeRankStats(std::ostream& o, const wmlt::RenderStats& st) {
+    o << ",\n  \"ranks\": " << st.ranks.count;
+    if (st.ranks.count <= 1) return;
+    uint64_t bytes = 0;
+    double seconds = 0;
+    o << ",\n  \"mpi_bytes_by_rank\": [";
+    for (size_t r = 0; r < st.ranks.bytes.size(); ++r) {
+        o << (r ? ", " : "") << st.ranks.bytes[r];
+        bytes += st.ranks.bytes[r];
+    }
+    o << "],\n  \"mpi_seconds_by_rank\": [";
+    for (size_t r = 0; r < st.ranks.seconds.size(); ++r) {
+        o << (r ? ", " : "") << st.ranks.seconds[r];
+        seconds = std::max(seconds, st.ranks.seconds[r]);
+    }
+    o << "],\n  \"mpi_bytes\": " << bytes << ",\n  \"mpi_seconds_max\": " << seconds
+      << ",\n  \"mpi_exchanges\": " << st.ranks.exchanges << ",\n  \"mpi_boundaries\": " << st.ranks.boundaries
+      << ",\n  \"mpi_bytes_per_boundary\": " << (st.ranks.boundaries ? double(bytes) / double(st.ranks.boundaries) : 0.0)
+      << ",\n  \"mpi_seconds_per_boundary\": " << (st.ranks.boundaries ? seconds / double(st.ranks.boundaries) : 0.0);
 }
 
 void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
@@ -140,6 +180,7 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
     for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
     o << "}";
+    writeRankStats(o, st);
     if (st.tracer == "mmlt") writeMmltStats(o, st, s);
     o << ",\n  \"buffers_bytes\": {";
     for (size_t i = 0; i < st.buffers.size(); ++i)
@@ -158,32 +199,59 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
     }
 }
 
-int run(int argc, char** argv) {
+// What the command line asks for, loaded and checked before any rendering.
+struct Job {
+    wmlt::CommandLine cl;
+    wmlt::SceneDesc scene;
+    std::vector<std::string> outputs;
+};
+
+// Parses, loads and checks (throws InputError). Returns false when the job ends here
+// (--help, --version, --describe). Only rank 0 prints, opens viewers and checks the output
+// paths (they are its files); the other ranks load the scene themselves, quietly.
+bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     using namespace wmlt;
-    CommandLine cl = parseCommandLine(argc, argv);
-    if (cl.help) { std::cout << usageText(); return 0; }
-    if (cl.version) { std::cout << "wavemmlt " << WAVEMMLT_VERSION << "\n"; return 0; }
-    if (cl.view && !cl.describe) checkViewPossible();
+    const bool root = ranks.root();
+    CommandLine& cl = job.cl;
+    cl = parseCommandLine(argc, argv);
+    if (cl.help || cl.version) {
+        if (root) std::cout << (cl.help ? usageText() : std::string("wavemmlt ") + WAVEMMLT_VERSION + "\n");
+        return false;
+    }
+    if (root && cl.view && !cl.describe) checkViewPossible();
+    if (ranks.many() && !cl.strategyImages.empty())
+        throw InputError("wavemmlt: --strategy-images is made by one process only (run it without mpirun)");
 
     if (cl.scenePath.empty() && !cl.defines.empty()) throw InputError("wavemmlt: -D needs a Mitsuba scene file");
-    SceneDesc scene = cl.scenePath.empty()
-        ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
-        : loadScene(cl.scenePath, cl.defines);
-    applyCommandLine(cl, scene.settings);
-    if (!cl.quiet)
-        for (const std::string& w : scene.warnings) std::cerr << "warning: " << w << "\n";
-    if (cl.chains && scene.settings.tracer == TracerKind::MMLT) checkChainMemory(*cl.chains, scene.settings);
+    job.scene = cl.scenePath.empty() ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
+                                     : loadScene(cl.scenePath, cl.defines);
+    applyCommandLine(cl, job.scene.settings);
+    if (root && !cl.quiet)
+        for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
+    if (cl.chains && job.scene.settings.tracer == TracerKind::MMLT) checkChainMemory(*cl.chains, job.scene.settings);
     if (cl.describe) {
-        std::cout << deriveFeatures(scene).describe();
-        return 0;
+        if (root) std::cout << deriveFeatures(job.scene).describe();
+        return false;
     }
-
-    std::vector<std::string> outputs = cl.outputs;
-    if (outputs.empty()) outputs.push_back(scene.settings.output);
-    for (const std::string& o : outputs) checkOutputPath(o, true);
+    job.outputs = cl.outputs;
+    if (job.outputs.empty()) job.outputs.push_back(job.scene.settings.output);
+    if (!root) return true;
+    for (const std::string& o : job.outputs) checkOutputPath(o, true);
     if (!cl.statsPath.empty()) checkOutputPath(cl.statsPath, false);
+    if (!cl.strategyImages.empty()) prepareFolder(cl.strategyImages);
+    return true;
+}
 
-    const Settings& s = scene.settings;
+int run(int argc, char** argv, wmlt::Distributed& ranks) {
+    using namespace wmlt;
+    Job job;
+    const int early = prepareOnRanks(ranks, [&] { return prepare(argc, argv, ranks, job) ? -1 : 0; });
+    if (early >= 0) return early;
+    const CommandLine& cl = job.cl;
+    const std::vector<std::string>& outputs = job.outputs;
+    const bool root = ranks.root();
+
+    const Settings& s = job.scene.settings;
     RenderOptions opt;
     opt.tracer = s.tracer;
     opt.spp = cl.spp ? *cl.spp : s.samples * s.samples;
@@ -197,13 +265,17 @@ int run(int argc, char** argv) {
     if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
     opt.probLarge = s.probLarge;
     opt.strategyImages = cl.strategyImages;
-    if (!opt.strategyImages.empty()) prepareFolder(opt.strategyImages);
     opt.minPathLength = s.minPathLength;
     opt.maxPathLength = s.maxPathLength;
     opt.cancel = &gCancel;
+    if (ranks.many()) opt.ranks = &ranks;
     std::signal(SIGINT, onInterrupt);
+    // Open MPI's mpirun turns a Ctrl-C into SIGTERM to every rank (then SIGKILL after
+    // odls_base_sigkill_timeout, 1 s by default): the ranks agree to stop at the next
+    // boundary and rank 0 writes the image so far (docs/mpi.md).
+    if (ranks.many()) std::signal(SIGTERM, onInterrupt);
 
-    // The outputs: at the end, and from the --view window's s key (its own thread).
+    // The outputs (rank 0's): at the end, and from the --view window's s key (its own thread).
     std::mutex outputsMutex;
     auto writeOutputs = [&](const Image& image) {
         std::lock_guard<std::mutex> lock(outputsMutex);
@@ -219,17 +291,28 @@ int run(int argc, char** argv) {
     };
     const std::string imageName = std::filesystem::path(outputs[0]).filename().string() + " (" +
                                   std::to_string(getpid()) + ")";
-    Watchers watchers(cl, tracerName(opt.tracer), s.width, s.height, imageName, &gCancel, saveNow);
+    CommandLine viewers = cl;  // rank 0 watches the job; the other ranks have no viewers
+    if (!root) viewers.view = false, viewers.displayHost.clear();
+    Watchers watchers(viewers, tracerName(opt.tracer), s.width, s.height, imageName, &gCancel, saveNow);
     opt.view = watchers.view();
-    Progress progress(cl.quiet);
-    opt.progress = [&](double f) {
-        progress.update(f);
-        watchers.progress(f);
-    };
+    Progress progress(cl.quiet || !root);
+    if (root)
+        opt.progress = [&](double f) {
+            progress.update(f);
+            watchers.progress(f);
+        };
 
     Settings settings = s;
-    RenderResult r = render(std::move(scene), opt);
+    RenderResult r;
+    try {
+        r = render(std::move(job.scene), opt);
+    } catch (const std::exception& e) {
+        // Split across ranks, the others may be waiting in an exchange: the job ends here.
+        if (ranks.many()) failRanks(ranks, dynamic_cast<const InputError*>(&e) ? 2 : 1, e.what());
+        throw;
+    }
     progress.finish();
+    if (!root) return r.stats.cancelled ? 130 : 0;
     writeOutputs(r.image);
     for (const StrategyImage& si : r.strategyImages) {
         const std::string stem = opt.strategyImages + "/s" + std::to_string(si.s) + "_t" + std::to_string(si.t);
@@ -237,10 +320,12 @@ int run(int argc, char** argv) {
         writeImage(stem + "_unweighted.exr", si.unweighted, 0);
     }
     if (!cl.statsPath.empty()) writeStats(cl.statsPath, r, settings);
-    if (!cl.quiet)
-        std::fprintf(stderr, "%s: %llu spp in %.2f s, %.2f Mrays/s%s\n", tracerName(opt.tracer),
-                     (unsigned long long)r.stats.spp, r.stats.seconds, r.stats.mraysPerSecond(),
+    if (!cl.quiet) {
+        const std::string across = ranks.many() ? " on " + std::to_string(ranks.size()) + " ranks" : "";
+        std::fprintf(stderr, "%s: %llu spp in %.2f s%s, %.2f Mrays/s%s\n", tracerName(opt.tracer),
+                     (unsigned long long)r.stats.spp, r.stats.seconds, across.c_str(), r.stats.mraysPerSecond(),
                      r.stats.cancelled ? " (interrupted: image so far saved)" : "");
+    }
     if (r.stats.samplesNonfiniteDiscarded && !cl.quiet)
         std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were discarded\n",
                      (unsigned long long)r.stats.samplesNonfiniteDiscarded);
@@ -256,8 +341,10 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Under mpirun: MPI_Init here, MPI_Finalize when `ranks` goes (before main returns).
+    std::unique_ptr<wmlt::Distributed> ranks = wmlt::startRanks(argc, argv);
     try {
-        return run(argc, argv);
+        return run(argc, argv, *ranks);
     } catch (const wmlt::InputError& e) {
         std::cerr << "error: " << e.what() << "\n";
         return 2;

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "stages/bpt_stages.h"
+#include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/passes.h"
 #include "wavemmlt/error.h"
@@ -78,6 +79,12 @@ Image imageOf(const Film& film, const SplatFilm& splatFilm, uint64_t spp) {
     return image;
 }
 
+// imageOf the job's films (rank 0; split across ranks, both are summed there).
+Image imageOfJob(Distributed* ranks, const Film& film, const SplatFilm& splatFilm, uint64_t spp) {
+    if (!ranks || !ranks->many()) return imageOf(film, splatFilm, spp);
+    return imageOf(filmOfJob(ranks, film), filmOfJob(ranks, splatFilm), spp);
+}
+
 }  // namespace
 
 RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
@@ -124,12 +131,14 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
                 o.lengths = PathLengthSums();
             }
         },
-        {[&](uint32_t spp) { return imageOf(film, splatFilm, spp); }, &counters});
+        {[&](uint32_t spp) { return imageOfJob(opt.ranks, film, splatFilm, spp); }, &counters});
 
     RenderResult res = startResult("bpt", scene, opt, pr, counters);
-    res.image = imageOf(film, splatFilm, pr.completedSpp);
+    res.image = imageOfJob(opt.ranks, film, splatFilm, pr.completedSpp);
     res.stats.samplesNonfiniteDiscarded = discarded;
-    res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
+    sumStatsToRoot(opt.ranks, res.stats);
+    res.stats.lengthMeanLuminance = lengthsOfJob(opt.ranks, lengths).means(double(scene.camera.width) * scene.camera.height,
+                                                                           pr.completedSpp);
     if (strategyFilms) res.strategyImages = resolveStrategies(*strategyFilms, film, pr.completedSpp, opt.minPathLength);
     if (opt.lengthImages) {  // the weighted strategies of each length add up to its image
         res.lengthImages.assign(size_t(opt.maxPathLength) + 1, Image(scene.camera.width, scene.camera.height));

@@ -8,6 +8,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/passes.h"
 #include "stages/lt_stages.h"
@@ -84,12 +85,15 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
                 o.nonfinite = 0;
             }
         },
-        {[&](uint32_t spp) { return film.resolve(spp); }, &counters});
+        {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); },
+         &counters});
 
     RenderResult res = startResult("lt", scene, opt, pr, counters);
-    res.image = film.resolve(pr.completedSpp);
+    res.image = withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(pr.completedSpp); });
     res.stats.samplesNonfiniteDiscarded = discarded;
-    res.stats.lengthMeanLuminance = lengths.means(double(scene.camera.width) * scene.camera.height, pr.completedSpp);
+    sumStatsToRoot(opt.ranks, res.stats);
+    res.stats.lengthMeanLuminance = lengthsOfJob(opt.ranks, lengths).means(double(scene.camera.width) * scene.camera.height,
+                                                                           pr.completedSpp);
     return res;
 }
 

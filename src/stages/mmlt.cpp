@@ -19,10 +19,16 @@
 // their average weighted by iterations: I = pixels * film / (iterations per chain).
 // One film serves every length. Splats are kept per batch and added in batch order after
 // each round, pools likewise: a seed and any thread count give one image.
+// Split across ranks (RenderOptions::ranks, docs/mpi.md): each rank runs a contiguous share
+// of the pool tasks and of the batches; after each exchange every rank holds every task's
+// pool samples in task order and merges them as one process does, so the pools, b_k, the
+// allocation and the seeds are the same on every rank and the same as one process's; rank
+// 0 makes every decision that depends on the clock; the films are summed on rank 0.
 #include "stages/mmlt.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -30,6 +36,7 @@
 #include <memory>
 #include <unordered_set>
 
+#include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/memory.h"
 #include "stages/mmlt_stages.h"
@@ -72,6 +79,16 @@ private:
     Image image() const;
     bool timed() const { return opt_.timeBudget > 0; }
     bool stopRequested() const { return opt_.cancel && opt_.cancel->load(); }
+    // Split across ranks: rank 0's decision `rootValue` and whether any rank was cancelled
+    // (one exchange; without ranks, this process's flag).
+    Agreement agreeAtBoundary(uint64_t rootValue) {
+        const Agreement a = agree(ranks_, false, stopRequested(), rootValue);
+        cancelled_ = cancelled_ || a.cancel;
+        return a;
+    }
+    void exchangePools(std::vector<SamplePool>& pools, size_t first, size_t count);
+    void sumAcrossRanks(RenderResult& res);
+    void mergeDigest();
     // Entries the pool of length k may hold before it is thinned to half: 8 per chain of
     // the length (its last allocation; an equal share before the first), at least 2^13.
     size_t poolCapacity(int k) const {
@@ -84,6 +101,9 @@ private:
 
     const Scene& scene_;
     const RenderOptions& opt_;
+    Distributed* ranks_;                   // nullptr: one process
+    bool cancelled_ = false;               // agreed by the ranks at a boundary
+    uint64_t poolDigest_ = 0;              // a hash of the pools of every pass
     Clock::time_point t0_;
     int kMin_, kMax_;
     double pixels_, targetMutations_;
@@ -116,7 +136,7 @@ private:
 };
 
 MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
-    : scene_(scene), opt_(opt), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
+    : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
       batches_([maxLength = opt.maxPathLength] {
           MmltBatch mb;
           mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength);
@@ -157,18 +177,25 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
 void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
     const uint32_t chunk = kBatchChains;
     uint32_t done = 0;
-    uint32_t slabSize = bootstrap && timed() ? 64 : perLength;
+    // Under a time budget the bootstrap runs in slabs that grow while they are short (64
+    // samples per length, then about 1% of the budget each), so that it can stop on time.
+    // Otherwise a slab is about 4096 samples per thread (of every rank) in all lengths, so
+    // that Ctrl-C is heard within a fraction of a second (mpirun kills the ranks about a
+    // second after it); those slabs are whole tasks, so the pools do not depend on them
+    // (each length's tasks are added in order, and their sums in the same tasks).
+    const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
+    uint32_t slabSize = bootstrap && timed()
+        ? 64 : chunk * uint32_t(std::ceil(4096.0 * workers / double(kMax_ - kMin_ + 1) / double(chunk)));
     while (done < perLength) {
         const double start = elapsed();
-        // Under a time budget the bootstrap runs in slabs that grow while they are short (64
-        // samples per length, then about 1% of the budget each), so that it can stop on time.
         const uint32_t slab = std::min(perLength - done, slabSize);
         std::vector<PoolTask> tasks;
         for (int k = kMin_; k <= kMax_; ++k)
             for (uint32_t i = done; i < done + slab; i += chunk) tasks.push_back({k, i, std::min(chunk, done + slab - i)});
         std::vector<SamplePool> out(tasks.size());
         std::vector<uint64_t> nonfinite(tasks.size(), 0);
-        tbb::parallel_for(size_t(0), tasks.size(), [&](size_t ti) {
+        const auto [t0, t1] = shareOf(ranks_, tasks.size());  // this rank's tasks
+        tbb::parallel_for(t0, t1, [&](size_t ti) {
             const PoolTask& t = tasks[ti];
             MmltBatch& mb = batches_.local();
             mb.counters.nonfinite = 0;
@@ -184,20 +211,82 @@ void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
             out[ti].count = t.n;
             nonfinite[ti] = mb.counters.nonfinite;
         });
+        exchangePools(out, t0, t1 - t0);
         for (size_t ti = 0; ti < tasks.size(); ++ti) {
             pools_[size_t(tasks[ti].k)].add(out[ti]);
             counters_.nonfinite += nonfinite[ti];
         }
         done += slab;
         sampleSeconds_ = (elapsed() - start) / (double(slab) * (kMax_ - kMin_ + 1));
+        // The next slab, rank 0's figure (0: the timed bootstrap has spent its 5%).
+        uint64_t next = slabSize;
         if (bootstrap && timed()) {
-            if (elapsed() >= 0.05 * opt_.timeBudget) break;
             const double perSlab = 0.01 * opt_.timeBudget / (sampleSeconds_ * (kMax_ - kMin_ + 1));
-            slabSize = uint32_t(std::clamp(perSlab, 64.0, double(1 << 16)));
+            next = elapsed() >= 0.05 * opt_.timeBudget ? 0 : uint64_t(std::clamp(perSlab, 64.0, double(1 << 16)));
         }
-        if (stopRequested()) break;
+        const Agreement a = agreeAtBoundary(next);
+        if (a.value == 0 || a.cancel) break;
+        slabSize = uint32_t(a.value);
     }
     if (bootstrap) stats_.bootstrapSamples = done;
+}
+
+// Pool entries as bytes for an exchange between ranks, and back.
+void appendPool(std::vector<uint8_t>& out, const SamplePool& p) {
+    const uint64_t head[3] = {p.count, uint64_t(p.lit.size()), 0};
+    const size_t at = out.size();
+    out.resize(at + sizeof head + sizeof(double) + p.lit.size() * sizeof(PoolEntry));
+    std::memcpy(&out[at], head, sizeof head);
+    std::memcpy(&out[at + sizeof head], &p.sumWC, sizeof(double));
+    if (!p.lit.empty()) std::memcpy(&out[at + sizeof head + sizeof(double)], p.lit.data(), p.lit.size() * sizeof(PoolEntry));
+}
+
+const uint8_t* readPool(const uint8_t* in, SamplePool& p) {
+    uint64_t head[3];
+    std::memcpy(head, in, sizeof head);
+    in += sizeof head;
+    p.count = head[0];
+    std::memcpy(&p.sumWC, in, sizeof(double));
+    in += sizeof(double);
+    p.lit.resize(size_t(head[1]));
+    if (!p.lit.empty()) std::memcpy(p.lit.data(), in, p.lit.size() * sizeof(PoolEntry));
+    return in + p.lit.size() * sizeof(PoolEntry);
+}
+
+// Split across ranks: this rank filled pools [first, first + count) (its contiguous share);
+// afterwards every rank holds all of them, in order (rank order is task order).
+void MmltRender::exchangePools(std::vector<SamplePool>& pools, size_t first, size_t count) {
+    if (!ranks_) return;
+    std::vector<uint8_t> mine;
+    for (size_t i = first; i < first + count; ++i) appendPool(mine, pools[i]);
+    std::vector<size_t> sizes;
+    const std::vector<uint8_t> all = ranks_->allGather(mine.data(), mine.size(), sizes);
+    const uint8_t* in = all.data();
+    for (int r = 0; r < ranks_->size(); ++r) {
+        const auto [a, b] = shareOf(ranks_->size(), r, pools.size());
+        for (size_t i = a; i < b; ++i) in = readPool(in, pools[i]);
+    }
+}
+
+// A hash of every pool (counts, sums, entries) at the start of a pass: the same on every
+// rank, and the same as one process's (RenderStats::Mmlt::poolDigestByRank).
+void MmltRender::mergeDigest() {
+    uint64_t h = poolDigest_;
+    auto mix = [&](uint64_t x) { h = mix64(h ^ x) + 0x9e3779b97f4a7c15ull; };
+    for (const SamplePool& p : pools_) {
+        uint64_t sum = 0;
+        std::memcpy(&sum, &p.sumWC, sizeof sum);
+        mix(p.count);
+        mix(sum);
+        for (const PoolEntry& e : p.lit) {
+            uint32_t c = 0, w = 0;
+            std::memcpy(&c, &e.c, sizeof c);
+            std::memcpy(&w, &e.w, sizeof w);
+            mix(e.key);
+            mix(uint64_t(c) << 32 | w);
+        }
+    }
+    poolDigest_ = h;
 }
 
 // Chains per length: C b_k / sum b by largest remainders over the lengths whose pool has
@@ -288,6 +377,7 @@ void MmltRender::seedChains() {
     }
     stats_.chainBytes = std::max(stats_.chainBytes, bytes);
     planBatches();
+    mergeDigest();
     replaySeeds();
 }
 
@@ -306,7 +396,8 @@ void MmltRender::replaySeeds() {
             else b.push_back({int(gi), c, 1, slotsIn(b)});
         }
     std::vector<uint64_t> mismatches(plan.size(), 0);
-    tbb::parallel_for(size_t(0), plan.size(), [&](size_t ti) {
+    const auto [p0, p1] = shareOf(ranks_, plan.size());  // this rank's share of the replays
+    tbb::parallel_for(p0, p1, [&](size_t ti) {
         MmltBatch& mb = batches_.local();
         mb.slices = plan[ti];
         fillSeedRows(groups_, mb);
@@ -324,7 +415,7 @@ void MmltRender::replaySeeds() {
         }
     });
     for (uint64_t m : mismatches) stats_.replayMismatches += m;
-    for (size_t ti = 0; ti < plan.size(); ++ti) stats_.replayed += slotsIn(plan[ti]);
+    for (size_t ti = p0; ti < p1; ++ti) stats_.replayed += slotsIn(plan[ti]);
 }
 
 // Batch j holds chains [C_k j / B, C_k (j + 1) / B) of every length: each batch a share of
@@ -356,18 +447,28 @@ struct TaskOutput {
 void MmltRender::runRounds(uint64_t passEnd) {
     std::vector<TaskOutput> outputs(plan_.size());
     const uint32_t perRound = uint32_t(std::clamp(kProposalsPerRound / chains_, 1.0, 4096.0));
+    const auto [b0, b1] = shareOf(ranks_, plan_.size());  // this rank's batches
+    const size_t nk = size_t(kMax_) + 1;
+    std::vector<SamplePool> roundPools;  // split across ranks: [batch * nk + k], every batch's
     while (iteration_ < passEnd) {
-        // Ctrl-C ends the render after this round; but the first round always runs, so that a
-        // render stopped during its bootstrap still has an image.
-        if (stopRequested() && iteration_ > 0) { stopped_ = true; return; }
-        uint32_t r = uint32_t(std::min<uint64_t>(stopRequested() ? 1 : perRound, passEnd - iteration_));
+        // The round's iterations r (rank 0 decides; 0: the time is spent).
+        uint32_t r = uint32_t(std::min<uint64_t>(perRound, passEnd - iteration_));
         if (timed()) {  // a time budget: the last rounds shrink so as to end on time
             const double left = opt_.timeBudget - elapsed();
-            if (left <= 0.5 * perIteration_ && iteration_ > 0) { stopped_ = true; return; }
-            r = perIteration_ > 0 ? uint32_t(std::clamp(std::floor(left / perIteration_ + 0.5), 1.0, double(r))) : 1;
+            r = left <= 0.5 * perIteration_ && iteration_ > 0 ? 0
+                : perIteration_ > 0 ? uint32_t(std::clamp(std::floor(left / perIteration_ + 0.5), 1.0, double(r))) : 1;
         }
+        const Agreement a = agreeAtBoundary(r);
+        r = uint32_t(a.value);
+        // Ctrl-C ends the render after this round; but the first round always runs (one
+        // iteration), so that a render stopped during its bootstrap still has an image.
+        if (a.cancel) {
+            if (iteration_ > 0) { stopped_ = true; return; }
+            r = std::min<uint32_t>(r, 1);
+        }
+        if (r == 0) { stopped_ = true; return; }
         const double roundStart = elapsed();
-        tbb::parallel_for(size_t(0), plan_.size(), [&](size_t ti) {
+        tbb::parallel_for(b0, b1, [&](size_t ti) {
             const auto start = Clock::now();
             MmltBatch& mb = batches_.local();
             mb.slices = plan_[ti];
@@ -388,21 +489,28 @@ void MmltRender::runRounds(uint64_t passEnd) {
             o.counters = mb.counters;
             o.seconds = std::chrono::duration<double>(Clock::now() - start).count();
         });
+        if (ranks_) {  // every batch's large steps on every rank, in batch order
+            roundPools.assign(plan_.size() * nk, SamplePool());
+            for (size_t ti = b0; ti < b1; ++ti)
+                for (size_t k = 0; k < nk; ++k) roundPools[ti * nk + k] = std::move(outputs[ti].pools[k]);
+            exchangePools(roundPools, b0 * nk, (b1 - b0) * nk);
+        }
         double longest = 0, sum = 0;
-        for (TaskOutput& o : outputs) {  // in batch order: deterministic
+        for (size_t ti = 0; ti < outputs.size(); ++ti) {  // in batch order: deterministic
+            TaskOutput& o = outputs[ti];
             for (size_t i = 0; i < o.splats.size(); ++i) {
                 film_.add(o.splats[i]);
                 if (!lengthFilms_.empty()) lengthFilms_[o.splatLength[i]].add(o.splats[i]);
             }
-            for (size_t k = 0; k < o.pools.size(); ++k) {
-                next_[k].add(o.pools[k]);
+            for (size_t k = 0; k < nk; ++k) {
+                next_[k].add(ranks_ ? roundPools[ti * nk + k] : o.pools[k]);
                 thin(next_[k], int(k));
             }
             counters_.add(o.counters);
             longest = std::max(longest, o.seconds);
             sum += o.seconds;
         }
-        ratioSum_ += sum > 0 ? longest / (sum / double(outputs.size())) : 1.0;
+        ratioSum_ += sum > 0 ? longest / (sum / double(b1 - b0)) : 1.0;
         ++rounds_;
         for (const ChainGroup& g : groups_) passB_[size_t(g.k)] += double(r) * double(g.weight) * g.count;
         weighted_ += double(r) * passWeight_;
@@ -436,9 +544,9 @@ RenderResult MmltRender::run() {
     // of the budget, or the render could not end within it (--time 3 with 65536 chains on
     // a slow build): the chains are capped there, and --stats and a warning say so.
     stats_.chainsAsked = chains_;
-    if (timed()) {
+    if (timed()) {  // rank 0's figure on every rank
         const double cap = std::floor(0.02 * opt_.timeBudget / std::max(sampleSeconds_, 1e-12));
-        if (double(chains_) > cap) chains_ = uint32_t(std::max(1.0, cap));
+        chains_ = uint32_t(agreeAtBoundary(uint64_t(std::clamp(cap, 1.0, double(chains_)))).value);
     }
     stats_.chainsRun = chains_;
     if (!allocateChains())
@@ -447,9 +555,9 @@ RenderResult MmltRender::run() {
                          " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
     // Iterations per pass: about 8 passes in a render, 32 to 1024 iterations each (each
     // pass replays its C seeds: 1 / passLength of the render at most).
-    if (timed()) {
+    if (timed()) {  // rank 0's figure on every rank
         const double left = std::max(0.0, opt_.timeBudget - elapsed());
-        target_ = uint64_t(left / std::max(sampleSeconds_, 1e-12) / double(chains_));
+        target_ = agreeAtBoundary(uint64_t(left / std::max(sampleSeconds_, 1e-12) / double(chains_))).value;
     }
     passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength)
                                       : uint32_t(std::clamp(double(target_) / 8.0, 32.0, 1024.0));
@@ -460,16 +568,21 @@ RenderResult MmltRender::run() {
     while (true) {
         const double passStart = elapsed();
         if (pass_ > 0) {
-            if (stopRequested() || (!timed() && iteration_ >= target_)) break;
+            // Rank 0 decides: a new pass (0), the end (1), or, with too little time left for a
+            // restart to pay, the chains go on to the end (2; a pass may be any length: it
+            // stays unbiased).
+            enum : uint64_t { kNewPass, kEnd, kGoOn };
+            uint64_t next = kNewPass;
+            if (!timed() && iteration_ >= target_) next = kEnd;
             if (timed()) {
                 const double left = opt_.timeBudget - elapsed();
-                if (left <= 0.5 * perIteration_) break;
-                // Too little time left for a restart to pay: the chains go on (a pass may be
-                // any length: it stays unbiased).
-                if (left < 2 * restartSeconds + perIteration_) {
-                    runRounds(std::numeric_limits<uint64_t>::max());
-                    break;
-                }
+                next = left <= 0.5 * perIteration_ ? kEnd : left < 2 * restartSeconds + perIteration_ ? kGoOn : kNewPass;
+            }
+            const Agreement a = agreeAtBoundary(next);
+            if (a.cancel || a.value == kEnd) break;
+            if (a.value == kGoOn) {
+                runRounds(std::numeric_limits<uint64_t>::max());
+                break;
             }
             tracePool(fresh, false);
             for (int k = kMin_; k <= kMax_; ++k) {
@@ -500,11 +613,45 @@ RenderResult MmltRender::run() {
 
 // The image so far: pixels * film / T, T the iterations per chain (each length's splats
 // already weighted per pass). The final image and every snapshot (preview.h).
+// Split across ranks: rank 0's image of the job (every rank calls it: the films are summed).
 Image MmltRender::image() const {
     const double norm = weighted_ > 0 ? pixels_ / weighted_ : 0.0;
     Image im(scene_.camera.width, scene_.camera.height);
-    for (size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = float(film_.sum[i] * norm);
+    withFilmOfJob(ranks_, film_, [&](const SplatFilm& film) {
+        for (size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = float(film.sum[i] * norm);
+        return 0;
+    });
     return im;
+}
+
+// Split across ranks: the counters of every rank's batches summed on rank 0; b_k and the
+// pools' digest as every rank has them (the test that they agree: test_mpi.cpp).
+void MmltRender::sumAcrossRanks(RenderResult& res) {
+    stats_.bByRank = {stats_.b};
+    stats_.poolDigestByRank = {poolDigest_};
+    if (!ranks_) return;
+    std::vector<uint64_t> v(size_t(4 * (kMaxPathLength + 1) + 2));
+    std::memcpy(v.data(), counters_.proposed, sizeof counters_.proposed);
+    std::memcpy(v.data() + 2 * (kMaxPathLength + 1), counters_.accepted, sizeof counters_.accepted);
+    v[v.size() - 2] = stats_.replayed;
+    v[v.size() - 1] = stats_.replayMismatches;
+    ranks_->sumToRoot(v.data(), v.size());
+    std::memcpy(counters_.proposed, v.data(), sizeof counters_.proposed);
+    std::memcpy(counters_.accepted, v.data() + 2 * (kMaxPathLength + 1), sizeof counters_.accepted);
+    stats_.replayed = v[v.size() - 2];
+    stats_.replayMismatches = v[v.size() - 1];
+    std::vector<uint8_t> mine(stats_.b.size() * sizeof(double) + sizeof poolDigest_);
+    std::memcpy(mine.data(), stats_.b.data(), stats_.b.size() * sizeof(double));
+    std::memcpy(mine.data() + stats_.b.size() * sizeof(double), &poolDigest_, sizeof poolDigest_);
+    std::vector<size_t> sizes;
+    const std::vector<uint8_t> all = ranks_->allGather(mine.data(), mine.size(), sizes);
+    stats_.bByRank.assign(size_t(ranks_->size()), std::vector<double>(stats_.b.size()));
+    stats_.poolDigestByRank.assign(size_t(ranks_->size()), 0);
+    for (size_t r = 0; r < size_t(ranks_->size()); ++r) {
+        const uint8_t* at = all.data() + r * mine.size();
+        std::memcpy(stats_.bByRank[r].data(), at, stats_.b.size() * sizeof(double));
+        std::memcpy(&stats_.poolDigestByRank[r], at + stats_.b.size() * sizeof(double), sizeof poolDigest_);
+    }
 }
 
 // The image and the stats.
@@ -513,12 +660,16 @@ RenderResult MmltRender::resolve() {
     pr.seconds = elapsed();
     pr.completedSpp = uint32_t(double(iteration_) * chains_ / pixels_);
     pr.stopped = stopped_;
+    pr.cancelled = cancelled_;
+    pr.passes = rounds_;
     RenderResult res = startResult("mmlt", scene_, opt_, pr, rays_);
     stats_.iterations = iteration_;
     stats_.passLength = passLength_;
     stats_.longestTaskRatio = rounds_ ? ratioSum_ / double(rounds_) : 0.0;
+    res.stats.samplesNonfiniteDiscarded = counters_.nonfinite;
+    for (int k = kMin_; k <= kMax_; ++k) stats_.b[size_t(k)] = weighted_ > 0 ? passB_[size_t(k)] / weighted_ : 0.0;
+    sumAcrossRanks(res);
     for (int k = kMin_; k <= kMax_; ++k) {
-        stats_.b[size_t(k)] = weighted_ > 0 ? passB_[size_t(k)] / weighted_ : 0.0;
         stats_.proposedSmall[size_t(k)] = counters_.proposed[0][k];
         stats_.acceptedSmall[size_t(k)] = counters_.accepted[0][k];
         stats_.proposedLarge[size_t(k)] = counters_.proposed[1][k];
@@ -526,10 +677,10 @@ RenderResult MmltRender::resolve() {
         stats_.mutations += stats_.proposals[size_t(k)];
     }
     res.stats.mmlt = stats_;
-    res.stats.samplesNonfiniteDiscarded = counters_.nonfinite;
     res.stats.lengthMeanLuminance = stats_.b;
     const double norm = weighted_ > 0 ? pixels_ / weighted_ : 0.0;
     res.image = image();
+    sumStatsToRoot(opt_.ranks, res.stats);  // rays, samples discarded, the exchanges' cost
     for (const SplatFilm& f : lengthFilms_) {
         res.lengthImages.emplace_back(f.width, f.height);
         for (size_t i = 0; i < f.sum.size(); ++i) res.lengthImages.back().rgb[i] = float(f.sum[i] * norm);

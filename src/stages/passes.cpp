@@ -7,6 +7,7 @@
 #include <chrono>
 #include <mutex>
 
+#include "stages/distributed.h"
 #include "stages/preview.h"
 
 namespace wmlt {
@@ -23,6 +24,15 @@ PassSchedule makePassSchedule(int w, int h, const RenderOptions& opt, uint32_t m
     return s;
 }
 
+// The tiles this rank runs: tile t belongs to rank t mod N (interleaved, so that every
+// rank gets a share of the image's cheap and costly parts). Each pixel is one rank's.
+std::vector<size_t> tilesOfRank(const PassSchedule& s, const Distributed* ranks) {
+    const size_t N = ranks ? size_t(ranks->size()) : 1, r = ranks ? size_t(ranks->rank()) : 0;
+    std::vector<size_t> mine;
+    for (size_t t = r; t < s.tiles.size(); t += N) mine.push_back(t);
+    return mine;
+}
+
 PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
                      const std::function<void(size_t, const PtTile&)>& runBatch,
                      const std::function<void()>& endPass, const PassImage& snapshot) {
@@ -31,9 +41,10 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
     double paused = 0;  // seconds a viewer held the render between passes
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count() - paused; };
     const bool timed = opt.timeBudget > 0;
+    const std::vector<size_t> tiles = tilesOfRank(s, opt.ranks);
     const uint32_t perRound = uint32_t(std::max(1, opt.spp));
     const size_t passesPerRound = (perRound + s.samplesPerBatch - 1) / s.samplesPerBatch;
-    const size_t totalBatches = passesPerRound * s.tiles.size();
+    const size_t totalBatches = std::max<size_t>(1, passesPerRound * tiles.size());
     std::atomic<bool> stop{false};
     std::atomic<size_t> batchesDone{0};
     std::mutex progressMutex;
@@ -43,13 +54,14 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
         for (size_t pass = 0; pass < passesPerRound && !stop; ++pass) {
             const uint32_t s0 = round * perRound + uint32_t(pass) * s.samplesPerBatch;
             const uint32_t s1 = std::min(round * perRound + perRound, s0 + s.samplesPerBatch);
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, s.tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-                for (size_t t = r.begin(); t != r.end(); ++t) {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+                for (size_t i = r.begin(); i != r.end(); ++i) {
                     if (stop.load(std::memory_order_relaxed)) return;
                     if ((opt.cancel && opt.cancel->load()) || (timed && elapsed() >= opt.timeBudget)) {
                         stop = true;
                         return;
                     }
+                    const size_t t = tiles[i];
                     PtTile tile = s.tiles[t];
                     tile.sample0 = s0;
                     tile.sample1 = s1;
@@ -61,6 +73,10 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
                     }
                 }
             }, tbb::simple_partitioner());
+            // Across ranks: every rank stops after the same pass, when any of them stopped.
+            const Agreement a = agree(opt.ranks, stop, opt.cancel && opt.cancel->load());
+            stop = a.stop;
+            result.cancelled = a.cancel;
             if (stop) break;
             if (endPass) endPass();
             result.completedSpp = s1;
@@ -69,6 +85,7 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
             paused += offerSnapshot(opt, [&] {
                 return Snapshot{snapshot.image(s1), fraction, elapsed(), s1, raysSoFar(*snapshot.rays)};
             });
+            ++result.passes;
         }
         if (!timed) break;
     }
@@ -87,7 +104,8 @@ RenderResult startResult(const char* tracer, const Scene& scene, const RenderOpt
         res.stats.raysIntersect += c.raysIntersect;
         res.stats.raysOccluded += c.raysOccluded;
     }
-    res.stats.cancelled = opt.cancel && opt.cancel->load();
+    res.stats.cancelled = pr.cancelled || (opt.cancel && opt.cancel->load());
+    res.stats.ranks.boundaries = pr.passes;
     res.featuresJson = scene.features.json();
     return res;
 }

@@ -35,6 +35,8 @@ struct PassResult {
     uint32_t completedSpp = 0;  // samples per pixel of the passes that completed
     double seconds = 0;
     bool stopped = false;       // cancelled or out of time
+    bool cancelled = false;     // cancelled on some rank (split across ranks: docs/mpi.md)
+    uint64_t passes = 0;        // passes completed
 };
 
 // What runPasses shows a viewer (opt.view) after each complete pass: the image of the
@@ -44,12 +46,16 @@ struct PassImage {
     const tbb::enumerable_thread_specific<PtCounters>* rays = nullptr;
 };
 
-// runBatch(tileIndex, tile) runs in parallel, each tile once per pass; endPass() runs on
-// the calling thread after each pass that completed (an interrupted pass gets none), then
+// runBatch(tileIndex, tile) runs in parallel, each tile once per pass (split across ranks:
+// this rank's tiles, tilesOfRank); endPass() runs on the calling thread after each pass that
+// completed (an interrupted pass gets none: across ranks, a pass any rank interrupted), then
 // the snapshot for a viewer (preview.h). Time paused by the viewer is not counted.
 PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
                      const std::function<void(size_t, const PtTile&)>& runBatch,
                      const std::function<void()>& endPass, const PassImage& snapshot);
+
+// The tiles a rank runs (opt.ranks; nullptr: all of them).
+std::vector<size_t> tilesOfRank(const PassSchedule& schedule, const Distributed* ranks);
 
 // The statistics every tracer reports the same way: name, time, spp, ray counts (summed
 // over the threads' counters), cancellation and the scene's features.

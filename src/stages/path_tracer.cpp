@@ -2,6 +2,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/passes.h"
 #include "stages/pt_stages.h"
@@ -59,19 +60,27 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
         [&](size_t t, const PtTile& tile) {
             traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
         },
-        {}, {[&](uint32_t) { return film.resolve(); }, &counters});
+        {}, {[&](uint32_t) { return withFilmOfJob(opt.ranks, film, [](const Film& f) { return f.resolve(); }); },
+             &counters});
 
     RenderResult res = startResult("pt", scene, opt, pr, counters);
-    res.image = film.resolve();
     PathLengthSums lengths;
     for (const TileTotals& t : totals) {
         lengths.add(t.lengths);
         res.stats.samplesNonfiniteDiscarded += t.nonfinite;
     }
-    uint64_t samples = 0;
-    for (uint32_t c : film.count) samples += c;
-    const double pixels = double(film.count.size());
-    res.stats.lengthMeanLuminance = lengths.means(pixels, pixels > 0 ? double(samples) / pixels : 0.0);
+    // Split across ranks: each pixel is one rank's (tilesOfRank), so the sums are the ones a
+    // single process makes, bit for bit (the other ranks add exact zeros).
+    lengths = lengthsOfJob(opt.ranks, lengths);
+    withFilmOfJob(opt.ranks, film, [&](const Film& f) {
+        res.image = f.resolve();
+        uint64_t samples = 0;
+        for (uint32_t c : f.count) samples += c;
+        const double pixels = double(f.count.size());
+        res.stats.lengthMeanLuminance = lengths.means(pixels, pixels > 0 ? double(samples) / pixels : 0.0);
+        return 0;
+    });
+    sumStatsToRoot(opt.ranks, res.stats);
     return res;
 }
 

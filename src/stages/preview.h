@@ -6,6 +6,7 @@
 
 #include <functional>
 
+#include "stages/distributed.h"
 #include "stages/pt_stages.h"
 #include "wavemmlt/render.h"
 
@@ -13,7 +14,9 @@ namespace wmlt {
 
 // Call while no batch runs. `snapshot` makes the image with the function that makes the
 // final image. Returns the seconds the render was paused (0 without a viewer).
+// Split across ranks, every rank calls it at the same boundary (distributed.h).
 inline double offerSnapshot(const RenderOptions& opt, const std::function<Snapshot()>& snapshot) {
+    if (opt.ranks && opt.ranks->many()) return offerSnapshotAcrossRanks(opt, snapshot);
     if (!opt.view) return 0;
     if (opt.view->wantsFrame()) opt.view->publish(snapshot());
     return opt.view->waitWhilePaused();

@@ -3,6 +3,7 @@
 #include <tbb/info.h>
 
 #include "stages/bidirectional.h"
+#include "stages/distributed.h"
 #include "stages/light_tracer.h"
 #include "stages/memory.h"
 #include "stages/strategy_films.h"
@@ -51,6 +52,8 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
         throw InputError("ProbLarge must be in (0, 1]");
     if (opt.lengthImages && (opt.tracer == TracerKind::PT || opt.tracer == TracerKind::LT))
         throw InputError("length images need the BPT or MMLT tracer");
+    if (opt.ranks && opt.ranks->many() && (!opt.strategyImages.empty() || opt.lengthImages))
+        throw InputError("strategy and length images are made by one process only (run without mpirun)");
     // Films that would not fit are refused before the scene is built (with the figure).
     const auto buffers = filmBuffers(opt, desc.settings.width, desc.settings.height);
     double bytes = 0;
