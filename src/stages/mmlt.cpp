@@ -144,9 +144,11 @@ void MmltRender::runRounds(uint64_t passEnd) {
         }
         ratioSum_ += sum > 0 ? longest / (sum / double(b1 - b0)) : 1.0;
         ++rounds_;
-        for (const ChainGroup& g : groups_) passB_[size_t(g.k)] += double(r) * double(g.weight) * g.count;
+        for (const ChainGroup& g : groups_) {
+            passB_[size_t(g.k)] += double(r) * double(g.weight) * g.count;
+            stats_.proposals[size_t(g.k)] += uint64_t(r) * g.count;
+        }
         weighted_ += double(r) * passWeight_;
-        for (const ChainGroup& g : groups_) stats_.proposals[size_t(g.k)] += uint64_t(r) * g.count;
         iteration_ += r;
         perIteration_ = (elapsed() - roundStart) / r;
         const double fraction = timed() ? std::min(1.0, elapsed() / opt_.timeBudget) : double(iteration_) / double(target_);
