@@ -4,6 +4,18 @@
 
 namespace wmlt {
 
+// Russian roulette (Arvo and Kirk 1990): from vertex kRouletteDepth of a subpath on, it
+// goes on with probability q = min(1, max(beta) / scale) (scale: the largest component of
+// the throughput it started with, 1 for camera subpaths) and beta becomes beta / q, so
+// E[beta'] = beta. u is the vertex's roulette number; false: the subpath ends.
+constexpr int kRouletteDepth = 3;
+inline bool survivesRoulette(Vec3& beta, float scale, float u) {
+    const float q = std::min(1.0f, maxComponent(beta) / scale);
+    if (!(u < q)) return false;
+    beta = beta / q;
+    return true;
+}
+
 // Concentric map of the unit square to the unit disc (Shirley and Chiu 1997).
 inline void sampleConcentricDisk(float u1, float u2, float& x, float& y) {
     float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;

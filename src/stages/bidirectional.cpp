@@ -25,16 +25,14 @@ namespace {
 struct TileOutput {
     std::vector<Splat> splats;
     std::vector<StrategySplat> strategySplats;
-    uint64_t nonfinite = 0;
-    PathLengthSums lengths;
+    ContributionTally tally;
 };
 
-void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, BptBatch& b, Film& film,
-                PtCounters& counters, TileOutput& out) {
+void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, BptBatch& b, Film& film,
+                RayCounters& counters, TileOutput& out) {
     b.splats.clear();
     b.strategySplats.clear();
-    b.nonfinite = 0;
-    b.lengths = PathLengthSums();
+    b.tally = ContributionTally();
     generateBptCameraPaths(scene, b, tile, opt.strataPerAxis, opt.seed);
     const HashedSamples u{b.key.data()};
     walkBpt(scene, b, b.cam, true, true, counters, u);
@@ -44,8 +42,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
     for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i]);
     out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());
     out.strategySplats.insert(out.strategySplats.end(), b.strategySplats.begin(), b.strategySplats.end());
-    out.nonfinite += b.nonfinite;
-    out.lengths.add(b.lengths);
+    out.tally.add(b.tally);
 }
 
 // Each strategy's sums as images: camera-side strategies averaged over each pixel's
@@ -111,24 +108,23 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         b.strategyFilms = strategyFilms.get();
         return b;
     });
-    tbb::enumerable_thread_specific<PtCounters> counters;
+    tbb::enumerable_thread_specific<RayCounters> counters;
     uint64_t discarded = 0;
     PathLengthSums lengths;
     PassResult pr = runPasses(
         schedule, opt,
-        [&](size_t t, const PtTile& tile) {
+        [&](size_t t, const Tile& tile) {
             traceBatch(scene, opt, tile, batches.local(), film, counters.local(), outputs[t]);
         },
         [&] {  // a complete pass: its splats and totals, in tile order
             for (TileOutput& o : outputs) {
                 for (const Splat& s : o.splats) splatFilm.add(s);
                 for (const StrategySplat& s : o.strategySplats) strategyFilms->addSplat(s);
-                discarded += o.nonfinite;
-                lengths.add(o.lengths);
+                discarded += o.tally.nonfinite;
+                lengths.add(o.tally.lengths);
                 o.splats.clear();  // keeps its capacity for the next pass
                 o.strategySplats.clear();
-                o.nonfinite = 0;
-                o.lengths = PathLengthSums();
+                o.tally = ContributionTally();
             }
         },
         {[&](uint32_t spp) { return imageOfJob(opt.ranks, film, splatFilm, spp); }, &counters});

@@ -57,7 +57,7 @@ inline float emissionPdfAt(const Scene& scene, int li, const PathVertex& x0, con
 // Appends the shadow ray of a strategy sample (target: the slot, or for a t = 1 splat
 // its raster pixel).
 inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t target, bool splat,
-                           int s, int pathLength, PtCounters& c) {
+                           int s, int pathLength, RayCounters& c) {
     if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
     if (ss.infinite) {  // towards the environment in direction `to`
         setRay(b.conn[b.numConn], scene.offsetRayOrigin(ss.from, ss.nFrom, ss.to), ss.to, 0.0f, INFINITY);
@@ -84,10 +84,8 @@ inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample
 // A camera-side contribution (t >= 2) of strategy s to slot's pixel.
 inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float weight, int s, int length) {
     const Vec3 v = unweighted * weight;
-    if (!isFinite(v)) { ++b.nonfinite; return; }
-    if (isBlack(v)) return;
+    if (!b.tally.take(v, length)) return;
     b.L[slot] += v;
-    b.lengths.add(length, v);
     if (b.strategyFilms) b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v, unweighted);
 }
 
@@ -266,7 +264,7 @@ template bool evaluateStrategy(const Scene&, const BptBatch&, uint32_t, int, int
 template bool evaluateStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const StoredSamples&, float,
                                StrategyScratch&, StrategySample&);
 
-void traceBptConnections(const Scene& scene, BptBatch& b, PtCounters& c) {
+void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
     traceOccluded(scene.rtc, b.conn.data(), b.numConn);
     c.raysOccluded += b.numConn;
     for (size_t i = 0; i < b.numConn; ++i) {
@@ -277,16 +275,14 @@ void traceBptConnections(const Scene& scene, BptBatch& b, PtCounters& c) {
             continue;
         }
         const Vec3 v = b.connValue[i] * b.connWeight[i];
-        if (!isFinite(v)) { ++b.nonfinite; continue; }
-        if (isBlack(v)) continue;
+        if (!b.tally.take(v, k)) continue;
         b.splats.push_back({b.connSlot[i], v});
-        b.lengths.add(k, v);
         if (b.strategyFilms) b.strategySplats.push_back({b.connSlot[i], uint8_t(s), v, b.connValue[i]});
     }
     b.numConn = 0;
 }
 
-void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, PtCounters& counters) {
+void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& counters) {
     StrategyScratch scratch;
     StrategySample ss;
     const HashedSamples u{b.key.data()};
@@ -309,7 +305,7 @@ void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, f
     traceBptConnections(scene, b, counters);
 }
 
-void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, PtCounters& counters) {
+void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, RayCounters& counters) {
     StrategyScratch scratch;
     StrategySample ss;
     b.numConn = 0;

@@ -2,16 +2,16 @@
 
 #include "kernels/mis.h"
 #include "kernels/rng.h"
+#include "kernels/sampling.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
 #include "stages/surface.h"
 #include "stages/trace.h"
+#include "stages/wave.h"
 
 namespace wmlt {
 
 namespace {
-
-inline float dim(uint64_t key, BptStream s, uint32_t j) { return sampleDimension(key, bptDim(s, j)); }
 
 // Writes slot i's camera vertex z_0 (lens point o) and its first path (direction d).
 inline void startCameraPath(const Scene& scene, BptBatch& b, size_t i, Vec3 o, Vec3 d) {
@@ -39,33 +39,28 @@ float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w) {
     return 1.0f / (cameraPlaneArea(c) * cosTheta * cosTheta * cosTheta);
 }
 
-void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& t, int n, uint64_t seed) {
-    const Camera& cam = scene.camera;
-    const bool lens = cam.thinLens;
-    size_t i = 0;
-    for (int y = t.y0; y < t.y1; ++y)
-        for (int x = t.x0; x < t.x1; ++x) {
-            uint32_t pixel = uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
-            for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
-                uint64_t key = bptSampleKey(seed, pixel, s);
-                float px, py;
-                stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), dim(key, kBptCamera, 0), dim(key, kBptCamera, 1), px, py);
-                Vec3 o, d;
-                generateCameraRay(cam, px, py, lens ? dim(key, kBptCamera, 2) : 0.5f,
-                                  lens ? dim(key, kBptCamera, 3) : 0.5f, o, d);
-                b.pixel[i] = pixel;
-                b.key[i] = key;
-                b.cam.maxCount[i] = uint8_t(b.cam.capacity);
-                b.light.maxCount[i] = uint8_t(b.light.capacity);
-                startCameraPath(scene, b, i, o, d);
-                b.pathSlot[i] = uint32_t(i);
-                setRayHit(b.ray[i], o, d);
-                b.pathPdf[i] = cameraPdfDir(cam, o, d);
-                b.pathBeta[i] = Vec3(1.0f);
-            }
-        }
-    b.numSlots = i;
-    b.numPaths = i;
+// The camera ray's numbers: j = 0-3 of the camera stream (bpt_state.h).
+constexpr CameraDims kBptCameraDims{bptDim(kBptCamera, 0), bptDim(kBptCamera, 1), bptDim(kBptCamera, 2),
+                                    bptDim(kBptCamera, 3)};
+
+void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int n, uint64_t seed) {
+    size_t count = 0;
+    forEachCameraRay(
+        scene, t, n, seed, kBptCameraDims, [&](uint32_t pixel, uint32_t s) { return bptSampleKey(seed, pixel, s); },
+        [&](size_t i, uint32_t pixel, uint64_t key, Vec3 o, Vec3 d) {
+            b.pixel[i] = pixel;
+            b.key[i] = key;
+            b.cam.maxCount[i] = uint8_t(b.cam.capacity);
+            b.light.maxCount[i] = uint8_t(b.light.capacity);
+            startCameraPath(scene, b, i, o, d);
+            b.pathSlot[i] = uint32_t(i);
+            setRayHit(b.ray[i], o, d);
+            b.pathPdf[i] = cameraPdfDir(scene.camera, o, d);
+            b.pathBeta[i] = Vec3(1.0f);
+            count = i + 1;
+        });
+    b.numSlots = count;
+    b.numPaths = count;
 }
 
 void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSamples& u) {
@@ -135,11 +130,6 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
 template void generateBptLightPaths(const Scene&, BptBatch&, const HashedSamples&);
 template void generateBptLightPaths(const Scene&, BptBatch&, const StoredSamples&);
 
-void intersectBptPaths(const Scene& scene, BptBatch& b, bool coherent, PtCounters& c) {
-    traceClosest(scene.rtc, b.ray.data(), b.numPaths, coherent);
-    c.raysIntersect += b.numPaths;
-}
-
 void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
@@ -195,90 +185,80 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
     b.numHits = h;
 }
 
-void groupBptHits(BptBatch& b) {
-    groupByMaterialKind(b.hitBsdf.data(), b.numHits, b.order.data(), b.kindStart);
-}
-
 template <class U>
 void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u) {
-    constexpr int kRouletteDepth = 3;
     const TransportMode mode = cameraWalk ? TransportMode::Radiance : TransportMode::Importance;
     const BptStream stream = cameraWalk ? kBptCamera : kBptLight;
-    forEachMaterialKind([&](auto kind) {
+    forEachHitByKind(b, [&](auto kind, uint32_t h) {
         using B = BsdfOf<decltype(kind)::value>;
-        for (uint32_t k = b.kindStart[int(kind.value)]; k < b.kindStart[int(kind.value) + 1]; ++k) {
-            const uint32_t h = b.order[k], path = b.hitPath[h], slot = b.pathSlot[path];
-            const int d = v.count[slot] - 1;
-            const size_t cur = v.at(slot, d), prev = v.at(slot, d - 1);
-            auto j = [&](uint32_t m) { return cameraWalk ? bptCamVertexJ(d, m) : bptLightVertexJ(d, m); };
-            b.alive[h] = 0;
-            v.delta[cur] = B::delta ? 1 : 0;
-            const Frame& fr = v.shading[cur];
-            const Vec3 woW = -rayDir(b.ray[path]);
-            Vec3 wo = fr.toLocal(woW);
-            BsdfSample s;
-            if (!B::sample(v.bsdf[cur], wo, u(slot, stream, j(0)), u(slot, stream, j(1)), u(slot, stream, j(2)), mode, s))
-                continue;
-            if (!(s.pdf > 0) || isBlack(s.f)) continue;
-            v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)
-            Vec3 wi = normalize(fr.toWorld(s.wi));
-            float corr = cameraWalk ? 1.0f : shadingCorrection(woW, wi, fr.n, v.ng[cur]);
-            Vec3 beta = b.pathBeta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
-            // Densities: forward for the next vertex, reverse for the previous one.
-            float pdfFwd = 0, pdfRev = 0;
-            if (!s.delta) {
-                pdfFwd = s.pdf;
-                pdfRev = B::pdf(v.bsdf[cur], s.wi, wo);
-            }
-            v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
-                                 ? pdfRev
-                                 : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev],
-                                                    v.kind[prev] != BptVertexKind::Camera);
-            if (b.roulette && d >= kRouletteDepth) {
-                float q = cameraWalk ? std::min(1.0f, maxComponent(beta))
-                                     : std::min(1.0f, maxComponent(beta) / b.betaScale[slot]);
-                if (!(u(slot, stream, j(3)) < q)) continue;
-                beta = beta / q;
-            }
-            b.alive[h] = 1;
-            b.nextDir[h] = wi;
-            b.pathBeta[path] = beta;  // read back by advanceBptPaths (path >= h)
-            b.pathPdf[path] = pdfFwd;
+        const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
+        const int d = v.count[slot] - 1;
+        const size_t cur = v.at(slot, d), prev = v.at(slot, d - 1);
+        auto j = [&](uint32_t m) { return cameraWalk ? bptCamVertexJ(d, m) : bptLightVertexJ(d, m); };
+        b.alive[h] = 0;
+        v.delta[cur] = B::delta ? 1 : 0;
+        const Frame& fr = v.shading[cur];
+        const Vec3 woW = -rayDir(b.ray[path]);
+        Vec3 wo = fr.toLocal(woW);
+        BsdfSample s;
+        if (!B::sample(v.bsdf[cur], wo, u(slot, stream, j(0)), u(slot, stream, j(1)), u(slot, stream, j(2)), mode, s))
+            return;
+        if (!(s.pdf > 0) || isBlack(s.f)) return;
+        v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)
+        Vec3 wi = normalize(fr.toWorld(s.wi));
+        float corr = cameraWalk ? 1.0f : shadingCorrection(woW, wi, fr.n, v.ng[cur]);
+        Vec3 beta = b.pathBeta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
+        // Densities: forward for the next vertex, reverse for the previous one.
+        float pdfFwd = 0, pdfRev = 0;
+        if (!s.delta) {
+            pdfFwd = s.pdf;
+            pdfRev = B::pdf(v.bsdf[cur], s.wi, wo);
         }
+        v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
+                             ? pdfRev
+                             : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev],
+                                                v.kind[prev] != BptVertexKind::Camera);
+        // Roulette (sampling.h): the light subpath's relative to its initial throughput.
+        if (b.roulette && d >= kRouletteDepth &&
+            !survivesRoulette(beta, cameraWalk ? 1.0f : b.betaScale[slot], u(slot, stream, j(3))))
+            return;
+        b.alive[h] = 1;
+        b.nextDir[h] = wi;
+        b.pathBeta[path] = beta;  // read back by advanceBptPaths (path >= h)
+        b.pathPdf[path] = pdfFwd;
     });
 }
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const HashedSamples&);
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const StoredSamples&);
 
 template <class U>
-void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, PtCounters& counters,
+void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters,
              const U& u) {
     for (bool first = true; b.numPaths > 0; first = false) {
-        intersectBptPaths(scene, b, coherentFirst && first, counters);
+        intersect(scene, b, coherentFirst && first, counters);
         resolveBptHits(scene, b, v, cameraWalk);
         if (b.numHits == 0) break;
-        groupBptHits(b);
+        groupByMaterial(b, b.hitBsdf.data());
         sampleBptBsdfs(scene, b, v, cameraWalk, u);
         advanceBptPaths(scene, b, v);
     }
 }
-template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, PtCounters&, const HashedSamples&);
-template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, PtCounters&, const StoredSamples&);
+template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, RayCounters&, const HashedSamples&);
+template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, RayCounters&, const StoredSamples&);
 
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
-    size_t n = 0;
-    for (size_t h = 0; h < b.numHits; ++h) {
-        if (!b.alive[h]) continue;
-        const uint32_t path = b.hitPath[h];  // path >= h >= n: in place is safe
-        const uint32_t slot = b.pathSlot[path];
-        const size_t cur = v.at(slot, v.count[slot] - 1);
-        b.pathSlot[n] = slot;
-        b.pathBeta[n] = b.pathBeta[path];
-        b.pathPdf[n] = b.pathPdf[path];
-        setRayHit(b.ray[n], scene.offsetRayOrigin(v.p[cur], v.ng[cur], b.nextDir[h]), b.nextDir[h]);
-        ++n;
-    }
-    b.numPaths = n;
+    compact(
+        scene, b,
+        [&](size_t h, Vec3& p, Vec3& ng) {
+            const uint32_t slot = b.pathSlot[b.hitPath[h]];
+            const size_t cur = v.at(slot, v.count[slot] - 1);
+            p = v.p[cur];
+            ng = v.ng[cur];
+        },
+        [&](size_t n, uint32_t path, size_t) {
+            b.pathBeta[n] = b.pathBeta[path];
+            b.pathPdf[n] = b.pathPdf[path];
+        });
 }
 
 }  // namespace wmlt

@@ -1,6 +1,7 @@
 // Bidirectional path tracing's wavefront stages, in the order a batch runs them:
-//   generateBptCameraPaths -> [ intersectBptPaths -> resolveBptHits -> groupBptHits
-//     -> sampleBptBsdfs -> advanceBptPaths ] per camera segment,
+//   generateBptCameraPaths -> [ intersect -> resolveBptHits -> groupByMaterial
+//     -> sampleBptBsdfs -> advanceBptPaths ] per camera segment (walkBpt; intersect and
+//     groupByMaterial are the wave's, wave.h),
 //   generateBptLightPaths  -> the same rounds for the light subpaths,
 //   connectBpt (s = 0 added directly; s = 1, t = 1 and s, t >= 2 as batched shadow rays,
 //     flushed by traceBptConnections).
@@ -14,7 +15,7 @@
 
 #include "scene/scene.h"
 #include "stages/bpt_state.h"
-#include "stages/pt_stages.h"  // PtTile, PtCounters
+#include "stages/wave.h"
 
 namespace wmlt {
 
@@ -26,7 +27,7 @@ uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample);
 float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w);
 
 // Writes slots (pixel, key, L = 0), camera vertex z_0 and one path per slot.
-void generateBptCameraPaths(const Scene& scene, BptBatch& b, const PtTile& tile, int strataPerAxis,
+void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& tile, int strataPerAxis,
                             uint64_t seed);
 // MMLT: camera vertex z_0 and the first path of each slot whose walk has room for more
 // than z_0 (t >= 2), the raster point u(camera, 0-1) over the whole image; writes pixel.
@@ -37,7 +38,6 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
 template <class U>
 void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u);
 // Traces the live paths (closest hit).
-void intersectBptPaths(const Scene& scene, BptBatch& b, bool coherent, PtCounters& c);
 // Reads paths; appends the vertex each hits to v (camera walk: an emitter without a
 // material ends the path with a Light vertex, one with a material is a Surface vertex
 // that keeps its light index for s = 0 and scatters on; an escape ends it with an Env
@@ -45,7 +45,6 @@ void intersectBptPaths(const Scene& scene, BptBatch& b, bool coherent, PtCounter
 // absorb); writes hits for the paths that go on (the vertex is below v's capacity - 1).
 void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk);
 // Counting sort of the hits by material kind.
-void groupBptHits(BptBatch& b);
 // Samples each hit's BSDF (mode: Radiance for the camera walk, Importance for the light
 // walk); writes the previous vertex's pdfRev, the hit vertex's delta, next* and alive.
 // d: the vertex's index in its subpath (random-number layout, roulette from d = 3).
@@ -57,7 +56,7 @@ void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
 // advance until no path is alive. coherentFirst: the first round's rays are camera rays
 // in tile order.
 template <class U>
-void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, PtCounters& counters,
+void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters,
              const U& u);
 
 // A vertex of the path being weighted, in the light-to-camera order x_0 .. x_k.
@@ -94,11 +93,11 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
                       StrategyScratch& scratch, StrategySample& out);
 // Every strategy (s, t) with s + t - 1 in [minLength, maxLength]: s = 0 to L, the
 // others to conns (flushed through traceBptConnections when full and at the end).
-void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, PtCounters& c);
+void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& c);
 // MMLT: the one strategy (strategyS, pathLength) of each slot; L = its MIS-weighted
 // contribution (0 when it cannot sample the path or is occluded), pixel = where it lands.
-void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, PtCounters& c);
+void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, RayCounters& c);
 // Traces the conns; adds the unoccluded ones to L (camera side) or splats (t = 1).
-void traceBptConnections(const Scene& scene, BptBatch& b, PtCounters& c);
+void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c);
 
 }  // namespace wmlt

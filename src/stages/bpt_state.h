@@ -1,12 +1,12 @@
 // Structure-of-arrays state of one batch of bidirectional path-tracing samples (a tile of
 // pixels times a range of sample indices: one camera subpath and one light subpath per
-// pixel sample). Groups of arrays:
+// pixel sample): a PathWave (wave.h: the live subpaths of the current walk round and their
+// hits) and groups of arrays:
 //   slots     - one per sample: pixel, random key, the camera-side radiance L (t >= 2);
 //   vertices  - per slot, fixed-capacity arrays of the camera subpath's vertices z_0 ..
 //               (capacity MaxPathLength + 1) and the light subpath's vertices y_0 ..
 //               (capacity MaxPathLength), plain data at index slot * capacity + i;
-//   paths     - the live subpaths of the current round (camera or light walk);
-//   hits      - the live subpaths that hit a scattering surface this round;
+//   paths     - per live subpath: its throughput and direction density;
 //   conns     - connection shadow rays (s = 1, t = 1, s, t >= 2) and their contributions;
 //   splats    - t = 1 contributions, in stage order (film.h).
 #pragma once
@@ -20,6 +20,7 @@
 #include "kernels/rng.h"
 #include "stages/film.h"
 #include "stages/strategy_films.h"
+#include "stages/wave.h"
 
 namespace wmlt {
 
@@ -27,89 +28,75 @@ namespace wmlt {
 // the line from the neighbouring vertex, so that directions to it are exact).
 enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
 
-// The vertices of one kind of subpath for every slot of a batch.
+// The vertices of one kind of subpath for every slot of a batch, at index
+// slot * capacity + i: position, geometric normal (lights: emitting side), shading frame
+// (n = shading normal), material, throughput up to and including the vertex, area density
+// from the subpath's own walk (pdfFwd) and if the other side's walk produced it (pdfRev),
+// scattering by a delta lobe (mirror, glass), kind, and for a Light its index into
+// Scene::lights.
+#define WMLT_BPT_VERTEX_ARRAYS(X)                                                            \
+    X(Vec3, p) X(Vec3, ng) X(Frame, shading) X(BsdfParams, bsdf) X(Vec3, beta)             \
+    X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light)
+
 struct BptVertices {
     int capacity = 0;
     std::vector<uint8_t> count;      // per slot: vertices stored
-    std::vector<Vec3> p, ng;         // position; geometric normal (lights: emitting side)
-    std::vector<Frame> shading;      // shading frame (n = shading normal)
-    std::vector<BsdfParams> bsdf;
-    std::vector<Vec3> beta;          // throughput up to and including this vertex
-    std::vector<float> pdfFwd;       // area density from the subpath's own walk
-    std::vector<float> pdfRev;       // area density if the other side's walk produced it
-    std::vector<uint8_t> delta;      // scatters by a delta lobe (mirror, glass)
-    std::vector<BptVertexKind> kind;
-    std::vector<int16_t> light;      // Light: index into Scene::lights
     std::vector<uint8_t> maxCount;   // per slot: the walk stops at this many vertices (<= capacity)
+    WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
 
     void reserve(size_t slots, int cap) {
         capacity = cap;
-        const size_t n = slots * size_t(cap);
         count.assign(slots, 0);
         maxCount.assign(slots, uint8_t(cap));
-        p.resize(n); ng.resize(n); shading.resize(n); bsdf.resize(n); beta.resize(n);
-        pdfFwd.resize(n); pdfRev.resize(n); delta.resize(n); kind.resize(n); light.resize(n);
+        resizeVertices(slots * size_t(cap));
     }
+    void resizeVertices(size_t n) { WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_RESIZE) }
     size_t at(uint32_t slot, int i) const { return size_t(slot) * size_t(capacity) + size_t(i); }
 };
 
-struct BptBatch {
-    // Slots.
+// Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),
+// the light subpath's initial throughput scale (roulette); per live path (compacted with
+// the wave): the throughput carried to the next vertex and the solid-angle density of the
+// sampled direction; per hit: a copy of its material for the kind sort.
+#define WMLT_BPT_ARRAYS(X)                                                                   \
+    X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale)                     \
+    X(Vec3, pathBeta) X(float, pathPdf) X(BsdfParams, hitBsdf)
+// MMLT only (reserve's `strategies`): one strategy per slot, its s and path length k.
+#define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
+// Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
+// raster pixel), whether it is a t = 1 splat, its path length, unweighted unoccluded
+// value, MIS weight and strategy's s (strategy images).
+#define WMLT_BPT_CONN_ARRAYS(X)                                                              \
+    X(RTCRay, conn) X(uint32_t, connSlot) X(uint8_t, connSplat) X(uint8_t, connLength)     \
+    X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
+
+struct BptBatch : PathWave {
     size_t numSlots = 0;
-    std::vector<uint32_t> pixel;
-    std::vector<uint64_t> key;
-    std::vector<Vec3> L;             // camera-side contributions (t >= 2): the pixel's own film
-    // One strategy per slot (MMLT): s of the slot's strategy and its path length k.
-    std::vector<uint8_t> strategyS, pathLength;
+    WMLT_BPT_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_ARRAY)
     bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
 
     BptVertices cam, light;
 
-    // Live paths of the current walk round (index i < numPaths).
-    size_t numPaths = 0;
-    std::vector<uint32_t> pathSlot;
-    std::vector<RTCRayHit> ray;
-    std::vector<float> pathPdf;      // solid-angle density of the sampled direction
-    std::vector<Vec3> pathBeta;      // throughput carried to the next vertex
-    std::vector<float> betaScale;    // light walk: max component of the initial beta (roulette)
-
-    // Surface hits (index h < numHits).
-    size_t numHits = 0;
-    std::vector<uint32_t> hitPath;
-    std::vector<uint32_t> order;
-    std::vector<BsdfParams> hitBsdf; // copy for the kind sort
-    uint32_t kindStart[kMaterialKinds + 1] = {};
-    std::vector<uint8_t> alive;
-    std::vector<Vec3> nextDir;
-
-    // Connections (index c < numConn; flushed when full).
     size_t numConn = 0, connCapacity = 0;
-    std::vector<RTCRay> conn;
-    std::vector<uint32_t> connSlot;  // camera side: slot; t = 1: raster pixel
-    std::vector<uint8_t> connSplat;  // 1: t = 1 splat
-    std::vector<uint8_t> connLength;
-    std::vector<Vec3> connValue;     // unweighted, unoccluded
-    std::vector<float> connWeight;   // its MIS weight
-    std::vector<uint8_t> connS;      // its strategy's s (strategy images)
+    WMLT_BPT_CONN_ARRAYS(WMLT_SOA_ARRAY)
 
     std::vector<Splat> splats;
     StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
-    uint64_t nonfinite = 0;
-    PathLengthSums lengths;
+    ContributionTally tally;
 
-    void reserve(size_t n, int maxLength) {
-        pixel.resize(n); key.resize(n); L.resize(n); strategyS.resize(n); pathLength.resize(n);
+    void reserve(size_t n, int maxLength, bool strategies = false) {
+        resizeWave(n);
+        WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
+        if (strategies) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
         cam.reserve(n, maxLength + 1);
         light.reserve(n, maxLength);
-        pathSlot.resize(n); ray.resize(n); pathPdf.resize(n); pathBeta.resize(n); betaScale.resize(n);
-        hitPath.resize(n); order.resize(n); hitBsdf.resize(n); alive.resize(n); nextDir.resize(n);
         connCapacity = std::max<size_t>(n * 4, 1024);
-        conn.resize(connCapacity); connSlot.resize(connCapacity); connSplat.resize(connCapacity);
-        connLength.resize(connCapacity); connValue.resize(connCapacity); connWeight.resize(connCapacity);
-        connS.resize(connCapacity);
+        resizeConnections(connCapacity);
         splats.reserve(n);
     }
+    void resizeConnections(size_t n) { WMLT_BPT_CONN_ARRAYS(WMLT_SOA_RESIZE) }
 };
 
 // Primary sample layout of a BPT sample (keys: bptSampleKey, a stream apart from the PT's
@@ -126,7 +113,7 @@ struct BptBatch {
 //     choice, 1-2: light point); t = 1 at light vertex y_{s-1} reads j = 5 s + 3 + (0-1:
 //     lens point).
 enum BptStream : uint32_t { kBptCamera = 0, kBptLight = 1, kBptConnect = 2 };
-inline uint32_t bptDim(BptStream stream, uint32_t j) { return 3 * j + uint32_t(stream); }
+constexpr uint32_t bptDim(BptStream stream, uint32_t j) { return 3 * j + uint32_t(stream); }
 inline uint32_t bptCamVertexJ(int d, uint32_t m) { return 4 + 4 * uint32_t(d - 1) + m; }
 inline uint32_t bptLightVertexJ(int d, uint32_t m) { return 5 + 4 * uint32_t(d - 1) + m; }
 inline uint32_t bptNeeJ(int t, uint32_t m) { return 5 * uint32_t(t) + m; }

@@ -45,6 +45,25 @@ struct PathLengthSums {
     }
 };
 
+// What every tracer's batch counts besides its film: NaN or Inf contributions (left out)
+// and the luminance of the others by path length.
+struct ContributionTally {
+    uint64_t nonfinite = 0;
+    PathLengthSums lengths;
+    // Whether a contribution v of path length `length` is to be added (finite and not
+    // black); counts it either way.
+    bool take(Vec3 v, int length) {
+        if (!isFinite(v)) { ++nonfinite; return false; }
+        if (isBlack(v)) return false;
+        lengths.add(length, v);
+        return true;
+    }
+    void add(const ContributionTally& o) {
+        nonfinite += o.nonfinite;
+        lengths.add(o.lengths);
+    }
+};
+
 // One light-tracing contribution to a pixel.
 struct Splat {
     uint32_t pixel;

@@ -19,15 +19,13 @@ namespace {
 
 struct TileOutput {
     std::vector<Splat> splats;
-    uint64_t nonfinite = 0;
-    PathLengthSums lengths;
+    ContributionTally tally;
 };
 
-void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, LtBatch& b,
-                PtCounters& counters, TileOutput& out) {
+void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, LtBatch& b,
+                RayCounters& counters, TileOutput& out) {
     b.splats.clear();
-    b.nonfinite = 0;
-    b.lengths = PathLengthSums();
+    b.tally = ContributionTally();
     const bool length1 = opt.minPathLength <= 1 && opt.maxPathLength >= 1;
     // Length 1 from the environment: camera rays that escape (a point at infinity cannot
     // be connected to the lens).
@@ -41,10 +39,10 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
         // Round d: the subpaths' d-th segment; a vertex after d segments connects to the
         // camera at path length k = d + 1.
         for (int d = 1; d + 1 <= opt.maxPathLength && b.numPaths > 0; ++d) {
-            intersectLightPaths(scene, b, counters);
+            intersect(scene, b, false, counters);
             resolveLightHits(scene, b);
             if (b.numHits == 0) break;
-            groupLightHits(b);
+            groupByMaterial(b, b.bsdf.data());
             if (d + 1 >= opt.minPathLength) {
                 connectToCamera(scene, b, d);
                 traceConnections(scene, b, d + 1, counters);
@@ -55,8 +53,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
         }
     }
     out.splats.assign(b.splats.begin(), b.splats.end());
-    out.nonfinite = b.nonfinite;
-    out.lengths = b.lengths;
+    out.tally = b.tally;
 }
 
 }  // namespace
@@ -70,19 +67,19 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
         b.reserve(schedule.pathsPerBatch());
         return b;
     });
-    tbb::enumerable_thread_specific<PtCounters> counters;
+    tbb::enumerable_thread_specific<RayCounters> counters;
     uint64_t discarded = 0;
     PathLengthSums lengths;
     PassResult pr = runPasses(
         schedule, opt,
-        [&](size_t t, const PtTile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
+        [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
         [&] {  // a complete pass: its splats, in tile order
             for (TileOutput& o : outputs) {
                 for (const Splat& s : o.splats) film.add(s);
-                discarded += o.nonfinite;
-                lengths.add(o.lengths);
+                discarded += o.tally.nonfinite;
+                lengths.add(o.tally.lengths);
                 o.splats.clear();
-                o.nonfinite = 0;
+                o.tally = ContributionTally();
             }
         },
         {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); },

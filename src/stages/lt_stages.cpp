@@ -1,10 +1,12 @@
 #include "stages/lt_stages.h"
 
 #include "kernels/rng.h"
+#include "kernels/sampling.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
 #include "stages/surface.h"
 #include "stages/trace.h"
+#include "stages/wave.h"
 
 namespace wmlt {
 
@@ -28,87 +30,69 @@ uint64_t ltSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
     return sampleKey(mix64(seed ^ 0x4c54u /* "LT" */), pixel, sample);
 }
 
-void generateEnvCameraRays(const Scene& scene, LtBatch& b, const PtTile& t, int n, uint64_t seed) {
-    const Camera& cam = scene.camera;
-    const bool lens = cam.thinLens;
-    size_t i = 0;
-    for (int y = t.y0; y < t.y1; ++y)
-        for (int x = t.x0; x < t.x1; ++x) {
-            uint32_t pixel = uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
-            for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
-                uint64_t key = ltSampleKey(seed, pixel, s);
-                float px, py;
-                stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), sampleDimension(key, 7), sampleDimension(key, 8), px, py);
-                Vec3 o, d;
-                generateCameraRay(cam, px, py, lens ? sampleDimension(key, 9) : 0.5f,
-                                  lens ? sampleDimension(key, 10) : 0.5f, o, d);
-                setRay(b.conn[i], o, d, 0.0f, INFINITY);
-                b.connPixel[i] = pixel;
-                b.connValue[i] = scene.env.Le(d);
-            }
-        }
-    b.numConn = i;
+// Dimensions 7-10 of an LT sample (lt_state.h): the camera ray that sees the environment.
+constexpr CameraDims kLtEnvCameraDims{7, 8, 9, 10};
+
+void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n, uint64_t seed) {
+    size_t count = 0;
+    forEachCameraRay(
+        scene, t, n, seed, kLtEnvCameraDims, [&](uint32_t pixel, uint32_t s) { return ltSampleKey(seed, pixel, s); },
+        [&](size_t i, uint32_t pixel, uint64_t, Vec3 o, Vec3 d) {
+            setRay(b.conn[i], o, d, 0.0f, INFINITY);
+            b.connPixel[i] = pixel;
+            b.connValue[i] = scene.env.Le(d);
+            count = i + 1;
+        });
+    b.numConn = count;
 }
 
-void generateLightPaths(const Scene& scene, LtBatch& b, const PtTile& t, uint64_t seed, bool connectLength1) {
+void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t seed, bool connectLength1) {
     const Camera& cam = scene.camera;
-    size_t i = 0, n = 0;
+    size_t n = 0;
     b.numConn = 0;
-    for (int y = t.y0; y < t.y1; ++y)
-        for (int x = t.x0; x < t.x1; ++x) {
-            uint32_t pixel = uint32_t(y) * uint32_t(cam.width) + uint32_t(x);
-            for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) {
-                const uint64_t key = ltSampleKey(seed, pixel, s);
-                b.key[i] = key;
-                float pmf;
-                int li = scene.lightDistribution.sampleDiscrete(sampleDimension(key, 0), &pmf);
-                LightEmission e;
-                if (!(pmf > 0) ||
-                    !sampleLightEmission(scene, li, sampleDimension(key, 1), sampleDimension(key, 2),
-                                         sampleDimension(key, 3), sampleDimension(key, 4), e))
-                    continue;
-                const bool infinite = scene.lights[li].type == LightType::Env;
-                // Light vertex: alpha = Le-carrying weight 1 / (pmf pdfPos) (Veach 10.2).
-                const float invPos = 1.0f / (pmf * e.pdfPos);
-                if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
-                    CameraSample cs = sampleCameraFrom(cam, e.p, sampleDimension(key, 5), sampleDimension(key, 6));
-                    if (cs.valid) {
-                        Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi);
-                        float cosL = std::fabs(dot(cs.wi, e.n));
-                        if (!isBlack(Le)) addConnection(scene, b, e.p, e.n, cs, Le * (cosL * invPos * cs.We / cs.pdf));
-                    }
-                }
-                Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) * invPos / e.pdfDir);
-                if (isBlack(beta) || !isFinite(beta)) continue;
-                b.betaScale[i] = maxComponent(beta);
-                b.pathSlot[n] = uint32_t(i);
-                // Emitters are one-sided surfaces: leave the light on its normal's side.
-                Vec3 o = infinite ? e.p : scene.offsetRayOrigin(e.p, e.n, e.dir);
-                setRayHit(b.ray[n], o, e.dir);
-                b.beta[n] = beta;
-                ++n;
+    forEachTileSample(t, cam.width, [&](size_t i, int, int, uint32_t pixel, uint32_t s) {
+        const uint64_t key = ltSampleKey(seed, pixel, s);
+        b.key[i] = key;
+        float pmf;
+        int li = scene.lightDistribution.sampleDiscrete(sampleDimension(key, 0), &pmf);
+        LightEmission e;
+        if (!(pmf > 0) ||
+            !sampleLightEmission(scene, li, sampleDimension(key, 1), sampleDimension(key, 2),
+                                 sampleDimension(key, 3), sampleDimension(key, 4), e))
+            return;
+        const bool infinite = scene.lights[li].type == LightType::Env;
+        // Light vertex: alpha = Le-carrying weight 1 / (pmf pdfPos) (Veach 10.2).
+        const float invPos = 1.0f / (pmf * e.pdfPos);
+        if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
+            CameraSample cs = sampleCameraFrom(cam, e.p, sampleDimension(key, 5), sampleDimension(key, 6));
+            if (cs.valid) {
+                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi);
+                float cosL = std::fabs(dot(cs.wi, e.n));
+                if (!isBlack(Le)) addConnection(scene, b, e.p, e.n, cs, Le * (cosL * invPos * cs.We / cs.pdf));
             }
         }
+        Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) * invPos / e.pdfDir);
+        if (isBlack(beta) || !isFinite(beta)) return;
+        b.betaScale[i] = maxComponent(beta);
+        b.pathSlot[n] = uint32_t(i);
+        // Emitters are one-sided surfaces: leave the light on its normal's side.
+        Vec3 o = infinite ? e.p : scene.offsetRayOrigin(e.p, e.n, e.dir);
+        setRayHit(b.ray[n], o, e.dir);
+        b.beta[n] = beta;
+        ++n;
+    });
     b.numPaths = n;
 }
 
-void traceConnections(const Scene& scene, LtBatch& b, int length, PtCounters& c) {
+void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c) {
     traceOccluded(scene.rtc, b.conn.data(), b.numConn);
     c.raysOccluded += b.numConn;
     for (size_t k = 0; k < b.numConn; ++k) {
         if (!(b.conn[k].tfar >= 0)) continue;
         const Vec3 v = b.connValue[k];
-        if (!isFinite(v)) { ++b.nonfinite; continue; }
-        if (isBlack(v)) continue;
-        b.splats.push_back({b.connPixel[k], v});
-        b.lengths.add(length, v);
+        if (b.tally.take(v, length)) b.splats.push_back({b.connPixel[k], v});
     }
     b.numConn = 0;
-}
-
-void intersectLightPaths(const Scene& scene, LtBatch& b, PtCounters& c) {
-    traceClosest(scene.rtc, b.ray.data(), b.numPaths, false);
-    c.raysIntersect += b.numPaths;
 }
 
 void resolveLightHits(const Scene& scene, LtBatch& b) {
@@ -123,78 +107,56 @@ void resolveLightHits(const Scene& scene, LtBatch& b) {
     b.numHits = h;
 }
 
-void groupLightHits(LtBatch& b) {
-    groupByMaterialKind(b.bsdf.data(), b.numHits, b.order.data(), b.kindStart);
-}
-
 void connectToCamera(const Scene& scene, LtBatch& b, int d) {
     b.numConn = 0;
-    forEachMaterialKind([&](auto kind) {
+    forEachHitByKind(b, [&](auto kind, uint32_t h) {
         using B = BsdfOf<decltype(kind)::value>;
         if constexpr (!B::delta) {
-            for (uint32_t k = b.kindStart[int(kind.value)]; k < b.kindStart[int(kind.value) + 1]; ++k) {
-                const uint32_t h = b.order[k], path = b.hitPath[h];
-                const uint64_t key = b.key[b.pathSlot[path]];
-                CameraSample cs = sampleCameraFrom(scene.camera, b.p[h], sampleDimension(key, ltVertexDim(d, 0)),
-                                                   sampleDimension(key, ltVertexDim(d, 1)));
-                if (!cs.valid) continue;
-                const Frame& fr = b.shading[h];
-                // Radiance view: light arrives from wo and leaves towards the camera.
-                Vec3 woL = fr.toLocal(b.wo[h]), wiL = fr.toLocal(cs.wi);
-                Vec3 f = B::f(b.bsdf[h], wiL, woL);
-                if (isBlack(f)) continue;
-                // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
-                float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
-                Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
-                addConnection(scene, b, b.p[h], b.ng[h], cs, v);
-            }
+            const uint32_t path = b.hitPath[h];
+            const uint64_t key = b.key[b.pathSlot[path]];
+            CameraSample cs = sampleCameraFrom(scene.camera, b.p[h], sampleDimension(key, ltVertexDim(d, 0)),
+                                               sampleDimension(key, ltVertexDim(d, 1)));
+            if (!cs.valid) return;
+            const Frame& fr = b.shading[h];
+            // Radiance view: light arrives from wo and leaves towards the camera.
+            Vec3 woL = fr.toLocal(b.wo[h]), wiL = fr.toLocal(cs.wi);
+            Vec3 f = B::f(b.bsdf[h], wiL, woL);
+            if (isBlack(f)) return;
+            // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
+            float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
+            Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
+            addConnection(scene, b, b.p[h], b.ng[h], cs, v);
         }
     });
 }
 
 void sampleLightBsdfs(const Scene& scene, LtBatch& b, int d) {
-    // Russian roulette from the third vertex on, relative to the initial throughput:
-    // q = min(1, max(beta) / max(beta_0)); unbiased after dividing by q.
-    constexpr int kRouletteDepth = 3;
-    forEachMaterialKind([&](auto kind) {
+    forEachHitByKind(b, [&](auto kind, uint32_t h) {
         using B = BsdfOf<decltype(kind)::value>;
-        for (uint32_t k = b.kindStart[int(kind.value)]; k < b.kindStart[int(kind.value) + 1]; ++k) {
-            const uint32_t h = b.order[k], path = b.hitPath[h], slot = b.pathSlot[path];
-            const uint64_t key = b.key[slot];
-            b.alive[h] = 0;
-            const Frame& fr = b.shading[h];
-            Vec3 wo = fr.toLocal(b.wo[h]);
-            BsdfSample s;
-            if (!B::sample(b.bsdf[h], wo, sampleDimension(key, ltVertexDim(d, 2)), sampleDimension(key, ltVertexDim(d, 3)),
-                           sampleDimension(key, ltVertexDim(d, 4)), TransportMode::Importance, s))
-                continue;
-            if (!(s.pdf > 0) || isBlack(s.f)) continue;
-            Vec3 wi = normalize(fr.toWorld(s.wi));
-            float corr = shadingCorrection(b.wo[h], wi, fr.n, b.ng[h]);
-            Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
-            if (d >= kRouletteDepth) {
-                float q = std::min(1.0f, maxComponent(beta) / b.betaScale[slot]);
-                if (!(sampleDimension(key, ltVertexDim(d, 5)) < q)) continue;
-                beta = beta / q;
-            }
-            b.alive[h] = 1;
-            b.nextDir[h] = wi;
-            b.nextBeta[h] = beta;
-        }
+        const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
+        const uint64_t key = b.key[slot];
+        b.alive[h] = 0;
+        BsdfSample s;
+        if (!sampleHitBsdf<B>(b, h, sampleDimension(key, ltVertexDim(d, 2)), sampleDimension(key, ltVertexDim(d, 3)),
+                              sampleDimension(key, ltVertexDim(d, 4)), TransportMode::Importance, s))
+            return;
+        const Frame& fr = b.shading[h];
+        Vec3 wi = normalize(fr.toWorld(s.wi));
+        float corr = shadingCorrection(b.wo[h], wi, fr.n, b.ng[h]);
+        Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
+        // Roulette relative to the initial throughput (sampling.h).
+        if (d >= kRouletteDepth && !survivesRoulette(beta, b.betaScale[slot], sampleDimension(key, ltVertexDim(d, 5))))
+            return;
+        b.alive[h] = 1;
+        b.nextDir[h] = wi;
+        b.nextBeta[h] = beta;
     });
 }
 
 void advanceLightPaths(const Scene& scene, LtBatch& b) {
-    size_t n = 0;
-    for (size_t h = 0; h < b.numHits; ++h) {
-        if (!b.alive[h]) continue;
-        const uint32_t path = b.hitPath[h];  // path >= h >= n: in place is safe
-        b.pathSlot[n] = b.pathSlot[path];
-        setRayHit(b.ray[n], scene.offsetRayOrigin(b.p[h], b.ng[h], b.nextDir[h]), b.nextDir[h]);
-        b.beta[n] = b.nextBeta[h];
-        ++n;
-    }
-    b.numPaths = n;
+    compact(
+        scene, b, [&](size_t h, Vec3& p, Vec3& ng) { p = b.p[h]; ng = b.ng[h]; },
+        [&](size_t n, uint32_t, size_t h) { b.beta[n] = b.nextBeta[h]; });
 }
 
 }  // namespace wmlt

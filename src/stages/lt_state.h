@@ -1,9 +1,10 @@
 // Structure-of-arrays state of one batch of light-tracing samples (a tile of pixels
-// times a range of sample indices: one light subpath per pixel sample). As in the path
-// tracer (pt_state.h), groups of arrays compacted in order:
+// times a range of sample indices: one light subpath per pixel sample): a PathWave
+// (wave.h: the live subpaths and their hits) and
 //   slots   - one per light subpath: its random key and initial throughput scale;
-//   paths   - the live subpaths of the current round: ray, throughput beta;
-//   hits    - the live subpaths that hit a scattering surface: surface and material;
+//   paths   - per live subpath: its throughput beta (compacted with the wave);
+//   hits    - per hit: the surface (WMLT_HIT_SURFACE_ARRAYS; wo points to the light side)
+//             and the next throughput;
 //   conns   - camera connections (t = 1): a shadow ray to the lens and its splat;
 //   splats  - this batch's unoccluded contributions, in stage order (film.h).
 #pragma once
@@ -14,50 +15,25 @@
 
 #include "kernels/bsdf.h"
 #include "stages/film.h"
+#include "stages/wave.h"
 
 namespace wmlt {
 
-struct LtBatch {
-    // Slots.
-    std::vector<uint64_t> key;
-    std::vector<float> betaScale;    // max component of the initial beta (Russian roulette)
+// betaScale: max component of the slot's initial beta (Russian roulette). beta: flux-like
+// throughput, Le |cos| / (pmf pdfPos pdfDir) ... connValue: the connection's unoccluded splat.
+#define WMLT_LT_ARRAYS(X)                                                                    \
+    X(uint64_t, key) X(float, betaScale) X(Vec3, beta) WMLT_HIT_SURFACE_ARRAYS(X)          \
+    X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(Vec3, connValue)
 
-    // Live paths (index i < numPaths).
-    size_t numPaths = 0;
-    std::vector<uint32_t> pathSlot;
-    std::vector<RTCRayHit> ray;
-    std::vector<Vec3> beta;          // throughput: flux-like, Le |cos| / (pmf pdfPos pdfDir) ...
-
-    // Surface hits (index h < numHits), in path order.
-    size_t numHits = 0;
-    std::vector<uint32_t> hitPath;
-    std::vector<Vec3> p, ng, wo;     // wo: towards the previous vertex (the light side)
-    std::vector<Frame> shading;
-    std::vector<BsdfParams> bsdf;
-    std::vector<uint32_t> order;
-    uint32_t kindStart[kMaterialKinds + 1] = {};
-
-    // Camera connections (index c < numConn).
+struct LtBatch : PathWave {
+    WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numConn = 0;
-    std::vector<RTCRay> conn;
-    std::vector<uint32_t> connPixel;
-    std::vector<Vec3> connValue;     // unoccluded splat value
-
-    // Next round, written by BSDF sampling at the hit's index.
-    std::vector<uint8_t> alive;
-    std::vector<Vec3> nextDir, nextBeta;
-
     std::vector<Splat> splats;
-    uint64_t nonfinite = 0;          // splats discarded as NaN or Inf
-    PathLengthSums lengths;          // luminance of the splats by path length
+    ContributionTally tally;  // of the splats
 
     void reserve(size_t n) {
-        key.resize(n); betaScale.resize(n);
-        pathSlot.resize(n); ray.resize(n); beta.resize(n);
-        hitPath.resize(n); p.resize(n); ng.resize(n); wo.resize(n); shading.resize(n);
-        bsdf.resize(n); order.resize(n);
-        conn.resize(n); connPixel.resize(n); connValue.resize(n);
-        alive.resize(n); nextDir.resize(n); nextBeta.resize(n);
+        resizeWave(n);
+        WMLT_LT_ARRAYS(WMLT_SOA_RESIZE)
         splats.reserve(n);
     }
 };

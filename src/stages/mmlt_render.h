@@ -99,7 +99,7 @@ private:
     double sampleSeconds_ = 0;             // seconds per pool sample, measured
 
     tbb::enumerable_thread_specific<MmltBatch> batches_;
-    tbb::enumerable_thread_specific<PtCounters> rays_;
+    tbb::enumerable_thread_specific<RayCounters> rays_;
     std::vector<SamplePool> pools_, next_;  // [k]: this pass's pool, the next one's large steps
     std::vector<double> passB_;            // sum over rounds of iterations times b_k
     uint32_t thinRounds_ = 0;

@@ -122,16 +122,16 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
     mb.bpt.numSlots = slotsOf(mb);
 }
 
-void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, PtCounters& counters) {
+void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters) {
     BptBatch& b = mb.bpt;
     const StoredSamples u = mb.samples();
-    b.nonfinite = 0;
+    b.tally.nonfinite = 0;
     generateChainCameraPaths(scene, b, u);
     walkBpt(scene, b, b.cam, true, false, counters, u);
     generateBptLightPaths(scene, b, u);
     walkBpt(scene, b, b.light, false, false, counters, u);
     connectStrategies(scene, b, u, misBeta, counters);
-    mb.counters.nonfinite += b.nonfinite;
+    mb.counters.nonfinite += b.tally.nonfinite;
 }
 
 void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {

@@ -13,7 +13,7 @@
 #include "kernels/rng.h"
 #include "scene/scene.h"
 #include "stages/mmlt_state.h"
-#include "stages/pt_stages.h"  // PtCounters
+#include "stages/pt_stages.h"  // RayCounters
 
 namespace wmlt {
 
@@ -39,7 +39,7 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
                   float probLarge);
 // Traces and connects each slot's strategy: bpt.L = its MIS-weighted contribution,
 // bpt.pixel = where it lands.
-void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, PtCounters& counters);
+void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
 // The contribution F = (k + 1) L of slot i and its target c = luminance(F), 0 when it is
 // not finite (counted in mb.counters.nonfinite by acceptAndSplat).
 inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }

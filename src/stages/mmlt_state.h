@@ -121,7 +121,7 @@ struct MmltBatch {
     MmltCounters counters;
 
     void reserve(size_t n, int maxLength) {
-        bpt.reserve(n, maxLength);
+        bpt.reserve(n, maxLength, true);
         bpt.roulette = false;
         stride = StrategyLayout::size(maxLength);
         u.assign(n * stride, 0.0f);

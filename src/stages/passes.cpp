@@ -34,7 +34,7 @@ std::vector<size_t> tilesOfRank(const PassSchedule& s, const Distributed* ranks)
 }
 
 PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
-                     const std::function<void(size_t, const PtTile&)>& runBatch,
+                     const std::function<void(size_t, const Tile&)>& runBatch,
                      const std::function<void()>& endPass, const PassImage& snapshot) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
@@ -62,7 +62,7 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
                         return;
                     }
                     const size_t t = tiles[i];
-                    PtTile tile = s.tiles[t];
+                    Tile tile = s.tiles[t];
                     tile.sample0 = s0;
                     tile.sample1 = s1;
                     runBatch(t, tile);
@@ -95,12 +95,12 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
 }
 
 RenderResult startResult(const char* tracer, const Scene& scene, const RenderOptions& opt, const PassResult& pr,
-                         const tbb::enumerable_thread_specific<PtCounters>& counters) {
+                         const tbb::enumerable_thread_specific<RayCounters>& counters) {
     RenderResult res;
     res.stats.tracer = tracer;
     res.stats.seconds = pr.seconds;
     res.stats.spp = pr.completedSpp;
-    for (const PtCounters& c : counters) {
+    for (const RayCounters& c : counters) {
         res.stats.raysIntersect += c.raysIntersect;
         res.stats.raysOccluded += c.raysOccluded;
     }

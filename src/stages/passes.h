@@ -20,7 +20,7 @@ constexpr int kTileSize = 16;
 constexpr uint32_t kMaxPathsPerBatch = 4096;
 
 struct PassSchedule {
-    std::vector<PtTile> tiles;
+    std::vector<Tile> tiles;
     uint32_t samplesPerBatch = 1;  // samples per pixel in one batch (and one pass)
     size_t pathsPerBatch() const { return size_t(kTileSize) * kTileSize * samplesPerBatch; }
 };
@@ -43,7 +43,7 @@ struct PassResult {
 // passes so far, made by the function that makes the final image, and the ray counters.
 struct PassImage {
     std::function<Image(uint32_t completedSpp)> image;
-    const tbb::enumerable_thread_specific<PtCounters>* rays = nullptr;
+    const tbb::enumerable_thread_specific<RayCounters>* rays = nullptr;
 };
 
 // runBatch(tileIndex, tile) runs in parallel, each tile once per pass (split across ranks:
@@ -51,7 +51,7 @@ struct PassImage {
 // completed (an interrupted pass gets none: across ranks, a pass any rank interrupted), then
 // the snapshot for a viewer (preview.h). Time paused by the viewer is not counted.
 PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
-                     const std::function<void(size_t, const PtTile&)>& runBatch,
+                     const std::function<void(size_t, const Tile&)>& runBatch,
                      const std::function<void()>& endPass, const PassImage& snapshot);
 
 // The tiles a rank runs (opt.ranks; nullptr: all of them).
@@ -60,6 +60,6 @@ std::vector<size_t> tilesOfRank(const PassSchedule& schedule, const Distributed*
 // The statistics every tracer reports the same way: name, time, spp, ray counts (summed
 // over the threads' counters), cancellation and the scene's features.
 RenderResult startResult(const char* tracer, const Scene& scene, const RenderOptions& opt, const PassResult& pr,
-                         const tbb::enumerable_thread_specific<PtCounters>& counters);
+                         const tbb::enumerable_thread_specific<RayCounters>& counters);
 
 }  // namespace wmlt

@@ -12,23 +12,16 @@ namespace wmlt {
 namespace {
 
 // One batch: every bounce of every sample of a tile's sample range.
-// What a tile's batches add up to besides the film: merged in tile order at the end.
-struct TileTotals {
-    PathLengthSums lengths;
-    uint64_t nonfinite = 0;
-};
-
-void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile, PtBatch& b,
-                Film& film, PtCounters& counters, TileTotals& totals) {
-    b.nonfinite = 0;
-    b.lengths = PathLengthSums();
+void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, PtBatch& b,
+                Film& film, RayCounters& counters, ContributionTally& totals) {
+    b.tally = ContributionTally();
     generateCameraRays(scene, b, tile, opt.strataPerAxis, opt.seed);
     const size_t numSlots = b.numPaths;
     for (int depth = 1; depth <= opt.maxPathLength && b.numPaths > 0; ++depth) {
-        intersectPaths(scene, b, depth == 1, counters);
+        intersect(scene, b, depth == 1, counters);
         resolveHits(scene, b, depth, opt.minPathLength, opt.maxPathLength);
         if (b.numHits == 0) break;
-        groupByMaterial(b);
+        groupByMaterial(b, b.bsdf.data());
         if (depth + 1 >= opt.minPathLength) {
             sampleLights(scene, b, depth);
             traceShadows(scene, b, depth + 1, counters);
@@ -38,8 +31,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const PtTile& tile
     }
     // Samples of one pixel are adjacent and added in sample order: deterministic.
     for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], b.L[i]);
-    totals.lengths.add(b.lengths);
-    totals.nonfinite += b.nonfinite;
+    totals.add(b.tally);  // what a tile's batches add up to besides the film: merged in tile order
 }
 
 }  // namespace
@@ -52,12 +44,12 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
         b.reserve(schedule.pathsPerBatch());
         return b;
     });
-    tbb::enumerable_thread_specific<PtCounters> counters;
-    std::vector<TileTotals> totals(schedule.tiles.size());
+    tbb::enumerable_thread_specific<RayCounters> counters;
+    std::vector<ContributionTally> totals(schedule.tiles.size());
     // Each batch adds to its own tile's pixels only: no two threads touch one pixel.
     PassResult pr = runPasses(
         schedule, opt,
-        [&](size_t t, const PtTile& tile) {
+        [&](size_t t, const Tile& tile) {
             traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
         },
         {}, {[&](uint32_t) { return withFilmOfJob(opt.ranks, film, [](const Film& f) { return f.resolve(); }); },
@@ -65,7 +57,7 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
 
     RenderResult res = startResult("pt", scene, opt, pr, counters);
     PathLengthSums lengths;
-    for (const TileTotals& t : totals) {
+    for (const ContributionTally& t : totals) {
         lengths.add(t.lengths);
         res.stats.samplesNonfiniteDiscarded += t.nonfinite;
     }

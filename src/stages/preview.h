@@ -23,9 +23,9 @@ inline double offerSnapshot(const RenderOptions& opt, const std::function<Snapsh
 }
 
 // Rays traced so far, summed over the threads' counters (while no batch runs).
-inline uint64_t raysSoFar(const tbb::enumerable_thread_specific<PtCounters>& counters) {
+inline uint64_t raysSoFar(const tbb::enumerable_thread_specific<RayCounters>& counters) {
     uint64_t n = 0;
-    for (const PtCounters& c : counters) n += c.raysIntersect + c.raysOccluded;
+    for (const RayCounters& c : counters) n += c.raysIntersect + c.raysOccluded;
     return n;
 }
 

@@ -1,8 +1,9 @@
 // Structure-of-arrays state of one batch of path-tracing samples (a tile of pixels times
-// a range of sample indices). Three groups of arrays, each compacted in order:
-//   slots  - one per sample, for the life of the batch: pixel, random key, radiance L;
-//   paths  - the live paths of the current bounce: their ray, throughput, MIS data;
-//   hits   - the live paths that hit a surface this bounce: the surface and material.
+// a range of sample indices): a PathWave (wave.h: the live paths and their hits) and
+//   slots   - one per sample, for the life of the batch: pixel, random key, radiance L;
+//   paths   - per live path: throughput and MIS data (compacted with the wave);
+//   hits    - per hit: the surface (WMLT_HIT_SURFACE_ARRAYS) and the next bounce;
+//   shadow  - the shadow rays of next-event estimation.
 // Every round of the wavefront reads one group and writes the next (docs/architecture.md).
 #pragma once
 #include <embree3/rtcore.h>
@@ -12,56 +13,28 @@
 
 #include "kernels/bsdf.h"
 #include "stages/film.h"
+#include "stages/wave.h"
 
 namespace wmlt {
 
-struct PtBatch {
-    // Slots.
-    std::vector<uint32_t> pixel;
-    std::vector<uint64_t> key;
-    std::vector<Vec3> L;
+// prevPdf: solid-angle pdf of the BSDF sample that made the path's ray; prevDelta: it was
+// a delta lobe (no MIS on what it hits). nextBeta, nextPdf, nextDelta: the same for the
+// next bounce, written by BSDF sampling at the hit's index. shadowL: the shadow ray's
+// unoccluded contribution to shadowSlot.
+#define WMLT_PT_ARRAYS(X)                                                                    \
+    X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
+    X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
+    WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, nextBeta) X(float, nextPdf) X(uint8_t, nextDelta)   \
+    X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
 
-    // Per batch: NaN or Inf contributions (left out), luminance by path length.
-    uint64_t nonfinite = 0;
-    PathLengthSums lengths;
-
-    // Live paths (index i < numPaths).
-    size_t numPaths = 0;
-    std::vector<uint32_t> pathSlot;
-    std::vector<RTCRayHit> ray;
-    std::vector<Vec3> beta;          // throughput
-    std::vector<float> prevPdf;      // solid-angle pdf of the BSDF sample that made the ray
-    std::vector<uint8_t> prevDelta;  // ... which was a delta lobe: no MIS on what it hits
-
-    // Surface hits (index h < numHits), in path order.
-    size_t numHits = 0;
-    std::vector<uint32_t> hitPath;   // index into the live paths
-    std::vector<Vec3> p, ng, wo;     // position, geometric normal (outward), -ray direction
-    std::vector<Frame> shading;      // shading frame, n = shading normal (outward)
-    std::vector<BsdfParams> bsdf;
-    // Hits grouped by material kind: order[kindStart[k] .. kindStart[k+1]).
-    std::vector<uint32_t> order;
-    uint32_t kindStart[kMaterialKinds + 1] = {};
-
-    // Shadow rays of next-event estimation.
+struct PtBatch : PathWave {
+    WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numShadow = 0;
-    std::vector<RTCRay> shadow;
-    std::vector<uint32_t> shadowSlot;
-    std::vector<Vec3> shadowL;       // unoccluded contribution
-
-    // Next bounce, written by BSDF sampling at the hit's index (alive[h] = 0: ended).
-    std::vector<uint8_t> alive;
-    std::vector<Vec3> nextDir, nextBeta;
-    std::vector<float> nextPdf;
-    std::vector<uint8_t> nextDelta;
+    ContributionTally tally;  // per batch
 
     void reserve(size_t n) {
-        pixel.resize(n); key.resize(n); L.resize(n);
-        pathSlot.resize(n); ray.resize(n); beta.resize(n); prevPdf.resize(n); prevDelta.resize(n);
-        hitPath.resize(n); p.resize(n); ng.resize(n); wo.resize(n); shading.resize(n);
-        bsdf.resize(n); order.resize(n);
-        shadow.resize(n); shadowSlot.resize(n); shadowL.resize(n);
-        alive.resize(n); nextDir.resize(n); nextBeta.resize(n); nextPdf.resize(n); nextDelta.resize(n);
+        resizeWave(n);
+        WMLT_PT_ARRAYS(WMLT_SOA_RESIZE)
     }
 };
 

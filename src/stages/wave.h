@@ -1,0 +1,145 @@
+// The wavefront core that every tracer's walk is made of (docs/architecture.md, "The path
+// wave"): a PathWave holds the live paths of one round (their slot and ray) and the
+// surfaces they hit (path index, material order, survival, next direction); the stages
+// below are the verbs a walk round is made of, written once:
+//   forEachTileSample  - the samples of a tile, in a fixed order (camera rays, light paths);
+//   forEachCameraRay   - a tile's camera rays: stratified raster point, lens point;
+//   intersect          - closest hits for the live paths (Embree, trace.h);
+//   groupByMaterial    - the hits sorted by material kind (one kernel per kind follows);
+//   forEachHitByKind   - the hits of each kind, with the kind as a compile-time constant;
+//   compact            - the surviving paths moved to the front with their next rays.
+// Each tracer's batch is a PathWave plus its own arrays; PT, LT and BPT differ in what a
+// hit records and what a path carries, not in how a round is driven.
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/bsdf.h"
+#include "kernels/camera.h"
+#include "kernels/rng.h"
+#include "scene/scene.h"
+#include "stages/bsdf_dispatch.h"
+#include "stages/trace.h"
+
+namespace wmlt {
+
+// Structure-of-arrays records are declared once as a field list X(type, name); these two
+// macros make the arrays and resize them all to n, so that no array can be forgotten:
+//   #define MY_ARRAYS(X) X(uint32_t, pixel) X(Vec3, L)
+//   struct S { MY_ARRAYS(WMLT_SOA_ARRAY) void resize(size_t n) { MY_ARRAYS(WMLT_SOA_RESIZE) } };
+#define WMLT_SOA_ARRAY(type, name) std::vector<type> name;
+#define WMLT_SOA_RESIZE(type, name) name.resize(n);
+
+// A batch's work: pixels [x0, x1) x [y0, y1), sample indices [sample0, sample1).
+struct Tile {
+    int x0, y0, x1, y1;
+    uint32_t sample0, sample1;
+};
+
+// Rays traced, for the throughput figures (--stats).
+struct RayCounters {
+    uint64_t raysIntersect = 0, raysOccluded = 0;
+};
+
+// Per live path (index i < numPaths): its slot and ray. Per hit (index h < numHits, in
+// path order): the path it belongs to, the material order, whether the path goes on and
+// in which direction.
+#define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
+    X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
+    X(uint8_t, alive) X(Vec3, nextDir)
+
+struct PathWave {
+    size_t numPaths = 0, numHits = 0;
+    WMLT_PATH_WAVE_ARRAYS(WMLT_SOA_ARRAY)
+    // Hits grouped by material kind: order[kindStart[k] .. kindStart[k + 1]).
+    uint32_t kindStart[kMaterialKinds + 1] = {};
+
+    void resizeWave(size_t n) { WMLT_PATH_WAVE_ARRAYS(WMLT_SOA_RESIZE) }
+};
+
+// The surface a hit h found, for tracers that keep it per hit (PT, LT; BPT keeps it in
+// its subpaths' vertices): position, geometric normal (outward), wo (towards the previous
+// vertex), shading frame (n = shading normal) and material. Written by recordHit.
+#define WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, p) X(Vec3, ng) X(Vec3, wo) X(Frame, shading) X(BsdfParams, bsdf)
+
+// Calls f(i, x, y, pixel, s) for the tile's samples in order: rows, pixels, then samples
+// (i counts from 0). The order is what makes a batch's sums the same for any threads.
+template <class F>
+inline void forEachTileSample(const Tile& t, int width, F&& f) {
+    size_t i = 0;
+    for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x) {
+            const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+            for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) f(i, x, y, pixel, s);
+        }
+}
+
+// The dimensions of a sample's key that its camera ray reads: the jitter within its
+// stratum and the lens point (read only with a thin lens).
+struct CameraDims {
+    uint32_t jitterX, jitterY, lensU, lensV;
+};
+
+// Calls emit(i, pixel, key, o, d) for the tile's samples in order (forEachTileSample),
+// each with its key (keyOf(pixel, s)) and camera ray: raster point in stratum s of the
+// pixel's n x n grid (camera.h, stratifiedRasterPoint), then the lens (pbrt-v4 5.2.3).
+template <class KeyOf, class Emit>
+inline void forEachCameraRay(const Scene& scene, const Tile& t, int n, uint64_t seed, const CameraDims& dims,
+                             KeyOf&& keyOf, Emit&& emit) {
+    const Camera& cam = scene.camera;
+    const bool lens = cam.thinLens;
+    forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t s) {
+        const uint64_t key = keyOf(pixel, s);
+        float px, py;
+        stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), sampleDimension(key, dims.jitterX),
+                              sampleDimension(key, dims.jitterY), px, py);
+        Vec3 o, d;
+        generateCameraRay(cam, px, py, lens ? sampleDimension(key, dims.lensU) : 0.5f,
+                          lens ? sampleDimension(key, dims.lensV) : 0.5f, o, d);
+        emit(i, pixel, key, o, d);
+    });
+}
+
+// Closest hits of the live paths. `coherent`: camera rays in tile order (trace.h).
+inline void intersect(const Scene& scene, PathWave& w, bool coherent, RayCounters& c) {
+    traceClosest(scene.rtc, w.ray.data(), w.numPaths, coherent);
+    c.raysIntersect += w.numPaths;
+}
+
+// Sorts the hits by material kind (hitBsdf[h]: hit h's material), stably.
+inline void groupByMaterial(PathWave& w, const BsdfParams* hitBsdf) {
+    groupByMaterialKind(hitBsdf, w.numHits, w.order.data(), w.kindStart);
+}
+
+// Calls f(kind, h) for every hit, kind by kind (kind: std::integral_constant, so that
+// BsdfOf<decltype(kind)::value> picks the kind's kernels at compile time).
+template <class F>
+inline void forEachHitByKind(const PathWave& w, F&& f) {
+    forEachMaterialKind([&](auto kind) {
+        for (uint32_t k = w.kindStart[int(kind.value)]; k < w.kindStart[int(kind.value) + 1]; ++k) f(kind, w.order[k]);
+    });
+}
+
+// The paths whose hit survived (alive[h]) move to the front, in order, each with a ray
+// from its hit point (origin(h) gives position and geometric normal) along nextDir[h];
+// carry(n, path, h) moves the tracer's own per-path data from index `path` to n.
+// path >= h >= n, so moving in place is safe.
+template <class Origin, class Carry>
+inline void compact(const Scene& scene, PathWave& w, Origin&& origin, Carry&& carry) {
+    size_t n = 0;
+    for (size_t h = 0; h < w.numHits; ++h) {
+        if (!w.alive[h]) continue;
+        const uint32_t path = w.hitPath[h];
+        Vec3 p, ng;
+        origin(h, p, ng);
+        w.pathSlot[n] = w.pathSlot[path];
+        setRayHit(w.ray[n], scene.offsetRayOrigin(p, ng, w.nextDir[h]), w.nextDir[h]);
+        carry(n, path, h);
+        ++n;
+    }
+    w.numPaths = n;
+}
+
+}  // namespace wmlt
