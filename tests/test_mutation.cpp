@@ -4,6 +4,7 @@
 // fixed seeds and a fixed false-alarm probability per check).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <complex>
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "kernels/gaussian.h"
 #include "kernels/mutation.h"
 #include "render_stats.h"
 
@@ -104,7 +106,7 @@ struct Chain {
         Point y;
         for (int j = 0; j < D; ++j)
             y[j] = proposeCoordinate(x[j], lastModified[j], lastLargeStep, n, large, kSmallStepSigma, rng.uniform(),
-                                     rng.uniform());
+                                     standardNormal(rng.g(), 0));
         double fy = eval(y);
         float a = acceptance(float(fy), float(fx));
         splat(a, y, x);
@@ -147,68 +149,100 @@ TEST_CASE("wrapUnit and proposeCoordinate stay in the unit interval", "[mutation
     }
     CHECK(bad == 0);
 
-    CHECK(std::isfinite(inverseNormalCdf(0.0f)));
-    CHECK(std::isfinite(inverseNormalCdf(1.0f)));
     const uint32_t maxN = std::numeric_limits<uint32_t>::max();
     for (float value : {0.0f, 0.5f, one})
         for (float sigma : {kSmallStepSigma, 1.0f, 1e6f})
             for (float uFresh : {0.0f, 0.5f, one})
-                for (float uNormal : {0.0f, 1e-30f, 0.5f, one})
+                for (float z : {0.0f, 1e-30f, 5.4f, -5.4f, 40.0f})
                     for (uint32_t lastModified : {0u, 1u, maxN - 1})
                         for (uint32_t lastLarge : {0u, 1u, maxN - 1})
                             for (uint32_t n : {2u, maxN})
                                 for (bool large : {false, true}) {
                                     if (lastModified >= n || lastLarge >= n) continue;
                                     float v = proposeCoordinate(value, lastModified, lastLarge, n, large, sigma,
-                                                                uFresh, uNormal);
-                                    CAPTURE(value, sigma, uFresh, uNormal, lastModified, lastLarge, n, large, v);
+                                                                uFresh, z);
+                                    CAPTURE(value, sigma, uFresh, z, lastModified, lastLarge, n, large, v);
                                     REQUIRE(inUnit(v));
                                 }
 }
 
-TEST_CASE("inverseNormalCdf matches the normal quantile and is odd about one half", "[mutation]") {
-    double worstCentral = 0, worstTail = 0;
-    for (int i = 1; i < 100000; ++i) {  // central grid
-        float u = float(i) / 100000;
-        double err = std::fabs(inverseNormalCdf(u) - rstats::normalQuantile(u));
-        worstCentral = std::max(worstCentral, err);
+TEST_CASE("the ziggurat's layers have equal areas and cover the normal density", "[mutation]") {
+    const ZigguratTables& z = kZiggurat;
+    const int n = ZigguratTables::kLayers;
+    auto f = [](double x) { return std::exp(-0.5 * x * x); };
+    // Layer i >= 1: the rectangle x_i (f(x_{i+1}) - f(x_i)); the base: r f(r) plus the tail.
+    const double tail = std::sqrt(M_PI / 2) * std::erfc(kZigguratR / std::sqrt(2.0));
+    CHECK(z.x[0] * f(kZigguratR) == Approx(kZigguratV).epsilon(1e-12));
+    CHECK(kZigguratR * f(kZigguratR) + tail == Approx(kZigguratV).epsilon(1e-9));
+    double worst = 0;
+    for (int i = 1; i < n; ++i) {
+        CHECK(z.x[i + 1] < z.x[i]);
+        worst = std::max(worst, std::fabs(z.x[i] * (f(z.x[i + 1]) - f(z.x[i])) / kZigguratV - 1));
     }
-    for (int k = 1; k <= 24; ++k)  // tails: relative error down to u = 2^-24
-        for (float u : {std::ldexp(1.0f, -k), std::ldexp(1.5f, -k - 1)}) {
-            float v = 1.0f - u;  // rounded in float: compare at the float actually passed
-            double q = rstats::normalQuantile(u), q1 = rstats::normalQuantile(v);
-            worstTail = std::max(worstTail, std::fabs(inverseNormalCdf(u) - q) / std::fabs(q));
-            worstTail = std::max(worstTail, std::fabs(inverseNormalCdf(v) - q1) / std::fabs(q1));
-        }
-    CAPTURE(worstCentral, worstTail);
-    CHECK(worstCentral < 2e-6);
-    CHECK(worstTail < 2e-6);
-    CHECK(inverseNormalCdf(0.5f) == 0.0f);
-    CHECK(inverseNormalCdf(0.0f) == Approx(rstats::normalQuantile(0x1p-25)).epsilon(1e-5));
-    CHECK(inverseNormalCdf(1.0f) == Approx(rstats::normalQuantile(1 - 0x1p-24)).epsilon(1e-5));
-    int asymmetric = 0, decreasing = 0;
-    for (int i = 1; i < 4096; ++i) {  // u = i / 4096: 1 - u is exact, so the symmetry must be exact
-        float u = float(i) / 4096;
-        asymmetric += inverseNormalCdf(u) != -inverseNormalCdf(1.0f - u);
+    CAPTURE(worst);
+    CHECK(worst < 1e-8);  // the top layer (up to f(0) = 1) closes the recursion
+}
+
+TEST_CASE("standardNormal has the normal distribution, tails included", "[mutation]") {
+    // 4e6 draws from consecutive keys, binned at the quantiles of 200 equal-probability bins
+    // plus 8 bins finer in each tail (to 1e-7): chi-square at p = kMinP; mean and variance
+    // within 5 standard errors; the fraction of draws that took the slow path as the tables
+    // say (1 - mean of x_{i+1} / x_i: about 2.8%).
+    const int draws = 4000000;
+    std::vector<double> edges;
+    for (double p : {1e-7, 1e-6, 1e-5, 1e-4, 1e-3}) edges.push_back(rstats::normalQuantile(p));
+    for (int i = 1; i < 200; ++i) edges.push_back(rstats::normalQuantile(i / 200.0));
+    for (double p : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7}) edges.push_back(-rstats::normalQuantile(p));
+    std::sort(edges.begin(), edges.end());
+    std::vector<double> count(edges.size() + 1, 0.0);
+    double sum = 0, sum2 = 0;
+    int slow = 0;
+    for (int i = 0; i < draws; ++i) {
+        const uint64_t key = mix64(uint64_t(i) + 12345);
+        const float x = standardNormal(key, 7);
+        const uint64_t h = normalBits(key, 7, 0);
+        slow += !(double(h >> 11) * 0x1p-53 < kZiggurat.inner[h & 127]);
+        count[std::upper_bound(edges.begin(), edges.end(), double(x)) - edges.begin()] += 1;
+        sum += x;
+        sum2 += double(x) * x;
     }
-    for (int i = 1; i < (1 << 20); ++i)
-        decreasing += inverseNormalCdf(float(i) * 0x1p-20f) < inverseNormalCdf(float(i - 1) * 0x1p-20f);
-    CHECK(asymmetric == 0);
-    CHECK(decreasing == 0);
+    chi2::Result r;
+    for (size_t b = 0; b < count.size(); ++b) {
+        const double lo = b == 0 ? 0.0 : rstats::normalCdf(edges[b - 1]);
+        const double hi = b == edges.size() ? 1.0 : rstats::normalCdf(edges[b]);
+        const double expected = (hi - lo) * draws;
+        r.stat += (count[b] - expected) * (count[b] - expected) / expected;
+        ++r.dof;
+    }
+    r.dof -= 1;
+    r.pValue = chi2::gammaQ(0.5 * r.dof, 0.5 * r.stat);
+    const double mean = sum / draws, var = sum2 / draws - mean * mean;
+    CAPTURE(r.stat, r.dof, r.pValue, mean, var, slow);
+    CHECK(r.pValue > kMinP);
+    CHECK(std::fabs(mean) < 5 / std::sqrt(double(draws)));
+    CHECK(std::fabs(var - 1) < 5 * std::sqrt(2.0 / draws));
+    double inner = 0;
+    for (double q : kZiggurat.inner) inner += q / ZigguratTables::kLayers;
+    const double pSlow = 1 - inner;
+    CAPTURE(pSlow);
+    CHECK(std::fabs(slow - pSlow * draws) < 5 * std::sqrt(draws * pSlow * (1 - pSlow)));
+    // A pure function of (key, dim): the same number again, another for another dim.
+    CHECK(standardNormal(42, 3) == standardNormal(42, 3));
+    CHECK(standardNormal(42, 3) != standardNormal(42, 5));
 }
 
 TEST_CASE("proposeCoordinate follows the lazy update rule", "[mutation]") {
-    const float s = kSmallStepSigma, z = inverseNormalCdf(0.8f);
+    const float s = kSmallStepSigma, z = 0.8416212f;
     // Large step: the fresh value.
-    CHECK(proposeCoordinate(0.3f, 2, 1, 5, true, s, 0.9f, 0.8f) == 0.9f);
+    CHECK(proposeCoordinate(0.3f, 2, 1, 5, true, s, 0.9f, z) == 0.9f);
     // Up to date (written at or after the last large step): value + sigma sqrt(n - lastModified) z.
-    CHECK(proposeCoordinate(0.3f, 4, 1, 5, false, s, 0.9f, 0.5f) == 0.3f);
-    CHECK(proposeCoordinate(0.3f, 3, 3, 4, false, s, 0.9f, 0.5f) == 0.3f);
-    CHECK(proposeCoordinate(0.3f, 1, 0, 5, false, s, 0.9f, 0.8f) == Approx(0.3 + s * 2 * z).margin(1e-6));
+    CHECK(proposeCoordinate(0.3f, 4, 1, 5, false, s, 0.9f, 0.0f) == 0.3f);
+    CHECK(proposeCoordinate(0.3f, 3, 3, 4, false, s, 0.9f, 0.0f) == 0.3f);
+    CHECK(proposeCoordinate(0.3f, 1, 0, 5, false, s, 0.9f, z) == Approx(0.3 + s * 2 * z).margin(1e-6));
     // Stale (a large step accepted since): uFresh at lastLargeStep, then n - lastLargeStep steps.
-    CHECK(proposeCoordinate(0.3f, 1, 3, 12, false, s, 0.9f, 0.8f) == Approx(0.9 + s * 3 * z).margin(1e-6));
+    CHECK(proposeCoordinate(0.3f, 1, 3, 12, false, s, 0.9f, z) == Approx(0.9 + s * 3 * z).margin(1e-6));
     // Wrapping.
-    CHECK(proposeCoordinate(0.995f, 1, 0, 2, false, s, 0.9f, 0.8f) == Approx(0.995 + s * z - 1).margin(1e-6));
+    CHECK(proposeCoordinate(0.995f, 1, 0, 2, false, s, 0.9f, z) == Approx(0.995 + s * z - 1).margin(1e-6));
 }
 
 TEST_CASE("acceptance is min(1, ratio) and never accepts an invalid proposal", "[mutation]") {
@@ -249,7 +283,7 @@ TEST_CASE("lazy small steps equal eager ones in distribution", "[mutation]") {
             uint32_t n = accepted + 1;  // proposal n: counts accepted proposals only
             if (read) {
                 float v = proposeCoordinate(value, lastModified, lastLargeStep, n, large, sigma, rl.uniform(),
-                                            rl.uniform());
+                                            standardNormal(rl.g(), 0));
                 if (last) { lazy[bin1(v, bins)] += 1; break; }
                 if (accept) { value = v; lastModified = n; }
             }

@@ -1,6 +1,7 @@
 // The primary-sample-space Metropolis kernel of MMLT (Kelemen et al. 2002; Hachisuka et al.
-// 2014; pbrt-v3 16.4.2, "PrimarySample"): a lazily updated Gaussian small step, the large
-// step, and the Metropolis acceptance probability. Pure functions: the stages own the state.
+// 2014; pbrt-v3 16.4.2, "PrimarySample"): a lazily updated Gaussian small step (its normal
+// numbers come from gaussian.h), the large step, and the Metropolis acceptance probability.
+// Pure functions: the stages own the state.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -10,40 +11,6 @@ namespace wmlt {
 
 // The standard deviation of one small step (pbrt-v3's default sigma).
 constexpr float kSmallStepSigma = 0.01f;
-
-// Phi^-1(u) = sqrt(2) erfinv(2u - 1), with Giles' single-precision erfinv ("Approximating
-// the erfinv function", GPU Computing Gems, 2010). Its argument w = -log(1 - x^2) is
-// computed as -log(4 u (1 - u)), which keeps precision in the lower tail where 2u - 1
-// would round. u is clamped into [2^-25, 1 - 2^-24]: finite for every u, |result| < 5.42.
-inline float inverseNormalCdf(float u) {
-    u = std::min(std::max(u, 0x1p-25f), 0x1.fffffep-1f);
-    float x = 2.0f * u - 1.0f;  // exact for u >= 1/4 (Sterbenz)
-    float w = -std::log(4.0f * u * (1.0f - u)), p;
-    if (w < 5.0f) {
-        w -= 2.5f;
-        p = 2.81022636e-08f;
-        p = 3.43273939e-07f + p * w;
-        p = -3.5233877e-06f + p * w;
-        p = -4.39150654e-06f + p * w;
-        p = 0.00021858087f + p * w;
-        p = -0.00125372503f + p * w;
-        p = -0.00417768164f + p * w;
-        p = 0.246640727f + p * w;
-        p = 1.50140941f + p * w;
-    } else {
-        w = std::sqrt(w) - 3.0f;
-        p = -0.000200214257f;
-        p = 0.000100950558f + p * w;
-        p = 0.00134934322f + p * w;
-        p = -0.00367342844f + p * w;
-        p = 0.00573950773f + p * w;
-        p = -0.0076224613f + p * w;
-        p = 0.00943887047f + p * w;
-        p = 1.00167406f + p * w;
-        p = 2.83297682f + p * w;
-    }
-    return 1.41421356f * p * x;
-}
 
 // x mod 1 in [0, 1). x - floor(x) rounds to 1 for tiny negative x (-1e-30 + 1 == 1 in
 // float): that is mapped to 0, as are NaN and infinities.
@@ -70,9 +37,10 @@ inline float wrapUnit(float x) {
 //   steps (the missed ones and this one) are applied at once. A sum of nSmall independent
 //   N(0, sigma^2) steps is N(0, nSmall sigma^2), and wrapping commutes with addition mod 1,
 //   so one step of sigma sqrt(nSmall) equals nSmall eager steps in distribution.
-// uFresh and uNormal are fresh uniforms in [0, 1) drawn for this proposal.
+// uFresh is a fresh uniform in [0, 1) and z a standard normal number (gaussian.h), both
+// drawn for this proposal.
 inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t lastLargeStep, uint32_t n,
-                               bool largeStep, float sigma, float uFresh, float uNormal) {
+                               bool largeStep, float sigma, float uFresh, float z) {
     if (largeStep) return uFresh;
     uint32_t since = lastModified;
     if (lastModified < lastLargeStep) {
@@ -81,7 +49,7 @@ inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t last
     }
     double nSmall = double(n - since);
     // In double: for large nSmall the step is large and float would quantise the result.
-    double x = double(value) + double(sigma) * std::sqrt(nSmall) * double(inverseNormalCdf(uNormal));
+    double x = double(value) + double(sigma) * std::sqrt(nSmall) * double(z);
     return wrapUnit(float(x - std::floor(x)));
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <functional>
 
+#include "kernels/gaussian.h"
 #include "kernels/mutation.h"
 #include "stages/bpt_stages.h"
 
@@ -11,7 +12,8 @@ namespace wmlt {
 namespace {
 
 // Random numbers of a chain's proposal (dimensions of mmltChainKey); coordinate i's fresh
-// value is poolCoordinate(key, i) = dimension 2 + 2 i.
+// value is poolCoordinate(key, i) = dimension 2 + 2 i, its small step's normal number
+// standardNormal(key, dimNormal(i)).
 constexpr uint32_t kDimLarge = 0, kDimAccept = 1;
 inline uint32_t dimNormal(uint32_t i) { return 3 + 2 * i; }
 
@@ -93,16 +95,15 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
         // The proposal's value of coordinate d of slot i (chain c); uFresh is drawn only
-        // when the kernel reads it (a large step, or a stale coordinate).
+        // when the kernel reads it (a large step, or a stale coordinate), z only for a small step.
         auto propose = [&](uint32_t i, uint32_t c, uint32_t d) {
             const size_t at = size_t(d) * g.count + c;
             const uint64_t key = mb.bpt.key[i];
             const uint32_t lastModified = g.lastModified[at], lastLarge = g.lastLarge[c];
             const bool large = mb.large[i];
             const float uFresh = large || lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
-            const float uNormal = large ? 0.5f : sampleDimension(key, dimNormal(d));
-            return proposeCoordinate(g.value[at], lastModified, lastLarge, g.accepted[c] + 1, large, sigma, uFresh,
-                                     uNormal);
+            const float z = large ? 0.0f : standardNormal(key, dimNormal(d));
+            return proposeCoordinate(g.value[at], lastModified, lastLarge, g.accepted[c] + 1, large, sigma, uFresh, z);
         };
         // Per slot: the step kind and u0, which picks the strategy and so what else is read.
         for (uint32_t j = 0; j < sl.n; ++j) {
