@@ -47,9 +47,11 @@ inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t last
         value = uFresh;
         since = lastLargeStep;
     }
-    double nSmall = double(n - since);
+    const uint32_t nSmall = n - since;
     // In double: for large nSmall the step is large and float would quantise the result.
-    double x = double(value) + double(sigma) * std::sqrt(nSmall) * double(z);
+    // nSmall = 1 (a coordinate read at every step) needs no square root.
+    const double scale = nSmall == 1 ? double(sigma) : double(sigma) * std::sqrt(double(nSmall));
+    double x = double(value) + scale * double(z);
     return wrapUnit(float(x - std::floor(x)));
 }
 

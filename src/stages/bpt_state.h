@@ -154,11 +154,11 @@ struct StrategyLayout {
 };
 
 struct StoredSamples {
-    const float* u;      // slot i's row at u + i * stride
-    uint32_t stride;     // >= StrategyLayout::size of every slot's length
+    const float* u;      // slot i's row at u + row[i]
+    const uint32_t* row;
     const uint8_t* length;  // slot i's path length k
     float operator()(uint32_t slot, BptStream c, uint32_t j) const {
-        return u[size_t(slot) * stride + StrategyLayout::base(length[slot], c) + j];
+        return u[row[slot] + StrategyLayout::base(length[slot], c) + j];
     }
     static uint32_t connectJ(int, int, uint32_t m) { return m; }
 };

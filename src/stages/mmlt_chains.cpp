@@ -84,7 +84,7 @@ void MmltRender::seedChains() {
             g.c[c] = entry.c;
             g.pixel[c] = entry.pixel;
             distinct.insert(g.seed[c]);
-            for (uint32_t d = 0; d < g.dims; ++d) g.value[size_t(d) * g.count + c] = poolCoordinate(g.seed[c], d);
+            for (uint32_t d = 0; d < g.dims; ++d) g.value[g.at(c, d)] = poolCoordinate(g.seed[c], d);
         }
         stats_.chainsSeeded[size_t(g.k)] += g.count;
         stats_.distinctSeeds[size_t(g.k)] += distinct.size();

@@ -31,21 +31,30 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
 }
 
 // Calls fn(i, j, d) for every coordinate d > 0 that slot i (chain sl.c0 + j) of the slice
-// reads, coordinate by coordinate across the slice: coordinate d of consecutive chains is
-// contiguous in the chain state.
+// reads, slot by slot, in coordinate order: a chain's coordinates are contiguous in the
+// chain state (ChainGroup::at) and in the slot's row of u.
 template <class Fn>
 void forEachUsedCoordinate(const ChainGroup& g, const MmltBatch& mb, const BatchSlice& sl, Fn&& fn) {
-    for (int stream = 0; stream < 3; ++stream) {
-        const uint32_t base = StrategyLayout::base(g.k, BptStream(stream));
-        const uint32_t size = StrategyLayout::blockSize(g.k, BptStream(stream));
-        for (uint32_t jj = 0; jj < size; ++jj)
-            for (uint32_t j = 0; j < sl.n; ++j)
-                if (jj < mb.used[stream][sl.slot0 + j]) fn(sl.slot0 + j, j, base + jj);
+    for (uint32_t j = 0; j < sl.n; ++j) {
+        const uint32_t i = sl.slot0 + j;
+        for (int stream = 0; stream < 3; ++stream) {
+            const uint32_t base = StrategyLayout::base(g.k, BptStream(stream)), used = mb.used[stream][i];
+            for (uint32_t jj = 0; jj < used; ++jj) fn(i, j, base + jj);
+        }
     }
 }
 
 uint32_t slotsOf(const MmltBatch& mb) {
     return mb.slices.empty() ? 0 : mb.slices.back().slot0 + mb.slices.back().n;
+}
+
+// Packs the slots' rows of u one after the other, each its length's size (mmlt_state.h).
+void packRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    uint32_t at = 0;
+    for (const BatchSlice& sl : mb.slices) {
+        const uint32_t dims = groups[size_t(sl.group)].dims;
+        for (uint32_t j = 0; j < sl.n; ++j, at += dims) mb.row[sl.slot0 + j] = at;
+    }
 }
 
 }  // namespace
@@ -68,7 +77,8 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
     for (uint32_t i = 0; i < n; ++i) {
         const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
         mb.bpt.key[i] = key;
-        float* row = &mb.u[size_t(i) * mb.stride];
+        mb.row[i] = i * dims;
+        float* row = mb.rowOf(i);
         for (uint32_t d = 0; d < dims; ++d) row[d] = poolCoordinate(key, d);
         setStrategy(mb, i, k, row[0]);
     }
@@ -76,12 +86,13 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
 }
 
 void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    packRows(groups, mb);
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
-            float* row = &mb.u[size_t(i) * mb.stride];
-            for (uint32_t d = 0; d < g.dims; ++d) row[d] = g.value[size_t(d) * g.count + c];
+            float* row = mb.rowOf(i);
+            for (uint32_t d = 0; d < g.dims; ++d) row[d] = g.value[g.at(c, d)];
             mb.chain[i] = c;
             setStrategy(mb, i, g.k, row[0]);
         }
@@ -92,12 +103,13 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge) {
     const float sigma = kSmallStepSigma;
+    packRows(groups, mb);
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
         // The proposal's value of coordinate d of slot i (chain c); uFresh is drawn only
         // when the kernel reads it (a large step, or a stale coordinate), z only for a small step.
         auto propose = [&](uint32_t i, uint32_t c, uint32_t d) {
-            const size_t at = size_t(d) * g.count + c;
+            const size_t at = g.at(c, d);
             const uint64_t key = mb.bpt.key[i];
             const uint32_t lastModified = g.lastModified[at], lastLarge = g.lastLarge[c];
             const bool large = mb.large[i];
@@ -112,12 +124,12 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
             mb.bpt.key[i] = key;
             mb.chain[i] = c;
             mb.large[i] = sampleDimension(key, kDimLarge) < probLarge ? 1 : 0;
-            float* row = &mb.u[size_t(i) * mb.stride];
+            float* row = mb.rowOf(i);
             row[0] = propose(i, c, 0);
             setStrategy(mb, i, g.k, row[0]);
         }
         forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t j, uint32_t d) {
-            mb.u[size_t(i) * mb.stride + d] = propose(i, sl.c0 + j, d);
+            mb.u[mb.row[i] + d] = propose(i, sl.c0 + j, d);
         });
     }
     mb.bpt.numSlots = slotsOf(mb);
@@ -166,8 +178,8 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             if (!mb.accept[i]) continue;
             ++mb.counters.accepted[kind][k];
             const uint32_t next = g.accepted[c] + 1;
-            g.value[c] = mb.u[size_t(i) * mb.stride];  // coordinate 0
-            g.lastModified[c] = next;
+            g.value[g.at(c, 0)] = mb.u[mb.row[i]];  // coordinate 0
+            g.lastModified[g.at(c, 0)] = next;
             g.accepted[c] = next;
             if (kind) g.lastLarge[c] = next;
             g.F[c] = F;
@@ -178,8 +190,8 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
         forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t, uint32_t d) {
             if (!mb.accept[i]) return;
             const uint32_t c = mb.chain[i];
-            const size_t at = size_t(d) * g.count + c;
-            g.value[at] = mb.u[size_t(i) * mb.stride + d];
+            const size_t at = g.at(c, d);
+            g.value[at] = mb.u[mb.row[i] + d];
             g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
         });
     }

@@ -59,7 +59,10 @@ struct ChainGroup {
     uint32_t first = 0;               // global index of its first chain
     uint32_t dims = 0;                // StrategyLayout::size(k)
     float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
-    std::vector<float> value;         // [coordinate * count + chain]
+    // Per chain and coordinate, at(chain, coordinate): a chain's coordinates side by side,
+    // so that a proposal reads one contiguous block (coordinate-major rows, count apart,
+    // missed the cache on every coordinate).
+    std::vector<float> value;
     std::vector<uint32_t> lastModified;
     // Per chain.
     std::vector<uint32_t> accepted;   // accepted proposals (the lazy step's clock)
@@ -68,6 +71,8 @@ struct ChainGroup {
     std::vector<float> c;             // current state: luminance of F (the target)
     std::vector<uint32_t> pixel;      // current state: where F lands
     std::vector<uint64_t> seed;       // the pool entry the chain started from (its key)
+
+    size_t at(uint32_t chain, uint32_t d) const { return size_t(chain) * dims + d; }
 
     void resize(uint32_t n) {
         count = n;
@@ -108,8 +113,11 @@ struct MmltCounters {
 // produces: splats, the large steps for the next pass's pools, counters.
 struct MmltBatch {
     BptBatch bpt;
-    uint32_t stride = 0;              // row length: StrategyLayout::size(maxLength)
-    std::vector<float> u;             // [slot * stride + coordinate]
+    // Slot i's proposal: u[row[i] + coordinate], rows packed at their lengths' sizes
+    // (StrategyLayout::size(k)), so that a batch's numbers stay in cache (rows of the
+    // longest length's size were 2 KB apart at MaxPathLength 64).
+    std::vector<float> u;
+    std::vector<uint32_t> row;
     std::vector<uint32_t> chain;      // slot -> chain index within its group
     std::vector<uint8_t> large;       // the slot's proposal is a large step
     std::vector<uint8_t> accept;      // the slot's proposal was accepted
@@ -123,15 +131,16 @@ struct MmltBatch {
     void reserve(size_t n, int maxLength) {
         bpt.reserve(n, maxLength, true);
         bpt.roulette = false;
-        stride = StrategyLayout::size(maxLength);
-        u.assign(n * stride, 0.0f);
+        u.assign(n * StrategyLayout::size(maxLength), 0.0f);
+        row.resize(n);
         chain.resize(n);
         large.resize(n);
         accept.resize(n);
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
     }
-    StoredSamples samples() const { return StoredSamples{u.data(), stride, bpt.pathLength.data()}; }
+    StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data()}; }
+    float* rowOf(uint32_t i) { return &u[row[i]]; }
 };
 
 }  // namespace wmlt
