@@ -130,7 +130,11 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
 template void generateBptLightPaths(const Scene&, BptBatch&, const HashedSamples&);
 template void generateBptLightPaths(const Scene&, BptBatch&, const StoredSamples&);
 
-void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
+namespace {
+
+// The stage for the scene's surface features F (surface.h, withSurfaceFeatures).
+template <class F>
+void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
@@ -153,7 +157,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             v.light[cur] = int16_t(scene.envLight);
             continue;
         }
-        SurfacePoint sp = surfaceAt(scene, rh);
+        SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.material < 0 && !cameraWalk) continue;  // emitters without a material absorb light subpaths
         const uint32_t slot = b.pathSlot[i];
         const int idx = v.count[slot];
@@ -175,7 +179,7 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;
-        v.bsdf[cur] = materialAt(scene, sp, -rayDir(rh));
+        v.bsdf[cur] = materialAt<F>(scene, sp, -rayDir(rh));
         v.delta[cur] = isDeltaMaterial(v.bsdf[cur].kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
         b.hitPath[h] = uint32_t(i);
@@ -183,6 +187,12 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         ++h;
     }
     b.numHits = h;
+}
+
+}  // namespace
+
+void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
+    withSurfaceFeatures(scene.features, [&](auto f) { resolveBptHitsOf<decltype(f)>(scene, b, v, cameraWalk); });
 }
 
 template <class U>

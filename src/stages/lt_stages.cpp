@@ -95,16 +95,26 @@ void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c
     b.numConn = 0;
 }
 
-void resolveLightHits(const Scene& scene, LtBatch& b) {
+namespace {
+
+// The stage for the scene's surface features F (surface.h, withSurfaceFeatures).
+template <class F>
+void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene
-        SurfacePoint sp = surfaceAt(scene, rh);
+        SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.material < 0) continue;  // an emitter without a material absorbs
-        recordHit(scene, b, h++, i, sp, -rayDir(rh));
+        recordHit<F>(scene, b, h++, i, sp, -rayDir(rh));
     }
     b.numHits = h;
+}
+
+}  // namespace
+
+void resolveLightHits(const Scene& scene, LtBatch& b) {
+    withSurfaceFeatures(scene.features, [&](auto f) { resolveLightHitsOf<decltype(f)>(scene, b); });
 }
 
 void connectToCamera(const Scene& scene, LtBatch& b, int d) {

@@ -43,7 +43,11 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, ui
     b.numPaths = count;
 }
 
-void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength) {
+namespace {
+
+// The stage for the scene's surface features F (surface.h, withSurfaceFeatures).
+template <class F>
+void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength) {
     const bool countEmission = inRange(depth, minLength, maxLength);
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
@@ -59,7 +63,7 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
             }
             continue;
         }
-        SurfacePoint sp = surfaceAt(scene, rh);
+        SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.light >= 0) {  // an emitter: without a material it absorbs and the path ends
             if (countEmission && dot(d, sp.ng) < 0) {
                 float w = b.prevDelta[i] ? 1.0f
@@ -69,9 +73,15 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
             if (sp.material < 0) continue;
         }
         if (depth >= maxLength) continue;  // no longer path can count
-        recordHit(scene, b, h++, i, sp, -d);
+        recordHit<F>(scene, b, h++, i, sp, -d);
     }
     b.numHits = h;
+}
+
+}  // namespace
+
+void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength) {
+    withSurfaceFeatures(scene.features, [&](auto f) { resolveHitsOf<decltype(f)>(scene, b, depth, minLength, maxLength); });
 }
 
 void sampleLights(const Scene& scene, PtBatch& b, int depth) {

@@ -3,7 +3,11 @@
 #pragma once
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "kernels/bsdf.h"
+#include "kernels/texture.h"
 #include "scene/scene.h"
 
 namespace wmlt {
@@ -17,24 +21,134 @@ struct SurfacePoint {
     int light = -1;
 };
 
-// Geometry of a hit (rh must have hit something).
-SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh);
+// The scene's surface choices (SceneFeatures) as compile-time constants: the stages that
+// resolve hits are instantiated per combination and choose one per stage call
+// (withSurfaceFeatures), so no hit tests them.
+//   Uv: the surface stage computes (u, v) (textures or bump); Bump: bump maps;
+//   Textures: textured diffuse colours; OneSided: materials black from below.
+template <bool Uv, bool Bump, bool Textures, bool OneSided>
+struct SurfaceFeatures {
+    static constexpr bool uv = Uv, bump = Bump, textures = Textures, oneSided = OneSided;
+};
 
-// The material of a hit with textures applied (the scene's features decide, per scene,
-// whether textures are looked up at all). wo (world, towards the previous vertex) decides
-// the side of a one-sided (Mitsuba) material: seen from below its shading normal it is black.
-BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo);
+// Calls fn(F{}) with F the SurfaceFeatures of the scene.
+template <bool... Chosen, class Fn>
+void withBools(Fn&& fn) {
+    fn(SurfaceFeatures<Chosen...>{});
+}
+template <bool... Chosen, class Fn, class... Rest>
+void withBools(Fn&& fn, bool next, Rest... rest) {
+    if (next) withBools<Chosen..., true>(fn, rest...);
+    else withBools<Chosen..., false>(fn, rest...);
+}
+template <class Fn>
+void withSurfaceFeatures(const SceneFeatures& f, Fn&& fn) {
+    withBools(fn, f.needUv, f.bump, f.textures, f.oneSided);
+}
+
+// Helpers of surfaceAt (surface.cpp): partial derivatives of p in (u, v) on a triangle
+// (pbrt-v4 6.5.3) and on the two kinds of sphere parametrisation, and the bump map.
+void triangleDerivatives(const TriangleMesh& m, const uint32_t* tri, Vec3 ns, Vec3& dpdu, Vec3& dpdv);
+void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv);
+void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv);
+void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv);
+
+// Geometry of a hit (rh must have hit something).
+template <class F>
+SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
+    const GeomRecord& g = scene.geoms[rh.hit.geomID];
+    SurfacePoint sp;
+    sp.material = g.material;
+    sp.light = g.light;
+    Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+    if (g.kind == ShapeKind::Sphere) {
+        Vec3 p = o + d * rh.ray.tfar;
+        sp.ng = normalize(p - g.center);
+        sp.p = g.center + sp.ng * g.radius;  // re-projected onto the sphere
+        sp.ns = sp.ng;
+        if constexpr (F::uv) {
+            Vec3 l = normalize(g.toLocal.vector(sp.ng));
+            const bool mitsuba = g.uv == UvKind::SphereMitsuba;
+            if (mitsuba) {  // phi from +x towards +y about the +z pole, v = 0 at +z
+                const float u = std::atan2(l.y, l.x) * kInv2Pi;
+                sp.u = u < 0 ? u + 1.0f : u;
+                sp.v = std::acos(std::clamp(l.z, -1.0f, 1.0f)) * kInvPi;
+            } else {  // longitude from +x towards +z, latitude with v = 1 at the north pole (+y)
+                sp.u = 0.5f + std::atan2(l.z, l.x) * kInv2Pi;
+                sp.v = 1.0f - std::acos(std::clamp(l.y, -1.0f, 1.0f)) * kInvPi;
+            }
+            if (F::bump && sp.material >= 0) {
+                Vec3 dpdu, dpdv;
+                if (mitsuba) sphereDerivativesMitsuba(g, l, dpdu, dpdv);
+                else sphereDerivatives(g, l, dpdu, dpdv);
+                applyBump(scene, sp, dpdu, dpdv);
+            }
+        }
+        return sp;
+    }
+    const TriangleMesh& m = *g.mesh;
+    const uint32_t* tri = &m.indices[size_t(rh.hit.primID) * 3];
+    float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
+    // Embree's Ng is cross(p1 - p0, p2 - p0) (the loader's outward winding), and the hit
+    // point is o + t d: the vertex positions, no longer in cache after traversal (Embree's
+    // BVH leaves hold copies), are not fetched again.
+    sp.p = o + d * rh.ray.tfar;
+    sp.ng = normalize(Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    sp.ns = sp.ng;
+    if (!g.cornerNormals.empty()) {
+        const Vec3* cn = &g.cornerNormals[size_t(rh.hit.primID) * 3];
+        Vec3 ns = cn[0] * b0 + cn[1] * b1 + cn[2] * b2;
+        float l2 = lengthSquared(ns);
+        if (l2 > 0) {
+            ns = ns / std::sqrt(l2);
+            sp.ns = dot(ns, sp.ng) < 0 ? -ns : ns;
+        }
+    }
+    if constexpr (F::uv) {
+        if (!m.uvs.empty()) {
+            const float* uv = m.uvs.data();
+            sp.u = uv[2 * tri[0]] * b0 + uv[2 * tri[1]] * b1 + uv[2 * tri[2]] * b2;
+            sp.v = uv[2 * tri[0] + 1] * b0 + uv[2 * tri[1] + 1] * b1 + uv[2 * tri[2] + 1] * b2;
+        }
+    }
+    if constexpr (F::bump) {
+        if (sp.material >= 0) {
+            Vec3 dpdu, dpdv;
+            triangleDerivatives(m, tri, sp.ns, dpdu, dpdv);
+            applyBump(scene, sp, dpdu, dpdv);
+        }
+    }
+    return sp;
+}
+
+// The material of a hit with textures applied. wo (world, towards the previous vertex)
+// decides the side of a one-sided (Mitsuba) material: seen from below its shading normal
+// it is black.
+template <class F>
+BsdfParams materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo) {
+    BsdfParams b = scene.materials[sp.material];
+    if constexpr (F::oneSided || F::textures) {
+        const MaterialDesc& m = scene.desc.materials[sp.material];
+        if (F::oneSided && !m.twoSided && !(dot(wo, sp.ns) > 0)) {
+            BsdfParams black;  // a black Matte: f = 0, every sample ends the path
+            return black;
+        }
+        if (F::textures && m.texture >= 0)
+            b.diffuse = b.diffuse * evalTexture(scene.desc.textures[m.texture], sp.u, sp.v, sp.p);
+    }
+    return b;
+}
 
 // Writes hit h of a batch (PT, LT: the same hit arrays) from path i's surface point:
 // position, geometric normal, wo, shading frame and material.
-template <class Batch>
+template <class F, class Batch>
 inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const SurfacePoint& sp, Vec3 wo) {
     b.hitPath[h] = uint32_t(i);
     b.p[h] = sp.p;
     b.ng[h] = sp.ng;
     b.wo[h] = wo;
     b.shading[h] = Frame::fromNormal(sp.ns);
-    b.bsdf[h] = materialAt(scene, sp, wo);
+    b.bsdf[h] = materialAt<F>(scene, sp, wo);
 }
 
 // Samples the BSDF B of hit h (recordHit's arrays) with numbers ul (lobe), u1, u2: s in
