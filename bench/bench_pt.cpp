@@ -72,7 +72,8 @@ std::vector<RTCRayHit> makeBounceRays(const Scene& scene, size_t count) {
         traceClosest(scene.rtc, primary.data(), n, true);
         for (size_t i = 0; i < n && rays.size() < count; ++i) {
             if (primary[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-            SurfacePoint sp = surfaceAt(scene, primary[i]);
+            // Only the hit point and geometric normal are read: no (u, v), bump or material.
+            SurfacePoint sp = surfaceAt<SurfaceFeatures<false, false, false, false>>(scene, primary[i]);
             uint64_t key = sampleKey(7, uint32_t(i), sample);
             Vec3 d0(primary[i].ray.dir_x, primary[i].ray.dir_y, primary[i].ray.dir_z);
             Vec3 n = dot(sp.ng, d0) < 0 ? sp.ng : -sp.ng;
