@@ -2,8 +2,9 @@
 # Speed against an earlier revision, both measured in this run (issue 10). Builds REV's
 # wavemmlt and wavemmlt_bench in build-bench-old/ (as bench/mmlt_chains.sh does), then:
 #   1. MMLT mutations per CPU-second (the process's user + system time, GNU time) on the seed
-#      room and Bitterli's Cornell box, 65536 chains, the two binaries interleaved REPS times;
-#      prints each run, the medians and new / old;
+#      room (SPP mutations per pixel) and Bitterli's Cornell box (4 SPP: its renders are short),
+#      65536 chains, the two binaries interleaved REPS times; prints each run, the medians and
+#      new / old;
 #   2. wavemmlt_bench of both (PT, BPT and MMLT as fractions of Embree's incoherent-ray
 #      ceiling, thread scaling, bytes per chain), one after the other, the ratio lines only.
 # Reads the scenes from ../shared/scenes/ beside the checkout and says so when they are missing.
@@ -41,8 +42,9 @@ trap 'rm -rf "$out"' EXIT
 
 # Mutations per CPU-second of one MMLT render: wavemmlt ARGS...
 rate() {
-  local b=$1 scene=$2 seed=$3
-  /usr/bin/time -f '%U %S' -o "$out/cpu" "$b" "$scene" --tracer mmlt --chains 65536 --spp "$spp" --seed "$seed" \
+  local b=$1 scene=$2 seed=$3 n=$spp
+  case $scene in *cornell*) n=$((4 * spp)) ;; esac
+  /usr/bin/time -f '%U %S' -o "$out/cpu" "$b" "$scene" --tracer mmlt --chains 65536 --spp "$n" --seed "$seed" \
     --quiet --stats "$out/s.json" -o "$out/o.pfm" >/dev/null
   local m
   m=$(grep -o '"mmlt_mutations": [0-9]*' "$out/s.json" | grep -o '[0-9]*$')
@@ -50,7 +52,7 @@ rate() {
 }
 median() { sort -n | awk '{ a[NR] = $1 } END { print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
 
-[ "$mmlt" = 1 ] && echo "MMLT mutations per CPU-second, 65536 chains, $spp mutations per pixel; old = $old, new = $(git rev-parse --short HEAD)" &&
+[ "$mmlt" = 1 ] && echo "MMLT mutations per CPU-second, 65536 chains, $spp (Cornell box: $((4 * spp))) mutations per pixel; old = $old, new = $(git rev-parse --short HEAD)" &&
   printf '%-28s %12s %12s %8s\n' scene "old" "new" "new/old"
 for scene in "${scenes[@]}"; do
   [ "$mmlt" = 1 ] || break

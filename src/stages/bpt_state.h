@@ -5,7 +5,7 @@
 //   slots     - one per sample: pixel, random key, the camera-side radiance L (t >= 2);
 //   vertices  - per slot, fixed-capacity arrays of the camera subpath's vertices z_0 ..
 //               (capacity MaxPathLength + 1) and the light subpath's vertices y_0 ..
-//               (capacity MaxPathLength), plain data at index slot * capacity + i;
+//               (capacity MaxPathLength), plain data at index first[slot] + i;
 //   paths     - per live subpath: its throughput and direction density;
 //   conns     - connection shadow rays (s = 1, t = 1, s, t >= 2) and their contributions;
 //   splats    - t = 1 contributions, in stage order (film.h).
@@ -29,7 +29,7 @@ namespace wmlt {
 enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
 
 // The vertices of one kind of subpath for every slot of a batch, at index
-// slot * capacity + i: position, geometric normal (lights: emitting side), shading frame
+// first[slot] + i (slot * capacity, or packed): position, geometric normal (lights: emitting side), shading frame
 // (n = shading normal), material, throughput up to and including the vertex, area density
 // from the subpath's own walk (pdfFwd) and if the other side's walk produced it (pdfRev),
 // scattering by a delta lobe (mirror, glass), kind, and for a Light its index into
@@ -42,16 +42,29 @@ struct BptVertices {
     int capacity = 0;
     std::vector<uint8_t> count;      // per slot: vertices stored
     std::vector<uint8_t> maxCount;   // per slot: the walk stops at this many vertices (<= capacity)
+    std::vector<uint32_t> first;     // per slot: the index of its vertex 0
     WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
 
     void reserve(size_t slots, int cap) {
         capacity = cap;
         count.assign(slots, 0);
         maxCount.assign(slots, uint8_t(cap));
+        first.resize(slots);
+        for (size_t i = 0; i < slots; ++i) first[i] = uint32_t(i * size_t(cap));
         resizeVertices(slots * size_t(cap));
     }
     void resizeVertices(size_t n) { WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_RESIZE) }
-    size_t at(uint32_t slot, int i) const { return size_t(slot) * size_t(capacity) + size_t(i); }
+    // Slots whose walks stop early (MMLT's: maxCount is known before the walk) get only
+    // their vertices, one after the other (at least one each), so that a batch's vertices
+    // stay in cache instead of capacity apart.
+    void pack(size_t slots) {
+        uint32_t at = 0;
+        for (size_t i = 0; i < slots; ++i) {
+            first[i] = at;
+            at += maxCount[i] > 0 ? maxCount[i] : 1;
+        }
+    }
+    size_t at(uint32_t slot, int i) const { return size_t(first[slot]) + size_t(i); }
 };
 
 // Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),

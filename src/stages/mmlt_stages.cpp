@@ -48,6 +48,12 @@ uint32_t slotsOf(const MmltBatch& mb) {
     return mb.slices.empty() ? 0 : mb.slices.back().slot0 + mb.slices.back().n;
 }
 
+// Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
+void packVertices(BptBatch& b) {
+    b.cam.pack(b.numSlots);
+    b.light.pack(b.numSlots);
+}
+
 // Packs the slots' rows of u one after the other, each its length's size (mmlt_state.h).
 void packRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
     uint32_t at = 0;
@@ -83,6 +89,7 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
         setStrategy(mb, i, k, row[0]);
     }
     mb.bpt.numSlots = n;
+    packVertices(mb.bpt);
 }
 
 void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
@@ -98,6 +105,7 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
         }
     }
     mb.bpt.numSlots = slotsOf(mb);
+    packVertices(mb.bpt);
 }
 
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
@@ -133,6 +141,7 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
         });
     }
     mb.bpt.numSlots = slotsOf(mb);
+    packVertices(mb.bpt);
 }
 
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters) {
