@@ -179,11 +179,12 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;
-        v.bsdf[cur] = materialAt<F>(scene, sp, -rayDir(rh));
-        v.delta[cur] = isDeltaMaterial(v.bsdf[cur].kind) ? 1 : 0;
+        const BsdfParams bsdf = materialAt<F>(scene, sp, -rayDir(rh));
+        v.bsdf[cur] = bsdf;
+        v.delta[cur] = isDeltaMaterial(bsdf.kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
         b.hitPath[h] = uint32_t(i);
-        b.hitBsdf[h] = v.bsdf[cur];
+        b.hitKind[h] = bsdf.kind;
         ++h;
     }
     b.numHits = h;
@@ -248,7 +249,7 @@ void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, b
         intersect(scene, b, coherentFirst && first, counters);
         resolveBptHits(scene, b, v, cameraWalk);
         if (b.numHits == 0) break;
-        groupByMaterial(b, b.hitBsdf.data());
+        groupByMaterial(b, b.hitKind.data());
         sampleBptBsdfs(scene, b, v, cameraWalk, u);
         advanceBptPaths(scene, b, v);
     }

@@ -70,10 +70,10 @@ struct BptVertices {
 // Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),
 // the light subpath's initial throughput scale (roulette); per live path (compacted with
 // the wave): the throughput carried to the next vertex and the solid-angle density of the
-// sampled direction; per hit: a copy of its material for the kind sort.
+// sampled direction; per hit: its material's kind, for the kind sort.
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale)                     \
-    X(Vec3, pathBeta) X(float, pathPdf) X(BsdfParams, hitBsdf)
+    X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
 // MMLT only (reserve's `strategies`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
 // Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the

@@ -92,17 +92,17 @@ template <> struct BsdfOf<MaterialKind::RoughPlastic> {
     }
 };
 
-// A stable counting sort of n hits by material kind: kind k's hits are
-// order[kindStart[k] .. kindStart[k + 1]), in their original order.
-inline void groupByMaterialKind(const BsdfParams* bsdf, size_t n, uint32_t* order,
-                                uint32_t kindStart[kMaterialKinds + 1]) {
+// A stable counting sort of n hits by material kind (kindOf(h): hit h's kind): kind k's
+// hits are order[kindStart[k] .. kindStart[k + 1]), in their original order.
+template <class KindOf>
+inline void groupByMaterialKind(KindOf&& kindOf, size_t n, uint32_t* order, uint32_t kindStart[kMaterialKinds + 1]) {
     uint32_t count[kMaterialKinds] = {};
-    for (size_t h = 0; h < n; ++h) ++count[int(bsdf[h].kind)];
+    for (size_t h = 0; h < n; ++h) ++count[int(kindOf(h))];
     kindStart[0] = 0;
     for (int k = 0; k < kMaterialKinds; ++k) kindStart[k + 1] = kindStart[k] + count[k];
     uint32_t next[kMaterialKinds];
     for (int k = 0; k < kMaterialKinds; ++k) next[k] = kindStart[k];
-    for (size_t h = 0; h < n; ++h) order[next[int(bsdf[h].kind)]++] = uint32_t(h);
+    for (size_t h = 0; h < n; ++h) order[next[int(kindOf(h))]++] = uint32_t(h);
 }
 
 // Calls fn(std::integral_constant<MaterialKind, K>{}) for each kind (a kind with no hits

@@ -108,9 +108,13 @@ inline void intersect(const Scene& scene, PathWave& w, bool coherent, RayCounter
     c.raysIntersect += w.numPaths;
 }
 
-// Sorts the hits by material kind (hitBsdf[h]: hit h's material), stably.
+// Sorts the hits by material kind, stably: hit h's kind is hitBsdf[h].kind (PT, LT) or
+// hitKind[h] (BPT, which keeps the materials in its vertices).
 inline void groupByMaterial(PathWave& w, const BsdfParams* hitBsdf) {
-    groupByMaterialKind(hitBsdf, w.numHits, w.order.data(), w.kindStart);
+    groupByMaterialKind([&](size_t h) { return hitBsdf[h].kind; }, w.numHits, w.order.data(), w.kindStart);
+}
+inline void groupByMaterial(PathWave& w, const MaterialKind* hitKind) {
+    groupByMaterialKind([&](size_t h) { return hitKind[h]; }, w.numHits, w.order.data(), w.kindStart);
 }
 
 // Calls f(kind, h) for every hit, kind by kind (kind: std::integral_constant, so that
