@@ -30,15 +30,9 @@ cache=build/bench-cache  # shared with wavemmlt_bench_error's default
 mkdir -p "$out" "$cache"
 new=build/wavemmlt_bench_error
 [ -x "$new" ] || scripts/setup.sh
-oldDir=build-bench-old
-if [ ! -x "$oldDir/build/wavemmlt_bench_error" ] || [ "$(cat "$oldDir/rev" 2>/dev/null)" != "$old" ]; then
-  rm -rf "$oldDir" && git worktree prune
-  git worktree add --detach "$oldDir/src" "$old" >/dev/null
-  cmake -S "$oldDir/src" -B "$oldDir/build" -DCMAKE_BUILD_TYPE=Release -DWAVEMMLT_TESTS=OFF >/dev/null
-  cmake --build "$oldDir/build" -j"$(nproc)" --target wavemmlt_bench_error >/dev/null
-  echo "$old" > "$oldDir/rev"
-fi
-oldBin=$oldDir/build/wavemmlt_bench_error
+. bench/old_build.sh
+buildOld "$old" wavemmlt_bench_error
+oldBin=$oldBuild/wavemmlt_bench_error
 IFS=, read -r -a budgetList <<< "$budgets"
 IFS=, read -r -a chainList <<< "$chains"
 for s in "${scenes[@]}"; do

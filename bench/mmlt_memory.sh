@@ -23,15 +23,9 @@ bin=build/wavemmlt
 [ -x "$bin" ] || scripts/setup.sh
 oldBin=""
 if [ -n "$old" ]; then
-  oldDir=build-bench-old
-  if [ ! -x "$oldDir/build/wavemmlt" ] || [ "$(cat "$oldDir/rev" 2>/dev/null)" != "$old" ]; then
-    rm -rf "$oldDir" && git worktree prune
-    git worktree add --detach "$oldDir/src" "$old" >/dev/null
-    cmake -S "$oldDir/src" -B "$oldDir/build" -DCMAKE_BUILD_TYPE=Release -DWAVEMMLT_TESTS=OFF >/dev/null
-    echo "$old" > "$oldDir/rev"
-  fi
-  cmake --build "$oldDir/build" -j"$(nproc)" --target wavemmlt >/dev/null
-  oldBin=$oldDir/build/wavemmlt
+  . bench/old_build.sh
+  buildOld "$old" wavemmlt
+  oldBin=$oldBuild/wavemmlt
 fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

@@ -29,14 +29,8 @@ for s in seed-room/seed-room.xml bitterli-cornell/bitterli-cornell-256.xml; do
 done
 [ ${#scenes[@]} -gt 0 ] || { echo "speed.sh: no scene found: nothing to measure" >&2; exit 0; }
 cmake --build build -j"$(nproc)" --target wavemmlt wavemmlt_bench >/dev/null
-oldDir=build-bench-old
-if [ ! -x "$oldDir/build/wavemmlt" ] || [ "$(cat "$oldDir/rev" 2>/dev/null)" != "$old" ]; then
-  rm -rf "$oldDir" && git worktree prune
-  git worktree add --detach "$oldDir/src" "$old" >/dev/null
-  cmake -S "$oldDir/src" -B "$oldDir/build" -DCMAKE_BUILD_TYPE=Release -DWAVEMMLT_TESTS=OFF >/dev/null
-  echo "$old" > "$oldDir/rev"
-fi
-cmake --build "$oldDir/build" -j"$(nproc)" --target wavemmlt wavemmlt_bench >/dev/null
+. bench/old_build.sh
+buildOld "$old" wavemmlt wavemmlt_bench
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
@@ -58,7 +52,7 @@ for scene in "${scenes[@]}"; do
   [ "$mmlt" = 1 ] || break
   : > "$out/old" && : > "$out/new"
   for r in $(seq 1 "$reps"); do
-    rate "$oldDir/build/wavemmlt" "$scene" "$r" >> "$out/old"
+    rate "$oldBuild/wavemmlt" "$scene" "$r" >> "$out/old"
     rate build/wavemmlt "$scene" "$r" >> "$out/new"
   done
   echo "  runs old: $(tr '\n' ' ' < "$out/old")" >&2
@@ -73,7 +67,7 @@ if [ "$ceiling" = 1 ]; then
   for s in bunny/bunny.xml dragon/dragon-full.xml bitterli-cornell/bitterli-cornell-256.xml; do
     [ -f "$shared/$s" ] && benchScenes+=("$(realpath "$shared/$s")") || echo "speed.sh: $shared/$s is missing: left out" >&2
   done
-  for b in "$oldDir/build/wavemmlt_bench" build/wavemmlt_bench; do
+  for b in "$oldBuild/wavemmlt_bench" build/wavemmlt_bench; do
     echo
     echo "$b:"
     "$b" "${benchScenes[@]}" 2>&1 | grep -E '^/|^2 |scaling|^bpt|^mmlt' || true

@@ -44,8 +44,7 @@ constexpr CameraDims kBptCameraDims{bptDim(kBptCamera, 0), bptDim(kBptCamera, 1)
                                     bptDim(kBptCamera, 3)};
 
 void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int n, uint64_t seed) {
-    size_t count = 0;
-    forEachCameraRay(
+    b.numSlots = forEachCameraRay(
         scene, t, n, seed, kBptCameraDims, [&](uint32_t pixel, uint32_t s) { return bptSampleKey(seed, pixel, s); },
         [&](size_t i, uint32_t pixel, uint64_t key, Vec3 o, Vec3 d) {
             b.pixel[i] = pixel;
@@ -53,14 +52,11 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int 
             b.cam.maxCount[i] = uint8_t(b.cam.capacity);
             b.light.maxCount[i] = uint8_t(b.light.capacity);
             startCameraPath(scene, b, i, o, d);
-            b.pathSlot[i] = uint32_t(i);
-            setRayHit(b.ray[i], o, d);
+            startPath(b, i, o, d);
             b.pathPdf[i] = cameraPdfDir(scene.camera, o, d);
             b.pathBeta[i] = Vec3(1.0f);
-            count = i + 1;
         });
-    b.numSlots = count;
-    b.numPaths = count;
+    b.numPaths = b.numSlots;
 }
 
 void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSamples& u) {

@@ -34,16 +34,13 @@ uint64_t ltSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
 constexpr CameraDims kLtEnvCameraDims{7, 8, 9, 10};
 
 void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n, uint64_t seed) {
-    size_t count = 0;
-    forEachCameraRay(
+    b.numConn = forEachCameraRay(
         scene, t, n, seed, kLtEnvCameraDims, [&](uint32_t pixel, uint32_t s) { return ltSampleKey(seed, pixel, s); },
         [&](size_t i, uint32_t pixel, uint64_t, Vec3 o, Vec3 d) {
             setRay(b.conn[i], o, d, 0.0f, INFINITY);
             b.connPixel[i] = pixel;
             b.connValue[i] = scene.env.Le(d);
-            count = i + 1;
         });
-    b.numConn = count;
 }
 
 void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t seed, bool connectLength1) {
@@ -141,26 +138,20 @@ void connectToCamera(const Scene& scene, LtBatch& b, int d) {
 }
 
 void sampleLightBsdfs(const Scene& scene, LtBatch& b, int d) {
-    forEachHitByKind(b, [&](auto kind, uint32_t h) {
-        using B = BsdfOf<decltype(kind)::value>;
-        const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
-        const uint64_t key = b.key[slot];
-        b.alive[h] = 0;
-        BsdfSample s;
-        if (!sampleHitBsdf<B>(b, h, sampleDimension(key, ltVertexDim(d, 2)), sampleDimension(key, ltVertexDim(d, 3)),
-                              sampleDimension(key, ltVertexDim(d, 4)), TransportMode::Importance, s))
-            return;
-        const Frame& fr = b.shading[h];
-        Vec3 wi = normalize(fr.toWorld(s.wi));
-        float corr = shadingCorrection(b.wo[h], wi, fr.n, b.ng[h]);
-        Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
-        // Roulette relative to the initial throughput (sampling.h).
-        if (d >= kRouletteDepth && !survivesRoulette(beta, b.betaScale[slot], sampleDimension(key, ltVertexDim(d, 5))))
-            return;
-        b.alive[h] = 1;
-        b.nextDir[h] = wi;
-        b.nextBeta[h] = beta;
-    });
+    scatterHits(b, TransportMode::Importance, [&](uint32_t m) { return ltVertexDim(d, 2 + m); },
+                [&](uint32_t h, uint32_t path, uint32_t slot, uint64_t key, const BsdfSample& s) {
+                    const Frame& fr = b.shading[h];
+                    Vec3 wi = normalize(fr.toWorld(s.wi));
+                    float corr = shadingCorrection(b.wo[h], wi, fr.n, b.ng[h]);
+                    Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
+                    // Roulette relative to the initial throughput (sampling.h).
+                    if (d >= kRouletteDepth &&
+                        !survivesRoulette(beta, b.betaScale[slot], sampleDimension(key, ltVertexDim(d, 5))))
+                        return;
+                    b.alive[h] = 1;
+                    b.nextDir[h] = wi;
+                    b.nextBeta[h] = beta;
+                });
 }
 
 void advanceLightPaths(const Scene& scene, LtBatch& b) {

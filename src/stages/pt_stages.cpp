@@ -26,21 +26,17 @@ inline bool inRange(int length, int minLength, int maxLength) {
 
 void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, uint64_t seed) {
     const CameraDims dims{0, 1, 2, 3};
-    size_t count = 0;
-    forEachCameraRay(
+    b.numPaths = forEachCameraRay(
         scene, t, n, seed, dims, [&](uint32_t pixel, uint32_t s) { return sampleKey(seed, pixel, s); },
         [&](size_t i, uint32_t pixel, uint64_t key, Vec3 o, Vec3 d) {
             b.pixel[i] = pixel;
             b.key[i] = key;
             b.L[i] = Vec3(0.0f);
-            b.pathSlot[i] = uint32_t(i);
-            setRayHit(b.ray[i], o, d);
+            startPath(b, i, o, d);
             b.beta[i] = Vec3(1.0f);
             b.prevPdf[i] = 0;
             b.prevDelta[i] = 1;  // the camera vertex: what it sees directly has weight 1
-            count = i + 1;
         });
-    b.numPaths = count;
 }
 
 namespace {
@@ -131,24 +127,18 @@ void traceShadows(const Scene& scene, PtBatch& b, int length, RayCounters& c) {
 }
 
 void sampleBsdfs(const Scene& scene, PtBatch& b, int depth) {
-    forEachHitByKind(b, [&](auto kind, uint32_t h) {
-        using B = BsdfOf<decltype(kind)::value>;
-        const uint32_t path = b.hitPath[h];
-        const uint64_t key = b.key[b.pathSlot[path]];
-        b.alive[h] = 0;
-        BsdfSample s;
-        if (!sampleHitBsdf<B>(b, h, sampleDimension(key, bounceDim(depth, 3)), sampleDimension(key, bounceDim(depth, 4)),
-                              sampleDimension(key, bounceDim(depth, 5)), TransportMode::Radiance, s))
-            return;
-        const Frame& fr = b.shading[h];
-        Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) / s.pdf);
-        if (depth >= kRouletteDepth && !survivesRoulette(beta, 1.0f, sampleDimension(key, bounceDim(depth, 6)))) return;
-        b.alive[h] = 1;
-        b.nextDir[h] = normalize(fr.toWorld(s.wi));
-        b.nextBeta[h] = beta;
-        b.nextPdf[h] = s.pdf;
-        b.nextDelta[h] = s.delta ? 1 : 0;
-    });
+    scatterHits(b, TransportMode::Radiance, [&](uint32_t m) { return bounceDim(depth, 3 + m); },
+                [&](uint32_t h, uint32_t path, uint32_t, uint64_t key, const BsdfSample& s) {
+                    Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) / s.pdf);
+                    if (depth >= kRouletteDepth &&
+                        !survivesRoulette(beta, 1.0f, sampleDimension(key, bounceDim(depth, 6))))
+                        return;
+                    b.alive[h] = 1;
+                    b.nextDir[h] = normalize(b.shading[h].toWorld(s.wi));
+                    b.nextBeta[h] = beta;
+                    b.nextPdf[h] = s.pdf;
+                    b.nextDelta[h] = s.delta ? 1 : 0;
+                });
 }
 
 void advancePaths(const Scene& scene, PtBatch& b) {

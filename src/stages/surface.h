@@ -151,12 +151,4 @@ inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const Su
     b.bsdf[h] = materialAt<F>(scene, sp, wo);
 }
 
-// Samples the BSDF B of hit h (recordHit's arrays) with numbers ul (lobe), u1, u2: s in
-// the hit's shading frame; false when there is no usable sample (pdf 0 or f black).
-template <class B, class Batch>
-inline bool sampleHitBsdf(const Batch& b, uint32_t h, float ul, float u1, float u2, TransportMode mode, BsdfSample& s) {
-    const Vec3 wo = b.shading[h].toLocal(b.wo[h]);
-    return B::sample(b.bsdf[h], wo, ul, u1, u2, mode, s) && s.pdf > 0 && !isBlack(s.f);
-}
-
 }  // namespace wmlt

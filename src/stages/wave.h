@@ -7,6 +7,7 @@
 //   intersect          - closest hits for the live paths (Embree, trace.h);
 //   groupByMaterial    - the hits sorted by material kind (one kernel per kind follows);
 //   forEachHitByKind   - the hits of each kind, with the kind as a compile-time constant;
+//   scatterHits        - BSDF sampling at every hit (PT, LT: the surface kept per hit);
 //   compact            - the surviving paths moved to the front with their next rays.
 // Each tracer's batch is a PathWave plus its own arrays; PT, LT and BPT differ in what a
 // hit records and what a path carries, not in how a round is driven.
@@ -65,15 +66,17 @@ struct PathWave {
 #define WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, p) X(Vec3, ng) X(Vec3, wo) X(Frame, shading) X(BsdfParams, bsdf)
 
 // Calls f(i, x, y, pixel, s) for the tile's samples in order: rows, pixels, then samples
-// (i counts from 0). The order is what makes a batch's sums the same for any threads.
+// (i counts from 0); returns their number. The order is what makes a batch's sums the same
+// for any threads.
 template <class F>
-inline void forEachTileSample(const Tile& t, int width, F&& f) {
+inline size_t forEachTileSample(const Tile& t, int width, F&& f) {
     size_t i = 0;
     for (int y = t.y0; y < t.y1; ++y)
         for (int x = t.x0; x < t.x1; ++x) {
             const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
             for (uint32_t s = t.sample0; s < t.sample1; ++s, ++i) f(i, x, y, pixel, s);
         }
+    return i;
 }
 
 // The dimensions of a sample's key that its camera ray reads: the jitter within its
@@ -85,12 +88,13 @@ struct CameraDims {
 // Calls emit(i, pixel, key, o, d) for the tile's samples in order (forEachTileSample),
 // each with its key (keyOf(pixel, s)) and camera ray: raster point in stratum s of the
 // pixel's n x n grid (camera.h, stratifiedRasterPoint), then the lens (pbrt-v4 5.2.3).
+// Returns the number of samples.
 template <class KeyOf, class Emit>
-inline void forEachCameraRay(const Scene& scene, const Tile& t, int n, uint64_t seed, const CameraDims& dims,
-                             KeyOf&& keyOf, Emit&& emit) {
+inline size_t forEachCameraRay(const Scene& scene, const Tile& t, int n, uint64_t seed, const CameraDims& dims,
+                               KeyOf&& keyOf, Emit&& emit) {
     const Camera& cam = scene.camera;
     const bool lens = cam.thinLens;
-    forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t s) {
+    return forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t s) {
         const uint64_t key = keyOf(pixel, s);
         float px, py;
         stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), sampleDimension(key, dims.jitterX),
@@ -100,6 +104,12 @@ inline void forEachCameraRay(const Scene& scene, const Tile& t, int n, uint64_t 
                           lens ? sampleDimension(key, dims.lensV) : 0.5f, o, d);
         emit(i, pixel, key, o, d);
     });
+}
+
+// Path i of a new wave belongs to slot i and starts with the ray from o along d.
+inline void startPath(PathWave& w, size_t i, Vec3 o, Vec3 d) {
+    w.pathSlot[i] = uint32_t(i);
+    setRayHit(w.ray[i], o, d);
 }
 
 // Closest hits of the live paths. `coherent`: camera rays in tile order (trace.h).
@@ -123,6 +133,27 @@ template <class F>
 inline void forEachHitByKind(const PathWave& w, F&& f) {
     forEachMaterialKind([&](auto kind) {
         for (uint32_t k = w.kindStart[int(kind.value)]; k < w.kindStart[int(kind.value) + 1]; ++k) f(kind, w.order[k]);
+    });
+}
+
+// The scatter stage of the tracers that keep the surface per hit (PT, LT): samples each
+// hit's BSDF, kind by kind, with the numbers dimOf(m) of its slot's key (m = 0: lobe, 1-2:
+// direction) and calls f(h, path, slot, key, s) for a usable sample (pdf > 0, f not black;
+// s in the hit's shading frame). alive[h] stays 0 unless f sets it.
+template <class Batch, class DimOf, class F>
+inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f) {
+    forEachHitByKind(b, [&](auto kind, uint32_t h) {
+        using B = BsdfOf<decltype(kind)::value>;
+        const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
+        const uint64_t key = b.key[slot];
+        b.alive[h] = 0;
+        const Vec3 wo = b.shading[h].toLocal(b.wo[h]);
+        BsdfSample s;
+        if (!B::sample(b.bsdf[h], wo, sampleDimension(key, dimOf(0)), sampleDimension(key, dimOf(1)),
+                       sampleDimension(key, dimOf(2)), mode, s) ||
+            !(s.pdf > 0) || isBlack(s.f))
+            return;
+        f(h, path, slot, key, s);
     });
 }
 
