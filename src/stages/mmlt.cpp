@@ -85,10 +85,14 @@ void MmltRender::runRounds(uint64_t passEnd) {
     while (iteration_ < passEnd) {
         // The round's iterations r (rank 0 decides; 0: the time is spent).
         uint32_t r = uint32_t(std::min<uint64_t>(perRound, passEnd - iteration_));
-        if (timed()) {  // a time budget: the last rounds shrink so as to end on time
+        if (timed()) {
+            // A time budget: the last rounds shrink so as to end on time, each taking about
+            // half the time left, so that a machine that slows down during one (another
+            // process starts) overshoots by a part of that round, not by all of the time left.
             const double left = opt_.timeBudget - elapsed();
             r = left <= 0.5 * perIteration_ && iteration_ > 0 ? 0
-                : perIteration_ > 0 ? uint32_t(std::clamp(std::floor(left / perIteration_ + 0.5), 1.0, double(r))) : 1;
+                : perIteration_ > 0 ? uint32_t(std::clamp(std::floor(0.5 * left / perIteration_ + 0.5), 1.0, double(r)))
+                                    : 1;
         }
         const Agreement a = agreeAtBoundary(r);
         r = uint32_t(a.value);
