@@ -13,7 +13,7 @@
 #include "kernels/rng.h"
 #include "scene/scene.h"
 #include "stages/mmlt_state.h"
-#include "stages/pt_stages.h"  // RayCounters
+#include "stages/wave.h"  // RayCounters
 
 namespace wmlt {
 

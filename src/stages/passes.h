@@ -10,7 +10,7 @@
 #include <functional>
 #include <vector>
 
-#include "stages/pt_stages.h"
+#include "stages/wave.h"  // Tile, RayCounters
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 

@@ -7,7 +7,7 @@
 #include <functional>
 
 #include "stages/distributed.h"
-#include "stages/pt_stages.h"
+#include "stages/wave.h"  // Tile, RayCounters
 #include "wavemmlt/render.h"
 
 namespace wmlt {
