@@ -35,13 +35,10 @@ void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
             fillPoolRows(mb, t.k, pass_, t.i0, t.n, opt_.seed);
             evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
             for (uint32_t i = 0; i < t.n; ++i) {
-                const Vec3 F = contributionOf(mb, i);
-                const float c = targetOf(F);
-                if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
-                out[ti].sumWC += double(c);
-                if (c > 0) out[ti].lit.push_back({mb.bpt.key[i], c, 1.0f, F, mb.bpt.pixel[i]});
+                Vec3 F;
+                const float c = evaluatedTarget(mb, i, F);
+                out[ti].addSample(mb.bpt.key[i], c, F, mb.bpt.pixel[i]);
             }
-            out[ti].count = t.n;
             nonfinite[ti] = mb.counters.nonfinite;
         });
         exchangePools(out, t0, t1 - t0);

@@ -32,8 +32,6 @@ constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB
 
 using Clock = std::chrono::steady_clock;
 
-inline uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0 : b.back().slot0 + b.back().n; }
-
 // One pool-tracing task: samples [i0, i0 + n) of length k.
 struct PoolTask {
     int k;

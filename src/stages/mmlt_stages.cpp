@@ -44,10 +44,6 @@ void forEachUsedCoordinate(const ChainGroup& g, const MmltBatch& mb, const Batch
     }
 }
 
-uint32_t slotsOf(const MmltBatch& mb) {
-    return mb.slices.empty() ? 0 : mb.slices.back().slot0 + mb.slices.back().n;
-}
-
 // Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
 void packVertices(BptBatch& b) {
     b.cam.pack(b.numSlots);
@@ -104,7 +100,7 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
             setStrategy(mb, i, g.k, row[0]);
         }
     }
-    mb.bpt.numSlots = slotsOf(mb);
+    mb.bpt.numSlots = slotsIn(mb.slices);
     packVertices(mb.bpt);
 }
 
@@ -140,7 +136,7 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
             mb.u[mb.row[i] + d] = propose(i, sl.c0 + j, d);
         });
     }
-    mb.bpt.numSlots = slotsOf(mb);
+    mb.bpt.numSlots = slotsIn(mb.slices);
     packVertices(mb.bpt);
 }
 
@@ -163,9 +159,8 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
         SamplePool& pool = mb.pools[size_t(g.k)];
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = mb.chain[i];
-            const Vec3 F = contributionOf(mb, i);
-            const float cP = targetOf(F);
-            if (cP == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
+            Vec3 F;
+            const float cP = evaluatedTarget(mb, i, F);
             const float a = acceptance(cP, g.c[c]);
             const uint32_t pixel = mb.bpt.pixel[i];
             if (a > 0) {
@@ -178,11 +173,7 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             }
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
-            if (kind) {  // an independent uniform sample of u: joins the pool
-                pool.sumWC += double(cP);
-                ++pool.count;
-                if (cP > 0) pool.lit.push_back({mb.bpt.key[i], cP, 1.0f, F, pixel});
-            }
+            if (kind) pool.addSample(mb.bpt.key[i], cP, F, pixel);  // an independent uniform sample of u
             mb.accept[i] = sampleDimension(mb.bpt.key[i], kDimAccept) < a ? 1 : 0;
             if (!mb.accept[i]) continue;
             ++mb.counters.accepted[kind][k];
@@ -195,7 +186,7 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             g.c[c] = cP;
             g.pixel[c] = pixel;
         }
-        // Commit the accepted proposals' coordinates, coordinate by coordinate (contiguous).
+        // Commit the accepted proposals' coordinates, chain by chain (contiguous).
         forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t, uint32_t d) {
             if (!mb.accept[i]) return;
             const uint32_t c = mb.chain[i];

@@ -41,9 +41,15 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
 // bpt.pixel = where it lands.
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
 // The contribution F = (k + 1) L of slot i and its target c = luminance(F), 0 when it is
-// not finite (counted in mb.counters.nonfinite by acceptAndSplat).
+// not finite (evaluatedTarget counts those in mb.counters.nonfinite).
 inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }
 float targetOf(const Vec3& F);
+inline float evaluatedTarget(MmltBatch& mb, size_t i, Vec3& F) {
+    F = contributionOf(mb, i);
+    const float c = targetOf(F);
+    if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
+    return c;
+}
 // Accepts or rejects each slot's proposal (a = min(1, c'/c)), splats a F'/c' at the
 // proposal's pixel and (1 - a) F/c at the current one's, both times the group's weight, to
 // mb.splats, and commits accepted proposals. Large-step proposals join mb.pools.

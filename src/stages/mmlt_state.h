@@ -3,7 +3,7 @@
 //
 // A chain of length k carries a primary sample vector u of StrategyLayout::size(k)
 // coordinates (bpt_state.h: u[0] picks the strategy, then the camera, light and connection
-// blocks). Coordinate i of all chains of a length is one contiguous array. Each coordinate
+// blocks). A chain's coordinates are side by side (ChainGroup::at). Each coordinate
 // stores its value and the accepted proposal that last wrote it (kernels/mutation.h: the
 // lazy small step). A proposal never writes the chain: the batch holds it, and only an
 // accepted proposal is committed, so a rejection restores every coordinate by doing nothing.
@@ -40,6 +40,12 @@ struct SamplePool {
     double sumWC = 0;      // sum over lit of w c
     uint64_t count = 0;    // samples drawn
     double mean() const { return count ? sumWC / double(count) : 0.0; }
+    // One more independent sample (its key, target c, contribution F and pixel).
+    void addSample(uint64_t key, float c, Vec3 F, uint32_t pixel) {
+        sumWC += double(c);
+        ++count;
+        if (c > 0) lit.push_back({key, c, 1.0f, F, pixel});
+    }
     void add(const SamplePool& o) {
         lit.insert(lit.end(), o.lit.begin(), o.lit.end());
         sumWC += o.sumWC;
@@ -60,8 +66,7 @@ struct ChainGroup {
     uint32_t dims = 0;                // StrategyLayout::size(k)
     float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
     // Per chain and coordinate, at(chain, coordinate): a chain's coordinates side by side,
-    // so that a proposal reads one contiguous block (coordinate-major rows, count apart,
-    // missed the cache on every coordinate).
+    // so that a proposal reads one contiguous block.
     std::vector<float> value;
     std::vector<uint32_t> lastModified;
     // Per chain.
@@ -92,6 +97,9 @@ struct BatchSlice {
     int group;
     uint32_t c0, n, slot0;
 };
+
+// The slots a batch's slices fill.
+inline uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0 : b.back().slot0 + b.back().n; }
 
 // Counters of one batch, per path length (merged in batch order).
 struct MmltCounters {
