@@ -30,6 +30,15 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
     mb.used[kBptConnect][i] = uint8_t(StrategyLayout::connectUsed(s, t));
 }
 
+// Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order.
+template <class Fn>
+void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
+    for (int stream = 0; stream < 3; ++stream) {
+        const uint32_t base = StrategyLayout::base(k, BptStream(stream)), used = mb.used[stream][i];
+        for (uint32_t d = base; d < base + used; ++d) fn(d);
+    }
+}
+
 // Calls fn(i, j, d) for every coordinate d > 0 that slot i (chain sl.c0 + j) of the slice
 // reads, slot by slot, in coordinate order: a chain's coordinates are contiguous in the
 // chain state (ChainGroup::at) and in the slot's row of u.
@@ -37,10 +46,7 @@ template <class Fn>
 void forEachUsedCoordinate(const ChainGroup& g, const MmltBatch& mb, const BatchSlice& sl, Fn&& fn) {
     for (uint32_t j = 0; j < sl.n; ++j) {
         const uint32_t i = sl.slot0 + j;
-        for (int stream = 0; stream < 3; ++stream) {
-            const uint32_t base = StrategyLayout::base(g.k, BptStream(stream)), used = mb.used[stream][i];
-            for (uint32_t jj = 0; jj < used; ++jj) fn(i, j, base + jj);
-        }
+        forEachUsedOf(mb, i, g.k, [&](uint32_t d) { fn(i, j, d); });
     }
 }
 
@@ -81,8 +87,10 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
         mb.bpt.key[i] = key;
         mb.row[i] = i * dims;
         float* row = mb.rowOf(i);
-        for (uint32_t d = 0; d < dims; ++d) row[d] = poolCoordinate(key, d);
+        row[0] = poolCoordinate(key, 0);
         setStrategy(mb, i, k, row[0]);
+        // Only the numbers the strategy reads (the others keep what they held: unread).
+        forEachUsedOf(mb, i, k, [&](uint32_t d) { row[d] = poolCoordinate(key, d); });
     }
     mb.bpt.numSlots = n;
     packVertices(mb.bpt);
@@ -110,31 +118,33 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
     packRows(groups, mb);
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
-        // The proposal's value of coordinate d of slot i (chain c); uFresh is drawn only
-        // when the kernel reads it (a large step, or a stale coordinate), z only for a small step.
-        auto propose = [&](uint32_t i, uint32_t c, uint32_t d) {
-            const size_t at = g.at(c, d);
-            const uint64_t key = mb.bpt.key[i];
-            const uint32_t lastModified = g.lastModified[at], lastLarge = g.lastLarge[c];
-            const bool large = mb.large[i];
-            const float uFresh = large || lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
-            const float z = large ? 0.0f : standardNormal(key, dimNormal(d));
-            return proposeCoordinate(g.value[at], lastModified, lastLarge, g.accepted[c] + 1, large, sigma, uFresh, z);
-        };
-        // Per slot: the step kind and u0, which picks the strategy and so what else is read.
+        // Slot by slot (chain c = sl.c0 + j): the step kind and u0, which picks the
+        // strategy and so which other coordinates the proposal reads; then those.
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
             const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
+            const bool large = sampleDimension(key, kDimLarge) < probLarge;
             mb.bpt.key[i] = key;
             mb.chain[i] = c;
-            mb.large[i] = sampleDimension(key, kDimLarge) < probLarge ? 1 : 0;
+            mb.large[i] = large ? 1 : 0;
+            const float* value = &g.value[g.at(c, 0)];
+            const uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
+            const uint32_t lastLarge = g.lastLarge[c], n = g.accepted[c] + 1;
+            // Coordinate d's small step (a large step: poolCoordinate(key, d)); uFresh is
+            // drawn only when the kernel reads it (a stale coordinate).
+            auto smallStep = [&](uint32_t d) {
+                const float uFresh = lastModified[d] < lastLarge ? poolCoordinate(key, d) : 0.0f;
+                return proposeCoordinate(value[d], lastModified[d], lastLarge, n, false, sigma, uFresh,
+                                         standardNormal(key, dimNormal(d)));
+            };
             float* row = mb.rowOf(i);
-            row[0] = propose(i, c, 0);
+            row[0] = large ? poolCoordinate(key, 0) : smallStep(0);
             setStrategy(mb, i, g.k, row[0]);
+            if (large)
+                forEachUsedOf(mb, i, g.k, [&](uint32_t d) { row[d] = poolCoordinate(key, d); });
+            else
+                forEachUsedOf(mb, i, g.k, [&](uint32_t d) { row[d] = smallStep(d); });
         }
-        forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t j, uint32_t d) {
-            mb.u[mb.row[i] + d] = propose(i, sl.c0 + j, d);
-        });
     }
     mb.bpt.numSlots = slotsIn(mb.slices);
     packVertices(mb.bpt);
