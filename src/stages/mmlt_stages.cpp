@@ -39,17 +39,6 @@ void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
     }
 }
 
-// Calls fn(i, j, d) for every coordinate d > 0 that slot i (chain sl.c0 + j) of the slice
-// reads, slot by slot, in coordinate order: a chain's coordinates are contiguous in the
-// chain state (ChainGroup::at) and in the slot's row of u.
-template <class Fn>
-void forEachUsedCoordinate(const ChainGroup& g, const MmltBatch& mb, const BatchSlice& sl, Fn&& fn) {
-    for (uint32_t j = 0; j < sl.n; ++j) {
-        const uint32_t i = sl.slot0 + j;
-        forEachUsedOf(mb, i, g.k, [&](uint32_t d) { fn(i, j, d); });
-    }
-}
-
 // Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
 void packVertices(BptBatch& b) {
     b.cam.pack(b.numSlots);
@@ -184,26 +173,25 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
             if (kind) pool.addSample(mb.bpt.key[i], cP, F, pixel);  // an independent uniform sample of u
-            mb.accept[i] = sampleDimension(mb.bpt.key[i], kDimAccept) < a ? 1 : 0;
-            if (!mb.accept[i]) continue;
+            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;  // rejected
             ++mb.counters.accepted[kind][k];
+            // Commit: the coordinates the proposal read (the chain's block is contiguous).
             const uint32_t next = g.accepted[c] + 1;
-            g.value[g.at(c, 0)] = mb.u[mb.row[i]];  // coordinate 0
-            g.lastModified[g.at(c, 0)] = next;
+            const float* row = mb.rowOf(i);
+            float* value = &g.value[g.at(c, 0)];
+            uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
+            value[0] = row[0];
+            lastModified[0] = next;
+            forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
+                value[d] = row[d];
+                lastModified[d] = next;
+            });
             g.accepted[c] = next;
             if (kind) g.lastLarge[c] = next;
             g.F[c] = F;
             g.c[c] = cP;
             g.pixel[c] = pixel;
         }
-        // Commit the accepted proposals' coordinates, chain by chain (contiguous).
-        forEachUsedCoordinate(g, mb, sl, [&](uint32_t i, uint32_t, uint32_t d) {
-            if (!mb.accept[i]) return;
-            const uint32_t c = mb.chain[i];
-            const size_t at = g.at(c, d);
-            g.value[at] = mb.u[mb.row[i] + d];
-            g.lastModified[at] = g.accepted[c];  // already advanced to this proposal
-        });
     }
 }
 

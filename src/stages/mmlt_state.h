@@ -128,7 +128,6 @@ struct MmltBatch {
     std::vector<uint32_t> row;
     std::vector<uint32_t> chain;      // slot -> chain index within its group
     std::vector<uint8_t> large;       // the slot's proposal is a large step
-    std::vector<uint8_t> accept;      // the slot's proposal was accepted
     std::vector<uint8_t> used[3];     // numbers the proposal reads from each stream
     std::vector<BatchSlice> slices;
     std::vector<Splat> splats;        // expected-value splats of the round, in order
@@ -143,7 +142,6 @@ struct MmltBatch {
         row.resize(n);
         chain.resize(n);
         large.resize(n);
-        accept.resize(n);
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
     }
