@@ -208,7 +208,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         const Vec3 woW = -rayDir(b.ray[path]);
         Vec3 wo = fr.toLocal(woW);
         BsdfSample s;
-        if (!B::sample(v.bsdf[cur], wo, u(slot, stream, j(0)), u(slot, stream, j(1)), u(slot, stream, j(2)), mode, s))
+        if (!sampleBsdfOf<B>(v.bsdf[cur], wo, [&](uint32_t m) { return u(slot, stream, j(m)); }, mode, s))
             return;
         if (!(s.pdf > 0) || isBlack(s.f)) return;
         v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)

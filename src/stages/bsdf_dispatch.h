@@ -5,9 +5,14 @@
 
 namespace wmlt {
 
+// BsdfOf<K>::reads: which of sample's numbers the kind reads (the others are ignored, and
+// the stages do not load them: MMLT proposes only numbers that are read).
+constexpr uint8_t kReadsLobe = 1, kReadsDirection = 2;
+
 template <MaterialKind K> struct BsdfOf;
 
 template <> struct BsdfOf<MaterialKind::Matte> {
+    static constexpr uint8_t reads = kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return matteF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return mattePdf(m, wo, wi); }
@@ -16,6 +21,7 @@ template <> struct BsdfOf<MaterialKind::Matte> {
     }
 };
 template <> struct BsdfOf<MaterialKind::Glossy> {
+    static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return glossyF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return glossyPdf(m, wo, wi); }
@@ -24,6 +30,7 @@ template <> struct BsdfOf<MaterialKind::Glossy> {
     }
 };
 template <> struct BsdfOf<MaterialKind::Reflective> {
+    static constexpr uint8_t reads = 0;
     static constexpr bool delta = true;
     static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
     static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
@@ -32,6 +39,7 @@ template <> struct BsdfOf<MaterialKind::Reflective> {
     }
 };
 template <> struct BsdfOf<MaterialKind::Dielectric> {
+    static constexpr uint8_t reads = kReadsLobe;
     static constexpr bool delta = true;
     static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
     static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
@@ -44,6 +52,7 @@ template <> struct BsdfOf<MaterialKind::Dielectric> {
 // sampling or connection is tried there; Plastic mixes a delta coating with a diffuse base
 // and is not (its sample reports which lobe it took).
 template <> struct BsdfOf<MaterialKind::Conductor> {
+    static constexpr uint8_t reads = 0;
     static constexpr bool delta = true;
     static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
     static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
@@ -52,6 +61,7 @@ template <> struct BsdfOf<MaterialKind::Conductor> {
     }
 };
 template <> struct BsdfOf<MaterialKind::RoughConductor> {
+    static constexpr uint8_t reads = kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughConductorF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughConductorPdf(m, wo, wi); }
@@ -60,6 +70,7 @@ template <> struct BsdfOf<MaterialKind::RoughConductor> {
     }
 };
 template <> struct BsdfOf<MaterialKind::RoughDielectric> {
+    static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughDielectricF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughDielectricPdf(m, wo, wi); }
@@ -68,6 +79,7 @@ template <> struct BsdfOf<MaterialKind::RoughDielectric> {
     }
 };
 template <> struct BsdfOf<MaterialKind::ThinDielectric> {
+    static constexpr uint8_t reads = kReadsLobe;
     static constexpr bool delta = true;
     static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
     static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
@@ -76,6 +88,7 @@ template <> struct BsdfOf<MaterialKind::ThinDielectric> {
     }
 };
 template <> struct BsdfOf<MaterialKind::Plastic> {
+    static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return plasticF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return plasticPdf(m, wo, wi); }
@@ -84,6 +97,7 @@ template <> struct BsdfOf<MaterialKind::Plastic> {
     }
 };
 template <> struct BsdfOf<MaterialKind::RoughPlastic> {
+    static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughPlasticF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughPlasticPdf(m, wo, wi); }
@@ -91,6 +105,16 @@ template <> struct BsdfOf<MaterialKind::RoughPlastic> {
         return roughPlasticSample(m, wo, ul, u1, u2, s);
     }
 };
+
+// Kind B's BSDF sample with its numbers from number(m) (m = 0: lobe, 1-2: direction), asked
+// for only those the kind reads.
+template <class B, class Number>
+inline bool sampleBsdfOf(const BsdfParams& m, Vec3 wo, Number&& number, TransportMode mode, BsdfSample& s) {
+    const float ul = B::reads & kReadsLobe ? number(0) : 0.0f;
+    const float u1 = B::reads & kReadsDirection ? number(1) : 0.0f;
+    const float u2 = B::reads & kReadsDirection ? number(2) : 0.0f;
+    return B::sample(m, wo, ul, u1, u2, mode, s);
+}
 
 // A stable counting sort of n hits by material kind (kindOf(h): hit h's kind): kind k's
 // hits are order[kindStart[k] .. kindStart[k + 1]), in their original order.

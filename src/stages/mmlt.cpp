@@ -33,9 +33,10 @@ namespace mmlt_detail {
 
 MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
-      batches_([maxLength = opt.maxPathLength] {
+      batches_([&scene, maxLength = opt.maxPathLength] {
           MmltBatch mb;
           mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength);
+          setNumbersRead(scene, mb);
           return mb;
       }),
       film_(scene.camera.width, scene.camera.height) {

@@ -30,13 +30,20 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
     mb.used[kBptConnect][i] = uint8_t(StrategyLayout::connectUsed(s, t));
 }
 
-// Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order.
+// Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order: the
+// prefixes of the blocks its strategy reads (StrategyLayout), less the numbers no walk
+// of the scene reads (bpt_state.h's layout: camera j = 2-3 the lens, then vertices of
+// four from j = 4; light vertices from j = 5).
 template <class Fn>
 void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
-    for (int stream = 0; stream < 3; ++stream) {
-        const uint32_t base = StrategyLayout::base(k, BptStream(stream)), used = mb.used[stream][i];
-        for (uint32_t d = base; d < base + used; ++d) fn(d);
-    }
+    const uint32_t cb = StrategyLayout::base(k, kBptCamera), cn = mb.used[kBptCamera][i];
+    for (uint32_t j = 0; j < cn; ++j)
+        if (j < 2 || (j < 4 ? mb.lensRead : (mb.vertexRead >> ((j - 4) & 3)) & 1)) fn(cb + j);
+    const uint32_t lb = StrategyLayout::base(k, kBptLight), ln = mb.used[kBptLight][i];
+    for (uint32_t j = 0; j < ln; ++j)
+        if (j < 5 || (mb.vertexRead >> ((j - 5) & 3)) & 1) fn(lb + j);
+    const uint32_t xb = StrategyLayout::base(k, kBptConnect), xn = mb.used[kBptConnect][i];
+    for (uint32_t j = 0; j < xn; ++j) fn(xb + j);
 }
 
 // Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
@@ -55,6 +62,15 @@ void packRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
 }
 
 }  // namespace
+
+void setNumbersRead(const Scene& scene, MmltBatch& mb) {
+    uint8_t reads = 0;  // of the scene's material kinds' BSDF samples
+    forEachMaterialKind([&](auto kind) {
+        if (scene.features.has(decltype(kind)::value)) reads |= BsdfOf<decltype(kind)::value>::reads;
+    });
+    mb.lensRead = scene.camera.thinLens;
+    mb.vertexRead = uint8_t((reads & kReadsLobe ? 1 : 0) | (reads & kReadsDirection ? 6 : 0) | (mb.bpt.roulette ? 8 : 0));
+}
 
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {
     return sampleKey(mix64(seed ^ 0x4d4d4c54u /* "MMLT" */), globalChain, iteration);

@@ -149,8 +149,7 @@ inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f) {
         b.alive[h] = 0;
         const Vec3 wo = b.shading[h].toLocal(b.wo[h]);
         BsdfSample s;
-        if (!B::sample(b.bsdf[h], wo, sampleDimension(key, dimOf(0)), sampleDimension(key, dimOf(1)),
-                       sampleDimension(key, dimOf(2)), mode, s) ||
+        if (!sampleBsdfOf<B>(b.bsdf[h], wo, [&](uint32_t m) { return sampleDimension(key, dimOf(m)); }, mode, s) ||
             !(s.pdf > 0) || isBlack(s.f))
             return;
         f(h, path, slot, key, s);
