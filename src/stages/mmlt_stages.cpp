@@ -33,17 +33,21 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
 // Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order: the
 // prefixes of the blocks its strategy reads (StrategyLayout), less the numbers no walk
 // of the scene reads (bpt_state.h's layout: camera j = 2-3 the lens, then vertices of
-// four from j = 4; light vertices from j = 5).
+// four from j = 4; light vertices from j = 5; of each vertex's four, [vertexLo, vertexHi)).
 template <class Fn>
 void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
+    auto run = [&](uint32_t d0, uint32_t d1) {
+        for (uint32_t d = d0; d < d1; ++d) fn(d);
+    };
+    const uint32_t lo = mb.vertexLo, hi = mb.vertexHi;
     const uint32_t cb = StrategyLayout::base(k, kBptCamera), cn = mb.used[kBptCamera][i];
-    for (uint32_t j = 0; j < cn; ++j)
-        if (j < 2 || (j < 4 ? mb.lensRead : (mb.vertexRead >> ((j - 4) & 3)) & 1)) fn(cb + j);
+    if (cn > 0) run(cb, cb + (mb.lensRead ? 4 : 2));
+    for (uint32_t j = 4; j < cn; j += 4) run(cb + j + lo, cb + j + hi);
     const uint32_t lb = StrategyLayout::base(k, kBptLight), ln = mb.used[kBptLight][i];
-    for (uint32_t j = 0; j < ln; ++j)
-        if (j < 5 || (mb.vertexRead >> ((j - 5) & 3)) & 1) fn(lb + j);
-    const uint32_t xb = StrategyLayout::base(k, kBptConnect), xn = mb.used[kBptConnect][i];
-    for (uint32_t j = 0; j < xn; ++j) fn(xb + j);
+    if (ln > 0) run(lb, lb + 5);
+    for (uint32_t j = 5; j < ln; j += 4) run(lb + j + lo, lb + j + hi);
+    const uint32_t xb = StrategyLayout::base(k, kBptConnect);
+    run(xb, xb + mb.used[kBptConnect][i]);
 }
 
 // Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
@@ -68,8 +72,15 @@ void setNumbersRead(const Scene& scene, MmltBatch& mb) {
     forEachMaterialKind([&](auto kind) {
         if (scene.features.has(decltype(kind)::value)) reads |= BsdfOf<decltype(kind)::value>::reads;
     });
+    // Bit m of a vertex's four numbers (0 lobe, 1-2 direction, 3 roulette), then the run
+    // [lo, hi) that covers the bits (a number in a gap would be proposed unread: harmless).
+    const uint32_t bits = (reads & kReadsLobe ? 1 : 0) | (reads & kReadsDirection ? 6 : 0) | (mb.bpt.roulette ? 8 : 0);
     mb.lensRead = scene.camera.thinLens;
-    mb.vertexRead = uint8_t((reads & kReadsLobe ? 1 : 0) | (reads & kReadsDirection ? 6 : 0) | (mb.bpt.roulette ? 8 : 0));
+    mb.vertexLo = mb.vertexHi = 0;
+    if (bits) {
+        mb.vertexLo = uint8_t(__builtin_ctz(bits));
+        mb.vertexHi = uint8_t(32 - __builtin_clz(bits));
+    }
 }
 
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {

@@ -130,10 +130,10 @@ struct MmltBatch {
     std::vector<uint8_t> large;       // the slot's proposal is a large step
     std::vector<uint8_t> used[3];     // the prefix of each stream's block the strategy reads
     // Which numbers within those prefixes the scene's walks read (setNumbersRead): the
-    // lens point (a thin lens), and bit m of each vertex's four (0 lobe, 1-2 direction,
-    // 3 roulette). The others are neither proposed nor committed.
+    // lens point (a thin lens), and numbers [vertexLo, vertexHi) of each vertex's four
+    // (0 lobe, 1-2 direction, 3 roulette). The others are neither proposed nor committed.
     bool lensRead = true;
-    uint8_t vertexRead = 0xf;
+    uint8_t vertexLo = 0, vertexHi = 4;
     std::vector<BatchSlice> slices;
     std::vector<Splat> splats;        // expected-value splats of the round, in order
     std::vector<uint8_t> splatLength; // the path length of each splat
