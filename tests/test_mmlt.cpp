@@ -96,7 +96,8 @@ RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
             REQUIRE(sum == Approx(r.image.rgb[i]).epsilon(1e-5).margin(1e-12));
         }
     }
-    if (o.bootstrap > 0) CHECK(m.bootstrapSamples == uint64_t(o.bootstrap));
+    if (o.bootstrap > 0)
+        for (int k = std::max(1, o.minPathLength); k <= o.maxPathLength; ++k) CHECK(m.bootstrapSamples[size_t(k)] == uint64_t(o.bootstrap));
     CHECK(meanLuminance(r.image) == Approx(bSum).epsilon(1e-5));
     return r;
 }

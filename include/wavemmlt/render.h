@@ -107,7 +107,7 @@ struct RenderStats {
         std::vector<uint64_t> poolSamples;        // pool samples of length k, all passes (fresh and large steps)
         std::vector<uint64_t> proposals;          // proposals made by chains of length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
-        uint64_t bootstrapSamples = 0;            // per length, first pass
+        std::vector<uint64_t> bootstrapSamples;   // bootstrap samples of length k (the first pass's pool)
         uint64_t mutations = 0;                   // proposals made in total
         uint64_t iterations = 0;                  // proposals each chain made, all passes (the image's divisor)
         uint32_t passes = 0, passLength = 0;      // passes started; iterations per pass

@@ -100,6 +100,7 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     perLength("mmlt_chains", [&](size_t k) { return m.chains[k]; });
     perLength("mmlt_chains_seeded", [&](size_t k) { return m.chainsSeeded[k]; });
     perLength("mmlt_distinct_seeds", [&](size_t k) { return m.distinctSeeds[k]; });
+    perLength("mmlt_bootstrap_samples", [&](size_t k) { return m.bootstrapSamples[k]; });
     perLength("mmlt_bootstrap_with_light", [&](size_t k) { return m.bootstrapNonzero[k]; });
     perLength("mmlt_pool_samples", [&](size_t k) { return m.poolSamples[k]; });
     perLength("mmlt_proposals", [&](size_t k) { return m.proposals[k]; });
@@ -117,7 +118,6 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << ",\n  \"mmlt_mutations\": " << m.mutations
       << ",\n  \"mmlt_mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
       << ",\n  \"mmlt_iterations\": " << m.iterations
-      << ",\n  \"mmlt_bootstrap_samples_per_length\": " << m.bootstrapSamples
       << ",\n  \"mmlt_passes\": " << m.passes << ",\n  \"mmlt_pass_length\": " << m.passLength
       << ",\n  \"mmlt_renewals\": " << (m.passes > 0 ? m.passes - 1 : 0)
       << ",\n  \"mmlt_tasks_per_round\": " << m.tasksPerRound

@@ -52,9 +52,9 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     passB_.assign(n, 0.0);
     stats_.b.assign(n, 0.0);
     stats_.chains.assign(n, 0);
-    for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapNonzero, &stats_.poolSamples,
-                    &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall, &stats_.proposedLarge,
-                    &stats_.acceptedLarge})
+    for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapSamples, &stats_.bootstrapNonzero,
+                    &stats_.poolSamples, &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall,
+                    &stats_.proposedLarge, &stats_.acceptedLarge})
         v->assign(n, 0);
     if (opt.lengthImages)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
@@ -164,15 +164,37 @@ void MmltRender::runRounds(uint64_t passEnd) {
     }
 }
 
+// The bootstrap (mmlt.md, step 1; docs/mmlt-chains.md, "Where it departs"): a probe of 256
+// samples of every length, then each length gets its share of the whole in proportion to
+// its b_k as the probe estimates it (its share of the chains and of the mutations: where
+// the seeds are needed), at least 256. The whole is 5% of the mutations asked for or two
+// per chain, whichever is more, so the bootstrap is spread over the lengths as the
+// mutations are and costs about 5% of them (an equal count per length spent most of it on
+// the long lengths, whose samples cost the most and which get few chains). The probe's
+// samples join the second pass's pools, not the first: the first pool's size then depends
+// on the probe only, not on its own values, and its mean stays unbiased. Under a time
+// budget tracePool stops the bootstrap at 5% of the budget (if that is in the probe, the
+// probe is the first pool). --bootstrap N: N samples of every length, in one step.
+void MmltRender::bootstrap() {
+    const int nLengths = kMax_ - kMin_ + 1;
+    const double whole = timed() ? double(1 << 20) * nLengths : std::max(0.05 * targetMutations_, 2.0 * chains_);
+    const bool fixed = opt_.bootstrap > 0;
+    const uint32_t probe = fixed ? uint32_t(opt_.bootstrap) : kBatchChains;
+    std::vector<uint32_t> to(size_t(kMax_) + 1, probe);
+    if (!tracePool(0, to, true) || fixed) return;
+    double sum = 0;
+    for (int k = kMin_; k <= kMax_; ++k) sum += pools_[size_t(k)].mean();
+    for (int k = kMin_; k <= kMax_; ++k) {
+        const double share = sum > 0 ? pools_[size_t(k)].mean() / sum : 1.0 / nLengths;  // no light yet: alike
+        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * share), double(probe), double(1 << 22)));
+        std::swap(pools_[size_t(k)], next_[size_t(k)]);  // the probe: the second pass's
+    }
+    tracePool(probe, to, true);
+}
+
 RenderResult MmltRender::run() {
     const int nLengths = kMax_ - kMin_ + 1;
-    // The bootstrap: opt.bootstrap samples per length, or 5% of the mutations asked for or two
-    // per chain, whichever is more (256 to 2^20 per length); under a time budget at most 5%
-    // of it (tracePool stops it).
-    const double autoBoot = timed() ? double(1 << 20) : std::max(0.05 * targetMutations_, 2.0 * chains_) / nLengths;
-    const uint32_t nBoot =
-        opt_.bootstrap > 0 ? uint32_t(opt_.bootstrap) : uint32_t(std::clamp(autoBoot, 256.0, double(1 << 20)));
-    tracePool(nBoot, true);
+    bootstrap();
     stats_.bBootstrap.assign(size_t(kMax_) + 1, 0.0);
     for (int k = kMin_; k <= kMax_; ++k) {
         stats_.bootstrapNonzero[size_t(k)] = pools_[size_t(k)].lit.size();
@@ -189,8 +211,9 @@ RenderResult MmltRender::run() {
     }
     stats_.chainsRun = chains_;
     if (!allocateChains())
-        throw InputError("no light reaches the camera: the bootstrap's " + std::to_string(stats_.bootstrapSamples) +
-                         " samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
+        throw InputError("no light reaches the camera: the bootstrap's " +
+                         std::to_string(*std::min_element(stats_.bootstrapSamples.begin() + kMin_, stats_.bootstrapSamples.end())) +
+                         " or more samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
                          " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
     // Iterations per pass: about 8 passes in a render, 32 to 1024 iterations each (each
     // pass replays its C seeds: 1 / passLength of the render at most).
@@ -223,7 +246,7 @@ RenderResult MmltRender::run() {
                 runRounds(std::numeric_limits<uint64_t>::max());
                 break;
             }
-            tracePool(fresh, false);
+            tracePool(0, std::vector<uint32_t>(size_t(kMax_) + 1, fresh), false);
             for (int k = kMin_; k <= kMax_; ++k) {
                 pools_[size_t(k)].add(next_[size_t(k)]);
                 next_[size_t(k)].clear();

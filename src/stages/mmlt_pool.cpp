@@ -4,27 +4,33 @@
 
 namespace wmlt::mmlt_detail {
 
-// Fresh samples [0, perLength) of every length (pass pass_) into the pools, in parallel
+// Fresh samples [from, to[k]) of every length k (pass pass_) into the pools, in parallel
 // tasks merged in task order. The bootstrap under a time budget stops early once it has spent
-// 5% of the budget (at least 256 samples per length).
-void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
+// 5% of the budget; false when it was stopped (by the budget or a cancel, as all ranks agree).
+bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap) {
     const uint32_t chunk = kBatchChains;
-    uint32_t done = 0;
+    uint32_t done = from;
+    const uint32_t most = *std::max_element(to.begin(), to.end());
     // Under a time budget the bootstrap runs in slabs that grow while they are short (64
     // samples per length, then about 1% of the budget each), so that it can stop on time.
     // Otherwise a slab is about 4096 samples per thread (of every rank) in all lengths, so
     // that Ctrl-C is heard within a fraction of a second (mpirun kills the ranks about a
     // second after it); those slabs are whole tasks, so the pools do not depend on them
-    // (each length's tasks are added in order, and their sums in the same tasks).
+    // (each length's tasks are added in order, and their sums in the same tasks; from is
+    // a multiple of the chunk or the end).
     const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
     uint32_t slabSize = bootstrap && timed()
         ? 64 : chunk * uint32_t(std::ceil(4096.0 * workers / double(kMax_ - kMin_ + 1) / double(chunk)));
-    while (done < perLength) {
+    while (done < most) {
         const double start = elapsed();
-        const uint32_t slab = std::min(perLength - done, slabSize);
+        const uint32_t slab = std::min(most - done, slabSize);
         std::vector<PoolTask> tasks;
-        for (int k = kMin_; k <= kMax_; ++k)
-            for (uint32_t i = done; i < done + slab; i += chunk) tasks.push_back({k, i, std::min(chunk, done + slab - i)});
+        uint64_t samples = 0;
+        for (int k = kMin_; k <= kMax_; ++k) {
+            const uint32_t end = std::min(done + slab, to[size_t(k)]);
+            for (uint32_t i = done; i < end; i += chunk) tasks.push_back({k, i, std::min(chunk, end - i)});
+            samples += end > done ? end - done : 0;
+        }
         std::vector<SamplePool> out(tasks.size());
         std::vector<uint64_t> nonfinite(tasks.size(), 0);
         const auto [t0, t1] = shareOf(ranks_, tasks.size());  // this rank's tasks
@@ -47,18 +53,23 @@ void MmltRender::tracePool(uint32_t perLength, bool bootstrap) {
             counters_.nonfinite += nonfinite[ti];
         }
         done += slab;
-        sampleSeconds_ = (elapsed() - start) / (double(slab) * (kMax_ - kMin_ + 1));
+        sampleSeconds_ = (elapsed() - start) / double(samples);
         // The next slab, rank 0's figure (0: the timed bootstrap has spent its 5%).
         uint64_t next = slabSize;
         if (bootstrap && timed()) {
-            const double perSlab = 0.01 * opt_.timeBudget / (sampleSeconds_ * (kMax_ - kMin_ + 1));
+            int active = 0;  // lengths that want more samples
+            for (int k = kMin_; k <= kMax_; ++k) active += to[size_t(k)] > done ? 1 : 0;
+            const double perSlab = 0.01 * opt_.timeBudget / (sampleSeconds_ * std::max(active, 1));
             next = elapsed() >= 0.05 * opt_.timeBudget ? 0 : uint64_t(std::clamp(perSlab, 64.0, double(1 << 16)));
         }
         const Agreement a = agreeAtBoundary(next);
         if (a.value == 0 || a.cancel) break;
         slabSize = uint32_t(a.value);
     }
-    if (bootstrap) stats_.bootstrapSamples = done;
+    const bool complete = done >= most;
+    if (bootstrap)
+        for (int k = kMin_; k <= kMax_; ++k) stats_.bootstrapSamples[size_t(k)] = std::min(done, to[size_t(k)]) - from;
+    return complete;
 }
 
 namespace {

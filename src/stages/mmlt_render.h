@@ -44,7 +44,8 @@ public:
     RenderResult run();
 
 private:
-    void tracePool(uint32_t perLength, bool bootstrap);
+    bool tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap);
+    void bootstrap();
     bool allocateChains();
     void seedChains();
     void planBatches();
