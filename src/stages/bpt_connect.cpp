@@ -135,6 +135,10 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     Vec3 value(0.0f);
     int li = -1;
     CameraSample cs;
+    // s, t >= 2: the directions at the connection's ends in their shading frames, used by
+    // both the BSDFs and the densities: towards the previous vertex (woY, woZ) and along
+    // the connection (wy from y to z, wz from z to y).
+    Vec3 woY, wy, woZ, wz;
     auto uc = [&](uint32_t m) { return u(slot, kBptConnect, U::connectJ(s, t, m)); };
     out.shadowRay = s > 0;
     out.infinite = false;
@@ -207,9 +211,12 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
         const Frame& fy = *y.shading;
         const Frame& fz = *z.shading;
         Vec3 toPrevY = dirTo(y.p, x[s - 2].p), toPrevZ = dirTo(z.p, x[s + 1].p);
-        Vec3 wy = fy.toLocal(w), wz = fz.toLocal(-w);
-        Vec3 f1 = bsdfF(*y.bsdf, wy, fy.toLocal(toPrevY)) * shadingCorrection(toPrevY, w, fy.n, y.ng);
-        Vec3 f2 = bsdfF(*z.bsdf, fz.toLocal(toPrevZ), wz);
+        wy = fy.toLocal(w);
+        wz = fz.toLocal(-w);
+        woY = fy.toLocal(toPrevY);
+        woZ = fz.toLocal(toPrevZ);
+        Vec3 f1 = bsdfF(*y.bsdf, wy, woY) * shadingCorrection(toPrevY, w, fy.n, y.ng);
+        Vec3 f2 = bsdfF(*z.bsdf, woZ, wz);
         float G = absCosTheta(wy) * absCosTheta(wz) / dist2;
         value = b.light.beta[yi] * f1 * f2 * b.cam.beta[zi] * G;
         out.from = y.p;
@@ -229,6 +236,12 @@ bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int 
     if (s == 0) {
         pL[0] = originPdf(scene, li, x[0]);
         if (k >= 2) pL[1] = emissionPdfAt(scene, li, x[0], x[1]);
+    } else if (s >= 2 && t >= 2) {  // the directions above (dirTo(x[s].p, x[s - 1].p) is -w bit for bit)
+        const BsdfParams &by = *x[s - 1].bsdf, &bz = *x[s].bsdf;
+        pE[s - 1] = pdfAt(bsdfPdf(bz, woZ, wz), x[s].p, x[s - 1]);
+        pE[s - 2] = pdfAt(bsdfPdf(by, wy, woY), x[s - 1].p, x[s - 2]);
+        pL[s] = solidAngleToArea(bsdfPdf(by, woY, wy), x[s - 1].p, x[s].p, x[s].ng, true);
+        if (s + 1 < k) pL[s + 1] = solidAngleToArea(bsdfPdf(bz, wz, woZ), x[s].p, x[s + 1].p, x[s + 1].ng, true);
     } else {
         if (t == 1)
             pE[s - 1] = pdfAt(cameraPdfDir(cam, x[k].p, dirTo(x[k].p, x[s - 1].p)), x[k].p, x[s - 1]);
