@@ -8,7 +8,8 @@
 // blocks' shape (brightness divided out), each one test at p = 1e-4.
 //  1. the bootstrap: b_k = BPT's mean image luminance by path length, within the two
 //     tracers' standard errors; the image's mean luminance is sum_k b_k; chains are
-//     allocated by largest remainders, never drawn at random;
+//     allocated by largest remainders, never drawn at random; the default bootstrap is
+//     spread over the lengths by their probed b_k;
 //  2. MMLT image = BPT image, with stated power, per length: test_mmlt_power.cpp;
 //  3. invariance: 1, 64 and 65536 chains, seeds far apart, bootstrap counts 1024 to 2^18;
 //  4. extremes: ProbLarge 1e-3 and 1, MaxPathLength 1 and 64; a scene where no light
@@ -241,6 +242,32 @@ TEST_CASE("MMLT allocates chains to lengths by largest remainders, never at rand
                 for (size_t k = 3; k < m.bBootstrap.size(); ++k) CHECK(m.chains[k] >= 1);
             }
         }
+    }
+}
+
+TEST_CASE("MMLT's default bootstrap is spread over the lengths by their probed b_k", "[mmlt]") {
+    // The bootstrap (mmlt.cpp, MmltRender::bootstrap): 5% of the mutations or two samples
+    // per chain in all, split over the lengths in proportion to b_k as a probe of 256
+    // samples per length estimates it, at least 256 each. On the seed room lengths 1 and 2
+    // carry no light: they keep the minimum, and the lit lengths share the rest.
+    const SceneDesc desc = seedRoom(16, 6);
+    for (uint64_t seed : {1u, 2u}) {
+        RenderOptions o = mmltOptions(256, seed, 1, 6, 4096);
+        RenderResult r = renderMmlt(desc, o);
+        const RenderStats::Mmlt& m = r.stats.mmlt;
+        const double whole = std::max(0.05 * 256 * 16 * 16, 2.0 * 4096);
+        uint64_t total = 0, most = 0;
+        for (int k = 1; k <= 6; ++k) {
+            INFO("seed " << seed << ", k = " << k << ": " << m.bootstrapSamples[size_t(k)] << " samples");
+            CHECK(m.bootstrapSamples[size_t(k)] >= 256);
+            total += m.bootstrapSamples[size_t(k)];
+            most = std::max(most, m.bootstrapSamples[size_t(k)]);
+        }
+        CHECK(m.bootstrapSamples[1] == 256);
+        CHECK(m.bootstrapSamples[2] == 256);
+        CHECK(double(total) >= whole);
+        CHECK(double(total) <= whole + 6 * 257);
+        CHECK(double(most) >= whole / 4);  // four lit lengths: one has at least a quarter
     }
 }
 
