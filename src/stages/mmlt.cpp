@@ -186,7 +186,7 @@ void MmltRender::bootstrap() {
     for (int k = kMin_; k <= kMax_; ++k) sum += pools_[size_t(k)].mean();
     for (int k = kMin_; k <= kMax_; ++k) {
         const double share = sum > 0 ? pools_[size_t(k)].mean() / sum : 1.0 / nLengths;  // no light yet: alike
-        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * share), double(probe), double(1 << 22)));
+        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * share), double(probe), double(1 << 20)));
         std::swap(pools_[size_t(k)], next_[size_t(k)]);  // the probe: the second pass's
     }
     tracePool(probe, to, true);
