@@ -68,9 +68,15 @@ private:
     void sumAcrossRanks(RenderResult& res);
     void mergeDigest();
     // Entries the pool of length k may hold before it is thinned to half: 8 per chain of
-    // the length (its last allocation; an equal share before the first), at least 2^13.
+    // the length (its last allocation; before the first, its share of the chains as the
+    // bootstrap was spread), at least 2^13.
     size_t poolCapacity(int k) const {
-        const size_t n = stats_.passes ? stats_.chains[size_t(k)] : chains_ / size_t(kMax_ - kMin_ + 1);
+        size_t n = stats_.passes ? stats_.chains[size_t(k)] : 0;
+        if (!stats_.passes) {
+            uint64_t all = 0;
+            for (uint64_t b : stats_.bootstrapSamples) all += b;
+            n = all ? size_t(double(chains_) * double(stats_.bootstrapSamples[size_t(k)]) / double(all)) : 0;
+        }
         return std::max<size_t>(size_t(1) << 13, 8 * n);
     }
     void thin(SamplePool& pool, int k) {
