@@ -15,6 +15,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <unordered_set>
 
 #include "stages/distributed_films.h"
@@ -71,11 +72,12 @@ private:
     // the length (its last allocation; before the first, its share of the chains as the
     // bootstrap was spread), at least 2^13.
     size_t poolCapacity(int k) const {
-        size_t n = stats_.passes ? stats_.chains[size_t(k)] : 0;
-        if (!stats_.passes) {
-            uint64_t all = 0;
-            for (uint64_t b : stats_.bootstrapSamples) all += b;
-            n = all ? size_t(double(chains_) * double(stats_.bootstrapSamples[size_t(k)]) / double(all)) : 0;
+        size_t n = 0;
+        if (stats_.passes) {
+            n = stats_.chains[size_t(k)];
+        } else if (const uint64_t all = std::accumulate(stats_.bootstrapSamples.begin(), stats_.bootstrapSamples.end(),
+                                                        uint64_t(0))) {
+            n = size_t(double(chains_) * double(stats_.bootstrapSamples[size_t(k)]) / double(all));
         }
         return std::max<size_t>(size_t(1) << 13, 8 * n);
     }

@@ -29,7 +29,7 @@ inline float poolCoordinate(uint64_t key, uint32_t d) { return sampleDimension(k
 // The strategy s = min(floor(u0 (k + 1)), k) of a length-k vector (mmlt.md, step 4).
 inline int strategyOf(float u0, int k) { return std::min(int(u0 * float(k + 1)), k); }
 
-// Which numbers the scene's walks read (MmltBatch::lensRead, vertexRead), once per batch
+// Which numbers the scene's walks read (MmltBatch::lensRead, vertexLo, vertexHi), once per batch
 // after reserve: from its camera and the BSDF kinds it has.
 void setNumbersRead(const Scene& scene, MmltBatch& mb);
 // Rows of fresh pool samples [index0, index0 + n) of length k in pass `pass`.
