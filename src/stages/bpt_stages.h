@@ -8,8 +8,9 @@
 // The stages that read primary samples are templates on their source (bpt_state.h):
 // HashedSamples for BPT, StoredSamples for MMLT's proposals, which run the same stages
 // with one strategy per slot (per-slot walk lengths, generateChainCameraPaths,
-// connectStrategies). Connections live in bpt_connect.cpp; the MIS weights come from
-// kernels/mis.h (bptMisWeight) on the per-vertex densities.
+// connectStrategies). Connections live in bpt_connect.cpp (the driver, the ends' BSDFs
+// kind by kind, the shadow rays) and bpt_strategy.cpp (one strategy's set-up and weight);
+// the MIS weights come from kernels/mis.h (bptMisWeight) on the per-vertex densities.
 #pragma once
 #include <cstdint>
 
@@ -59,21 +60,10 @@ template <class U>
 void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters,
              const U& u);
 
-// A vertex of the path being weighted, in the light-to-camera order x_0 .. x_k.
-struct PathVertex {
-    Vec3 p, ng;
-    const Frame* shading = nullptr;
-    const BsdfParams* bsdf = nullptr;
-    BptVertexKind kind = BptVertexKind::Surface;
-};
-
-// Working memory of evaluateStrategy, kept by its caller across calls.
+// Working memory of weighStrategy, kept by its caller across calls.
 struct StrategyScratch {
-    PathVertex x[kMaxPathLength + 2];
     float pL[kMaxPathLength + 2], pE[kMaxPathLength + 2];
     uint8_t delta[kMaxPathLength + 2];
-    Frame lightFrame;
-    BsdfParams noBsdf;
 };
 
 // One strategy's sample of a slot's subpaths.
@@ -85,12 +75,20 @@ struct StrategySample {
     uint32_t pixel = 0;  // t = 1: the raster pixel the path lands on
 };
 
-// Strategy (s, t) of slot's stored subpaths, with the connection numbers of u: the new
-// endpoint (s = 1: a light point; t = 1: a lens point), the unweighted contribution and
-// the MIS weight. False when the strategy cannot sample this path or contributes nothing.
+// Strategy (s, t) of slot's stored subpaths with the connection numbers of u, in three
+// steps (bpt_strategy.cpp, bpt_connect.cpp):
+// setUpStrategy appends it to w when it exists for these subpaths: the new endpoint (s =
+// 1: a light point; t = 1: a lens point), the directions at its ends, the other factors
+// of its contribution. False when the strategy cannot sample this path.
 template <class U>
-bool evaluateStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, int t, const U& u, float misBeta,
-                      StrategyScratch& scratch, StrategySample& out);
+bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, int t, const U& u, StrategyWave& w);
+// evaluateStrategyBsdfs: f and both densities at every end of w's strategies, the ends
+// grouped by material kind and each kind's kernels called at compile time.
+void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w);
+// weighStrategy: strategy i's unweighted contribution and MIS weight, and its shadow
+// ray's ends. False when it contributes nothing.
+bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
+                   StrategyScratch& scratch, StrategySample& out);
 // Every strategy (s, t) with s + t - 1 in [minLength, maxLength]: s = 0 to L, the
 // others to conns (flushed through traceBptConnections when full and at the end).
 void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& c);

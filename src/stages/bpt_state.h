@@ -7,6 +7,7 @@
 //               (capacity MaxPathLength + 1) and the light subpath's vertices y_0 ..
 //               (capacity MaxPathLength), plain data at index first[slot] + i;
 //   paths     - per live subpath: its throughput and direction density;
+//   strategies - the strategies being connected, and their ends' BSDFs;
 //   conns     - connection shadow rays (s = 1, t = 1, s, t >= 2) and their contributions;
 //   splats    - t = 1 contributions, in stage order (film.h).
 #pragma once
@@ -67,6 +68,46 @@ struct BptVertices {
     size_t at(uint32_t slot, int i) const { return size_t(first[slot]) + size_t(i); }
 };
 
+// The strategies being connected (bpt_connect.cpp), in the order the tracer lists them:
+// set up (the new endpoint, the directions at the connection's ends), their ends' BSDFs
+// evaluated kind by kind, then weighted and added or queued in that same order.
+// Per strategy: slot, s, t, the light (s <= 1), the unweighted contribution or the factors
+// it is finished from once the ends' f are known (setUpStrategy), the new endpoint (s = 1,
+// t >= 2: the light point and its normal, `infinite` for the environment; t = 1: the lens
+// point) and the raster pixel (t = 1).
+#define WMLT_STRATEGY_ARRAYS(X)                                                              \
+    X(uint32_t, slot) X(uint8_t, s) X(uint8_t, t) X(int16_t, light) X(Vec3, value)          \
+    X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(uint8_t, infinite)         \
+    X(uint32_t, pixel)
+// Per end (2 i: y = x_{s-1}, a light subpath vertex; 2 i + 1: z = x_s, a camera subpath
+// vertex): the vertex (kNoEnd: strategy i has no surface there), f's directions and the
+// densities' directions in its shading frame (wo on the camera side, wi on the light
+// side; s = 1 and t = 1 sample f towards the new endpoint, which the densities reach from
+// the stored positions), and the results: f(wo, wi), pdf(wo, wi) (the camera walk's),
+// pdf(wi, wo) (the light walk's).
+#define WMLT_STRATEGY_END_ARRAYS(X)                                                          \
+    X(uint32_t, endVertex) X(Vec3, fWo) X(Vec3, fWi) X(Vec3, wo) X(Vec3, wi) X(Vec3, f)      \
+    X(float, pdfCam) X(float, pdfLight)
+constexpr uint32_t kNoEnd = UINT32_MAX;
+
+struct StrategyWave {
+    size_t n = 0, capacity = 0;
+    WMLT_STRATEGY_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_STRATEGY_END_ARRAYS(WMLT_SOA_ARRAY)
+    std::vector<uint32_t> ends, order;  // the ends with a vertex; grouped by its kind
+    uint32_t kindStart[kMaterialKinds + 1] = {};
+
+    void reserve(size_t cap) {
+        capacity = cap;
+        size_t n = cap;
+        WMLT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE)
+        n = 2 * cap;
+        WMLT_STRATEGY_END_ARRAYS(WMLT_SOA_RESIZE)
+        ends.resize(n);
+        order.resize(n);
+    }
+};
+
 // Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),
 // the light subpath's initial throughput scale (roulette); per live path (compacted with
 // the wave): the throughput carried to the next vertex and the solid-angle density of the
@@ -74,7 +115,7 @@ struct BptVertices {
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale)                     \
     X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
-// MMLT only (reserve's `strategies`): one strategy per slot, its s and path length k.
+// MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
 // Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
 // raster pixel), whether it is a t = 1 splat, its path length, unweighted unoccluded
@@ -93,20 +134,22 @@ struct BptBatch : PathWave {
 
     size_t numConn = 0, connCapacity = 0;
     WMLT_BPT_CONN_ARRAYS(WMLT_SOA_ARRAY)
+    StrategyWave strategies;
 
     std::vector<Splat> splats;
     StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;
 
-    void reserve(size_t n, int maxLength, bool strategies = false) {
+    void reserve(size_t n, int maxLength, bool oneStrategyPerSlot = false) {
         resizeWave(n);
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
-        if (strategies) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
+        if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
         cam.reserve(n, maxLength + 1);
         light.reserve(n, maxLength);
         connCapacity = std::max<size_t>(n * 4, 1024);
         resizeConnections(connCapacity);
+        strategies.reserve(std::clamp<size_t>(n, 1, 1024));
         splats.reserve(n);
     }
     void resizeConnections(size_t n) { WMLT_BPT_CONN_ARRAYS(WMLT_SOA_RESIZE) }
