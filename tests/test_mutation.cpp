@@ -17,6 +17,8 @@
 #include "kernels/gaussian.h"
 #include "kernels/mutation.h"
 #include "render_stats.h"
+#include "stages/mmlt_stages.h"
+#include "stages/mmlt_state.h"
 
 using namespace wmlt;
 
@@ -387,5 +389,56 @@ TEST_CASE("expected-value splats reproduce the 1-D density", "[mutation]") {
         }
         CAPTURE(pLarge, maxZ, bound, worst);
         CHECK(maxZ <= bound);
+    }
+}
+
+// MMLT's rows hold only the numbers a proposal's strategy reads (mmlt_stages.cpp,
+// forEachUsedOf): a number the walks read but the fill skips keeps what the batch's last
+// task left there, and the image then depends on the thread schedule. At MaxPathLength 64
+// the camera subpath of strategy s = 0 reads 4 * 65 - 4 = 256 numbers, one more than a
+// uint8_t counts (it wrapped to 0: no camera number was filled; the stability test saw it
+// as an image that changed from run to run). Every strategy of every length is checked.
+TEST_CASE("MMLT pool rows fill every number the strategy's walks read, up to length 64", "[mutation][mmlt]") {
+    using namespace wmlt;
+    constexpr uint32_t n = 256;
+    MmltBatch mb;
+    mb.reserve(n, kMaxPathLength);
+    mb.lensRead = true;  // a thin lens reads the lens pair; every kind's lobe and direction
+    mb.vertexLo = 0;
+    mb.vertexHi = 3;
+    const float unset = std::numeric_limits<float>::quiet_NaN();
+    for (int k = 1; k <= kMaxPathLength; ++k) {
+        std::vector<int> seen(size_t(k) + 1, 0);
+        size_t missing = 0, checked = 0;
+        for (uint32_t index0 = 0; index0 < 64 * n && std::count(seen.begin(), seen.end(), 0) > 0; index0 += n) {
+            std::fill(mb.u.begin(), mb.u.end(), unset);
+            fillPoolRows(mb, k, 0, index0, n, 7);
+            const StoredSamples u = mb.samples();
+            for (uint32_t i = 0; i < n; ++i) {
+                const int s = mb.bpt.strategyS[i], t = k + 1 - s;
+                seen[size_t(s)] = 1;
+                auto check = [&](BptStream c, uint32_t j) {
+                    ++checked;
+                    if (std::isnan(u(i, c, j))) ++missing;
+                };
+                if (t >= 2) {  // raster and lens point, then the BSDF at z_1 .. z_{t-2}
+                    for (uint32_t j = 0; j < 4; ++j) check(kBptCamera, j);
+                    for (int d = 1; d <= t - 2; ++d)
+                        for (uint32_t m = 0; m < 3; ++m) check(kBptCamera, bptCamVertexJ(d, m));
+                }
+                if (s >= 2 || (s == 1 && t == 1)) {  // y_0 and its direction, then the BSDF at y_1 .. y_{s-2}
+                    for (uint32_t j = 0; j < 5; ++j) check(kBptLight, j);
+                    for (int d = 1; d <= s - 2; ++d)
+                        for (uint32_t m = 0; m < 3; ++m) check(kBptLight, bptLightVertexJ(d, m));
+                }
+                if (s == 1 && t >= 2)
+                    for (uint32_t m = 0; m < 3; ++m) check(kBptConnect, m);
+                if (t == 1)
+                    for (uint32_t m = 0; m < 2; ++m) check(kBptConnect, m);
+            }
+        }
+        INFO("length " << k << ": " << missing << " of " << checked << " numbers read were not filled");
+        CHECK(std::count(seen.begin(), seen.end(), 0) == 0);
+        CHECK(missing == 0);
     }
 }

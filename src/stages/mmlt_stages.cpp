@@ -25,9 +25,9 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
     b.pathLength[i] = uint8_t(k);
     b.cam.maxCount[i] = uint8_t(t);
     b.light.maxCount[i] = uint8_t(s >= 2 || (s == 1 && t == 1) ? s : 0);
-    mb.used[kBptCamera][i] = uint8_t(StrategyLayout::cameraUsed(t));
-    mb.used[kBptLight][i] = uint8_t(StrategyLayout::lightUsed(s, t));
-    mb.used[kBptConnect][i] = uint8_t(StrategyLayout::connectUsed(s, t));
+    mb.used[kBptCamera][i] = uint16_t(StrategyLayout::cameraUsed(t));
+    mb.used[kBptLight][i] = uint16_t(StrategyLayout::lightUsed(s, t));
+    mb.used[kBptConnect][i] = uint16_t(StrategyLayout::connectUsed(s, t));
 }
 
 // Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order: the

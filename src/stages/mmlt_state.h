@@ -128,7 +128,7 @@ struct MmltBatch {
     std::vector<uint32_t> row;
     std::vector<uint32_t> chain;      // slot -> chain index within its group
     std::vector<uint8_t> large;       // the slot's proposal is a large step
-    std::vector<uint8_t> used[3];     // the prefix of each stream's block the strategy reads
+    std::vector<uint16_t> used[3];    // the prefix of each stream's block the strategy reads (256 at k = 64, s = 0)
     // Which numbers within those prefixes the scene's walks read (setNumbersRead): the
     // lens point (a thin lens), and numbers [vertexLo, vertexHi) of each vertex's four
     // (0 lobe, 1-2 direction, 3 roulette). The others are neither proposed nor committed.
