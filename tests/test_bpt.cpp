@@ -119,6 +119,49 @@ TEST_CASE("BPT MIS: weights are a partition of unity, 0 at delta connections", "
     CHECK(pathsWithDelta > pathsChecked / 4);
 }
 
+TEST_CASE("BPT MIS: the weight from partial sums cached per subpath vertex equals bptMisWeight", "[bpt][mis]") {
+    // Random paths as above, plus point lights; each strategy's weight from the sums a
+    // subpath walk caches (T_i on the camera side, L(m) on the light side) and the
+    // densities around its connection, against the direct walk over all ratios.
+    std::mt19937 rng(777);
+    std::uniform_real_distribution<float> logPdf(-6.0f, 6.0f);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    int compared = 0;
+    for (int k = 1; k <= 20; ++k)
+        for (int trial = 0; trial < 200; ++trial) {
+            float pL[24], pE[24];
+            uint8_t delta[24] = {};
+            for (int i = 0; i <= k; ++i) {
+                pL[i] = u01(rng) < 0.05f ? 0.0f : std::exp(logPdf(rng));
+                pE[i] = u01(rng) < 0.05f ? 0.0f : std::exp(logPdf(rng));
+            }
+            const bool inf = trial % 4 == 0, x0Delta = trial % 4 == 1;
+            const float pL0Nee = x0Delta ? pL[0] : std::exp(logPdf(rng));
+            for (int i = 1; i < k; ++i) delta[i] = u01(rng) < 0.2f;
+            for (float beta : {1.0f, 2.0f}) {
+                double T[24], L[24];  // T[i]: camera vertex z_i = x_{k-i}; L[m]: light vertex y_m = x_m
+                T[0] = 0;
+                for (int i = 1; i <= k; ++i)
+                    T[i] = bptSubpathMisSum(T[i - 1], pL[k - i], pE[k - i], delta[k - i], delta[k - i + 1], beta);
+                L[0] = bptLightMisSum0(pE[0], pL0Nee, x0Delta, beta);
+                if (k >= 1) L[1] = bptLightMisSum1(L[0], pL[0], pL0Nee, pL[1], pE[1], delta[1], beta);
+                for (int m = 2; m <= k; ++m) L[m] = bptSubpathMisSum(L[m - 1], pE[m], pL[m], delta[m], delta[m - 1], beta);
+                for (int s = 0; s <= k; ++s) {
+                    const int t = k + 1 - s;
+                    // The connection's ends are not deltas (bptStrategyValid checks that).
+                    const float ref = bptMisWeight(k, s, pL, pE, delta, pL0Nee, beta, inf, x0Delta);
+                    const float w = bptMisWeightCached(k, s, pL, pE, delta, pL0Nee, beta, inf, x0Delta,
+                                                       t >= 3 ? T[t - 3] : 0.0, s >= 3 ? L[s - 3] : 0.0);
+                    INFO("k = " << k << ", s = " << s << ", beta = " << beta << ", trial " << trial);
+                    REQUIRE(std::isfinite(w));
+                    REQUIRE(w == Approx(ref).epsilon(1e-5).margin(1e-7));
+                    ++compared;
+                }
+            }
+        }
+    CHECK(compared > 40000);
+}
+
 TEST_CASE("BPT MIS: a mirror vertex leaves only the strategies that avoid it", "[bpt][mis]") {
     // x_0 light, x_1 diffuse, x_2 mirror, x_3 camera (k = 3): s = 2 (connect x_1-x_2) and
     // s = 3 (connect x_2-x_3) are impossible; s = 0 and s = 1 share the path.

@@ -39,6 +39,15 @@ inline bool bptStrategyValid(int k, int s, const uint8_t* delta, bool x0AtInfini
     return !delta[s - 1] && !delta[s];
 }
 
+inline double bptRemap(float p) { return p > 0 ? double(p) : 1.0; }
+
+// p_{j+1} / p_j: x_j moves from the camera side to the light side (densities remapped).
+inline double bptStep(int j, const float* pL, const float* pE, float pL0Nee) {
+    if (j == 0) return bptRemap(pL0Nee) / bptRemap(pE[0]);
+    if (j == 1) return bptRemap(pL[1]) * bptRemap(pL[0]) / (bptRemap(pE[1]) * bptRemap(pL0Nee));
+    return bptRemap(pL[j]) / bptRemap(pE[j]);
+}
+
 inline double bptRatioPow(double r, float beta) {
     return beta == 2.0f ? r * r : beta == 1.0f ? r : std::pow(r, double(beta));
 }
@@ -48,13 +57,7 @@ inline double bptRatioPow(double r, float beta) {
 inline float bptMisWeight(int k, int s, const float* pL, const float* pE, const uint8_t* delta,
                           float pL0Nee, float beta, bool x0AtInfinity = false, bool x0Delta = false) {
     if (!bptStrategyValid(k, s, delta, x0AtInfinity, x0Delta)) return 0.0f;
-    auto remap = [](float p) { return p > 0 ? double(p) : 1.0; };
-    // step(j) = p_{j+1} / p_j: x_j moves from the camera side to the light side.
-    auto step = [&](int j) {
-        if (j == 0) return remap(pL0Nee) / remap(pE[0]);
-        if (j == 1) return remap(pL[1]) * remap(pL[0]) / (remap(pE[1]) * remap(pL0Nee));
-        return remap(pL[j]) / remap(pE[j]);
-    };
+    auto step = [&](int j) { return bptStep(j, pL, pE, pL0Nee); };
     double sum = 1.0;  // strategy s itself
     double r = 1.0;
     for (int j = s; j < k; ++j) {  // p_{j+1} / p_s
@@ -67,6 +70,60 @@ inline float bptMisWeight(int k, int s, const float* pL, const float* pE, const 
         if (bptStrategyValid(k, j, delta, x0AtInfinity, x0Delta)) sum += bptRatioPow(r, beta);
     }
     float w = float(1.0 / sum);
+    return std::isfinite(w) ? w : 0.0f;
+}
+
+// ---- The same weight from partial sums cached per subpath vertex ----------------------
+// (the recursive form of Georgiev 2012, "Implementing Vertex Connection and Merging", and
+// van Antwerpen 2011, in this page's notation.) With rho(j) = step(j)^beta and v(j) =
+// bptStrategyValid(k, j), the sum of bptMisWeight is 1 + Right + Left:
+//   Right = sum_{j > s} v(j) prod_{s <= m < j} rho(m) = R(s),      R(m) = rho(m) (v(m + 1) + R(m + 1)), R(k) = 0,
+//   Left  = sum_{j < s} v(j) prod_{j <= m < s} 1 / rho(m) = L(s - 1), L(m) = (v(m) + L(m - 1)) / rho(m), L(-1) = 0.
+// R(m) for m >= s + 2 depends on the camera subpath alone (x_m = z_{k-m}): its vertex z_i
+// keeps T_i = R(k - i) (T_0 = 0); L(m) for m <= s - 3 on the light subpath alone: y_m
+// keeps L(m) (bptSubpathMisSum, and for y_0 and y_1 bptLightMisSum0/1). A strategy then needs only the
+// densities around its connection, [s - 3, s + 2] and x_0.
+
+// The sum at a subpath's vertex from the one before it (both sides have the same form):
+// camera vertex z_i (i >= 1), T_i = rho(k - i) (v(k - i + 1) + T_{i-1}); light vertex y_m
+// (m >= 2), L(m) = (v(m) + L(m - 1)) / rho(m). pdfRev: the vertex's density as the other
+// side would generate it, pdfFwd: as its own walk did; delta flags of it and of the vertex
+// before it (z_0, the camera, never is one).
+inline double bptSubpathMisSum(double prev, float pdfRev, float pdfFwd, bool delta, bool prevDelta, float beta) {
+    return bptRatioPow(bptRemap(pdfRev) / bptRemap(pdfFwd), beta) * ((delta || prevDelta ? 0.0 : 1.0) + prev);
+}
+// L(0) and L(1): y_0 on the light (pL0 its emission density, pL0Nee next-event
+// estimation's, pE0 the camera side's; x0Delta: a point light) and y_1 (densities pL1,
+// pE1, delta1).
+inline double bptLightMisSum0(float pE0, float pL0Nee, bool x0Delta, float beta) {
+    return x0Delta ? 0.0 : bptRatioPow(bptRemap(pE0) / bptRemap(pL0Nee), beta);
+}
+inline double bptLightMisSum1(double sum0, float pL0, float pL0Nee, float pL1, float pE1, bool delta1, float beta) {
+    const double rho = bptRemap(pL1) * bptRemap(pL0) / (bptRemap(pE1) * bptRemap(pL0Nee));
+    return ((delta1 ? 0.0 : 1.0) + sum0) / bptRatioPow(rho, beta);
+}
+
+// bptMisWeight from the partial sums: pL, pE and delta are read at x_0 and at [s - 3,
+// s + 2] only; cameraSum = T_{t-3} (t >= 3), lightSum = L(s - 3) (s >= 3), else unread.
+inline float bptMisWeightCached(int k, int s, const float* pL, const float* pE, const uint8_t* delta, float pL0Nee,
+                                float beta, bool x0AtInfinity, bool x0Delta, double cameraSum, double lightSum) {
+    if (!bptStrategyValid(k, s, delta, x0AtInfinity, x0Delta)) return 0.0f;
+    auto step = [&](int j) { return bptStep(j, pL, pE, pL0Nee); };
+    auto v = [&](int j) { return bptStrategyValid(k, j, delta, x0AtInfinity, x0Delta) ? 1.0 : 0.0; };
+    const int t = k + 1 - s;
+    double right = 0;  // R(s)
+    if (s + 1 <= k) {
+        double inner = 0;  // R(s + 1)
+        if (s + 2 <= k) inner = bptRatioPow(step(s + 1), beta) * (v(s + 2) + (t >= 3 ? cameraSum : 0.0));
+        right = bptRatioPow(step(s), beta) * (v(s + 1) + inner);
+    }
+    double left = 0;  // L(s - 1)
+    if (s >= 1) {
+        double inner = 0;  // L(s - 2)
+        if (s >= 2) inner = (v(s - 2) + (s >= 3 ? lightSum : 0.0)) / bptRatioPow(step(s - 2), beta);
+        left = (v(s - 1) + inner) / bptRatioPow(step(s - 1), beta);
+    }
+    float w = float(1.0 / (1.0 + right + left));
     return std::isfinite(w) ? w : 0.0f;
 }
 

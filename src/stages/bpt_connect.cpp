@@ -115,6 +115,7 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
 void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& counters) {
     const HashedSamples u{b.key.data()};
     StrategyWave& w = b.strategies;
+    cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
     w.n = 0;
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
@@ -133,6 +134,7 @@ void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, f
 
 void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, RayCounters& counters) {
     StrategyWave& w = b.strategies;
+    cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
     w.n = 0;
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) b.L[slot] = Vec3(0.0f);

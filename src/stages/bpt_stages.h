@@ -82,6 +82,9 @@ struct StrategySample {
 // of its contribution. False when the strategy cannot sample this path.
 template <class U>
 bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, int t, const U& u, StrategyWave& w);
+// cacheMisSums: after both walks, each subpath vertex's partial sum of the MIS ratios
+// (kernels/mis.h), so that weighStrategy reads only the densities around a connection.
+void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta);
 // evaluateStrategyBsdfs: f and both densities at every end of w's strategies, the ends
 // grouped by material kind and each kind's kernels called at compile time.
 void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w);

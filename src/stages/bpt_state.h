@@ -33,11 +33,13 @@ enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
 // first[slot] + i (slot * capacity, or packed): position, geometric normal (lights: emitting side), shading frame
 // (n = shading normal), material, throughput up to and including the vertex, area density
 // from the subpath's own walk (pdfFwd) and if the other side's walk produced it (pdfRev),
-// scattering by a delta lobe (mirror, glass), kind, and for a Light its index into
-// Scene::lights.
+// scattering by a delta lobe (mirror, glass), kind, for a Light its index into
+// Scene::lights, and the partial sum of the MIS weights' ratios up to the vertex
+// (kernels/mis.h, bptSubpathMisSum; written by cacheMisSums after the walks).
 #define WMLT_BPT_VERTEX_ARRAYS(X)                                                            \
     X(Vec3, p) X(Vec3, ng) X(Frame, shading) X(BsdfParams, bsdf) X(Vec3, beta)             \
-    X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light)
+    X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light)     \
+    X(double, misSum)
 
 struct BptVertices {
     int capacity = 0;
@@ -109,11 +111,12 @@ struct StrategyWave {
 };
 
 // Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),
-// the light subpath's initial throughput scale (roulette); per live path (compacted with
+// the light subpath's initial throughput scale (roulette), the density of its y_0 under
+// next-event estimation from y_1 (cacheMisSums; the MIS weights of s >= 2); per live path (compacted with
 // the wave): the throughput carried to the next vertex and the solid-angle density of the
 // sampled direction; per hit: its material's kind, for the kind sort.
 #define WMLT_BPT_ARRAYS(X)                                                                   \
-    X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale)                     \
+    X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
     X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
 // MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)

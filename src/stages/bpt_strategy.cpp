@@ -65,7 +65,44 @@ inline size_t indexOf(const BptBatch& b, uint32_t slot, int i, int s, int k) {
     return i < s ? b.light.at(slot, i) : b.cam.at(slot, k - i);
 }
 
+// x_0's density under next-event estimation from x_1 (light l0; k >= 2, not a point light).
+inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathPoint& x1) {
+    Vec3 dir = x0.kind == BptVertexKind::Env ? -x0.ng : dirTo(x1.p, x0.p);
+    return pdfAt(lightPdfFrom(scene, l0, x1.p, x0.p, dir, x0.ng), x1.p, x0);
+}
+
 }  // namespace
+
+void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta) {
+    for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
+        // The camera subpath: T_0 = 0 at the camera, T_i from T_{i-1}.
+        const BptVertices& c = b.cam;
+        for (int i = 0; i < c.count[slot]; ++i) {
+            const size_t a = c.at(slot, i);
+            if (i == 0) { b.cam.misSum[a] = 0; continue; }
+            const size_t p = c.at(slot, i - 1);
+            b.cam.misSum[a] = bptSubpathMisSum(c.misSum[p], c.pdfRev[a], c.pdfFwd[a], c.delta[a], i > 1 && c.delta[p], misBeta);
+        }
+        // The light subpath: next-event estimation's density of y_0 from y_1 (every
+        // strategy with s >= 2 weighs with it), L(0) and L(1), then L(m) from L(m - 1)
+        // (used from s = 3 on).
+        const BptVertices& l = b.light;
+        const int nL = l.count[slot];
+        if (nL < 2) continue;
+        const size_t y0 = l.at(slot, 0), y1 = l.at(slot, 1);
+        const int l0 = l.light[y0];
+        const bool x0Delta = isDeltaLight(scene.lights[l0]);
+        const float nee = x0Delta ? l.pdfFwd[y0] : neePdf(scene, l0, {l.p[y0], l.ng[y0], l.kind[y0]}, {l.p[y1], l.ng[y1], l.kind[y1]});
+        b.lightNee[slot] = nee;
+        if (nL < 3) continue;
+        b.light.misSum[y0] = bptLightMisSum0(l.pdfRev[y0], nee, x0Delta, misBeta);
+        b.light.misSum[y1] = bptLightMisSum1(l.misSum[y0], l.pdfFwd[y0], nee, l.pdfFwd[y1], l.pdfRev[y1], l.delta[y1], misBeta);
+        for (int m = 2; m < nL; ++m) {
+            const size_t a = l.at(slot, m), p = l.at(slot, m - 1);
+            b.light.misSum[a] = bptSubpathMisSum(l.misSum[p], l.pdfRev[a], l.pdfFwd[a], l.delta[a], l.delta[p], misBeta);
+        }
+    }
+}
 
 template <class U>
 bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, int t, const U& u, StrategyWave& w) {
@@ -188,18 +225,21 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     else
         value = b.light.beta[w.endVertex[ey]] * (w.f[ey] * w.scale[i]) * w.f[ez] * b.cam.beta[zi] * w.tail[i];
     if (isBlack(value)) return false;
-    // The path's stored densities x_0 .. x_k; the new endpoint's (s = 1, t >= 2: x_0;
-    // t = 1: x_k) and the connection's follow.
+    // The path's stored densities around the connection, x_{s-3} .. x_{s+2}, and at x_0
+    // (the rest of the path is in the subpaths' cached sums); the new endpoint's (s = 1,
+    // t >= 2: x_0; t = 1: x_k) and the connection's follow.
     float* pL = scratch.pL;
     float* pE = scratch.pE;
     uint8_t* delta = scratch.delta;
-    for (int j = 0; j <= k; ++j) {
+    auto load = [&](int j) {
         const BptVertices& v = sideOf(b, j, s);
         const size_t a = indexOf(b, slot, j, s, k);
         pL[j] = j < s ? v.pdfFwd[a] : v.pdfRev[a];
         pE[j] = j < s ? v.pdfRev[a] : v.pdfFwd[a];
         delta[j] = v.delta[a];
-    }
+    };
+    load(0);
+    for (int j = std::max(1, s - 3); j <= std::min(k, s + 2); ++j) load(j);
     auto x = [&](int j) {
         if (s == 1 && t >= 2 && j == 0)
             return PathPoint{w.endP[i], w.endN[i], w.infinite[i] ? BptVertexKind::Env : BptVertexKind::Light};
@@ -250,13 +290,11 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     // vertex connected to the camera). A point light: NEE chooses it as emission does
     // (the pmf), and no camera path reaches it (s = 0 has no density).
     const bool x0Delta = isDeltaLight(scene.lights[l0]);
-    float pL0Nee = pL[0];
-    if (k >= 2 && !x0Delta) {
-        const PathPoint x1 = x(1);
-        Vec3 dir = x0Infinite ? -x0.ng : dirTo(x1.p, x0.p);
-        pL0Nee = pdfAt(lightPdfFrom(scene, l0, x1.p, x0.p, dir, x0.ng), x1.p, x0);
-    }
-    out.weight = bptMisWeight(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite, x0Delta);
+    // (s >= 2: x_0, x_1 are y_0, y_1, whose density cacheMisSums keeps.)
+    const float pL0Nee = !(k >= 2 && !x0Delta) ? pL[0] : s >= 2 ? b.lightNee[slot] : neePdf(scene, l0, x0, x(1));
+    const double cameraSum = t >= 3 ? b.cam.misSum[b.cam.at(slot, t - 3)] : 0.0;
+    const double lightSum = s >= 3 ? b.light.misSum[b.light.at(slot, s - 3)] : 0.0;
+    out.weight = bptMisWeightCached(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite, x0Delta, cameraSum, lightSum);
     out.value = value;
     // The shadow ray's ends.
     out.shadowRay = s > 0;
