@@ -36,7 +36,12 @@ uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
 float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w) {
     float px, py, cosTheta;
     if (!cameraRasterOfRay(c, lens, w, px, py, cosTheta)) return 0.0f;
-    return 1.0f / (cameraPlaneArea(c) * cosTheta * cosTheta * cosTheta);
+    return cameraPdfOfRay(c, w);
+}
+
+float cameraPdfOfRay(const Camera& c, Vec3 w) {
+    const float cosTheta = dot(w, c.forward);
+    return cosTheta > 0 ? 1.0f / (cameraPlaneArea(c) * cosTheta * cosTheta * cosTheta) : 0.0f;
 }
 
 // The camera ray's numbers: j = 0-3 of the camera stream (bpt_state.h).
@@ -53,7 +58,7 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int 
             b.light.maxCount[i] = uint8_t(b.light.capacity);
             startCameraPath(scene, b, i, o, d);
             startPath(b, i, o, d);
-            b.pathPdf[i] = cameraPdfDir(scene.camera, o, d);
+            b.pathPdf[i] = cameraPdfOfRay(scene.camera, d);
             b.pathBeta[i] = Vec3(1.0f);
         });
     b.numPaths = b.numSlots;
@@ -77,7 +82,7 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
         startCameraPath(scene, b, i, o, d);
         b.pathSlot[n] = slot;
         setRayHit(b.ray[n], o, d);
-        b.pathPdf[n] = cameraPdfDir(cam, o, d);
+        b.pathPdf[n] = cameraPdfOfRay(cam, d);
         b.pathBeta[n] = Vec3(1.0f);
         ++n;
     }
