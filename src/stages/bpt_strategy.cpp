@@ -75,9 +75,10 @@ inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathP
 
 void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta) {
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
-        // The camera subpath: T_0 = 0 at the camera, T_i from T_{i-1}.
+        // The camera subpath: T_0 = 0 at the camera, T_i from T_{i-1}. A strategy with t
+        // camera vertices reads T_{t-3}, so the last two vertices need none.
         const BptVertices& c = b.cam;
-        for (int i = 0; i < c.count[slot]; ++i) {
+        for (int i = 0; i < c.count[slot] - 2; ++i) {
             const size_t a = c.at(slot, i);
             if (i == 0) { b.cam.misSum[a] = 0; continue; }
             const size_t p = c.at(slot, i - 1);
@@ -85,7 +86,7 @@ void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta) {
         }
         // The light subpath: next-event estimation's density of y_0 from y_1 (every
         // strategy with s >= 2 weighs with it), L(0) and L(1), then L(m) from L(m - 1)
-        // (used from s = 3 on).
+        // (strategy s reads L(s - 3): none for the last two vertices).
         const BptVertices& l = b.light;
         const int nL = l.count[slot];
         if (nL < 2) continue;
@@ -96,8 +97,9 @@ void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta) {
         b.lightNee[slot] = nee;
         if (nL < 3) continue;
         b.light.misSum[y0] = bptLightMisSum0(l.pdfRev[y0], nee, x0Delta, misBeta);
+        if (nL < 4) continue;
         b.light.misSum[y1] = bptLightMisSum1(l.misSum[y0], l.pdfFwd[y0], nee, l.pdfFwd[y1], l.pdfRev[y1], l.delta[y1], misBeta);
-        for (int m = 2; m < nL; ++m) {
+        for (int m = 2; m < nL - 2; ++m) {
             const size_t a = l.at(slot, m), p = l.at(slot, m - 1);
             b.light.misSum[a] = bptSubpathMisSum(l.misSum[p], l.pdfRev[a], l.pdfFwd[a], l.delta[a], l.delta[p], misBeta);
         }
