@@ -50,6 +50,7 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     pools_.resize(n);
     next_.resize(n);
     passB_.assign(n, 0.0);
+    thinRounds_.assign(n, 0);
     stats_.b.assign(n, 0.0);
     stats_.chains.assign(n, 0);
     for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapSamples, &stats_.bootstrapNonzero,
@@ -168,12 +169,14 @@ void MmltRender::runRounds(uint64_t passEnd) {
                     if (!lengthFilms_.empty()) lengthFilms_[o.stripeLength[i]].add(o.stripeSplats[i]);
                 }
         });
-        for (size_t ti = 0; ti < outputs.size(); ++ti) {  // in batch order: deterministic
-            TaskOutput& o = outputs[ti];
-            for (size_t k = 0; k < nk; ++k) {
-                next_[k].add(ranks_ ? roundPools[ti * nk + k] : o.pools[k]);
+        tbb::parallel_for(size_t(0), nk, [&](size_t k) {  // each length's pool in batch order
+            for (size_t ti = 0; ti < outputs.size(); ++ti) {
+                next_[k].add(ranks_ ? roundPools[ti * nk + k] : outputs[ti].pools[k]);
                 thin(next_[k], int(k));
             }
+        });
+        for (size_t ti = 0; ti < outputs.size(); ++ti) {  // in batch order: deterministic
+            TaskOutput& o = outputs[ti];
             counters_.add(o.counters);
             longest = std::max(longest, o.seconds);
             sum += o.seconds;

@@ -82,7 +82,10 @@ private:
         return std::max<size_t>(size_t(1) << 13, 8 * n);
     }
     void thin(SamplePool& pool, int k) {
-        if (pool.lit.size() > poolCapacity(k)) thinPool(pool, poolCapacity(k) / 2, opt_.seed, thinRounds_++);
+        // Each length counts its own thinnings (its comb offsets are hashed from the seed,
+        // the length and that count), so that the lengths' pools can be merged in parallel.
+        if (pool.lit.size() > poolCapacity(k))
+            thinPool(pool, poolCapacity(k) / 2, mix64(opt_.seed + uint64_t(k)), thinRounds_[size_t(k)]++);
     }
 
     const Scene& scene_;
@@ -109,7 +112,7 @@ private:
     tbb::enumerable_thread_specific<RayCounters> rays_;
     std::vector<SamplePool> pools_, next_;  // [k]: this pass's pool, the next one's large steps
     std::vector<double> passB_;            // sum over rounds of iterations times b_k
-    uint32_t thinRounds_ = 0;
+    std::vector<uint32_t> thinRounds_;     // [k]: thinnings of length k's pools so far
     std::vector<ChainGroup> groups_;       // this pass's chains, one group per length with chains
     std::vector<std::vector<BatchSlice>> plan_;  // per batch: its slices
     SplatFilm film_;
