@@ -16,11 +16,12 @@
 //     reaches the camera is an InputError (and exit status 2 on the command line);
 //  5. replay: every seeded chain reproduces its bootstrap sample's contribution bit for bit
 //     (checked in every render here, and over glass, mirrors, textures and 64 segments);
-//  6. a fixed seed gives a bit-identical image, run twice and for 1 and 2 threads.
+//  6. a fixed seed gives a bit-identical image, run twice and for 1, 2 and 4 threads.
 // Set WMLT_TEST_VERBOSE=1 to print every comparison's statistics.
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -472,7 +473,7 @@ TEST_CASE("MMLT: every seeded chain replays its pool sample bit for bit", "[mmlt
 
 // ---- 6. determinism -------------------------------------------------------------------------
 
-TEST_CASE("MMLT: a fixed seed gives a bit-identical image, for 1 and 2 threads", "[mmlt]") {
+TEST_CASE("MMLT: a fixed seed gives a bit-identical image, for 1, 2 and 4 threads", "[mmlt]") {
     const SceneDesc desc = caustic(6);
     const RenderOptions o = mmltOptions(64, 42, 1, 6, 4096, 4096, 0.3f, 2);
     RenderResult a = renderMmlt(desc, o);
@@ -486,6 +487,14 @@ TEST_CASE("MMLT: a fixed seed gives a bit-identical image, for 1 and 2 threads",
     one.threads = 1;
     RenderResult c = renderMmlt(desc, one);
     CHECK(a.image.rgb == c.image.rgb);
+    // 4 threads (in an arena of 4, whatever the machine): the rounds merge the film and the
+    // pools in parallel from 4 threads on, in the same order per pixel and per pool.
+    RenderOptions four = o;
+    four.threads = 4;
+    RenderResult e;
+    tbb::task_arena(4).execute([&] { e = renderMmlt(desc, four); });
+    CHECK(a.image.rgb == e.image.rgb);
+    CHECK(a.stats.mmlt.b == e.stats.mmlt.b);
     RenderOptions other = o;
     other.seed = 43;
     RenderResult d = renderMmlt(desc, other);

@@ -27,6 +27,8 @@
 // 0 makes every decision that depends on the clock; the films are summed on rank 0.
 #include "stages/mmlt_render.h"
 
+#include <tbb/global_control.h>
+
 namespace wmlt {
 
 namespace mmlt_detail {
@@ -69,44 +71,36 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
                          " of films, more than 3/4 of this machine's " + bytesText(mem));
 }
 
-// The film is merged in stripes of pixels, in parallel: each stripe takes its splats from
-// every task in task order, so every pixel still gets its splats in one order whatever the
-// threads. (The round's serial merge of splats and pools was 4.3% of its time on 2 threads
-// on the Cornell box, the film half of it: on 64 cores a serial part of that size would
-// take most of a round. The pools are still merged serially: their thinning is sequential.)
-constexpr uint32_t kFilmStripes = 64;
+// The film is merged in stripes of pixels, in parallel (from 4 threads on, runRounds): each
+// task keeps its splats by stripe (MmltBatch::addSplat), and each stripe adds every task's
+// in task order, so every pixel still gets its splats in one order whatever the threads.
+// (The round's serial merge of splats and pools was 4.3% of its time on 2 threads on the
+// Cornell box, the film half of it: on 64 cores a serial part of that size would take
+// about half of a round.)
+constexpr uint32_t kFilmStripes = MmltBatch::kStripes;
 
 struct TaskOutput {
-    std::vector<Splat> splats;
-    std::vector<uint8_t> splatLength;
+    std::vector<Splat> splats[kFilmStripes];
+    std::vector<uint8_t> splatLength[kFilmStripes];
     std::vector<SamplePool> pools;
     MmltCounters counters;
     double seconds = 0;
-    // The splats grouped by stripe, in their order within each: [stripeStart[s], stripeStart[s + 1]).
-    std::vector<Splat> stripeSplats;
-    std::vector<uint8_t> stripeLength;
-    std::vector<uint32_t> stripeStart = std::vector<uint32_t>(kFilmStripes + 1, 0), stripeNext;
-
-    // A stable counting sort of the splats by stripe (stripePixels pixels each).
-    void groupByStripe(uint32_t stripePixels) {
-        std::fill(stripeStart.begin(), stripeStart.end(), 0u);
-        for (const Splat& s : splats) ++stripeStart[s.pixel / stripePixels + 1];
-        for (uint32_t s = 0; s < kFilmStripes; ++s) stripeStart[s + 1] += stripeStart[s];
-        stripeNext.assign(stripeStart.begin(), stripeStart.end() - 1);
-        stripeSplats.resize(splats.size());
-        stripeLength.resize(splats.size());
-        for (size_t i = 0; i < splats.size(); ++i) {
-            const uint32_t at = stripeNext[splats[i].pixel / stripePixels]++;
-            stripeSplats[at] = splats[i];
-            stripeLength[at] = splatLength[i];
-        }
-    }
 };
 
 // Rounds of iterations until the pass ends at iteration passEnd (or the render does).
 void MmltRender::runRounds(uint64_t passEnd) {
     std::vector<TaskOutput> outputs(plan_.size());
-    const uint32_t stripePixels = uint32_t((uint64_t(pixels_) + kFilmStripes - 1) / kFilmStripes);
+    // The merge runs in parallel from 4 threads on; on fewer its synchronisation and the
+    // splats' grouping cost more than they save (2 threads, Cornell box: CPU seconds 3.11
+    // -> 3.36, medians of 5). Either way each pixel and each pool gets its additions in the
+    // same order, so the image does not depend on the choice.
+    const bool parallelMerge =
+        std::min<size_t>(size_t(tbb::this_task_arena::max_concurrency()),
+                         tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)) >= 4;
+    uint32_t stripeShift = 31;  // stripes of 2^stripeShift pixels, at most kFilmStripes of them
+    if (parallelMerge)
+        for (stripeShift = 0; (uint64_t(pixels_) + (uint64_t(1) << stripeShift) - 1) >> stripeShift > kFilmStripes;)
+            ++stripeShift;
     const uint32_t perRound = uint32_t(std::clamp(kProposalsPerRound / chains_, 1.0, 4096.0));
     const auto [b0, b1] = shareOf(ranks_, plan_.size());  // this rank's batches
     const size_t nk = size_t(kMax_) + 1;
@@ -137,8 +131,11 @@ void MmltRender::runRounds(uint64_t passEnd) {
             const auto start = Clock::now();
             MmltBatch& mb = batches_.local();
             mb.slices = plan_[ti];
-            mb.splats.clear();
-            mb.splatLength.clear();
+            mb.stripeShift = stripeShift;
+            for (uint32_t st = 0; st < kFilmStripes; ++st) {
+                mb.splats[st].clear();
+                mb.splatLength[st].clear();
+            }
             for (SamplePool& p : mb.pools) p.clear();
             mb.counters = MmltCounters();
             for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
@@ -147,12 +144,13 @@ void MmltRender::runRounds(uint64_t passEnd) {
                 acceptAndSplat(groups_, mb);
             }
             TaskOutput& o = outputs[ti];
-            o.splats.swap(mb.splats);
-            o.splatLength.swap(mb.splatLength);
+            for (uint32_t st = 0; st < kFilmStripes; ++st) {
+                o.splats[st].swap(mb.splats[st]);
+                o.splatLength[st].swap(mb.splatLength[st]);
+            }
             o.pools.swap(mb.pools);
             mb.pools.resize(size_t(kMax_) + 1);
             o.counters = mb.counters;
-            o.groupByStripe(stripePixels);
             o.seconds = std::chrono::duration<double>(Clock::now() - start).count();
         });
         if (ranks_) {  // every batch's large steps on every rank, in batch order
@@ -162,19 +160,26 @@ void MmltRender::runRounds(uint64_t passEnd) {
             exchangePools(roundPools, b0 * nk, (b1 - b0) * nk);
         }
         double longest = 0, sum = 0;
-        tbb::parallel_for(uint32_t(0), kFilmStripes, [&](uint32_t st) {  // each stripe in batch order
+        auto mergeStripe = [&](uint32_t st) {  // in batch order
             for (const TaskOutput& o : outputs)
-                for (uint32_t i = o.stripeStart[st]; i < o.stripeStart[st + 1]; ++i) {
-                    film_.add(o.stripeSplats[i]);
-                    if (!lengthFilms_.empty()) lengthFilms_[o.stripeLength[i]].add(o.stripeSplats[i]);
+                for (size_t i = 0; i < o.splats[st].size(); ++i) {
+                    film_.add(o.splats[st][i]);
+                    if (!lengthFilms_.empty()) lengthFilms_[o.splatLength[st][i]].add(o.splats[st][i]);
                 }
-        });
-        tbb::parallel_for(size_t(0), nk, [&](size_t k) {  // each length's pool in batch order
+        };
+        auto mergePool = [&](size_t k) {  // in batch order
             for (size_t ti = 0; ti < outputs.size(); ++ti) {
                 next_[k].add(ranks_ ? roundPools[ti * nk + k] : outputs[ti].pools[k]);
                 thin(next_[k], int(k));
             }
-        });
+        };
+        if (parallelMerge) {
+            tbb::parallel_for(uint32_t(0), kFilmStripes, mergeStripe);
+            tbb::parallel_for(size_t(0), nk, mergePool);
+        } else {
+            mergeStripe(0);  // stripeShift 31: every splat is in stripe 0
+            for (size_t k = 0; k < nk; ++k) mergePool(k);
+        }
         for (size_t ti = 0; ti < outputs.size(); ++ti) {  // in batch order: deterministic
             TaskOutput& o = outputs[ti];
             counters_.add(o.counters);

@@ -190,12 +190,10 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             const float a = acceptance(cP, g.c[c]);
             const uint32_t pixel = mb.bpt.pixel[i];
             if (a > 0) {
-                mb.splats.push_back({pixel, F * (a * g.weight / cP)});
-                mb.splatLength.push_back(k);
+                mb.addSplat(pixel, F * (a * g.weight / cP), k);
             }
             if (a < 1 && g.c[c] > 0) {
-                mb.splats.push_back({g.pixel[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c])});
-                mb.splatLength.push_back(k);
+                mb.addSplat(g.pixel[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];

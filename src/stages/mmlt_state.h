@@ -135,8 +135,17 @@ struct MmltBatch {
     bool lensRead = true;
     uint8_t vertexLo = 0, vertexHi = 4;
     std::vector<BatchSlice> slices;
-    std::vector<Splat> splats;        // expected-value splats of the round, in order
-    std::vector<uint8_t> splatLength; // the path length of each splat
+    // Expected-value splats of the round, in order, grouped by film stripe (2^stripeShift
+    // pixels each: the rounds merge the film one stripe per task), with their path lengths.
+    static constexpr uint32_t kStripes = 64;
+    uint32_t stripeShift = 31;
+    std::vector<Splat> splats[kStripes];
+    std::vector<uint8_t> splatLength[kStripes];
+    void addSplat(uint32_t pixel, Vec3 v, uint8_t k) {
+        const uint32_t st = pixel >> stripeShift;
+        splats[st].push_back({pixel, v});
+        splatLength[st].push_back(k);
+    }
     std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;
 
