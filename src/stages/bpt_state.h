@@ -38,7 +38,7 @@ enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
 // (kernels/mis.h, bptSubpathMisSum; written by cacheMisSums after the walks).
 #define WMLT_BPT_VERTEX_ARRAYS(X)                                                            \
     X(Vec3, p) X(Vec3, ng) X(Frame, shading) X(BsdfParams, bsdf) X(Vec3, beta)             \
-    X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light)     \
+    X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light) \
     X(double, misSum)
 
 struct BptVertices {
@@ -112,9 +112,9 @@ struct StrategyWave {
 
 // Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),
 // the light subpath's initial throughput scale (roulette), the density of its y_0 under
-// next-event estimation from y_1 (cacheMisSums; the MIS weights of s >= 2); per live path (compacted with
-// the wave): the throughput carried to the next vertex and the solid-angle density of the
-// sampled direction; per hit: its material's kind, for the kind sort.
+// next-event estimation from y_1 (cacheMisSums; the MIS weights of s >= 2); per live path
+// (compacted with the wave): the throughput carried to the next vertex and the solid-angle
+// density of the sampled direction; per hit: its material's kind, for the kind sort.
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
     X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
