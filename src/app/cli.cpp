@@ -76,7 +76,7 @@ std::string usageText() {
         "  --chains N               MMLT: Markov chains in flight (default 65536)\n"
         "  --bootstrap N            MMLT: bootstrap samples per path length (default: automatic)\n"
         "  --pass-length N          MMLT: iterations of every chain between restarts from the\n"
-        "                           sample pools (default: automatic, about 8 passes a render)\n"
+        "                           sample pools (default: automatic, 2 to 8 passes a render)\n"
         "  --p-large P              MMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
         "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
         "                           and _unweighted.exr (the folder is created)\n"

@@ -254,14 +254,21 @@ RenderResult MmltRender::run() {
                          std::to_string(*std::min_element(stats_.bootstrapSamples.begin() + kMin_, stats_.bootstrapSamples.end())) +
                          " or more samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
                          " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
-    // Iterations per pass: about 8 passes in a render, 32 to 1024 iterations each (each
-    // pass replays its C seeds: 1 / passLength of the render at most).
+    // Iterations per pass: 2 to 8 passes in a render, 32 to 1024 iterations each (each
+    // pass replays its C seeds: 1 / passLength of the render at most). Restarts renew the
+    // chains when the pools hold more lit seeds than there are chains, and only copy the
+    // same few seeds again when they hold fewer (docs/mmlt-chains.md, "Fewer, longer
+    // passes"): 8 passes when every chain of the first allocation can start from a seed of
+    // its own, down to 2 as the share rho of chains that can falls.
     if (timed()) {  // rank 0's figure on every rank
         const double left = std::max(0.0, opt_.timeBudget - elapsed());
         target_ = agreeAtBoundary(uint64_t(left / std::max(sampleSeconds_, 1e-12) / double(chains_))).value;
     }
+    double distinct = 0;
+    for (const ChainGroup& g : groups_) distinct += double(std::min<size_t>(g.count, pools_[size_t(g.k)].lit.size()));
+    const double rho = distinct / double(chains_), passes = 2.0 + 6.0 * std::min(1.0, rho);
     passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength)
-                                      : uint32_t(std::clamp(double(target_) / 8.0, 32.0, 1024.0));
+                                      : uint32_t(std::clamp(double(target_) / passes, 32.0, 1024.0));
     // Fresh samples per length and pass (the large steps feed the pools too; the fresh ones
     // keep probing every length, with chains or not): C / 8 in all, at least 64 per length.
     const uint32_t fresh = std::max<uint32_t>(64, chains_ / (8 * uint32_t(nLengths)));
