@@ -74,7 +74,7 @@ struct StrategyScratch {
 struct StrategySample {
     Vec3 value;          // unweighted contribution, visibility not yet tested
     float weight = 0;    // its MIS weight
-    bool shadowRay = false, infinite = false;  // s = 0 needs no shadow ray
+    bool infinite = false;  // the shadow ray ends at infinity (the environment)
     Vec3 from, nFrom, to, nTo;  // the shadow ray's ends (infinite: `to` is a direction; nTo = 0: not on a surface)
     uint32_t pixel = 0;  // t = 1: the raster pixel the path lands on
 };

@@ -299,7 +299,6 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     out.weight = bptMisWeightCached(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite, x0Delta, cameraSum, lightSum);
     out.value = value;
     // The shadow ray's ends.
-    out.shadowRay = s > 0;
     out.infinite = false;
     out.nTo = Vec3(0.0f);
     if (s == 1 && t >= 2) {
