@@ -180,12 +180,12 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;
-        const BsdfParams bsdf = materialAt<F>(scene, sp, -rayDir(rh));
-        v.bsdf[cur] = bsdf;
-        v.delta[cur] = isDeltaMaterial(bsdf.kind) ? 1 : 0;
+        materialAt<F>(scene, sp, -rayDir(rh), v.bsdf[cur]);
+        const MaterialKind kind = v.bsdf[cur].kind;
+        v.delta[cur] = isDeltaMaterial(kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
         b.hitPath[h] = uint32_t(i);
-        b.hitKind[h] = bsdf.kind;
+        b.hitKind[h] = kind;
         ++h;
     }
     b.numHits = h;
