@@ -69,7 +69,7 @@ std::string usageText() {
         "Renders the scene (the built-in default scene when none is given): the thesis' format\n"
         "or a Mitsuba 3 scene file (<scene version=\"3.x\">; see docs/mitsuba.md).\n"
         "Options override the scene's Settings:\n"
-        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (pt, lt and bpt so far)\n"
+        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (default: the scene's, else mmlt)\n"
         "  --mis-beta B             BPT, MMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
         "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N);\n"
         "                           MMLT: mutations per pixel\n"
