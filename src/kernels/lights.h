@@ -87,8 +87,9 @@ inline bool sampleSphereLight(const Light& l, Vec3 ref, float u1, float u2, Ligh
     float oneMinusCos = u1 * (omega / (2.0f * kPi));
     float cosTheta = 1.0f - oneMinusCos;
     float sinTheta = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
-    float phi = 2.0f * kPi * u2;
-    s.wi = f.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta});
+    float sinPhi, cosPhi;
+    sinCos2Pi(u2, sinPhi, cosPhi);
+    s.wi = f.toWorld({sinTheta * cosPhi, sinTheta * sinPhi, cosTheta});
     // Nearest intersection with the sphere along wi. The squared distance of the line from
     // the centre is |toC - b wi|^2, not dc^2 - b^2: that difference of two nearly equal
     // numbers loses the digits a small far sphere needs (Haines et al. 2019, "Precision

@@ -1,5 +1,6 @@
 // Visible-normal sampling (microfacet.h).
 #include "kernels/microfacet.h"
+#include "kernels/sampling.h"
 
 #include <algorithm>
 
@@ -51,9 +52,11 @@ Vec3 sampleGgx(float alpha, Vec3 wo, float u1, float u2) {
     const float len2 = vh.x * vh.x + vh.y * vh.y;
     const Vec3 t1 = len2 > 0 ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(len2) : Vec3(1, 0, 0);
     const Vec3 t2 = cross(vh, t1);
-    const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
-    const float p1 = r * std::cos(phi), s = 0.5f * (1.0f + vh.z);
-    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+    const float r = std::sqrt(u1);
+    float sinPhi, cosPhi;
+    sinCos2Pi(u2, sinPhi, cosPhi);
+    const float p1 = r * cosPhi, s = 0.5f * (1.0f + vh.z);
+    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * sinPhi;
     const Vec3 nh = t1 * p1 + t2 * p2 + vh * std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
     return normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
 }
