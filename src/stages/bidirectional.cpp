@@ -16,20 +16,15 @@
 #include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/passes.h"
+#include "stages/splat_passes.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
 
 namespace {
 
-struct TileOutput {
-    std::vector<Splat> splats;
-    std::vector<StrategySplat> strategySplats;
-    ContributionTally tally;
-};
-
 void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, BptBatch& b, Film& film,
-                RayCounters& counters, TileOutput& out) {
+                RayCounters& counters, TileSplats& out) {
     b.splats.clear();
     b.strategySplats.clear();
     b.tally = ContributionTally();
@@ -92,7 +87,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt, maxPaths);
     Film film(scene.camera.width, scene.camera.height);
     SplatFilm splatFilm(scene.camera.width, scene.camera.height);
-    std::vector<TileOutput> outputs(schedule.tiles.size());
+    std::vector<TileSplats> outputs(schedule.tiles.size());
     std::unique_ptr<StrategyFilms> strategyFilms;
     constexpr size_t kStrategyFilmsLimit = size_t(8) << 30;
     const size_t filmBytes = StrategyFilms::bytes(scene.camera.width, scene.camera.height, opt.maxPathLength);
@@ -109,32 +104,18 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;
-    uint64_t discarded = 0;
-    PathLengthSums lengths;
+    SplatTotals totals;
     PassResult pr = runPasses(
         schedule, opt,
         [&](size_t t, const Tile& tile) {
             traceBatch(scene, opt, tile, batches.local(), film, counters.local(), outputs[t]);
         },
-        [&] {  // a complete pass: its splats and totals, in tile order
-            for (TileOutput& o : outputs) {
-                for (const Splat& s : o.splats) splatFilm.add(s);
-                for (const StrategySplat& s : o.strategySplats) strategyFilms->addSplat(s);
-                discarded += o.tally.nonfinite;
-                lengths.add(o.tally.lengths);
-                o.splats.clear();  // keeps its capacity for the next pass
-                o.strategySplats.clear();
-                o.tally = ContributionTally();
-            }
-        },
+        [&] { totals.addPass(outputs, splatFilm, strategyFilms.get()); },
         {[&](uint32_t spp) { return imageOfJob(opt.ranks, film, splatFilm, spp); }, &counters});
 
     RenderResult res = startResult("bpt", scene, opt, pr, counters);
     res.image = imageOfJob(opt.ranks, film, splatFilm, pr.completedSpp);
-    res.stats.samplesNonfiniteDiscarded = discarded;
-    sumStatsToRoot(opt.ranks, res.stats);
-    res.stats.lengthMeanLuminance = lengthsOfJob(opt.ranks, lengths).means(double(scene.camera.width) * scene.camera.height,
-                                                                           pr.completedSpp);
+    totals.finish(scene, opt.ranks, pr.completedSpp, res.stats);
     if (strategyFilms) res.strategyImages = resolveStrategies(*strategyFilms, film, pr.completedSpp, opt.minPathLength);
     if (opt.lengthImages) {  // the weighted strategies of each length add up to its image
         res.lengthImages.assign(size_t(opt.maxPathLength) + 1, Image(scene.camera.width, scene.camera.height));

@@ -11,6 +11,14 @@ constexpr uint8_t kReadsLobe = 1, kReadsDirection = 2;
 
 template <MaterialKind K> struct BsdfOf;
 
+// The kinds whose every lobe is a delta: f and the densities of any given pair of
+// directions are 0 (only their own samples find them).
+struct DeltaBsdf {
+    static constexpr bool delta = true;
+    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
+    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
+};
+
 template <> struct BsdfOf<MaterialKind::Matte> {
     static constexpr uint8_t reads = kReadsDirection;
     static constexpr bool delta = false;
@@ -29,20 +37,14 @@ template <> struct BsdfOf<MaterialKind::Glossy> {
         return glossySample(m, wo, ul, u1, u2, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::Reflective> {
+template <> struct BsdfOf<MaterialKind::Reflective> : DeltaBsdf {
     static constexpr uint8_t reads = 0;
-    static constexpr bool delta = true;
-    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
-    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
     static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) {
         return mirrorSample(m, wo, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::Dielectric> {
+template <> struct BsdfOf<MaterialKind::Dielectric> : DeltaBsdf {
     static constexpr uint8_t reads = kReadsLobe;
-    static constexpr bool delta = true;
-    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
-    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
     static bool sample(const BsdfParams& m, Vec3 wo, float ul, float, float, TransportMode mode, BsdfSample& s) {
         return dielectricSample(m, wo, ul, mode, s);
     }
@@ -51,11 +53,8 @@ template <> struct BsdfOf<MaterialKind::Dielectric> {
 // The Mitsuba kinds (bsdf_microfacet.h). `delta`: every lobe is a delta, so no light
 // sampling or connection is tried there; Plastic mixes a delta coating with a diffuse base
 // and is not (its sample reports which lobe it took).
-template <> struct BsdfOf<MaterialKind::Conductor> {
+template <> struct BsdfOf<MaterialKind::Conductor> : DeltaBsdf {
     static constexpr uint8_t reads = 0;
-    static constexpr bool delta = true;
-    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
-    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
     static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) {
         return conductorSample(m, wo, s);
     }
@@ -78,11 +77,8 @@ template <> struct BsdfOf<MaterialKind::RoughDielectric> {
         return roughDielectricSample(m, wo, ul, u1, u2, mode, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::ThinDielectric> {
+template <> struct BsdfOf<MaterialKind::ThinDielectric> : DeltaBsdf {
     static constexpr uint8_t reads = kReadsLobe;
-    static constexpr bool delta = true;
-    static Vec3 f(const BsdfParams&, Vec3, Vec3) { return Vec3(0.0f); }
-    static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
     static bool sample(const BsdfParams& m, Vec3 wo, float ul, float, float, TransportMode, BsdfSample& s) {
         return thinDielectricSample(m, wo, ul, s);
     }

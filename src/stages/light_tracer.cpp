@@ -12,18 +12,14 @@
 #include "stages/film.h"
 #include "stages/passes.h"
 #include "stages/lt_stages.h"
+#include "stages/splat_passes.h"
 
 namespace wmlt {
 
 namespace {
 
-struct TileOutput {
-    std::vector<Splat> splats;
-    ContributionTally tally;
-};
-
 void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, LtBatch& b,
-                RayCounters& counters, TileOutput& out) {
+                RayCounters& counters, TileSplats& out) {
     b.splats.clear();
     b.tally = ContributionTally();
     const bool length1 = opt.minPathLength <= 1 && opt.maxPathLength >= 1;
@@ -61,36 +57,24 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
 RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
     const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt);
     SplatFilm film(scene.camera.width, scene.camera.height);
-    std::vector<TileOutput> outputs(schedule.tiles.size());
+    std::vector<TileSplats> outputs(schedule.tiles.size());
     tbb::enumerable_thread_specific<LtBatch> batches([&] {
         LtBatch b;
         b.reserve(schedule.pathsPerBatch());
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;
-    uint64_t discarded = 0;
-    PathLengthSums lengths;
+    SplatTotals totals;
     PassResult pr = runPasses(
         schedule, opt,
         [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
-        [&] {  // a complete pass: its splats, in tile order
-            for (TileOutput& o : outputs) {
-                for (const Splat& s : o.splats) film.add(s);
-                discarded += o.tally.nonfinite;
-                lengths.add(o.tally.lengths);
-                o.splats.clear();
-                o.tally = ContributionTally();
-            }
-        },
+        [&] { totals.addPass(outputs, film, nullptr); },
         {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); },
          &counters});
 
     RenderResult res = startResult("lt", scene, opt, pr, counters);
     res.image = withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(pr.completedSpp); });
-    res.stats.samplesNonfiniteDiscarded = discarded;
-    sumStatsToRoot(opt.ranks, res.stats);
-    res.stats.lengthMeanLuminance = lengthsOfJob(opt.ranks, lengths).means(double(scene.camera.width) * scene.camera.height,
-                                                                           pr.completedSpp);
+    totals.finish(scene, opt.ranks, pr.completedSpp, res.stats);
     return res;
 }
 

@@ -1,0 +1,51 @@
+// What the tracers that splat (LT, and BPT's t = 1 strategies) keep per tile of a pass and
+// over the render: each batch's splats go to its tile's list; after a complete pass the
+// lists are added to the film in tile order (so the image is the same for any thread
+// count) and their tallies to the render's totals.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "scene/scene.h"
+#include "stages/distributed_films.h"
+#include "stages/film.h"
+#include "stages/strategy_films.h"
+
+namespace wmlt {
+
+struct TileSplats {
+    std::vector<Splat> splats;
+    std::vector<StrategySplat> strategySplats;  // BPT's --strategy-images only
+    ContributionTally tally;
+};
+
+struct SplatTotals {
+    uint64_t discarded = 0;  // non-finite contributions
+    PathLengthSums lengths;
+
+    // A complete pass: every tile's splats (and strategy splats, when sf) in tile order;
+    // the lists keep their capacity for the next pass.
+    void addPass(std::vector<TileSplats>& tiles, SplatFilm& film, StrategyFilms* sf) {
+        for (TileSplats& o : tiles) {
+            for (const Splat& s : o.splats) film.add(s);
+            if (sf)
+                for (const StrategySplat& s : o.strategySplats) sf->addSplat(s);
+            discarded += o.tally.nonfinite;
+            lengths.add(o.tally.lengths);
+            o.splats.clear();
+            o.strategySplats.clear();
+            o.tally = ContributionTally();
+        }
+    }
+
+    // The render's stats from the totals (summed over ranks on rank 0); spp: complete passes'
+    // samples per pixel.
+    void finish(const Scene& scene, Distributed* ranks, uint32_t spp, RenderStats& stats) const {
+        stats.samplesNonfiniteDiscarded = discarded;
+        sumStatsToRoot(ranks, stats);
+        stats.lengthMeanLuminance =
+            lengthsOfJob(ranks, lengths).means(double(scene.camera.width) * scene.camera.height, spp);
+    }
+};
+
+}  // namespace wmlt
