@@ -51,8 +51,11 @@ inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t last
     // In double: for large nSmall the step is large and float would quantise the result.
     // nSmall = 1 (a coordinate read at every step) needs no square root.
     const double scale = nSmall == 1 ? double(sigma) : double(sigma) * std::sqrt(double(nSmall));
-    double x = double(value) + scale * double(z);
-    return wrapUnit(float(x - std::floor(x)));
+    // x mod 1 in double is in [0, 1); rounded to float it can reach 1, which wraps to 0 (as
+    // wrapUnit of it would: one floor fewer).
+    const double x = double(value) + scale * double(z);
+    const float r = float(x - std::floor(x));
+    return r < 1.0f ? r : 0.0f;
 }
 
 // Metropolis acceptance a = min(1, c(proposed) / c(current)) (Metropolis et al. 1953; the
