@@ -11,6 +11,7 @@
 // replaced the inverse CDF (a logarithm and a polynomial per number) in the small step.
 #pragma once
 #include <cstdint>
+#include <cstring>
 
 #include "kernels/rng.h"
 
@@ -34,13 +35,24 @@ inline uint64_t normalBits(uint64_t key, uint32_t dim, uint32_t attempt) {
 // |z| after a first draw (layer, u) that fell outside its layer's rectangle (gaussian.cpp).
 double gaussianSlow(uint64_t key, uint32_t dim, int layer, double u);
 
+// |z| = m as a float with the sign bit 7 of h gives it: a flip of the float's sign bit,
+// exact (rounding is symmetric), with no branch, so that loops of it vectorise.
+inline float withNormalSign(uint64_t h, double m) {
+    float f = float(m);
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits ^= uint32_t(h & 128) << 24;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
 // A standard normal number, a pure function of (key, dim).
 inline float standardNormal(uint64_t key, uint32_t dim) {
     const uint64_t h = normalBits(key, dim, 0);
     const int layer = int(h & 127);
     const double u = double(h >> 11) * 0x1p-53;
     const double m = u < kZiggurat.inner[layer] ? u * kZiggurat.x[layer] : gaussianSlow(key, dim, layer, u);
-    return float(h & 128 ? -m : m);
+    return withNormalSign(h, m);
 }
 
 }  // namespace wmlt

@@ -42,18 +42,15 @@ inline float wrapUnit(float x) {
 inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t lastLargeStep, uint32_t n,
                                bool largeStep, float sigma, float uFresh, float z) {
     if (largeStep) return uFresh;
-    uint32_t since = lastModified;
-    if (lastModified < lastLargeStep) {
-        value = uFresh;
-        since = lastLargeStep;
-    }
-    const uint32_t nSmall = n - since;
+    // Written without branches (selects only), so that a loop of small steps vectorises
+    // (mmlt_stages.cpp, drawSmallSteps).
+    const bool stale = lastModified < lastLargeStep;
+    const double v = double(stale ? uFresh : value);
+    const uint32_t nSmall = n - (stale ? lastLargeStep : lastModified);
     // In double: for large nSmall the step is large and float would quantise the result.
-    // nSmall = 1 (a coordinate read at every step) needs no square root.
-    const double scale = nSmall == 1 ? double(sigma) : double(sigma) * std::sqrt(double(nSmall));
-    // x mod 1 in double is in [0, 1); rounded to float it can reach 1, which wraps to 0 (as
-    // wrapUnit of it would: one floor fewer).
-    const double x = double(value) + scale * double(z);
+    // (nSmall = 1, a coordinate read at every step: sigma * sqrt(1) is sigma exactly.)
+    const double x = v + double(sigma) * std::sqrt(double(nSmall)) * double(z);
+    // x mod 1 in double is in [0, 1); rounded to float it can reach 1, which wraps to 0.
     const float r = float(x - std::floor(x));
     return r < 1.0f ? r : 0.0f;
 }

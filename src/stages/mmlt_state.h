@@ -9,6 +9,7 @@
 // accepted proposal is committed, so a rejection restores every coordinate by doing nothing.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "stages/bpt_state.h"
@@ -115,6 +116,20 @@ struct MmltCounters {
     }
 };
 
+// The small steps of a batch's proposals, a chunk of coordinates at a time (mutateChains):
+// listed slot by slot with what the lazy step reads, drawn in one flat loop the compiler
+// vectorises (the hashes, the ziggurat's fast path, the step and the wrap), then the few
+// draws outside their layer's rectangle redone (gaussianSlow) and each result written to
+// its row at dst.
+struct SmallStepChunk {
+    static constexpr uint32_t kSize = 1024;
+    uint32_t count = 0;
+    uint64_t key[kSize];
+    float value[kSize], out[kSize];
+    uint32_t lastModified[kSize], lastLarge[kSize], n[kSize], dim[kSize], dst[kSize];
+    uint8_t slow[kSize];
+};
+
 // A batch of chains in flight: slices of several lengths side by side (a batch holds a
 // share of every length's chains, so that batches cost about the same), their proposals
 // (rows of u, as StoredSamples reads them), the BPT stages' state, and what a round
@@ -148,6 +163,7 @@ struct MmltBatch {
     }
     std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;
+    std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
 
     void reserve(size_t n, int maxLength) {
         bpt.reserve(n, maxLength, true);
