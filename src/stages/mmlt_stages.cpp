@@ -128,6 +128,8 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
     packVertices(mb.bpt);
 }
 
+namespace {
+
 // The chunk's small steps (SmallStepChunk), written to their rows; the chunk is emptied.
 void drawSmallSteps(MmltBatch& mb) {
     SmallStepChunk& st = *mb.steps;
@@ -156,6 +158,8 @@ void drawSmallSteps(MmltBatch& mb) {
     }
     st.count = 0;
 }
+
+}  // namespace
 
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge) {
