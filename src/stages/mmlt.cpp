@@ -132,6 +132,7 @@ void MmltRender::runRounds(uint64_t passEnd) {
             MmltBatch& mb = batches_.local();
             mb.slices = plan_[ti];
             mb.stripeShift = stripeShift;
+            mb.splatLengths = !lengthFilms_.empty();
             for (uint32_t st = 0; st < kFilmStripes; ++st) {
                 mb.splats[st].clear();
                 mb.splatLength[st].clear();

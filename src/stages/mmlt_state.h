@@ -154,12 +154,16 @@ struct MmltBatch {
     // pixels each: the rounds merge the film one stripe per task), with their path lengths.
     static constexpr uint32_t kStripes = 64;
     uint32_t stripeShift = 31;
+    // The lengths only for --length-images (splatLengths): their byte stores may alias
+    // anything, so the splat lists' pointers were reloaded after each (a third of
+    // acceptAndSplat's samples were in these appends).
     std::vector<Splat> splats[kStripes];
     std::vector<uint8_t> splatLength[kStripes];
+    bool splatLengths = false;
     void addSplat(uint32_t pixel, Vec3 v, uint8_t k) {
         const uint32_t st = pixel >> stripeShift;
         splats[st].push_back({pixel, v});
-        splatLength[st].push_back(k);
+        if (splatLengths) splatLength[st].push_back(k);
     }
     std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;
