@@ -53,6 +53,16 @@ void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv);
 void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv);
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv);
 
+// Starts loading what surfaceAt will read of hit rh that is not in cache after traversal:
+// its triangle's corner normals (on a large mesh, a miss on nearly every hit). The stages
+// call it a few hits ahead of the one they resolve, so that the loads overlap.
+constexpr size_t kSurfacePrefetch = 8;
+inline void prefetchSurface(const Scene& scene, const RTCRayHit& rh) {
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+    const GeomRecord& g = scene.geoms[rh.hit.geomID];
+    if (!g.cornerNormals.empty()) __builtin_prefetch(&g.cornerNormals[size_t(rh.hit.primID) * 3]);
+}
+
 // Geometry of a hit (rh must have hit something).
 template <class F>
 SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
