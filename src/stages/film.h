@@ -83,6 +83,15 @@ struct SplatFilm {
         double* d = &sum[size_t(s.pixel) * 3];
         d[0] += s.value.x; d[1] += s.value.y; d[2] += s.value.z;
     }
+    // Adds splats [0, n) in order, loading the pixels a few splats ahead: splats land
+    // anywhere and a large film is not in cache (MMLT's serial merge stalled on it).
+    void addAll(const Splat* s, size_t n) {
+        constexpr size_t kAhead = 64;
+        for (size_t i = 0; i < n; ++i) {
+            if (i + kAhead < n) __builtin_prefetch(&sum[size_t(s[i + kAhead].pixel) * 3], 1);
+            add(s[i]);
+        }
+    }
     Image resolve(uint64_t spp) const {
         Image img(width, height);
         double inv = spp ? 1.0 / double(spp) : 0.0;

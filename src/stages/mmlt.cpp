@@ -162,11 +162,11 @@ void MmltRender::runRounds(uint64_t passEnd) {
         }
         double longest = 0, sum = 0;
         auto mergeStripe = [&](uint32_t st) {  // in batch order
-            for (const TaskOutput& o : outputs)
-                for (size_t i = 0; i < o.splats[st].size(); ++i) {
-                    film_.add(o.splats[st][i]);
-                    if (!lengthFilms_.empty()) lengthFilms_[o.splatLength[st][i]].add(o.splats[st][i]);
-                }
+            for (const TaskOutput& o : outputs) {
+                film_.addAll(o.splats[st].data(), o.splats[st].size());
+                if (!lengthFilms_.empty())
+                    for (size_t i = 0; i < o.splats[st].size(); ++i) lengthFilms_[o.splatLength[st][i]].add(o.splats[st][i]);
+            }
         };
         auto mergePool = [&](size_t k) {  // in batch order
             for (size_t ti = 0; ti < outputs.size(); ++ti) {
