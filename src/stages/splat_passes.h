@@ -27,7 +27,7 @@ struct SplatTotals {
     // the lists keep their capacity for the next pass.
     void addPass(std::vector<TileSplats>& tiles, SplatFilm& film, StrategyFilms* sf) {
         for (TileSplats& o : tiles) {
-            for (const Splat& s : o.splats) film.add(s);
+            film.addAll(o.splats.data(), o.splats.size());
             if (sf)
                 for (const StrategySplat& s : o.strategySplats) sf->addSplat(s);
             discarded += o.tally.nonfinite;
