@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what a fresh Debian 12 machine lacks (idempotent), then configures and builds
-# wavemmlt in ./build (Release, -O3 -march=native -ffp-contract=off). Extra arguments go to cmake's configure.
+# wavemmlt in ./build (Release, -O3 -march=native -ffp-contract=off -fno-math-errno
+# -fno-trapping-math). Extra arguments go to cmake's configure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
