@@ -139,7 +139,7 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
-        if (i + kSurfacePrefetch < b.numPaths) prefetchSurface(scene, b.ray[i + kSurfacePrefetch]);
+        prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             if (!cameraWalk || scene.envLight < 0) continue;
             // The camera path escapes to the environment: an Env vertex ends it.

@@ -100,7 +100,7 @@ void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
-        if (i + kSurfacePrefetch < b.numPaths) prefetchSurface(scene, b.ray[i + kSurfacePrefetch]);
+        prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene
         SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.material < 0) continue;  // an emitter without a material absorbs

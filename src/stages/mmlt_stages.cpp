@@ -130,6 +130,15 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
 
 namespace {
 
+// Coordinate d's small step, one coordinate at a time (u0, which the strategy depends on,
+// and the draws drawSmallSteps' fast path leaves); uFresh is drawn only when read.
+inline float smallStepOf(uint64_t key, uint32_t d, float value, uint32_t lastModified, uint32_t lastLarge,
+                         uint32_t n) {
+    const float uFresh = lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
+    return proposeCoordinate(value, lastModified, lastLarge, n, false, kSmallStepSigma, uFresh,
+                             standardNormal(key, dimNormal(d)));
+}
+
 // The chunk's small steps (SmallStepChunk), written to their rows; the chunk is emptied.
 void drawSmallSteps(MmltBatch& mb) {
     SmallStepChunk& st = *mb.steps;
@@ -149,11 +158,8 @@ void drawSmallSteps(MmltBatch& mb) {
                                       poolCoordinate(key, d), z);
     }
     for (uint32_t m = 0; m < st.count; ++m) {
-        if (st.slow[m]) {
-            const float uFresh = st.lastModified[m] < st.lastLarge[m] ? poolCoordinate(st.key[m], st.dim[m]) : 0.0f;
-            st.out[m] = proposeCoordinate(st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], false, sigma,
-                                          uFresh, standardNormal(st.key[m], dimNormal(st.dim[m])));
-        }
+        if (st.slow[m])
+            st.out[m] = smallStepOf(st.key[m], st.dim[m], st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m]);
         mb.u[st.dst[m]] = st.out[m];
     }
     st.count = 0;
@@ -163,7 +169,6 @@ void drawSmallSteps(MmltBatch& mb) {
 
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge) {
-    const float sigma = kSmallStepSigma;
     SmallStepChunk& st = *mb.steps;
     st.count = 0;
     packRows(groups, mb);
@@ -182,13 +187,7 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
             const size_t at = g.at(c, 0);
             const uint32_t lastLarge = g.lastLarge[c], n = g.accepted[c] + 1;
             float* row = mb.rowOf(i);
-            if (large) {
-                row[0] = poolCoordinate(key, 0);
-            } else {  // u0 now: the strategy depends on it
-                const float uFresh = g.lastModified[at] < lastLarge ? poolCoordinate(key, 0) : 0.0f;
-                row[0] = proposeCoordinate(g.value[at], g.lastModified[at], lastLarge, n, false, sigma, uFresh,
-                                           standardNormal(key, dimNormal(0)));
-            }
+            row[0] = large ? poolCoordinate(key, 0) : smallStepOf(key, 0, g.value[at], g.lastModified[at], lastLarge, n);
             setStrategy(mb, i, g.k, row[0]);
             if (large) {
                 forEachUsedOf(mb, i, g.k, [&](uint32_t d) { row[d] = poolCoordinate(key, d); });

@@ -48,7 +48,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
-        if (i + kSurfacePrefetch < b.numPaths) prefetchSurface(scene, b.ray[i + kSurfacePrefetch]);
+        prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
         const uint32_t slot = b.pathSlot[i];
         const Vec3 d = rayDir(rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {

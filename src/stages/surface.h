@@ -53,11 +53,14 @@ void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv);
 void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv);
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv);
 
-// Starts loading what surfaceAt will read of hit rh that is not in cache after traversal:
-// its triangle's corner normals (on a large mesh, a miss on nearly every hit). The stages
-// call it a few hits ahead of the one they resolve, so that the loads overlap.
-constexpr size_t kSurfacePrefetch = 8;
-inline void prefetchSurface(const Scene& scene, const RTCRayHit& rh) {
+// Called by a stage resolving hits i = 0 .. n - 1 of rays before it resolves hit i: starts
+// loading what surfaceAt will read of hit i + 8 that is not in cache after traversal, its
+// triangle's corner normals (on a large mesh, a miss on nearly every hit), so that the
+// loads overlap.
+inline void prefetchSurfaceAhead(const Scene& scene, const RTCRayHit* rays, size_t i, size_t n) {
+    constexpr size_t kAhead = 8;
+    if (i + kAhead >= n) return;
+    const RTCRayHit& rh = rays[i + kAhead];
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
     const GeomRecord& g = scene.geoms[rh.hit.geomID];
     if (!g.cornerNormals.empty()) __builtin_prefetch(&g.cornerNormals[size_t(rh.hit.primID) * 3]);
