@@ -59,37 +59,35 @@ struct SamplePool {
     }
 };
 
-// The chains of one path length k in the current pass.
+// The chains of one path length k in the current pass. Per chain and coordinate,
+// at(chain, coordinate): a chain's coordinates side by side, so that a proposal reads one
+// contiguous block: its value and the accepted proposal that last wrote it. Per chain: its
+// accepted proposals (the lazy step's clock), its last accepted large step, the current
+// state's contribution F = (k + 1) L_w, target c = luminance(F) and pixel, and the key of
+// the pool entry it started from.
+#define WMLT_CHAIN_COORDINATE_ARRAYS(X) X(float, value) X(uint32_t, lastModified)
+#define WMLT_CHAIN_ARRAYS(X)                                                                 \
+    X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(uint32_t, pixel)   \
+    X(uint64_t, seed)
+
 struct ChainGroup {
     int k = 0;
     uint32_t count = 0;               // chains of this length
     uint32_t first = 0;               // global index of its first chain
     uint32_t dims = 0;                // StrategyLayout::size(k)
     float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
-    // Per chain and coordinate, at(chain, coordinate): a chain's coordinates side by side,
-    // so that a proposal reads one contiguous block.
-    std::vector<float> value;
-    std::vector<uint32_t> lastModified;
-    // Per chain.
-    std::vector<uint32_t> accepted;   // accepted proposals (the lazy step's clock)
-    std::vector<uint32_t> lastLarge;  // the last accepted large step
-    std::vector<Vec3> F;              // current state: contribution (k + 1) L_w
-    std::vector<float> c;             // current state: luminance of F (the target)
-    std::vector<uint32_t> pixel;      // current state: where F lands
-    std::vector<uint64_t> seed;       // the pool entry the chain started from (its key)
+    WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
 
     size_t at(uint32_t chain, uint32_t d) const { return size_t(chain) * dims + d; }
 
-    void resize(uint32_t n) {
-        count = n;
-        value.assign(size_t(dims) * n, 0.0f);
-        lastModified.assign(value.size(), 0);
-        accepted.assign(n, 0);
-        lastLarge.assign(n, 0);
-        F.assign(n, Vec3(0.0f));
-        c.assign(n, 0.0f);
-        pixel.assign(n, 0);
-        seed.assign(n, 0);
+    // count chains, every array zeroed.
+    void resize(uint32_t chains) {
+        count = chains;
+        size_t n = size_t(dims) * chains;
+        WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ZERO)
+        n = chains;
+        WMLT_CHAIN_ARRAYS(WMLT_SOA_ZERO)
     }
 };
 
@@ -139,10 +137,11 @@ struct MmltBatch {
     // Slot i's proposal: u[row[i] + coordinate], rows packed at their lengths' sizes
     // (StrategyLayout::size(k)), so that a batch's numbers stay in cache (rows of the
     // longest length's size were 2 KB apart at MaxPathLength 64).
+    // Per slot: row[i] as above, the chain (its index within its group), whether the
+    // proposal is a large step.
     std::vector<float> u;
-    std::vector<uint32_t> row;
-    std::vector<uint32_t> chain;      // slot -> chain index within its group
-    std::vector<uint8_t> large;       // the slot's proposal is a large step
+#define WMLT_MMLT_SLOT_ARRAYS(X) X(uint32_t, row) X(uint32_t, chain) X(uint8_t, large)
+    WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_ARRAY)
     std::vector<uint16_t> used[3];    // the prefix of each stream's block the strategy reads (256 at k = 64, s = 0)
     // Which numbers within those prefixes the scene's walks read (setNumbersRead): the
     // lens point (a thin lens), and numbers [vertexLo, vertexHi) of each vertex's four
@@ -173,9 +172,7 @@ struct MmltBatch {
         bpt.reserve(n, maxLength, true);
         bpt.roulette = false;
         u.assign(n * StrategyLayout::size(maxLength), 0.0f);
-        row.resize(n);
-        chain.resize(n);
-        large.resize(n);
+        WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
     }
