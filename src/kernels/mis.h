@@ -48,6 +48,20 @@ inline double bptStep(int j, const float* pL, const float* pE, float pL0Nee) {
     return bptRemap(pL[j]) / bptRemap(pE[j]);
 }
 
+// step(j) as a fraction num / den (both > 0 and finite for finite densities).
+inline void bptStepFraction(int j, const float* pL, const float* pE, float pL0Nee, double& num, double& den) {
+    if (j == 0) {
+        num = bptRemap(pL0Nee);
+        den = bptRemap(pE[0]);
+    } else if (j == 1) {
+        num = bptRemap(pL[1]) * bptRemap(pL[0]);
+        den = bptRemap(pE[1]) * bptRemap(pL0Nee);
+    } else {
+        num = bptRemap(pL[j]);
+        den = bptRemap(pE[j]);
+    }
+}
+
 inline double bptRatioPow(double r, float beta) {
     return beta == 2.0f ? r * r : beta == 1.0f ? r : std::pow(r, double(beta));
 }
@@ -111,6 +125,51 @@ inline float bptMisWeightCached(int k, int s, const float* pL, const float* pE, 
     auto step = [&](int j) { return bptStep(j, pL, pE, pL0Nee); };
     auto v = [&](int j) { return bptStrategyValid(k, j, delta, x0AtInfinity, x0Delta) ? 1.0 : 0.0; };
     const int t = k + 1 - s;
+    if (beta == 2.0f || beta == 1.0f) {
+        // The same sums as fractions, Right = rN / rD and Left = lN / lD, so that the weight
+        // rD lD / (rD lD + rN lD + lN rD) takes one division instead of one per ratio (the
+        // divisions' latency was most of the weighting). Densities so extreme that a
+        // product leaves double's range take the form below.
+        auto frac = [&](int j, double& num, double& den) {
+            bptStepFraction(j, pL, pE, pL0Nee, num, den);
+            if (beta == 2.0f) {
+                num *= num;
+                den *= den;
+            }
+        };
+        double rN = 0, rD = 1, lN = 0, lD = 1;
+        if (s + 1 <= k) {
+            double c, e;
+            frac(s, c, e);
+            if (s + 2 <= k) {
+                double a, b;
+                frac(s + 1, a, b);
+                rN = c * (v(s + 1) * b + a * (v(s + 2) + (t >= 3 ? cameraSum : 0.0)));
+                rD = e * b;
+            } else {
+                rN = c * v(s + 1);
+                rD = e;
+            }
+        }
+        if (s >= 1) {
+            double h, m;
+            frac(s - 1, h, m);
+            if (s >= 2) {
+                double f, g;
+                frac(s - 2, f, g);
+                lN = m * (v(s - 1) * f + (v(s - 2) + (s >= 3 ? lightSum : 0.0)) * g);
+                lD = h * f;
+            } else {
+                lN = m * v(s - 1);
+                lD = h;
+            }
+        }
+        const double den = rD * lD, sum = den + rN * lD + lN * rD;
+        if (den > 0 && std::isfinite(sum)) {
+            const float w = float(den / sum);
+            return std::isfinite(w) ? w : 0.0f;
+        }
+    }
     double right = 0;  // R(s)
     if (s + 1 <= k) {
         double inner = 0;  // R(s + 1)
