@@ -33,12 +33,6 @@ uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
     return sampleKey(mix64(seed ^ 0x425054u /* "BPT" */), pixel, sample);
 }
 
-float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w) {
-    float px, py, cosTheta;
-    if (!cameraRasterOfRay(c, lens, w, px, py, cosTheta)) return 0.0f;
-    return cameraPdfOfRay(c, w);
-}
-
 float cameraPdfOfRay(const Camera& c, Vec3 w) {
     const float cosTheta = dot(w, c.forward);
     return cosTheta > 0 ? 1.0f / (cameraPlaneArea(c) * cosTheta * cosTheta * cosTheta) : 0.0f;

@@ -24,11 +24,9 @@ namespace wmlt {
 uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample);
 
 // Solid-angle density with which the camera generates direction w from a lens point
-// (uniform on the image plane: 1 / (A cos^3 theta)); 0 outside the image.
-float cameraPdfDir(const Camera& c, Vec3 lens, Vec3 w);
-// The same for a ray the camera generated from a raster point of the image (the camera
-// rays of the walks): inside the image by construction, so the raster point is not
-// computed again (its divisions were 3% of MMLT's time).
+// (uniform on the image plane: 1 / (A cos^3 theta)), for a direction known to pass
+// inside the image (the camera rays of the walks; a t = 1 strategy's camera sample): the
+// raster point is not computed again (its divisions were 3% of MMLT's time).
 float cameraPdfOfRay(const Camera& c, Vec3 w);
 
 // Writes slots (pixel, key, L = 0), camera vertex z_0 and one path per slot.

@@ -277,7 +277,9 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         }
     } else if (t == 1) {
         const PathPoint y = x(s - 1);
-        pE[s - 1] = pdfAt(cameraPdfDir(cam, w.endP[i], dirTo(w.endP[i], y.p)), w.endP[i], y);
+        // The direction is -wi of setUpStrategy's camera sample bit for bit (the same
+        // difference and length), whose raster point was inside the image: no check again.
+        pE[s - 1] = pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
         if (s >= 2) pE[s - 2] = pdfAt(w.pdfCam[ey], y.p, x(s - 2));
     } else {  // s = 1, t >= 2
         const PathPoint z = x(1);
