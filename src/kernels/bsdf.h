@@ -69,14 +69,17 @@ inline Vec3 matteF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
 inline float mattePdf(const BsdfParams&, Vec3 wo, Vec3 wi) {
     return sameHemisphere(wo, wi) ? absCosTheta(wi) * kInvPi : 0.0f;
 }
-inline bool matteSample(const BsdfParams& m, Vec3 wo, float, float u1, float u2, BsdfSample& s) {
-    Vec3 wi = sampleCosineHemisphere(u1, u2);
+// The matte sample from a cosine-weighted direction wi about +z (sampleCosineHemisphere).
+inline bool matteSampleFrom(const BsdfParams& m, Vec3 wo, Vec3 wi, BsdfSample& s) {
     if (wo.z < 0) wi.z = -wi.z;
     s.wi = wi;
     s.pdf = absCosTheta(wi) * kInvPi;
     s.f = m.diffuse * kInvPi;
     s.delta = false;
     return s.pdf > 0;
+}
+inline bool matteSample(const BsdfParams& m, Vec3 wo, float, float u1, float u2, BsdfSample& s) {
+    return matteSampleFrom(m, wo, sampleCosineHemisphere(u1, u2), s);
 }
 
 // ---- Glossy, Reflective, Dielectric: bsdf_glossy.cpp, bsdf_specular.cpp -------

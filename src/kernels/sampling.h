@@ -1,5 +1,6 @@
 // Warps from [0,1)^2 to directions and points, each with its pdf (pbrt-v4 ch. 2 and A.5).
 #pragma once
+#include "kernels/rng.h"
 #include "wavemmlt/math.h"
 
 namespace wmlt {
@@ -66,6 +67,31 @@ inline Vec3 sampleCosineHemisphere(float u1, float u2) {
     return {x, y, z};
 }
 inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
+
+// sampleConcentricDisk with its branches as selects (the same bits), for loops the compiler
+// vectorises.
+inline void sampleConcentricDiskSelect(float u1, float u2, float& x, float& y) {
+    const float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
+    const bool aBig = std::fabs(a) > std::fabs(b), centre = a == 0 && b == 0;
+    float s, c;
+    sinCosQuarter((kPi / 4) * ((aBig ? b : a) / (aBig ? a : b)), s, c);
+    x = centre ? 0.0f : aBig ? a * c : b * s;
+    y = centre ? 0.0f : aBig ? a * s : b * c;
+}
+
+// sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2)) for i < n,
+// bit for bit, into (x[i], y[i], z[i]), in one loop the compiler vectorises (the hashes,
+// the polynomials, the square root).
+inline void sampleCosineHemispheres(const uint64_t* __restrict key, size_t n, uint32_t d1, uint32_t d2,
+                                    float* __restrict x, float* __restrict y, float* __restrict z) {
+    for (size_t i = 0; i < n; ++i) {
+        float xi, yi;
+        sampleConcentricDiskSelect(sampleDimension(key[i], d1), sampleDimension(key[i], d2), xi, yi);
+        x[i] = xi;
+        y[i] = yi;
+        z[i] = std::sqrt(std::max(0.0f, 1.0f - xi * xi - yi * yi));
+    }
+}
 
 // Uniform direction on the unit sphere: pdf = 1 / (4 pi).
 inline Vec3 sampleUniformSphere(float u1, float u2) {

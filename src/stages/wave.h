@@ -48,10 +48,12 @@ struct RayCounters {
 
 // Per live path (index i < numPaths): its slot and ray. Per hit (index h < numHits, in
 // path order): the path it belongs to, the material order, whether the path goes on and
-// in which direction.
+// in which direction. Per hit in material order (index r of order): the slot's key and
+// a direction in the shading frame, for the flat loops of scatterHits.
 #define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
     X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
-    X(uint8_t, alive) X(Vec3, nextDir)
+    X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, localX) X(float, localY) \
+    X(float, localZ)
 
 struct PathWave {
     size_t numPaths = 0, numHits = 0;
@@ -142,19 +144,34 @@ inline void forEachHitByKind(const PathWave& w, F&& f) {
 // hit's BSDF, kind by kind, with the numbers dimOf(m) of its slot's key (m = 0: lobe, 1-2:
 // direction) and calls f(h, path, slot, key, s) for a usable sample (pdf > 0, f not black;
 // s in the hit's shading frame). alive[h] stays 0 unless f sets it.
+// Matte hits draw their cosine-weighted directions first, all of the kind in one flat loop
+// (sampleCosineHemispheres: the same numbers, vectorised).
 template <class Batch, class DimOf, class F>
 inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f) {
-    forEachHitByKind(b, [&](auto kind, uint32_t h) {
+    forEachMaterialKind([&](auto kind) {
         using B = BsdfOf<decltype(kind)::value>;
-        const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
-        const uint64_t key = b.key[slot];
-        b.alive[h] = 0;
-        const Vec3 wo = b.shading[h].toLocal(b.wo[h]);
-        BsdfSample s;
-        if (!sampleBsdfOf<B>(b.bsdf[h], wo, [&](uint32_t m) { return sampleDimension(key, dimOf(m)); }, mode, s) ||
-            !(s.pdf > 0) || isBlack(s.f))
-            return;
-        f(h, path, slot, key, s);
+        constexpr bool matte = decltype(kind)::value == MaterialKind::Matte;
+        const uint32_t r0 = b.kindStart[int(kind.value)], r1 = b.kindStart[int(kind.value) + 1];
+        if constexpr (matte) {
+            for (uint32_t r = r0; r < r1; ++r) b.sortedKey[r] = b.key[b.pathSlot[b.hitPath[b.order[r]]]];
+            sampleCosineHemispheres(&b.sortedKey[r0], r1 - r0, dimOf(1), dimOf(2), &b.localX[r0], &b.localY[r0],
+                                    &b.localZ[r0]);
+        }
+        for (uint32_t r = r0; r < r1; ++r) {
+            const uint32_t h = b.order[r], path = b.hitPath[h], slot = b.pathSlot[path];
+            const uint64_t key = b.key[slot];
+            b.alive[h] = 0;
+            const Vec3 wo = b.shading[h].toLocal(b.wo[h]);
+            BsdfSample s;
+            bool sampled;
+            if constexpr (matte)
+                sampled = matteSampleFrom(b.bsdf[h], wo, Vec3(b.localX[r], b.localY[r], b.localZ[r]), s);
+            else
+                sampled = sampleBsdfOf<B>(b.bsdf[h], wo, [&](uint32_t m) { return sampleDimension(key, dimOf(m)); },
+                                          mode, s);
+            if (!sampled || !(s.pdf > 0) || isBlack(s.f)) continue;
+            f(h, path, slot, key, s);
+        }
     });
 }
 
