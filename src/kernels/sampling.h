@@ -79,18 +79,24 @@ inline void sampleConcentricDiskSelect(float u1, float u2, float& x, float& y) {
     y = centre ? 0.0f : aBig ? a * s : b * c;
 }
 
+// sampleCosineHemisphere with the select form of the map (the same bits).
+inline void sampleCosineHemisphereSelect(float u1, float u2, float& x, float& y, float& z) {
+    sampleConcentricDiskSelect(u1, u2, x, y);
+    z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
+}
+
 // sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2)) for i < n,
 // bit for bit, into (x[i], y[i], z[i]), in one loop the compiler vectorises (the hashes,
 // the polynomials, the square root).
 inline void sampleCosineHemispheres(const uint64_t* __restrict key, size_t n, uint32_t d1, uint32_t d2,
                                     float* __restrict x, float* __restrict y, float* __restrict z) {
-    for (size_t i = 0; i < n; ++i) {
-        float xi, yi;
-        sampleConcentricDiskSelect(sampleDimension(key[i], d1), sampleDimension(key[i], d2), xi, yi);
-        x[i] = xi;
-        y[i] = yi;
-        z[i] = std::sqrt(std::max(0.0f, 1.0f - xi * xi - yi * yi));
-    }
+    for (size_t i = 0; i < n; ++i)
+        sampleCosineHemisphereSelect(sampleDimension(key[i], d1), sampleDimension(key[i], d2), x[i], y[i], z[i]);
+}
+// The same from the numbers (u1[i], u2[i]).
+inline void sampleCosineHemispheres(const float* __restrict u1, const float* __restrict u2, size_t n,
+                                    float* __restrict x, float* __restrict y, float* __restrict z) {
+    for (size_t i = 0; i < n; ++i) sampleCosineHemisphereSelect(u1[i], u2[i], x[i], y[i], z[i]);
 }
 
 // Uniform direction on the unit sphere: pdf = 1 / (4 pi).

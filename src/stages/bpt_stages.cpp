@@ -196,43 +196,59 @@ template <class U>
 void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u) {
     const TransportMode mode = cameraWalk ? TransportMode::Radiance : TransportMode::Importance;
     const BptStream stream = cameraWalk ? kBptCamera : kBptLight;
-    forEachHitByKind(b, [&](auto kind, uint32_t h) {
+    auto jOf = [&](int d, uint32_t m) { return cameraWalk ? bptCamVertexJ(d, m) : bptLightVertexJ(d, m); };
+    forEachMaterialKind([&](auto kind) {
         using B = BsdfOf<decltype(kind)::value>;
-        const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
-        const int d = v.count[slot] - 1;
-        const size_t cur = v.at(slot, d), prev = v.at(slot, d - 1);
-        auto j = [&](uint32_t m) { return cameraWalk ? bptCamVertexJ(d, m) : bptLightVertexJ(d, m); };
-        b.alive[h] = 0;
-        v.delta[cur] = B::delta ? 1 : 0;
-        const Frame& fr = v.shading[cur];
-        const Vec3 woW = -rayDir(b.ray[path]);
-        Vec3 wo = fr.toLocal(woW);
-        BsdfSample s;
-        if (!sampleBsdfOf<B>(v.bsdf[cur], wo, [&](uint32_t m) { return u(slot, stream, j(m)); }, mode, s))
-            return;
-        if (!(s.pdf > 0) || isBlack(s.f)) return;
-        v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)
-        Vec3 wi = normalize(fr.toWorld(s.wi));
-        float corr = cameraWalk ? 1.0f : shadingCorrection(woW, wi, fr.n, v.ng[cur]);
-        Vec3 beta = b.pathBeta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
-        // Densities: forward for the next vertex, reverse for the previous one.
-        float pdfFwd = 0, pdfRev = 0;
-        if (!s.delta) {
-            pdfFwd = s.pdf;
-            pdfRev = B::pdf(v.bsdf[cur], s.wi, wo);
+        constexpr bool matte = decltype(kind)::value == MaterialKind::Matte;
+        const uint32_t r0 = b.kindStart[int(kind.value)], r1 = b.kindStart[int(kind.value) + 1];
+        if constexpr (matte) {  // the directions first, in one flat loop (scatterHits)
+            for (uint32_t r = r0; r < r1; ++r) {
+                const uint32_t slot = b.pathSlot[b.hitPath[b.order[r]]];
+                const int d = v.count[slot] - 1;
+                b.sortedU1[r] = u(slot, stream, jOf(d, 1));
+                b.sortedU2[r] = u(slot, stream, jOf(d, 2));
+            }
+            sampleCosineHemispheres(&b.sortedU1[r0], &b.sortedU2[r0], r1 - r0, &b.localX[r0], &b.localY[r0], &b.localZ[r0]);
         }
-        v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
-                             ? pdfRev
-                             : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev],
-                                                v.kind[prev] != BptVertexKind::Camera);
-        // Roulette (sampling.h): the light subpath's relative to its initial throughput.
-        if (b.roulette && d >= kRouletteDepth &&
-            !survivesRoulette(beta, cameraWalk ? 1.0f : b.betaScale[slot], u(slot, stream, j(3))))
-            return;
-        b.alive[h] = 1;
-        b.nextDir[h] = wi;
-        b.pathBeta[path] = beta;  // read back by advanceBptPaths (path >= h)
-        b.pathPdf[path] = pdfFwd;
+        for (uint32_t r = r0; r < r1; ++r) {
+            const uint32_t h = b.order[r], path = b.hitPath[h], slot = b.pathSlot[path];
+            const int d = v.count[slot] - 1;
+            const size_t cur = v.at(slot, d), prev = v.at(slot, d - 1);
+            b.alive[h] = 0;
+            v.delta[cur] = B::delta ? 1 : 0;
+            const Frame& fr = v.shading[cur];
+            const Vec3 woW = -rayDir(b.ray[path]);
+            Vec3 wo = fr.toLocal(woW);
+            BsdfSample s;
+            bool sampled;
+            if constexpr (matte)
+                sampled = matteSampleFrom(v.bsdf[cur], wo, Vec3(b.localX[r], b.localY[r], b.localZ[r]), s);
+            else
+                sampled = sampleBsdfOf<B>(v.bsdf[cur], wo, [&](uint32_t m) { return u(slot, stream, jOf(d, m)); }, mode, s);
+            if (!sampled || !(s.pdf > 0) || isBlack(s.f)) continue;
+            v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)
+            Vec3 wi = normalize(fr.toWorld(s.wi));
+            float corr = cameraWalk ? 1.0f : shadingCorrection(woW, wi, fr.n, v.ng[cur]);
+            Vec3 beta = b.pathBeta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
+            // Densities: forward for the next vertex, reverse for the previous one.
+            float pdfFwd = 0, pdfRev = 0;
+            if (!s.delta) {
+                pdfFwd = s.pdf;
+                pdfRev = B::pdf(v.bsdf[cur], s.wi, wo);
+            }
+            v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
+                                 ? pdfRev
+                                 : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev],
+                                                    v.kind[prev] != BptVertexKind::Camera);
+            // Roulette (sampling.h): the light subpath's relative to its initial throughput.
+            if (b.roulette && d >= kRouletteDepth &&
+                !survivesRoulette(beta, cameraWalk ? 1.0f : b.betaScale[slot], u(slot, stream, jOf(d, 3))))
+                continue;
+            b.alive[h] = 1;
+            b.nextDir[h] = wi;
+            b.pathBeta[path] = beta;  // read back by advanceBptPaths (path >= h)
+            b.pathPdf[path] = pdfFwd;
+        }
     });
 }
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const HashedSamples&);

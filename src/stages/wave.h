@@ -48,12 +48,13 @@ struct RayCounters {
 
 // Per live path (index i < numPaths): its slot and ray. Per hit (index h < numHits, in
 // path order): the path it belongs to, the material order, whether the path goes on and
-// in which direction. Per hit in material order (index r of order): the slot's key and
-// a direction in the shading frame, for the flat loops of scatterHits.
+// in which direction. Per hit in material order (index r of order): the slot's key or two
+// of its numbers, and a direction in the shading frame, for the flat loops of the scatter
+// stages (scatterHits, sampleBptBsdfs).
 #define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
     X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
-    X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, localX) X(float, localY) \
-    X(float, localZ)
+    X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, sortedU1) X(float, sortedU2)  \
+    X(float, localX) X(float, localY) X(float, localZ)
 
 struct PathWave {
     size_t numPaths = 0, numHits = 0;
