@@ -1,7 +1,9 @@
 // Camera basis and ray generation; light sampling pdfs against their samplers.
 #include <catch2/catch.hpp>
 
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include "kernels/camera.h"
 #include "kernels/lights.h"
@@ -111,6 +113,55 @@ Light testRectLight() {
 }
 
 }  // namespace
+
+// The path tracer's flat loop for a scene's one rectangle light must give sampleRectLight's
+// samples bit for bit (a refactor may change no image), including the reference points
+// behind the light (no sample) and on its plane, for a tilted light with uneven edges.
+TEST_CASE("rect light: rectLightSamples equals sampleRectLight bit for bit", "[lights]") {
+    Light l = testRectLight();
+    l.corner = {-0.37f, 1.9f, -0.21f};
+    l.e1 = {0.93f, 0.11f, 0.07f};
+    l.e2 = {-0.05f, 0.02f, 0.61f};
+    const Vec3 c = cross(l.e1, l.e2);
+    l.area = length(c);
+    l.n = -(c / l.area);  // facing down, towards y = 0
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-3.0f, 3.0f), below(-3.0f, 1.5f), above(2.5f, 3.0f);
+    const size_t n = 4099;  // not a multiple of any vector width
+    std::vector<float> u1(n), u2(n), ref(3 * n), p(3 * n), wx(n), wy(n), wz(n), dist(n), pdf(n);
+    std::vector<uint8_t> ok(n);
+    for (size_t i = 0; i < n; ++i) {
+        u1[i] = i % 97 == 0 ? 0.0f : u01(rng);
+        u2[i] = u01(rng);
+        ref[3 * i] = pos(rng);
+        // most below the light (sampled), a third above it (refused), some on its corner's plane
+        ref[3 * i + 1] = i % 13 == 0 ? 1.9f : i % 3 == 0 ? above(rng) : below(rng);
+        ref[3 * i + 2] = pos(rng);
+    }
+    rectLightSamples(l, u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(), dist.data(),
+                     pdf.data(), ok.data());
+    auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    size_t differ = 0, sampled = 0, refused = 0;
+    for (size_t i = 0; i < n; ++i) {
+        LightSample s;
+        const bool valid = sampleRectLight(l, Vec3(ref[3 * i], ref[3 * i + 1], ref[3 * i + 2]), u1[i], u2[i], s);
+        if (valid != bool(ok[i])) {
+            ++differ;
+            continue;
+        }
+        if (!valid) {
+            ++refused;
+            continue;
+        }
+        ++sampled;
+        if (!same(s.p.x, p[3 * i]) || !same(s.p.y, p[3 * i + 1]) || !same(s.p.z, p[3 * i + 2]) || !same(s.wi.x, wx[i]) ||
+            !same(s.wi.y, wy[i]) || !same(s.wi.z, wz[i]) || !same(s.dist, dist[i]) || !same(s.pdf, pdf[i]))
+            ++differ;
+    }
+    CHECK(sampled > n / 4);
+    CHECK(refused > n / 4);
+    CHECK(differ == 0);
+}
 
 TEST_CASE("rect light: rectLightPdf integrates to 1", "[lights]") {
     const Light l = testRectLight();

@@ -53,6 +53,37 @@ inline bool sampleRectLight(const Light& l, Vec3 ref, float u1, float u2, LightS
     s.pdf = dist2 / (cosL * l.area);
     return std::isfinite(s.pdf);
 }
+// sampleRectLight(l, ref[h], u1[h], u2[h], s) for h < n, the same bits: s.p into p (three
+// floats each), s.wi into (wx, wy, wz), s.dist, s.pdf, and ok[h] = it returned true (the
+// others are then unspecified). In floats, as Vec3's operators round (left to right; a / s
+// as a * (1 / s)), with restrict parameters, so that the compiler vectorises the loop.
+__attribute__((noinline)) inline void rectLightSamples(const Light& l, const float* __restrict u1,
+                                                       const float* __restrict u2, const float* __restrict ref,
+                                                       size_t n, float* __restrict p, float* __restrict wx,
+                                                       float* __restrict wy, float* __restrict wz,
+                                                       float* __restrict dist, float* __restrict pdf,
+                                                       uint8_t* __restrict ok) {
+    const float cx = l.corner.x, cy = l.corner.y, cz = l.corner.z, ax = l.e1.x, ay = l.e1.y, az = l.e1.z,
+                bx = l.e2.x, by = l.e2.y, bz = l.e2.z, nx = l.n.x, ny = l.n.y, nz = l.n.z, area = l.area;
+    for (size_t h = 0; h < n; ++h) {
+        const float qx = (cx + ax * u1[h]) + bx * u2[h], qy = (cy + ay * u1[h]) + by * u2[h],
+                    qz = (cz + az * u1[h]) + bz * u2[h];
+        const float dx = qx - ref[3 * h], dy = qy - ref[3 * h + 1], dz = qz - ref[3 * h + 2];
+        const float dist2 = dx * dx + dy * dy + dz * dz, dh = std::sqrt(dist2), r = 1.0f / dh;
+        const float x = dx * r, y = dy * r, z = dz * r;
+        const float cosL = -(x * nx + y * ny + z * nz), pdfH = dist2 / (cosL * area);
+        p[3 * h] = qx;
+        p[3 * h + 1] = qy;
+        p[3 * h + 2] = qz;
+        wx[h] = x;
+        wy[h] = y;
+        wz[h] = z;
+        dist[h] = dh;
+        pdf[h] = pdfH;
+        ok[h] = dist2 > 0 && cosL > 0 && std::isfinite(pdfH);
+    }
+}
+
 inline float rectLightPdf(const Light& l, Vec3 ref, Vec3 pLight) {
     Vec3 d = pLight - ref;
     float dist2 = lengthSquared(d);

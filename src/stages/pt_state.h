@@ -20,12 +20,14 @@ namespace wmlt {
 // prevPdf: solid-angle pdf of the BSDF sample that made the path's ray; prevDelta: it was
 // a delta lobe (no MIS on what it hits). nextBeta, nextPdf, nextDelta: the same for the
 // next bounce, written by BSDF sampling at the hit's index. shadowL: the shadow ray's
-// unoccluded contribution to shadowSlot.
+// unoccluded contribution to shadowSlot. neeP, neeDist, neePdf, neeOk: per hit, its light
+// sample on a scene's one rectangle light (sampleLights' flat loop; neeWi in localX/Y/Z).
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
     WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, nextBeta) X(float, nextPdf) X(uint8_t, nextDelta)   \
-    X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
+    X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)                            \
+    X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)
 
 struct PtBatch : PathWave {
     WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
