@@ -163,6 +163,47 @@ TEST_CASE("rect light: rectLightSamples equals sampleRectLight bit for bit", "[l
     CHECK(differ == 0);
 }
 
+// The same for the light subpaths' starts (BPT, MMLT): rectEmissionSamples against
+// sampleRectEmission, including numbers 0, 1/2 and the centre of the direction's disc.
+TEST_CASE("rect light: rectEmissionSamples equals sampleRectEmission bit for bit", "[lights]") {
+    Light l = testRectLight();
+    l.e1 = {0.93f, 0.11f, 0.07f};
+    l.e2 = {-0.05f, 0.02f, 0.61f};
+    const Vec3 c = cross(l.e1, l.e2);
+    l.area = length(c);
+    l.n = -(c / l.area);
+    std::mt19937 rng(37);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    const size_t n = 4099;
+    std::vector<float> u1(n), u2(n), u3(n), u4(n), p(3 * n), dx(n), dy(n), dz(n), pdfDir(n);
+    std::vector<uint8_t> ok(n);
+    for (size_t i = 0; i < n; ++i) {
+        u1[i] = u01(rng);
+        u2[i] = u01(rng);
+        u3[i] = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.0f : u01(rng);
+        u4[i] = i % 17 == 0 ? 0.5f : u01(rng);
+    }
+    rectEmissionSamples(l, Frame::fromNormal(l.n), u1.data(), u2.data(), u3.data(), u4.data(), n, p.data(), dx.data(),
+                        dy.data(), dz.data(), pdfDir.data(), ok.data());
+    auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    size_t differ = 0, sampled = 0;
+    for (size_t i = 0; i < n; ++i) {
+        LightEmission e;
+        const bool valid = sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], e);
+        if (valid != bool(ok[i])) {
+            ++differ;
+            continue;
+        }
+        if (!valid) continue;
+        ++sampled;
+        if (!same(e.p.x, p[3 * i]) || !same(e.p.y, p[3 * i + 1]) || !same(e.p.z, p[3 * i + 2]) || !same(e.dir.x, dx[i]) ||
+            !same(e.dir.y, dy[i]) || !same(e.dir.z, dz[i]) || !same(e.pdfDir, pdfDir[i]))
+            ++differ;
+    }
+    CHECK(sampled > n / 2);
+    CHECK(differ == 0);
+}
+
 TEST_CASE("rect light: rectLightPdf integrates to 1", "[lights]") {
     const Light l = testRectLight();
     Vec3 ref(0.3f, 0, 0.1f);

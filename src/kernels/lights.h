@@ -184,6 +184,38 @@ inline bool sampleRectEmission(const Light& l, float u1, float u2, float u3, flo
     return e.pdfDir > 0;
 }
 
+// sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], e) for i < n, the same bits (frame:
+// Frame::fromNormal(l.n), made once): e.p into p (three floats each), e.dir into (dx, dy,
+// dz), e.pdfDir, and in ok[i] what it returned (e.n is l.n, e.pdfPos 1 / l.area, e.Le l.L).
+// In floats, as Vec3's operators round, with restrict parameters: the loop vectorises.
+__attribute__((noinline)) inline void rectEmissionSamples(const Light& l, const Frame& frame,
+                                                          const float* __restrict u1, const float* __restrict u2,
+                                                          const float* __restrict u3, const float* __restrict u4,
+                                                          size_t n, float* __restrict p, float* __restrict dx,
+                                                          float* __restrict dy, float* __restrict dz,
+                                                          float* __restrict pdfDir, uint8_t* __restrict ok) {
+    const float cx = l.corner.x, cy = l.corner.y, cz = l.corner.z, ax = l.e1.x, ay = l.e1.y, az = l.e1.z,
+                bx = l.e2.x, by = l.e2.y, bz = l.e2.z;
+    const float sx = frame.s.x, sy = frame.s.y, sz = frame.s.z, tx = frame.t.x, ty = frame.t.y, tz = frame.t.z,
+                nx = frame.n.x, ny = frame.n.y, nz = frame.n.z;
+    for (size_t i = 0; i < n; ++i) {
+        p[3 * i] = (cx + ax * u1[i]) + bx * u2[i];
+        p[3 * i + 1] = (cy + ay * u1[i]) + by * u2[i];
+        p[3 * i + 2] = (cz + az * u1[i]) + bz * u2[i];
+        float wx, wy, wz;
+        sampleCosineHemisphereSelect(u3[i], u4[i], wx, wy, wz);
+        const float vx = (sx * wx + tx * wy) + nx * wz, vy = (sy * wx + ty * wy) + ny * wz,
+                    vz = (sz * wx + tz * wy) + nz * wz;
+        const float r = 1.0f / std::sqrt(vx * vx + vy * vy + vz * vz);
+        dx[i] = vx * r;
+        dy[i] = vy * r;
+        dz[i] = vz * r;
+        const float pd = wz > 0 ? wz * kInvPi : 0.0f;
+        pdfDir[i] = pd;
+        ok[i] = pd > 0;
+    }
+}
+
 // Sphere: area-uniform point on the sphere, cosine-weighted outward direction.
 inline bool sampleSphereEmission(const Light& l, float u1, float u2, float u3, float u4, LightEmission& e) {
     e.n = sampleUniformSphere(u1, u2);

@@ -86,16 +86,8 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
 template <class U>
 void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
     size_t n = 0;
-    for (size_t i = 0; i < b.numSlots; ++i) {
-        b.light.count[i] = 0;
-        if (scene.lights.empty() || b.light.maxCount[i] < 1) continue;
-        const uint32_t slot = uint32_t(i);
-        float pmf;
-        int li = scene.lightDistribution.sampleDiscrete(u(slot, kBptLight, 0), &pmf);
-        LightEmission e;
-        if (!(pmf > 0) || !sampleLightEmission(scene, li, u(slot, kBptLight, 1), u(slot, kBptLight, 2),
-                                               u(slot, kBptLight, 3), u(slot, kBptLight, 4), e))
-            continue;
+    // y_0 of slot i from light li (choice pmf) and its emission sample e, and its path.
+    auto start = [&](size_t i, int li, float pmf, const LightEmission& e) {
         const bool infinite = scene.lights[li].type == LightType::Env;
         const float pdfOrigin = pmf * e.pdfPos;
         const size_t y0 = b.light.at(uint32_t(i), 0);
@@ -110,15 +102,61 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.light.kind[y0] = infinite ? BptVertexKind::Env : BptVertexKind::Light;
         b.light.light[y0] = int16_t(li);
         if (infinite) b.light.pdfFwd[y0] = pmf * e.pdfDir;  // the direction's density
-        if (b.light.maxCount[i] < 2) continue;
+        if (b.light.maxCount[i] < 2) return;
         Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) / (pdfOrigin * e.pdfDir));
-        if (isBlack(beta) || !isFinite(beta)) continue;
+        if (isBlack(beta) || !isFinite(beta)) return;
         b.betaScale[i] = maxComponent(beta);
         b.pathSlot[n] = uint32_t(i);
         setRayHit(b.ray[n], infinite ? e.p : scene.offsetRayOrigin(e.p, e.n, e.dir), e.dir);
         b.pathPdf[n] = infinite ? e.pdfPos : e.pdfDir;  // resolveBptHits projects the disc's
         b.pathBeta[n] = beta;
         ++n;
+    };
+    if (scene.lights.size() == 1 && scene.lights[0].type == LightType::Rect) {
+        // One rectangle light: every slot's emission sample in one flat loop (the choice is
+        // certain and reads no number).
+        const Light& l = scene.lights[0];
+        const float pmf = scene.lightDistribution.discretePmf(0);
+        size_t m = 0;
+        for (size_t i = 0; i < b.numSlots; ++i) {
+            b.light.count[i] = 0;
+            if (b.light.maxCount[i] < 1) continue;
+            const uint32_t slot = uint32_t(i);
+            b.emitSlot[m] = slot;
+            b.sortedU1[m] = u(slot, kBptLight, 1);
+            b.sortedU2[m] = u(slot, kBptLight, 2);
+            b.emitU3[m] = u(slot, kBptLight, 3);
+            b.emitU4[m] = u(slot, kBptLight, 4);
+            ++m;
+        }
+        rectEmissionSamples(l, Frame::fromNormal(l.n), b.sortedU1.data(), b.sortedU2.data(), b.emitU3.data(),
+                            b.emitU4.data(), m, &b.emitP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
+                            b.emitPdfDir.data(), b.emitOk.data());
+        LightEmission e;
+        e.n = l.n;
+        e.Le = l.L;
+        e.pdfPos = 1.0f / l.area;
+        for (size_t j = 0; j < m; ++j) {
+            if (!(pmf > 0) || !b.emitOk[j]) continue;
+            e.p = b.emitP[j];
+            e.dir = Vec3(b.localX[j], b.localY[j], b.localZ[j]);
+            e.pdfDir = b.emitPdfDir[j];
+            start(b.emitSlot[j], 0, pmf, e);
+        }
+        b.numPaths = n;
+        return;
+    }
+    for (size_t i = 0; i < b.numSlots; ++i) {
+        b.light.count[i] = 0;
+        if (scene.lights.empty() || b.light.maxCount[i] < 1) continue;
+        const uint32_t slot = uint32_t(i);
+        float pmf;
+        int li = scene.lightDistribution.sampleDiscrete(u(slot, kBptLight, 0), &pmf);
+        LightEmission e;
+        if (!(pmf > 0) || !sampleLightEmission(scene, li, u(slot, kBptLight, 1), u(slot, kBptLight, 2),
+                                               u(slot, kBptLight, 3), u(slot, kBptLight, 4), e))
+            continue;
+        start(i, li, pmf, e);
     }
     b.numPaths = n;
 }

@@ -114,10 +114,14 @@ struct StrategyWave {
 // the light subpath's initial throughput scale (roulette), the density of its y_0 under
 // next-event estimation from y_1 (cacheMisSums; the MIS weights of s >= 2); per live path
 // (compacted with the wave): the throughput carried to the next vertex and the solid-angle
-// density of the sampled direction; per hit: its material's kind, for the kind sort.
+// density of the sampled direction; per hit: its material's kind, for the kind sort; per
+// light subpath started (a scene whose one light is a rectangle): its slot, numbers and
+// emission sample (generateBptLightPaths' flat loop; the first two numbers in sortedU1/U2,
+// the direction in localX/Y/Z).
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
-    X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
+    X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind) X(uint32_t, emitSlot)     \
+    X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) X(uint8_t, emitOk)
 // MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
 // Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
