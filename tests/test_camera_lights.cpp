@@ -112,12 +112,35 @@ Light testRectLight() {
     return l;
 }
 
+// sampleRectLight and sampleRectEmission as first written, in Vec3 arithmetic: the
+// references for the float forms the samplers and their flat loops now share.
+bool rectLightVec3(const Light& l, Vec3 ref, float u1, float u2, LightSample& s) {
+    s.p = l.corner + l.e1 * u1 + l.e2 * u2;
+    Vec3 d = s.p - ref;
+    float dist2 = lengthSquared(d);
+    if (!(dist2 > 0)) return false;
+    s.dist = std::sqrt(dist2);
+    s.wi = d / s.dist;
+    float cosL = -dot(s.wi, l.n);
+    if (cosL <= 0) return false;
+    s.pdf = dist2 / (cosL * l.area);
+    return std::isfinite(s.pdf);
+}
+bool rectEmissionVec3(const Light& l, float u1, float u2, float u3, float u4, LightEmission& e) {
+    e.p = l.corner + l.e1 * u1 + l.e2 * u2;
+    Vec3 w = sampleCosineHemisphere(u3, u4);
+    e.dir = normalize(Frame::fromNormal(l.n).toWorld(w));
+    e.pdfDir = cosineHemispherePdf(w.z);
+    return e.pdfDir > 0;
+}
+
 }  // namespace
 
-// The path tracer's flat loop for a scene's one rectangle light must give sampleRectLight's
-// samples bit for bit (a refactor may change no image), including the reference points
-// behind the light (no sample) and on its plane, for a tilted light with uneven edges.
-TEST_CASE("rect light: rectLightSamples equals sampleRectLight bit for bit", "[lights]") {
+// The path tracer's flat loop for a scene's one rectangle light, and sampleRectLight, must
+// give the Vec3 form's samples bit for bit (a refactor may change no image), including the
+// reference points behind the light (no sample) and on its plane, for a tilted light with
+// uneven edges.
+TEST_CASE("rect light: rectLightSamples and sampleRectLight equal the Vec3 form bit for bit", "[lights]") {
     Light l = testRectLight();
     l.corner = {-0.37f, 1.9f, -0.21f};
     l.e1 = {0.93f, 0.11f, 0.07f};
@@ -138,14 +161,15 @@ TEST_CASE("rect light: rectLightSamples equals sampleRectLight bit for bit", "[l
         ref[3 * i + 1] = i % 13 == 0 ? 1.9f : i % 3 == 0 ? above(rng) : below(rng);
         ref[3 * i + 2] = pos(rng);
     }
-    rectLightSamples(l, u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(), dist.data(),
-                     pdf.data(), ok.data());
+    rectLightSamples(rectFloats(l), u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(),
+                     dist.data(), pdf.data(), ok.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     size_t differ = 0, sampled = 0, refused = 0;
     for (size_t i = 0; i < n; ++i) {
-        LightSample s;
-        const bool valid = sampleRectLight(l, Vec3(ref[3 * i], ref[3 * i + 1], ref[3 * i + 2]), u1[i], u2[i], s);
-        if (valid != bool(ok[i])) {
+        const Vec3 r(ref[3 * i], ref[3 * i + 1], ref[3 * i + 2]);
+        LightSample s, t;
+        const bool valid = rectLightVec3(l, r, u1[i], u2[i], s), scalar = sampleRectLight(l, r, u1[i], u2[i], t);
+        if (valid != bool(ok[i]) || valid != scalar) {
             ++differ;
             continue;
         }
@@ -157,15 +181,19 @@ TEST_CASE("rect light: rectLightSamples equals sampleRectLight bit for bit", "[l
         if (!same(s.p.x, p[3 * i]) || !same(s.p.y, p[3 * i + 1]) || !same(s.p.z, p[3 * i + 2]) || !same(s.wi.x, wx[i]) ||
             !same(s.wi.y, wy[i]) || !same(s.wi.z, wz[i]) || !same(s.dist, dist[i]) || !same(s.pdf, pdf[i]))
             ++differ;
+        if (!same(s.p.x, t.p.x) || !same(s.p.y, t.p.y) || !same(s.p.z, t.p.z) || !same(s.wi.x, t.wi.x) ||
+            !same(s.wi.y, t.wi.y) || !same(s.wi.z, t.wi.z) || !same(s.dist, t.dist) || !same(s.pdf, t.pdf))
+            ++differ;
     }
     CHECK(sampled > n / 4);
     CHECK(refused > n / 4);
     CHECK(differ == 0);
 }
 
-// The same for the light subpaths' starts (BPT, MMLT): rectEmissionSamples against
-// sampleRectEmission, including numbers 0, 1/2 and the centre of the direction's disc.
-TEST_CASE("rect light: rectEmissionSamples equals sampleRectEmission bit for bit", "[lights]") {
+// The same for the light subpaths' starts (BPT, MMLT): rectEmissionSamples and
+// sampleRectEmission against the Vec3 form, including numbers 0, 1/2 and the centre of the
+// direction's disc.
+TEST_CASE("rect light: rectEmissionSamples and sampleRectEmission equal the Vec3 form bit for bit", "[lights]") {
     Light l = testRectLight();
     l.e1 = {0.93f, 0.11f, 0.07f};
     l.e2 = {-0.05f, 0.02f, 0.61f};
@@ -183,14 +211,15 @@ TEST_CASE("rect light: rectEmissionSamples equals sampleRectEmission bit for bit
         u3[i] = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.0f : u01(rng);
         u4[i] = i % 17 == 0 ? 0.5f : u01(rng);
     }
-    rectEmissionSamples(l, Frame::fromNormal(l.n), u1.data(), u2.data(), u3.data(), u4.data(), n, p.data(), dx.data(),
+    rectEmissionSamples(rectFloats(l), Frame::fromNormal(l.n), u1.data(), u2.data(), u3.data(), u4.data(), n, p.data(), dx.data(),
                         dy.data(), dz.data(), pdfDir.data(), ok.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     size_t differ = 0, sampled = 0;
     for (size_t i = 0; i < n; ++i) {
-        LightEmission e;
-        const bool valid = sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], e);
-        if (valid != bool(ok[i])) {
+        LightEmission e, f;
+        const bool valid = rectEmissionVec3(l, u1[i], u2[i], u3[i], u4[i], e),
+                   scalar = sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], f);
+        if (valid != bool(ok[i]) || valid != scalar) {
             ++differ;
             continue;
         }
@@ -198,6 +227,9 @@ TEST_CASE("rect light: rectEmissionSamples equals sampleRectEmission bit for bit
         ++sampled;
         if (!same(e.p.x, p[3 * i]) || !same(e.p.y, p[3 * i + 1]) || !same(e.p.z, p[3 * i + 2]) || !same(e.dir.x, dx[i]) ||
             !same(e.dir.y, dy[i]) || !same(e.dir.z, dz[i]) || !same(e.pdfDir, pdfDir[i]))
+            ++differ;
+        if (!same(e.p.x, f.p.x) || !same(e.p.y, f.p.y) || !same(e.p.z, f.p.z) || !same(e.dir.x, f.dir.x) ||
+            !same(e.dir.y, f.dir.y) || !same(e.dir.z, f.dir.z) || !same(e.pdfDir, f.pdfDir))
             ++differ;
     }
     CHECK(sampled > n / 2);

@@ -38,50 +38,60 @@ struct LightSample {
 // Emitted radiance leaving a rect light's point in direction w (towards the viewer).
 inline Vec3 rectLe(const Light& l, Vec3 w) { return dot(w, l.n) > 0 ? l.L : Vec3(0.0f); }
 
-// Area-uniform point on the rectangle; pdf_w = dist^2 / (cos_l * area) (pbrt-v4 eq. 4.9).
+// A rectangle light's geometry as floats, made once for many samples: the per-element
+// samplers below take it by value, so that their loops read no Light through a reference
+// (which the compiler must assume the loops' stores may change; they did not vectorise).
+struct RectFloats {
+    float cx, cy, cz, ax, ay, az, bx, by, bz, nx, ny, nz, area;
+};
+inline RectFloats rectFloats(const Light& l) {
+    return {l.corner.x, l.corner.y, l.corner.z, l.e1.x, l.e1.y, l.e1.z, l.e2.x, l.e2.y, l.e2.z,
+            l.n.x,      l.n.y,      l.n.z,      l.area};
+}
+
+// The point corner + e1 u1 + e2 u2 (rounded left to right, as Vec3's operators do).
+inline void rectPoint(const RectFloats& g, float u1, float u2, float& px, float& py, float& pz) {
+    px = (g.cx + g.ax * u1) + g.bx * u2;
+    py = (g.cy + g.ay * u1) + g.by * u2;
+    pz = (g.cz + g.az * u1) + g.bz * u2;
+}
+
+// Area-uniform point on the rectangle seen from r; pdf_w = dist^2 / (cos_l * area) (pbrt-v4
+// eq. 4.9). In floats (a / s as a * (1 / s), as Vec3's operators round), so that loops of it
+// vectorise (rectLightSamples); false at the back of the one-sided light or at its plane
+// (the outputs are then unspecified).
+inline bool rectLightSampleAt(const RectFloats& g, float u1, float u2, float rx, float ry, float rz, float& px,
+                              float& py, float& pz, float& wx, float& wy, float& wz, float& dist, float& pdf) {
+    rectPoint(g, u1, u2, px, py, pz);
+    const float dx = px - rx, dy = py - ry, dz = pz - rz;
+    const float dist2 = dx * dx + dy * dy + dz * dz;
+    dist = std::sqrt(dist2);
+    const float r = 1.0f / dist;
+    wx = dx * r;
+    wy = dy * r;
+    wz = dz * r;
+    const float cosL = -(wx * g.nx + wy * g.ny + wz * g.nz);
+    pdf = dist2 / (cosL * g.area);
+    return dist2 > 0 && cosL > 0 && std::isfinite(pdf);
+}
 inline bool sampleRectLight(const Light& l, Vec3 ref, float u1, float u2, LightSample& s) {
-    s.p = l.corner + l.e1 * u1 + l.e2 * u2;
-    Vec3 d = s.p - ref;
-    float dist2 = lengthSquared(d);
-    if (!(dist2 > 0)) return false;
-    s.dist = std::sqrt(dist2);
-    s.wi = d / s.dist;
-    float cosL = -dot(s.wi, l.n);
-    if (cosL <= 0) return false;  // the back of a one-sided light
     s.n = l.n;
     s.Le = l.L;
-    s.pdf = dist2 / (cosL * l.area);
-    return std::isfinite(s.pdf);
+    return rectLightSampleAt(rectFloats(l), u1, u2, ref.x, ref.y, ref.z, s.p.x, s.p.y, s.p.z, s.wi.x, s.wi.y, s.wi.z,
+                             s.dist, s.pdf);
 }
-// sampleRectLight(l, ref[h], u1[h], u2[h], s) for h < n, the same bits: s.p into p (three
-// floats each), s.wi into (wx, wy, wz), s.dist, s.pdf, and ok[h] = it returned true (the
-// others are then unspecified). In floats, as Vec3's operators round (left to right; a / s
-// as a * (1 / s)), with restrict parameters, so that the compiler vectorises the loop.
-__attribute__((noinline)) inline void rectLightSamples(const Light& l, const float* __restrict u1,
+// sampleRectLight for h < n (reference point ref[3h .. 3h + 2]): s.p into p (three floats
+// each), s.wi into (wx, wy, wz), s.dist, s.pdf, and ok[h] what it returned. Restrict
+// parameters: the loop vectorises.
+__attribute__((noinline)) inline void rectLightSamples(const RectFloats g, const float* __restrict u1,
                                                        const float* __restrict u2, const float* __restrict ref,
                                                        size_t n, float* __restrict p, float* __restrict wx,
                                                        float* __restrict wy, float* __restrict wz,
                                                        float* __restrict dist, float* __restrict pdf,
                                                        uint8_t* __restrict ok) {
-    const float cx = l.corner.x, cy = l.corner.y, cz = l.corner.z, ax = l.e1.x, ay = l.e1.y, az = l.e1.z,
-                bx = l.e2.x, by = l.e2.y, bz = l.e2.z, nx = l.n.x, ny = l.n.y, nz = l.n.z, area = l.area;
-    for (size_t h = 0; h < n; ++h) {
-        const float qx = (cx + ax * u1[h]) + bx * u2[h], qy = (cy + ay * u1[h]) + by * u2[h],
-                    qz = (cz + az * u1[h]) + bz * u2[h];
-        const float dx = qx - ref[3 * h], dy = qy - ref[3 * h + 1], dz = qz - ref[3 * h + 2];
-        const float dist2 = dx * dx + dy * dy + dz * dz, dh = std::sqrt(dist2), r = 1.0f / dh;
-        const float x = dx * r, y = dy * r, z = dz * r;
-        const float cosL = -(x * nx + y * ny + z * nz), pdfH = dist2 / (cosL * area);
-        p[3 * h] = qx;
-        p[3 * h + 1] = qy;
-        p[3 * h + 2] = qz;
-        wx[h] = x;
-        wy[h] = y;
-        wz[h] = z;
-        dist[h] = dh;
-        pdf[h] = pdfH;
-        ok[h] = dist2 > 0 && cosL > 0 && std::isfinite(pdfH);
-    }
+    for (size_t h = 0; h < n; ++h)
+        ok[h] = rectLightSampleAt(g, u1[h], u2[h], ref[3 * h], ref[3 * h + 1], ref[3 * h + 2], p[3 * h], p[3 * h + 1],
+                                  p[3 * h + 2], wx[h], wy[h], wz[h], dist[h], pdf[h]);
 }
 
 inline float rectLightPdf(const Light& l, Vec3 ref, Vec3 pLight) {
@@ -167,16 +177,27 @@ struct LightEmission {
     float pdfPos = 0, pdfDir = 0;
 };
 
-// Cosine-weighted direction about n: pdfDir = cos / pi (pbrt-v4 12.5 SampleLe).
+// Cosine-weighted direction about frame f's normal, normalised: (dx, dy, dz); returns its
+// density cos / pi (pbrt-v4 12.5 SampleLe). In floats, as Vec3's operators round
+// (f.toWorld, then a / |a| as a * (1 / |a|)), so that loops of it vectorise.
+inline float cosineAboutAt(const Frame& f, float u1, float u2, float& dx, float& dy, float& dz) {
+    float wx, wy, wz;
+    sampleCosineHemisphere(u1, u2, wx, wy, wz);
+    const float vx = (f.s.x * wx + f.t.x * wy) + f.n.x * wz, vy = (f.s.y * wx + f.t.y * wy) + f.n.y * wz,
+                vz = (f.s.z * wx + f.t.z * wy) + f.n.z * wz;
+    const float r = 1.0f / std::sqrt(vx * vx + vy * vy + vz * vz);
+    dx = vx * r;
+    dy = vy * r;
+    dz = vz * r;
+    return cosineHemispherePdf(wz);
+}
 inline void sampleCosineAbout(Vec3 n, float u1, float u2, LightEmission& e) {
-    Vec3 w = sampleCosineHemisphere(u1, u2);
-    e.dir = normalize(Frame::fromNormal(n).toWorld(w));
-    e.pdfDir = cosineHemispherePdf(w.z);
+    e.pdfDir = cosineAboutAt(Frame::fromNormal(n), u1, u2, e.dir.x, e.dir.y, e.dir.z);
 }
 
 // Rect: area-uniform point (pdfPos = 1 / area), cosine-weighted direction about n.
 inline bool sampleRectEmission(const Light& l, float u1, float u2, float u3, float u4, LightEmission& e) {
-    e.p = l.corner + l.e1 * u1 + l.e2 * u2;
+    rectPoint(rectFloats(l), u1, u2, e.p.x, e.p.y, e.p.z);
     e.n = l.n;
     e.pdfPos = 1.0f / l.area;
     sampleCosineAbout(e.n, u3, u4, e);
@@ -184,35 +205,19 @@ inline bool sampleRectEmission(const Light& l, float u1, float u2, float u3, flo
     return e.pdfDir > 0;
 }
 
-// sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], e) for i < n, the same bits (frame:
-// Frame::fromNormal(l.n), made once): e.p into p (three floats each), e.dir into (dx, dy,
-// dz), e.pdfDir, and in ok[i] what it returned (e.n is l.n, e.pdfPos 1 / l.area, e.Le l.L).
-// In floats, as Vec3's operators round, with restrict parameters: the loop vectorises.
-__attribute__((noinline)) inline void rectEmissionSamples(const Light& l, const Frame& frame,
+// sampleRectEmission for i < n (frame: Frame::fromNormal(l.n), made once): e.p into p
+// (three floats each), e.dir into (dx, dy, dz), e.pdfDir, and in ok[i] what it returned
+// (e.n is l.n, e.pdfPos 1 / l.area, e.Le l.L). Restrict parameters: the loop vectorises.
+__attribute__((noinline)) inline void rectEmissionSamples(const RectFloats g, const Frame frame,
                                                           const float* __restrict u1, const float* __restrict u2,
                                                           const float* __restrict u3, const float* __restrict u4,
                                                           size_t n, float* __restrict p, float* __restrict dx,
                                                           float* __restrict dy, float* __restrict dz,
                                                           float* __restrict pdfDir, uint8_t* __restrict ok) {
-    const float cx = l.corner.x, cy = l.corner.y, cz = l.corner.z, ax = l.e1.x, ay = l.e1.y, az = l.e1.z,
-                bx = l.e2.x, by = l.e2.y, bz = l.e2.z;
-    const float sx = frame.s.x, sy = frame.s.y, sz = frame.s.z, tx = frame.t.x, ty = frame.t.y, tz = frame.t.z,
-                nx = frame.n.x, ny = frame.n.y, nz = frame.n.z;
     for (size_t i = 0; i < n; ++i) {
-        p[3 * i] = (cx + ax * u1[i]) + bx * u2[i];
-        p[3 * i + 1] = (cy + ay * u1[i]) + by * u2[i];
-        p[3 * i + 2] = (cz + az * u1[i]) + bz * u2[i];
-        float wx, wy, wz;
-        sampleCosineHemisphereSelect(u3[i], u4[i], wx, wy, wz);
-        const float vx = (sx * wx + tx * wy) + nx * wz, vy = (sy * wx + ty * wy) + ny * wz,
-                    vz = (sz * wx + tz * wy) + nz * wz;
-        const float r = 1.0f / std::sqrt(vx * vx + vy * vy + vz * vz);
-        dx[i] = vx * r;
-        dy[i] = vy * r;
-        dz[i] = vz * r;
-        const float pd = wz > 0 ? wz * kInvPi : 0.0f;
-        pdfDir[i] = pd;
-        ok[i] = pd > 0;
+        rectPoint(g, u1[i], u2[i], p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+        pdfDir[i] = cosineAboutAt(frame, u3[i], u4[i], dx[i], dy[i], dz[i]);
+        ok[i] = pdfDir[i] > 0;
     }
 }
 

@@ -43,34 +43,9 @@ inline void sinCos2Pi(float u, float& s, float& c) {
 
 // Concentric map of the unit square to the unit disc (Shirley and Chiu 1997). The angle is
 // pi/4 (b/a) or pi/2 - pi/4 (a/b): sin and cos of |t| <= pi/4 serve both (cos(pi/2 - t) =
-// sin t).
+// sin t). Its branches are selects (the centre's 0 / 0 is discarded), so that loops of it
+// vectorise (sampleCosineHemispheres).
 inline void sampleConcentricDisk(float u1, float u2, float& x, float& y) {
-    float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
-    if (a == 0 && b == 0) { x = y = 0; return; }
-    float s, c;
-    if (std::fabs(a) > std::fabs(b)) {
-        sinCosQuarter((kPi / 4) * (b / a), s, c);
-        x = a * c;
-        y = a * s;
-    } else {
-        sinCosQuarter((kPi / 4) * (a / b), s, c);
-        x = b * s;
-        y = b * c;
-    }
-}
-
-// Cosine-weighted hemisphere around +z: pdf = cos(theta) / pi.
-inline Vec3 sampleCosineHemisphere(float u1, float u2) {
-    float x, y;
-    sampleConcentricDisk(u1, u2, x, y);
-    float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
-    return {x, y, z};
-}
-inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
-
-// sampleConcentricDisk with its branches as selects (the same bits), for loops the compiler
-// vectorises.
-inline void sampleConcentricDiskSelect(float u1, float u2, float& x, float& y) {
     const float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
     const bool aBig = std::fabs(a) > std::fabs(b), centre = a == 0 && b == 0;
     float s, c;
@@ -79,11 +54,17 @@ inline void sampleConcentricDiskSelect(float u1, float u2, float& x, float& y) {
     y = centre ? 0.0f : aBig ? a * s : b * c;
 }
 
-// sampleCosineHemisphere with the select form of the map (the same bits).
-inline void sampleCosineHemisphereSelect(float u1, float u2, float& x, float& y, float& z) {
-    sampleConcentricDiskSelect(u1, u2, x, y);
+// Cosine-weighted hemisphere around +z: pdf = cos(theta) / pi.
+inline void sampleCosineHemisphere(float u1, float u2, float& x, float& y, float& z) {
+    sampleConcentricDisk(u1, u2, x, y);
     z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
 }
+inline Vec3 sampleCosineHemisphere(float u1, float u2) {
+    Vec3 w;
+    sampleCosineHemisphere(u1, u2, w.x, w.y, w.z);
+    return w;
+}
+inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
 
 // sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2)) for i < n,
 // bit for bit, into (x[i], y[i], z[i]), in one loop the compiler vectorises (the hashes,
@@ -91,12 +72,12 @@ inline void sampleCosineHemisphereSelect(float u1, float u2, float& x, float& y,
 inline void sampleCosineHemispheres(const uint64_t* __restrict key, size_t n, uint32_t d1, uint32_t d2,
                                     float* __restrict x, float* __restrict y, float* __restrict z) {
     for (size_t i = 0; i < n; ++i)
-        sampleCosineHemisphereSelect(sampleDimension(key[i], d1), sampleDimension(key[i], d2), x[i], y[i], z[i]);
+        sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2), x[i], y[i], z[i]);
 }
 // The same from the numbers (u1[i], u2[i]).
 inline void sampleCosineHemispheres(const float* __restrict u1, const float* __restrict u2, size_t n,
                                     float* __restrict x, float* __restrict y, float* __restrict z) {
-    for (size_t i = 0; i < n; ++i) sampleCosineHemisphereSelect(u1[i], u2[i], x[i], y[i], z[i]);
+    for (size_t i = 0; i < n; ++i) sampleCosineHemisphere(u1[i], u2[i], x[i], y[i], z[i]);
 }
 
 // Uniform direction on the unit sphere: pdf = 1 / (4 pi).

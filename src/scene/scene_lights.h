@@ -33,6 +33,13 @@ inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, 
     return std::isfinite(ls.pdf);
 }
 
+// The scene's light when it has exactly one and that is a rectangle, else nullptr: the
+// stages then sample it in flat loops (sampleLights, generateBptLightPaths), and the
+// choice among lights is certain (pmf lightDistribution.discretePmf(0), no number read).
+inline const Light* soleRectLight(const Scene& s) {
+    return s.lights.size() == 1 && s.lights[0].type == LightType::Rect ? &s.lights[0] : nullptr;
+}
+
 // Samples light `li` from reference point ref (solid-angle pdf, without the choice pmf).
 inline bool sampleLightFrom(const Scene& s, int li, Vec3 ref, float u1, float u2, LightSample& ls) {
     const Light& l = s.lights[li];

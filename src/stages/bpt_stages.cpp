@@ -86,15 +86,16 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
 template <class U>
 void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
     size_t n = 0;
-    // y_0 of slot i from light li (choice pmf) and its emission sample e, and its path.
-    auto start = [&](size_t i, int li, float pmf, const LightEmission& e) {
+    // y_0 of slot i from light li (choice pmf), its emission sample e and shading frame (about
+    // e.n), and its path.
+    auto start = [&](size_t i, int li, float pmf, const LightEmission& e, const Frame& shading) {
         const bool infinite = scene.lights[li].type == LightType::Env;
         const float pdfOrigin = pmf * e.pdfPos;
         const size_t y0 = b.light.at(uint32_t(i), 0);
         b.light.count[i] = 1;
         b.light.p[y0] = e.p;
         b.light.ng[y0] = e.n;
-        b.light.shading[y0] = Frame::fromNormal(e.n);
+        b.light.shading[y0] = shading;
         b.light.beta[y0] = Vec3(1.0f / pdfOrigin);  // Le is applied by each connection
         b.light.pdfFwd[y0] = pdfOrigin;
         b.light.pdfRev[y0] = 0.0f;
@@ -112,10 +113,10 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.pathBeta[n] = beta;
         ++n;
     };
-    if (scene.lights.size() == 1 && scene.lights[0].type == LightType::Rect) {
+    if (const Light* rect = soleRectLight(scene)) {
         // One rectangle light: every slot's emission sample in one flat loop (the choice is
         // certain and reads no number).
-        const Light& l = scene.lights[0];
+        const Light& l = *rect;
         const float pmf = scene.lightDistribution.discretePmf(0);
         size_t m = 0;
         for (size_t i = 0; i < b.numSlots; ++i) {
@@ -129,7 +130,8 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
             b.emitU4[m] = u(slot, kBptLight, 4);
             ++m;
         }
-        rectEmissionSamples(l, Frame::fromNormal(l.n), b.sortedU1.data(), b.sortedU2.data(), b.emitU3.data(),
+        const Frame frame = Frame::fromNormal(l.n);  // the emission's and y_0's, once
+        rectEmissionSamples(rectFloats(l), frame, b.sortedU1.data(), b.sortedU2.data(), b.emitU3.data(),
                             b.emitU4.data(), m, &b.emitP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
                             b.emitPdfDir.data(), b.emitOk.data());
         LightEmission e;
@@ -141,7 +143,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
             e.p = b.emitP[j];
             e.dir = Vec3(b.localX[j], b.localY[j], b.localZ[j]);
             e.pdfDir = b.emitPdfDir[j];
-            start(b.emitSlot[j], 0, pmf, e);
+            start(b.emitSlot[j], 0, pmf, e, frame);
         }
         b.numPaths = n;
         return;
@@ -156,7 +158,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         if (!(pmf > 0) || !sampleLightEmission(scene, li, u(slot, kBptLight, 1), u(slot, kBptLight, 2),
                                                u(slot, kBptLight, 3), u(slot, kBptLight, 4), e))
             continue;
-        start(i, li, pmf, e);
+        start(i, li, pmf, e, Frame::fromNormal(e.n));
     }
     b.numPaths = n;
 }

@@ -83,10 +83,9 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
 
 namespace {
 
-// A scene whose one light is a rectangle: every hit's light sample in flat loops the
-// compiler vectorises (the light point's two numbers, then rectLightSamples); the light
-// choice reads no number then (one light).
-void sampleOneRectLight(const Scene& scene, PtBatch& b, int depth) {
+// A scene whose one light is the rectangle l (soleRectLight): every hit's light sample in
+// flat loops the compiler vectorises (the light point's two numbers, then rectLightSamples).
+void sampleRectLightFlat(const Light& l, PtBatch& b, int depth) {
     const size_t n = b.numHits;
     for (size_t h = 0; h < n; ++h) b.sortedKey[h] = b.key[b.pathSlot[b.hitPath[h]]];
     const uint32_t d1 = bounceDim(depth, 1), d2 = bounceDim(depth, 2);
@@ -94,7 +93,7 @@ void sampleOneRectLight(const Scene& scene, PtBatch& b, int depth) {
         b.sortedU1[h] = sampleDimension(b.sortedKey[h], d1);
         b.sortedU2[h] = sampleDimension(b.sortedKey[h], d2);
     }
-    rectLightSamples(scene.lights[0], b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
+    rectLightSamples(rectFloats(l), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
                      b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(),
                      b.neeOk.data());
 }
@@ -102,8 +101,9 @@ void sampleOneRectLight(const Scene& scene, PtBatch& b, int depth) {
 }  // namespace
 
 void sampleLights(const Scene& scene, PtBatch& b, int depth) {
-    const bool oneRect = scene.lights.size() == 1 && scene.lights[0].type == LightType::Rect;
-    if (oneRect) sampleOneRectLight(scene, b, depth);
+    const Light* rect = soleRectLight(scene);
+    const float rectPmf = rect ? scene.lightDistribution.discretePmf(0) : 0.0f;
+    if (rect) sampleRectLightFlat(*rect, b, depth);
     size_t n = 0;
     forEachHitByKind(b, [&](auto kind, uint32_t h) {
         using B = BsdfOf<decltype(kind)::value>;
@@ -112,15 +112,15 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
             const uint64_t key = b.key[slot];
             float pmf;
             LightSample ls;
-            if (oneRect) {
-                pmf = scene.lightDistribution.discretePmf(0);
+            if (rect) {
+                pmf = rectPmf;
                 if (!b.neeOk[h]) return;
                 ls.p = b.neeP[h];
                 ls.wi = Vec3(b.localX[h], b.localY[h], b.localZ[h]);
                 ls.dist = b.neeDist[h];
                 ls.pdf = b.neePdf[h];
-                ls.n = scene.lights[0].n;
-                ls.Le = scene.lights[0].L;
+                ls.n = rect->n;
+                ls.Le = rect->L;
             } else {
                 const int li = scene.lightDistribution.sampleDiscrete(sampleDimension(key, bounceDim(depth, 0)), &pmf);
                 if (!sampleLightFrom(scene, li, b.p[h], sampleDimension(key, bounceDim(depth, 1)),
