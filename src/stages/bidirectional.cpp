@@ -12,6 +12,7 @@
 
 #include <memory>
 
+#include "scene/scene_lights.h"
 #include "stages/bpt_stages.h"
 #include "stages/distributed_films.h"
 #include "stages/film.h"
@@ -99,7 +100,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
         BptBatch b;
-        b.reserve(schedule.pathsPerBatch(), opt.maxPathLength);
+        b.reserve(schedule.pathsPerBatch(), opt.maxPathLength, soleRectLight(scene) != nullptr);
         b.strategyFilms = strategyFilms.get();
         return b;
     });

@@ -120,8 +120,11 @@ struct StrategyWave {
 // the direction in localX/Y/Z).
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
-    X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind) X(uint32_t, emitSlot)     \
-    X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) X(uint8_t, emitOk)
+    X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
+// Allocated only for a scene whose one light is a rectangle (soleRectLight).
+#define WMLT_BPT_RECT_LIGHT_ARRAYS(X)                                                        \
+    X(uint32_t, emitSlot) X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) \
+    X(uint8_t, emitOk)
 // MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
 // Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
@@ -135,6 +138,7 @@ struct BptBatch : PathWave {
     size_t numSlots = 0;
     WMLT_BPT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
     bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
 
     BptVertices cam, light;
@@ -148,10 +152,13 @@ struct BptBatch : PathWave {
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;
 
-    void reserve(size_t n, int maxLength, bool oneStrategyPerSlot = false) {
+    // rectLight: the scene's one light is a rectangle (soleRectLight; the flat loop of
+    // generateBptLightPaths).
+    void reserve(size_t n, int maxLength, bool rectLight, bool oneStrategyPerSlot = false) {
         resizeWave(n);
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
         if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
+        if (rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
         cam.reserve(n, maxLength + 1);
         light.reserve(n, maxLength);
         connCapacity = std::max<size_t>(n * 4, 1024);

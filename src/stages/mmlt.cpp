@@ -29,6 +29,8 @@
 
 #include <tbb/global_control.h>
 
+#include "scene/scene_lights.h"
+
 namespace wmlt {
 
 namespace mmlt_detail {
@@ -37,7 +39,7 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
       batches_([&scene, maxLength = opt.maxPathLength] {
           MmltBatch mb;
-          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength);
+          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, soleRectLight(scene) != nullptr);
           setNumbersRead(scene, mb);
           return mb;
       }),

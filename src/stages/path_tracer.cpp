@@ -2,6 +2,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "scene/scene_lights.h"
 #include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/passes.h"
@@ -41,7 +42,7 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     Film film(scene.camera.width, scene.camera.height);
     tbb::enumerable_thread_specific<PtBatch> batches([&] {
         PtBatch b;
-        b.reserve(schedule.pathsPerBatch());
+        b.reserve(schedule.pathsPerBatch(), soleRectLight(scene) != nullptr);
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;

@@ -26,17 +26,22 @@ namespace wmlt {
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
     WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, nextBeta) X(float, nextPdf) X(uint8_t, nextDelta)   \
-    X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)                            \
-    X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)
+    X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
+// Allocated only for a scene whose one light is a rectangle (soleRectLight).
+#define WMLT_PT_RECT_LIGHT_ARRAYS(X) X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)
 
 struct PtBatch : PathWave {
     WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numShadow = 0;
     ContributionTally tally;  // per batch
 
-    void reserve(size_t n) {
+    WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
+
+    // rectLight: the scene's one light is a rectangle (soleRectLight; sampleLights' flat loop).
+    void reserve(size_t n, bool rectLight) {
         resizeWave(n);
         WMLT_PT_ARRAYS(WMLT_SOA_RESIZE)
+        if (rectLight) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
     }
 };
 
