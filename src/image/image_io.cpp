@@ -85,12 +85,25 @@ std::string stbReason() {
     return (r && *r) ? std::string(r) : std::string("corrupt or truncated data");
 }
 
-// stb_image 2.27 (Debian 12) writes past its Huffman size table (257 entries) when a JPEG
-// DHT table declares more than 256 codes (found by fuzz/fuzz_jpeg; fixed upstream in 2.28).
-// Walk the marker segments and refuse such a table before stb_image sees it. Anything
-// else malformed is left to stb_image, which reports it.
-void checkJpegHuffmanTables(const std::string& path, const unsigned char* d, size_t size) {
+// stb_image 2.27 (Debian 12) mishandles JPEG tables in three ways (all found by
+// fuzz/fuzz_jpeg): it writes past its Huffman size table (257 entries) when a DHT table
+// declares more than 256 codes, and it decodes a scan with a Huffman table no DHT defined,
+// or dequantises with a quantisation table no DQT defined, whose memory it never
+// initialised (an index out of bounds, or a signed overflow, that depends on what the
+// allocator returned). Walk the marker segments and refuse these before stb_image sees
+// them. Anything else malformed is left to stb_image, which reports it.
+void checkJpegTables(const std::string& path, const unsigned char* d, size_t size) {
     if (size < 4 || d[0] != 0xFF || d[1] != 0xD8) return;
+    auto byte = [&](size_t i) { return i < size ? d[i] : 0; };  // past the end: 0, as stb_image reads
+    bool progressive = false;
+    unsigned huffman[2] = {0, 0};  // per class (0 DC, 1 AC): a bit per table id 0-3 a DHT defined
+    unsigned quant = 0, frameQuant = 0;  // the quantisation tables DQTs defined; the frame's components use
+    auto undefined = [&](const std::string& what) {
+        throw InputError(path, 0, "corrupt JPEG data (a scan uses " + what + ", which no segment before it defines)");
+    };
+    auto require = [&](int cls, int id) {
+        if (id <= 3 && !(huffman[cls] >> id & 1)) undefined(std::string("Huffman table ") + (cls ? "AC " : "DC ") + std::to_string(id));
+    };
     size_t pos = 2;
     while (pos + 1 < size) {
         if (d[pos] != 0xFF) {  // entropy-coded data after SOS: skip to the next marker
@@ -105,17 +118,41 @@ void checkJpegHuffmanTables(const std::string& path, const unsigned char* d, siz
         if (pos + 2 > size) return;
         const size_t len = (size_t(d[pos]) << 8) | d[pos + 1];
         if (len < 2) return;
+        if (m == 0xC0 || m == 0xC1 || m == 0xC2) {  // SOF0-2: components (id, sampling, quantisation table)
+            progressive = m == 0xC2;
+            frameQuant = 0;
+            for (size_t c = 0, nc = byte(pos + 7); c < nc; ++c) {
+                const int tq = byte(pos + 10 + 3 * c);
+                if (tq <= 3) frameQuant |= 1u << tq;
+            }
+        }
+        if (m == 0xDB)  // DQT: tables of (precision/id, 64 or 128 bytes)
+            for (size_t q = pos + 2; q < pos + len && q < size; q += 1 + 64 * ((byte(q) >> 4) ? 2 : 1))
+                if ((byte(q) & 15) <= 3) quant |= 1u << (byte(q) & 15);
         if (m == 0xC4) {  // DHT: tables of (class/id, 16 counts, values)
-            // As stb_image reads it: whole tables while the declared length lasts, and
-            // bytes past the end of the file read as 0.
-            auto byte = [&](size_t i) { return i < size ? d[i] : 0; };
+            // As stb_image reads it: whole tables while the declared length lasts.
             for (size_t q = pos + 2; q < pos + len && q < size;) {
                 size_t n = 0;
                 for (int i = 0; i < 16; ++i) n += byte(q + 1 + i);
                 if (n > 256)
                     throw InputError(path, 0, "corrupt JPEG data (a Huffman table declares " + std::to_string(n) +
                                                   " codes, at most 256)");
+                const int cls = byte(q) >> 4, id = byte(q) & 15;
+                if (cls <= 1 && id <= 3) huffman[cls] |= 1u << id;
                 q += 17 + n;
+            }
+        }
+        if (m == 0xDA) {  // SOS: components (id, DC/AC table), then Ss, Se, Ah/Al
+            if (const unsigned missing = frameQuant & ~quant)
+                undefined("quantisation table " + std::to_string(__builtin_ctz(missing)));
+            const size_t ns = byte(pos + 2), after = pos + 3 + 2 * ns;
+            const int ss = byte(after), ah = byte(after + 2) >> 4;
+            for (size_t c = 0; c < ns; ++c) {
+                const int tables = byte(pos + 4 + 2 * c);
+                // Baseline decodes with both; a progressive DC scan with its DC table in
+                // the first pass only, an AC scan with its AC table.
+                if (!progressive || (ss == 0 && ah == 0)) require(0, tables >> 4);
+                if (!progressive || ss > 0) require(1, tables & 15);
             }
         }
         pos += len;
@@ -144,7 +181,7 @@ Image readStb(const std::string& path, const char* format) {
     const bool jpeg = std::string(format) == "JPEG";
     if (jpeg ? bytes.compare(0, 3, "\xFF\xD8\xFF") != 0 : bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
         throw InputError(path, 0, std::string("not a ") + format + " file (no " + format + " signature)");
-    if (jpeg) checkJpegHuffmanTables(path, data, bytes.size());
+    if (jpeg) checkJpegTables(path, data, bytes.size());
     if (!stbi_info_from_memory(data, len, &w, &h, &comp))
         throw InputError(path, 0, std::string("not a readable ") + format + " file (" + stbReason() + ")");
     imageio::checkSize(path, w, h);
