@@ -60,6 +60,51 @@ TEST_CASE("raster position and camera ray are inverses", "[camera]") {
         }
 }
 
+// The camera rays' flat loop (pinholeCameraDirections, forEachCameraRay) must give the
+// plainly written pinhole ray's direction bit for bit (a refactor may change no image):
+// the stratified raster point, then forward + right sx + up sy normalised, in Vec3.
+TEST_CASE("camera rays: pinholeCameraDirections equals the Vec3 form bit for bit", "[camera]") {
+    CameraDesc d;
+    d.position = {1, 2, 3};
+    d.lookAt = {-2, 0.5f, 7};
+    d.up = {0.1f, 1, 0};
+    d.fovDegrees = 35;
+    const Camera c = makeCamera(d, 67, 45);
+    const int n = 5;  // strata per axis: 25 per round, not a power of four (cycle walking)
+    const size_t m = 4099;  // not a multiple of any vector width
+    std::vector<uint64_t> key(m);
+    std::vector<float> x(m), y(m), sx(m), sy(m), dir(3 * m);
+    const uint32_t dimX = 2, dimY = 3;
+    for (size_t i = 0; i < m; ++i) {
+        const uint32_t pixel = uint32_t(i * 7919 % (67 * 45)), s = uint32_t(i % 37);
+        key[i] = sampleKey(11, pixel, s);
+        x[i] = float(pixel % 67);
+        y[i] = float(pixel / 67);
+        const uint32_t stratum = permuteIndex(s % 25, 25, mix64(strataKey(11, pixel) + s / 25));
+        sx[i] = float(stratum % 5);
+        sy[i] = float(stratum / 5);
+    }
+    pinholeCameraDirections(cameraFloats(c), key.data(), x.data(), y.data(), sx.data(), sy.data(), m, float(n), dimX,
+                            dimY, dir.data());
+    auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    size_t differ = 0;
+    for (size_t i = 0; i < m; ++i) {
+        const uint32_t pixel = uint32_t(i * 7919 % (67 * 45)), s = uint32_t(i % 37);
+        float px, py;
+        stratifiedRasterPoint(int(pixel % 67), int(pixel / 67), s, n, strataKey(11, pixel),
+                              sampleDimension(key[i], dimX), sampleDimension(key[i], dimY), px, py);
+        const float rx = (2.0f * px / float(c.width) - 1.0f) * c.scaleX;
+        const float ry = (1.0f - 2.0f * py / float(c.height)) * c.scaleY;
+        const Vec3 w = c.forward + c.right * rx + c.up * ry;
+        const Vec3 ref = w / std::sqrt(dot(w, w));
+        Vec3 o, g;
+        generateCameraRay(c, px, py, 0.5f, 0.5f, o, g);
+        for (int a = 0; a < 3; ++a)
+            if (!same(ref[a], dir[3 * i + a]) || !same(ref[a], g[a])) ++differ;
+    }
+    CHECK(differ == 0);
+}
+
 TEST_CASE("thin-lens rays through one pixel meet on the plane of focus", "[camera]") {
     CameraDesc d;
     d.lookAt = {0, 0, 1};

@@ -35,23 +35,32 @@ inline uint64_t strataKey(uint64_t seed, uint32_t pixel) {
 // then rotated by a shift c uniform in [0, n) from an independent hash of the key: so
 // pi(i) is exactly uniform over keys for every i, however weak the Feistel network is for
 // tiny n (its halves are 2 bits wide for n = 9).
-inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key) {
-    if (n <= 1) return 0;
-    int half = 1;
-    while ((uint64_t(1) << (2 * half)) < n) ++half;
-    const uint32_t m = (1u << half) - 1;
-    do {
-        uint32_t l = i >> half, r = i & m;
-        for (uint64_t round = 0; round < 8; ++round) {
-            const uint32_t f = uint32_t(mix64(key + round * 0x9e3779b97f4a7c15ull + r)) & m;
-            const uint32_t next = l ^ f;
-            l = r;
-            r = next;
-        }
-        i = (l << half) | r;
-    } while (i >= n);
-    const uint32_t c = uint32_t(mix64(key ^ 0xa0761d6478bd642full) % n);
-    return i + c < n ? i + c : i + c - n;
-}
+struct Permutation {
+    uint32_t n = 1, half = 1, mask = 1, shift = 0;
+    uint64_t key = 0;
+    // The network for n and key, made once for all the indices it permutes.
+    Permutation() = default;
+    Permutation(uint32_t n_, uint64_t key_) : n(n_), key(key_) {
+        if (n <= 1) return;
+        while ((uint64_t(1) << (2 * half)) < n) ++half;
+        mask = (1u << half) - 1;
+        shift = uint32_t(mix64(key ^ 0xa0761d6478bd642full) % n);
+    }
+    uint32_t operator()(uint32_t i) const {
+        if (n <= 1) return 0;
+        do {
+            uint32_t l = i >> half, r = i & mask;
+            for (uint64_t round = 0; round < 8; ++round) {
+                const uint32_t f = uint32_t(mix64(key + round * 0x9e3779b97f4a7c15ull + r)) & mask;
+                const uint32_t next = l ^ f;
+                l = r;
+                r = next;
+            }
+            i = (l << half) | r;
+        } while (i >= n);
+        return i + shift < n ? i + shift : i + shift - n;
+    }
+};
+inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key) { return Permutation(n, key)(i); }
 
 }  // namespace wmlt

@@ -44,7 +44,7 @@ constexpr CameraDims kBptCameraDims{bptDim(kBptCamera, 0), bptDim(kBptCamera, 1)
 
 void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int n, uint64_t seed) {
     b.numSlots = forEachCameraRay(
-        scene, t, n, seed, kBptCameraDims, [&](uint32_t pixel, uint32_t s) { return bptSampleKey(seed, pixel, s); },
+        scene, b, t, n, seed, kBptCameraDims, [&](uint32_t pixel, uint32_t s) { return bptSampleKey(seed, pixel, s); },
         [&](size_t i, uint32_t pixel, uint64_t key, Vec3 o, Vec3 d) {
             b.pixel[i] = pixel;
             b.key[i] = key;

@@ -35,7 +35,7 @@ constexpr CameraDims kLtEnvCameraDims{7, 8, 9, 10};
 
 void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n, uint64_t seed) {
     b.numConn = forEachCameraRay(
-        scene, t, n, seed, kLtEnvCameraDims, [&](uint32_t pixel, uint32_t s) { return ltSampleKey(seed, pixel, s); },
+        scene, b, t, n, seed, kLtEnvCameraDims, [&](uint32_t pixel, uint32_t s) { return ltSampleKey(seed, pixel, s); },
         [&](size_t i, uint32_t pixel, uint64_t, Vec3 o, Vec3 d) {
             setRay(b.conn[i], o, d, 0.0f, INFINITY);
             b.connPixel[i] = pixel;

@@ -27,7 +27,7 @@ inline bool inRange(int length, int minLength, int maxLength) {
 void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, uint64_t seed) {
     const CameraDims dims{0, 1, 2, 3};
     b.numPaths = forEachCameraRay(
-        scene, t, n, seed, dims, [&](uint32_t pixel, uint32_t s) { return sampleKey(seed, pixel, s); },
+        scene, b, t, n, seed, dims, [&](uint32_t pixel, uint32_t s) { return sampleKey(seed, pixel, s); },
         [&](size_t i, uint32_t pixel, uint64_t key, Vec3 o, Vec3 d) {
             b.pixel[i] = pixel;
             b.key[i] = key;

@@ -93,22 +93,47 @@ struct CameraDims {
 // Calls emit(i, pixel, key, o, d) for the tile's samples in order (forEachTileSample),
 // each with its key (keyOf(pixel, s)) and camera ray: raster point in stratum s of the
 // pixel's n x n grid (camera.h, stratifiedRasterPoint), then the lens (pbrt-v4 5.2.3).
-// Returns the number of samples.
+// Returns the number of samples. In three passes over the wave's scratch arrays: the keys
+// and strata (a permutation made once per pixel and round of strata), the directions in a
+// flat loop (pinholeCameraDirections; a thin lens: per ray, in the last pass), the emits.
 template <class KeyOf, class Emit>
-inline size_t forEachCameraRay(const Scene& scene, const Tile& t, int n, uint64_t seed, const CameraDims& dims,
-                               KeyOf&& keyOf, Emit&& emit) {
+inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, int n, uint64_t seed,
+                               const CameraDims& dims, KeyOf&& keyOf, Emit&& emit) {
     const Camera& cam = scene.camera;
+    const uint32_t nn = uint32_t(n) * uint32_t(n);
+    uint32_t permPixel = ~0u, permRound = ~0u;
+    uint64_t pixelKey = 0;
+    Permutation perm;
+    const size_t m = forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t s) {
+        w.sortedKey[i] = keyOf(pixel, s);
+        if (pixel != permPixel) pixelKey = strataKey(seed, pixel);
+        if (pixel != permPixel || s / nn != permRound) perm = Permutation(nn, mix64(pixelKey + s / nn));
+        permPixel = pixel;
+        permRound = s / nn;
+        const uint32_t stratum = perm(s % nn);
+        w.localX[i] = float(x);
+        w.localY[i] = float(y);
+        w.sortedU1[i] = float(stratum % uint32_t(n));
+        w.sortedU2[i] = float(stratum / uint32_t(n));
+    });
     const bool lens = cam.thinLens;
-    return forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t s) {
-        const uint64_t key = keyOf(pixel, s);
-        float px, py;
-        stratifiedRasterPoint(x, y, s, n, strataKey(seed, pixel), sampleDimension(key, dims.jitterX),
-                              sampleDimension(key, dims.jitterY), px, py);
+    if (!lens)
+        pinholeCameraDirections(cameraFloats(cam), w.sortedKey.data(), w.localX.data(), w.localY.data(),
+                                w.sortedU1.data(), w.sortedU2.data(), m, float(n), dims.jitterX, dims.jitterY,
+                                &w.nextDir[0].x);
+    forEachTileSample(t, cam.width, [&](size_t i, int, int, uint32_t pixel, uint32_t) {
+        const uint64_t key = w.sortedKey[i];
+        if (!lens) {
+            emit(i, pixel, key, cam.position, w.nextDir[i]);
+            return;
+        }
+        const float px = stratumPoint(w.localX[i], w.sortedU1[i], sampleDimension(key, dims.jitterX), float(n));
+        const float py = stratumPoint(w.localY[i], w.sortedU2[i], sampleDimension(key, dims.jitterY), float(n));
         Vec3 o, d;
-        generateCameraRay(cam, px, py, lens ? sampleDimension(key, dims.lensU) : 0.5f,
-                          lens ? sampleDimension(key, dims.lensV) : 0.5f, o, d);
+        generateCameraRay(cam, px, py, sampleDimension(key, dims.lensU), sampleDimension(key, dims.lensV), o, d);
         emit(i, pixel, key, o, d);
     });
+    return m;
 }
 
 // Path i of a new wave belongs to slot i and starts with the ray from o along d.
