@@ -278,3 +278,26 @@ TEST_CASE("permuteIndex is a keyed bijection with uniform images", "[sampling][r
             CHECK(r.pValue > 1e-4);
         }
 }
+
+// The camera rays' walks of many indices at once (permuteWalks, in flat loops over the
+// values still walking) end where permuteIndex's one-by-one walk does, for widths with no
+// walk (n a power of four), short ones and long ones (n just above one).
+TEST_CASE("permuteWalks ends every walk where permuteIndex does", "[sampling][rng]") {
+    for (uint32_t n : {1u, 2u, 16u, 17u, 25u, 64u, 65u, 121u, 257u}) {
+        const size_t m = 3001;
+        std::vector<uint32_t> v(m), walkV(m), walkSample(m);
+        std::vector<uint64_t> key(m), walkKey(m);
+        for (size_t j = 0; j < m; ++j) {
+            key[j] = wmlt::mix64(uint64_t(j / 7) + 99);  // runs of one key, as a pixel's samples
+            v[j] = uint32_t(j % n);
+        }
+        wmlt::permuteWalks(n, v.data(), key.data(), m, walkV.data(), walkKey.data(), walkSample.data());
+        size_t differ = 0;
+        for (size_t j = 0; j < m; ++j) {
+            const wmlt::Permutation p(n, key[j]);
+            if (p.rotate(v[j]) != wmlt::permuteIndex(uint32_t(j % n), n, key[j]) || !(v[j] < n)) ++differ;
+        }
+        INFO("n = " << n);
+        CHECK(differ == 0);
+    }
+}

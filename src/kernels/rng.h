@@ -1,6 +1,7 @@
 // Counter-based random numbers: a number is a pure function of (seed, pixel, sample
 // index, dimension), so images do not depend on which thread traced which path.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 namespace wmlt {
@@ -48,19 +49,68 @@ struct Permutation {
     }
     uint32_t operator()(uint32_t i) const {
         if (n <= 1) return 0;
-        do {
-            uint32_t l = i >> half, r = i & mask;
-            for (uint64_t round = 0; round < 8; ++round) {
-                const uint32_t f = uint32_t(mix64(key + round * 0x9e3779b97f4a7c15ull + r)) & mask;
-                const uint32_t next = l ^ f;
-                l = r;
-                r = next;
-            }
-            i = (l << half) | r;
-        } while (i >= n);
-        return i + shift < n ? i + shift : i + shift - n;
+        do i = network(i, key, half, mask);
+        while (i >= n);
+        return rotate(i);
+    }
+    // The last step: the rotation by shift of a value the walk left below n.
+    uint32_t rotate(uint32_t i) const { return i + shift < n ? i + shift : i + shift - n; }
+    // One pass through the network (2 half bits wide), no walk.
+    static uint32_t network(uint32_t i, uint64_t key, uint32_t half, uint32_t mask) {
+        uint32_t l = i >> half, r = i & mask;
+        for (uint64_t round = 0; round < 8; ++round) {
+            const uint32_t f = uint32_t(mix64(key + round * 0x9e3779b97f4a7c15ull + r)) & mask;
+            const uint32_t next = l ^ f;
+            l = r;
+            r = next;
+        }
+        return (l << half) | r;
     }
 };
+
 inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key) { return Permutation(n, key)(i); }
+
+// Permutation::network on v[j] with key[j], j < m, in place, in one loop the compiler
+// vectorises (the walk of the values it leaves >= n is the caller's: permuteWalks).
+__attribute__((noinline)) inline void permutationNetworks(uint32_t* __restrict v, const uint64_t* __restrict key,
+                                                         size_t m, uint32_t half, uint32_t mask) {
+    for (size_t j = 0; j < m; ++j) v[j] = Permutation::network(v[j], key[j], half, mask);
+}
+
+// The walks of m indices through permutations of one n (Permutation(n, key[j])): v[j]
+// holds index j on entry and at the end the value below n its walk stops at (not yet
+// rotated). One flat pass of the networks over all, then over the values still >= n, moved
+// to the front of (walkV, walkKey, walkSample) (scratch of m entries), until none is left:
+// the passes shorten by 1 - n / 2^(2 half) (under 3/4) each.
+inline void permuteWalks(uint32_t n, uint32_t* __restrict v, const uint64_t* __restrict key, size_t m,
+                         uint32_t* __restrict walkV, uint64_t* __restrict walkKey, uint32_t* __restrict walkSample) {
+    if (n <= 1) {
+        for (size_t j = 0; j < m; ++j) v[j] = 0;
+        return;
+    }
+    const Permutation p(n, 0);  // its half and mask (the same for every key)
+    permutationNetworks(v, key, m, p.half, p.mask);
+    size_t left = 0;
+    for (size_t j = 0; j < m; ++j) {
+        if (v[j] < n) continue;
+        walkV[left] = v[j];
+        walkKey[left] = key[j];
+        walkSample[left++] = uint32_t(j);
+    }
+    while (left > 0) {
+        permutationNetworks(walkV, walkKey, left, p.half, p.mask);
+        size_t still = 0;
+        for (size_t j = 0; j < left; ++j) {
+            if (walkV[j] < n) {
+                v[walkSample[j]] = walkV[j];
+                continue;
+            }
+            walkV[still] = walkV[j];
+            walkKey[still] = walkKey[j];
+            walkSample[still++] = walkSample[j];
+        }
+        left = still;
+    }
+}
 
 }  // namespace wmlt

@@ -50,11 +50,13 @@ struct RayCounters {
 // path order): the path it belongs to, the material order, whether the path goes on and
 // in which direction. Per hit in material order (index r of order): the slot's key or two
 // of its numbers, and a direction in the shading frame, for the flat loops of the scatter
-// stages (scatterHits, sampleBptBsdfs).
+// stages (scatterHits, sampleBptBsdfs). Per camera sample, before the first intersect
+// (forEachCameraRay): its strata permutation's key and index, and a key of the walks.
 #define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
     X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
     X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, sortedU1) X(float, sortedU2)  \
-    X(float, localX) X(float, localY) X(float, localZ)
+    X(float, localX) X(float, localY) X(float, localZ) X(uint64_t, permKey) X(uint32_t, permValue)   \
+    X(uint64_t, walkKey)
 
 struct PathWave {
     size_t numPaths = 0, numHits = 0;
@@ -93,29 +95,36 @@ struct CameraDims {
 // Calls emit(i, pixel, key, o, d) for the tile's samples in order (forEachTileSample),
 // each with its key (keyOf(pixel, s)) and camera ray: raster point in stratum s of the
 // pixel's n x n grid (camera.h, stratifiedRasterPoint), then the lens (pbrt-v4 5.2.3).
-// Returns the number of samples. In three passes over the wave's scratch arrays: the keys
-// and strata (a permutation made once per pixel and round of strata), the directions in a
-// flat loop (pinholeCameraDirections; a thin lens: per ray, in the last pass), the emits.
+// Returns the number of samples. In passes over the wave's scratch arrays: the keys; the
+// strata (the permutations' networks in flat loops, permuteWalks; each permutation's
+// rotation made once per pixel and round); the directions in a flat loop
+// (pinholeCameraDirections; a thin lens: per ray, in the last pass); the emits.
 template <class KeyOf, class Emit>
 inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, int n, uint64_t seed,
                                const CameraDims& dims, KeyOf&& keyOf, Emit&& emit) {
     const Camera& cam = scene.camera;
     const uint32_t nn = uint32_t(n) * uint32_t(n);
-    uint32_t permPixel = ~0u, permRound = ~0u;
+    // The keys, and the strata permutation's key and index (stratifiedRasterPoint's).
+    uint32_t lastPixel = ~0u;
     uint64_t pixelKey = 0;
-    Permutation perm;
     const size_t m = forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t s) {
         w.sortedKey[i] = keyOf(pixel, s);
-        if (pixel != permPixel) pixelKey = strataKey(seed, pixel);
-        if (pixel != permPixel || s / nn != permRound) perm = Permutation(nn, mix64(pixelKey + s / nn));
-        permPixel = pixel;
-        permRound = s / nn;
-        const uint32_t stratum = perm(s % nn);
+        if (pixel != lastPixel) pixelKey = strataKey(seed, pixel);
+        lastPixel = pixel;
+        w.permKey[i] = mix64(pixelKey + s / nn);
+        w.permValue[i] = s % nn;
         w.localX[i] = float(x);
         w.localY[i] = float(y);
+    });
+    permuteWalks(nn, w.permValue.data(), w.permKey.data(), m, w.order.data(), w.walkKey.data(), w.hitPath.data());
+    // The strata: the walks' ends rotated (Permutation::rotate; made once per key).
+    Permutation perm;
+    for (size_t i = 0; i < m; ++i) {
+        if (i == 0 || w.permKey[i] != perm.key) perm = Permutation(nn, w.permKey[i]);
+        const uint32_t stratum = perm.rotate(w.permValue[i]);
         w.sortedU1[i] = float(stratum % uint32_t(n));
         w.sortedU2[i] = float(stratum / uint32_t(n));
-    });
+    }
     const bool lens = cam.thinLens;
     if (!lens)
         pinholeCameraDirections(cameraFloats(cam), w.sortedKey.data(), w.localX.data(), w.localY.data(),
