@@ -7,6 +7,8 @@
 
 #include "kernels/camera.h"
 #include "kernels/lights.h"
+#include "kernels/nee.h"
+#include "kernels/bsdf.h"
 #include "chi2.h"
 #include "kernels/rng.h"
 
@@ -232,6 +234,84 @@ TEST_CASE("rect light: rectLightSamples and sampleRectLight equal the Vec3 form 
     }
     CHECK(sampled > n / 4);
     CHECK(refused > n / 4);
+    CHECK(differ == 0);
+}
+
+// PT's flat loops for next-event estimation at matte hits (matteNeeValues, shadowRaysTo)
+// must make what the per-hit code makes, bit for bit: f = matteF |cos|, the power
+// heuristic against mattePdf, L = beta f Le w / (pdf pmf), and the shadow ray from the
+// offset origin (Scene::offsetRayOrigin's formula) to the light point, in Vec3; for
+// surfaces seen from either side, lights on either side and black Kd channels.
+TEST_CASE("rect light: matteNeeValues and shadowRaysTo equal the per-hit NEE bit for bit", "[lights]") {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-4.0f, 4.0f), sgn(-1.0f, 1.0f);
+    auto unit = [&] {
+        Vec3 v;
+        do v = Vec3(sgn(rng), sgn(rng), sgn(rng));
+        while (!(lengthSquared(v) > 0.01f && lengthSquared(v) < 1.0f));
+        return normalize(v);
+    };
+    const size_t n = 2053;
+    const RectNeeConsts c{3.5f, 2.25f, 0.0f, 0.37f};  // a black blue channel
+    const float epsilonScale = 3e-4f;
+    std::vector<float> ns(3 * n), wo(3 * n), wix(n), wiy(n), wiz(n), pdf(n), kd(3 * n), beta(3 * n), L(3 * n);
+    std::vector<float> p(3 * n), ng(3 * n), lp(3 * n), origin(3 * n), dir(3 * n), tfar(n);
+    std::vector<uint32_t> send(n);
+    for (size_t h = 0; h < n; ++h) {
+        const Vec3 N = unit(), G = normalize(N + unit() * 0.2f), O = unit(), W = unit();
+        const Vec3 P(pos(rng), pos(rng), pos(rng)), LP = P + W * (0.5f + 3.0f * u01(rng));
+        const Vec3 K = h % 11 == 0 ? Vec3(0.0f) : Vec3(u01(rng), h % 5 == 0 ? 0.0f : u01(rng), u01(rng));
+        const Vec3 B(u01(rng), u01(rng), u01(rng));
+        for (int a = 0; a < 3; ++a) {
+            ns[3 * h + a] = N[a];
+            wo[3 * h + a] = O[a];
+            p[3 * h + a] = P[a];
+            ng[3 * h + a] = G[a];
+            lp[3 * h + a] = LP[a];
+            kd[3 * h + a] = K[a];
+            beta[3 * h + a] = B[a];
+        }
+        wix[h] = W.x;
+        wiy[h] = W.y;
+        wiz[h] = W.z;
+        pdf[h] = h % 13 == 0 ? 0.0f : 0.1f + 4.0f * u01(rng);
+    }
+    matteNeeValues(c, n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(), pdf.data(), kd.data(), beta.data(),
+                   L.data(), send.data());
+    shadowRaysTo(epsilonScale, n, p.data(), ng.data(), wix.data(), wiy.data(), wiz.data(), lp.data(), origin.data(),
+                 dir.data(), tfar.data());
+    auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    size_t differ = 0, sent = 0;
+    for (size_t h = 0; h < n; ++h) {
+        const Frame fr = Frame::fromNormal(Vec3(ns[3 * h], ns[3 * h + 1], ns[3 * h + 2]));
+        const Vec3 W(wix[h], wiy[h], wiz[h]), P(p[3 * h], p[3 * h + 1], p[3 * h + 2]);
+        const Vec3 G(ng[3 * h], ng[3 * h + 1], ng[3 * h + 2]), LP(lp[3 * h], lp[3 * h + 1], lp[3 * h + 2]);
+        BsdfParams m;
+        m.diffuse = Vec3(kd[3 * h], kd[3 * h + 1], kd[3 * h + 2]);
+        const Vec3 woL = fr.toLocal(Vec3(wo[3 * h], wo[3 * h + 1], wo[3 * h + 2])), wiL = fr.toLocal(W);
+        const Vec3 f = matteF(m, woL, wiL) * absCosTheta(wiL);
+        const bool black = isBlack(f);
+        if (black != (send[h] == 0)) ++differ;
+        if (!black) {
+            ++sent;
+            const float lightPdf = pdf[h] * c.pmf;
+            const float w = powerHeuristic(lightPdf, mattePdf(m, woL, wiL));
+            const Vec3 v = Vec3(beta[3 * h], beta[3 * h + 1], beta[3 * h + 2]) * f * Vec3(c.Lx, c.Ly, c.Lz) * (w / lightPdf);
+            for (int a = 0; a < 3; ++a)
+                if (!same(v[a], L[3 * h + a])) ++differ;
+        }
+        const float mag = std::max(std::max(std::fabs(P.x), std::fabs(P.y)), std::fabs(P.z));
+        const float eps = 2e-5f * mag + epsilonScale;
+        const Vec3 o = dot(G, W) >= 0 ? P + G * eps : P - G * eps;
+        const Vec3 toLight = LP - o;
+        const float dist = length(toLight);
+        const Vec3 d = toLight / dist;
+        for (int a = 0; a < 3; ++a)
+            if (!same(o[a], origin[3 * h + a]) || !same(d[a], dir[3 * h + a])) ++differ;
+        if (!same(dist * (1.0f - 1e-4f), tfar[h])) ++differ;
+    }
+    CHECK(sent > n / 4);
+    CHECK(sent < n * 3 / 4);
     CHECK(differ == 0);
 }
 

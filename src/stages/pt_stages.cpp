@@ -1,6 +1,7 @@
 #include "stages/pt_stages.h"
 
 #include "kernels/rng.h"
+#include "kernels/nee.h"
 #include "kernels/sampling.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
@@ -84,8 +85,11 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
 namespace {
 
 // A scene whose one light is the rectangle l (soleRectLight): every hit's light sample in
-// flat loops the compiler vectorises (the light point's two numbers, then rectLightSamples).
-void sampleRectLightFlat(const Light& l, PtBatch& b, int depth) {
+// flat loops the compiler vectorises (the light point's two numbers, then rectLightSamples),
+// and for a scene with matte surfaces (matte: the kind is in the scene) the matte hits'
+// shadow rays and contributions (matteNeeValues, shadowRaysTo: computed for every hit,
+// sampleLights reads the matte hits').
+void sampleRectLightFlat(const Scene& scene, const Light& l, PtBatch& b, int depth, bool matte) {
     const size_t n = b.numHits;
     for (size_t h = 0; h < n; ++h) b.sortedKey[h] = b.key[b.pathSlot[b.hitPath[h]]];
     const uint32_t d1 = bounceDim(depth, 1), d2 = bounceDim(depth, 2);
@@ -96,6 +100,17 @@ void sampleRectLightFlat(const Light& l, PtBatch& b, int depth) {
     rectLightSamples(rectFloats(l), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
                      b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(),
                      b.neeOk.data());
+    if (!matte) return;
+    for (size_t h = 0; h < n; ++h) {
+        b.neeNs[h] = b.shading[h].n;
+        b.neeKd[h] = b.bsdf[h].diffuse;
+        b.neeBeta[h] = b.beta[b.hitPath[h]];
+    }
+    const RectNeeConsts c{l.L.x, l.L.y, l.L.z, scene.lightDistribution.discretePmf(0)};
+    matteNeeValues(c, n, &b.neeNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
+                   b.neePdf.data(), &b.neeKd[0].x, &b.neeBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+    shadowRaysTo(scene.epsilonScale, n, &b.p[0].x, &b.ng[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
+                 &b.neeP[0].x, &b.neeOrigin[0].x, &b.neeDir[0].x, b.neeTfar.data());
 }
 
 }  // namespace
@@ -103,12 +118,24 @@ void sampleRectLightFlat(const Light& l, PtBatch& b, int depth) {
 void sampleLights(const Scene& scene, PtBatch& b, int depth) {
     const Light* rect = soleRectLight(scene);
     const float rectPmf = rect ? scene.lightDistribution.discretePmf(0) : 0.0f;
-    if (rect) sampleRectLightFlat(*rect, b, depth);
+    // (A black light sends nothing: the per-hit test below.)
+    const bool matteFlat = rect && scene.features.has(MaterialKind::Matte) && !isBlack(rect->L);
+    if (rect) sampleRectLightFlat(scene, *rect, b, depth, matteFlat);
     size_t n = 0;
     forEachHitByKind(b, [&](auto kind, uint32_t h) {
         using B = BsdfOf<decltype(kind)::value>;
         if constexpr (!B::delta) {
             const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
+            if constexpr (decltype(kind)::value == MaterialKind::Matte) {
+                if (matteFlat) {
+                    if (!b.neeOk[h] || !b.neeSend[h]) return;
+                    setRay(b.shadow[n], b.neeOrigin[h], b.neeDir[h], 0.0f, b.neeTfar[h]);
+                    b.shadowSlot[n] = slot;
+                    b.shadowL[n] = b.neeL[h];
+                    ++n;
+                    return;
+                }
+            }
             const uint64_t key = b.key[slot];
             float pmf;
             LightSample ls;
