@@ -442,3 +442,55 @@ TEST_CASE("MMLT pool rows fill every number the strategy's walks read, up to len
         CHECK(missing == 0);
     }
 }
+
+// thinPool's threshold (thinningThreshold: passes to a fixed point) against its definition
+// over the sorted values (the m largest kept whole, the rest at level tau = (the sum of the
+// others) / (keep - m), the least m with v_(m) < tau), and the level's defining sum
+// sum_i min(1, v_i / tau) = keep; for even, spread and heavy-tailed pools and a pool with
+// a few values far above the rest. Then thinPool itself: about keep entries, every kept
+// entry's w c at least tau, and the comb keeps the pool's sum of w c within tau.
+TEST_CASE("MMLT pool thinning: the threshold matches its definition, the thinned pool keeps the sum", "[mmlt][pool]") {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (int kind = 0; kind < 4; ++kind)
+        for (size_t n : {size_t(3), size_t(100), size_t(20000)})
+            for (size_t keep : {size_t(1), n / 2 + 1, n - 1}) {
+                if (keep >= n || keep == 0) continue;
+                wmlt::SamplePool pool;
+                for (size_t i = 0; i < n; ++i) {
+                    const double u = u01(rng);
+                    double c = kind == 0 ? 1.0 : kind == 1 ? 0.01 + u : kind == 2 ? std::pow(1.0 - u, -1.5) : (i % 997 == 0 ? 1e6 : 1.0 + u);
+                    pool.lit.push_back({rng(), float(c), float(0.5 + u01(rng)), wmlt::Vec3(1.0f), uint32_t(i)});
+                    pool.sumWC += double(pool.lit.back().w) * double(pool.lit.back().c);
+                }
+                std::vector<double> v;
+                for (const wmlt::PoolEntry& x : pool.lit) v.push_back(double(x.w) * double(x.c));
+                std::sort(v.begin(), v.end(), std::greater<double>());
+                std::vector<double> suffix(v.size() + 1, 0.0);
+                for (size_t i = v.size(); i-- > 0;) suffix[i] = suffix[i + 1] + v[i];
+                double ref = 0;
+                for (size_t m = 0; m < keep; ++m) {
+                    ref = suffix[m] / double(keep - m);
+                    if (v[m] < ref) break;
+                }
+                const double tau = wmlt::thinningThreshold(pool.lit, keep);
+                double places = 0;
+                for (double x : v) places += std::min(1.0, x / tau);
+                INFO("kind " << kind << ", n " << n << ", keep " << keep << ": tau " << tau << ", sorted " << ref);
+                CHECK(std::fabs(tau - ref) <= 1e-12 * ref);
+                CHECK(std::fabs(places - double(keep)) <= 1e-9 * double(keep));
+                const double before = pool.sumWC;
+                wmlt::thinPool(pool, keep, 99, uint32_t(kind));
+                CHECK(pool.lit.size() + 1 >= keep);
+                CHECK(pool.lit.size() <= keep + 1);
+                double after = 0;
+                size_t below = 0;
+                for (const wmlt::PoolEntry& x : pool.lit) {
+                    after += double(x.w) * double(x.c);
+                    if (double(x.w) * double(x.c) < tau * (1 - 1e-6)) ++below;
+                }
+                CHECK(below == 0);
+                CHECK(std::fabs(after - pool.sumWC) <= 1e-9 * after);
+                CHECK(std::fabs(after - before) <= tau * (1 + 1e-9));
+            }
+}

@@ -61,5 +61,7 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb);
 // (tau chosen for `keep` in expectation) and dividing its weight by that probability: an
 // unbiased thinning (systematic: one comb over the entries, its offset from (seed, round)).
 void thinPool(SamplePool& pool, size_t keep, uint64_t seed, uint32_t round);
+// Its tau: sum_i min(1, w_i c_i / tau) = keep over the pool's entries (more than keep).
+double thinningThreshold(const std::vector<PoolEntry>& e, size_t keep);
 
 }  // namespace wmlt
