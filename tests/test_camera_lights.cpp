@@ -107,6 +107,104 @@ TEST_CASE("camera rays: pinholeCameraDirections equals the Vec3 form bit for bit
     CHECK(differ == 0);
 }
 
+// sampleCameraFrom as it was written before its float form (cameraSampleAt), in Vec3: the
+// reference the float forms must equal bit for bit.
+static CameraSample sampleCameraFromVec3(const Camera& c, Vec3 ref, float u1, float u2) {
+    CameraSample s;
+    s.lens = c.position;
+    if (c.thinLens && c.lensRadius > 0) {
+        float lx, ly;
+        sampleConcentricDisk(u1, u2, lx, ly);
+        s.lens = c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
+    }
+    Vec3 d = s.lens - ref;
+    float dist2 = lengthSquared(d);
+    if (!(dist2 > 0)) return s;
+    s.dist = std::sqrt(dist2);
+    s.wi = d / s.dist;
+    float cosTheta;
+    if (!cameraRasterOfRay(c, s.lens, -s.wi, s.px, s.py, cosTheta)) return s;
+    float cos2 = cosTheta * cosTheta;
+    s.We = 1.0f / (cameraPlaneArea(c) * cameraLensArea(c) * cos2 * cos2);
+    s.pdf = dist2 / (cosTheta * cameraLensArea(c));
+    s.valid = std::isfinite(s.pdf) && s.pdf > 0;
+    return s;
+}
+
+// The t = 1 strategies' camera samples: sampleCameraFrom (pinhole and thin lens) and the
+// pinhole's flat loop (pinholeCameraSamples, with the reverse area density the MIS weight
+// reads) equal the Vec3 form bit for bit, points behind the camera and outside the image
+// included.
+TEST_CASE("camera samples: sampleCameraFrom and pinholeCameraSamples equal the Vec3 form bit for bit", "[camera]") {
+    CameraDesc d;
+    d.position = {1, 2, 3};
+    d.lookAt = {-2, 0.5f, 7};
+    d.up = {0.1f, 1, 0};
+    d.fovDegrees = 50;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-8.0f, 12.0f), sgn(-1.0f, 1.0f);
+    auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    for (bool lens : {false, true}) {
+        d.dof = lens;
+        d.focalLength = 4.5f;
+        d.fStop = 2.0f;
+        const Camera c = makeCamera(d, 61, 47);
+        const size_t n = 3001;
+        std::vector<float> ref(3 * n), refN(3 * n), wi(3 * n), px(n), py(n), We(n), pdf(n), pdfArea(n);
+        std::vector<uint32_t> valid(n);
+        for (size_t h = 0; h < n; ++h) {
+            const Vec3 N = normalize(Vec3(sgn(rng), sgn(rng), sgn(rng)) + Vec3(0.0f, 0.0f, 0.01f));
+            // half in front of the camera (most of them seen), half anywhere
+            const float z = 0.5f + 10.0f * u01(rng);
+            const Vec3 R = h % 2 ? c.position + c.forward * z + c.right * (1.2f * z * sgn(rng)) + c.up * (z * sgn(rng))
+                                 : Vec3(pos(rng), pos(rng), pos(rng));
+            for (int a = 0; a < 3; ++a) {
+                ref[3 * h + a] = R[a];
+                refN[3 * h + a] = N[a];
+            }
+        }
+        ref[0] = c.position.x;  // at the lens
+        ref[1] = c.position.y;
+        ref[2] = c.position.z;
+        if (!lens)
+            pinholeCameraSamples(cameraFloats(c), n, ref.data(), refN.data(), wi.data(), px.data(), py.data(), We.data(),
+                                 pdf.data(), pdfArea.data(), valid.data());
+        size_t differ = 0, seen = 0, unseen = 0;
+        for (size_t h = 0; h < n; ++h) {
+            const Vec3 r(ref[3 * h], ref[3 * h + 1], ref[3 * h + 2]), N(refN[3 * h], refN[3 * h + 1], refN[3 * h + 2]);
+            const float u1 = u01(rng), u2 = u01(rng);
+            const CameraSample a = sampleCameraFromVec3(c, r, u1, u2), b = sampleCameraFrom(c, r, u1, u2);
+            if (a.valid != b.valid || (!lens && a.valid != (valid[h] != 0))) {
+                ++differ;
+                continue;
+            }
+            if (!a.valid) {
+                ++unseen;
+                continue;
+            }
+            ++seen;
+            const float fa[] = {a.lens.x, a.lens.y, a.lens.z, a.wi.x, a.wi.y, a.wi.z, a.dist, a.px, a.py, a.We, a.pdf};
+            const float fb[] = {b.lens.x, b.lens.y, b.lens.z, b.wi.x, b.wi.y, b.wi.z, b.dist, b.px, b.py, b.We, b.pdf};
+            for (int k = 0; k < 11; ++k)
+                if (!same(fa[k], fb[k])) ++differ;
+            if (lens) continue;
+            const float fl[] = {c.position.x, c.position.y, c.position.z, wi[3 * h], wi[3 * h + 1], wi[3 * h + 2],
+                                a.dist,       px[h],        py[h],        We[h],     pdf[h]};
+            for (int k = 0; k < 11; ++k)
+                if (k != 6 && !same(fa[k], fl[k])) ++differ;
+            // The reverse density: cameraPdfOfRay(-wi) (1 / (A cos^3)) as area density at ref.
+            const Vec3 w = -a.wi;
+            const float cosTheta = dot(w, c.forward);
+            const float pdfSa = 1.0f / (cameraPlaneArea(c) * cosTheta * cosTheta * cosTheta);
+            if (!same(solidAngleToArea(pdfSa, a.lens, r, N, true), pdfArea[h])) ++differ;
+        }
+        INFO("thin lens " << lens);
+        CHECK(seen > n / 10);
+        CHECK(unseen > n / 10);
+        CHECK(differ == 0);
+    }
+}
+
 TEST_CASE("thin-lens rays through one pixel meet on the plane of focus", "[camera]") {
     CameraDesc d;
     d.lookAt = {0, 0, 1};

@@ -42,10 +42,15 @@ inline Camera makeCamera(const CameraDesc& d, int width, int height) {
 // reference (which the compiler must assume their stores may change) and vectorise.
 struct CameraFloats {
     float fx, fy, fz, rx, ry, rz, ux, uy, uz, width, height, scaleX, scaleY;
+    float ox, oy, oz, focusDistance, planeArea, lensArea;  // position; cameraPlaneArea, cameraLensArea
 };
+inline float cameraPlaneArea(const Camera& c);
+inline float cameraLensArea(const Camera& c);
 inline CameraFloats cameraFloats(const Camera& c) {
-    return {c.forward.x, c.forward.y, c.forward.z, c.right.x, c.right.y, c.right.z, c.up.x,
-            c.up.y,      c.up.z,      float(c.width), float(c.height), c.scaleX, c.scaleY};
+    return {c.forward.x,     c.forward.y,    c.forward.z,      c.right.x,    c.right.y,          c.right.z,
+            c.up.x,          c.up.y,         c.up.z,           float(c.width), float(c.height),  c.scaleX,
+            c.scaleY,        c.position.x,   c.position.y,     c.position.z, c.focusDistance,    cameraPlaneArea(c),
+            cameraLensArea(c)};
 }
 
 // Direction (unnormalised, forward component 1) through the raster point (px, py),
@@ -169,6 +174,44 @@ inline float cameraWe(const Camera& c, Vec3 lens, Vec3 w) {
     return 1.0f / (cameraPlaneArea(c) * cameraLensArea(c) * cos2 * cos2);
 }
 
+// The camera seen from ref through lens point l (pbrt-v4 PerspectiveCamera::SampleWi, as
+// sampleCameraFrom below, in floats so that loops of it vectorise): the unit direction w
+// from ref to l, dist2 = |l - ref|^2, the raster point (px, py) of the ray from l along -w
+// (through the focus plane for a thin lens: cameraRasterOfRay), cosTheta = dot(-w,
+// forward), We and the solid-angle density at ref, pdf = dist2 / (cos(theta) A_lens).
+// False when ref is at l, behind the camera or outside the image, or pdf is not finite and
+// positive (the outputs are then unspecified).
+template <bool ThinLens>
+inline bool cameraSampleAt(const CameraFloats c, float lx, float ly, float lz, float refX, float refY, float refZ,
+                           float& wx, float& wy, float& wz, float& dist2, float& px, float& py, float& cosTheta,
+                           float& We, float& pdf) {
+    const float dx = lx - refX, dy = ly - refY, dz = lz - refZ;
+    dist2 = dx * dx + dy * dy + dz * dz;
+    const float r = 1.0f / std::sqrt(dist2);  // d / |d| as d * (1 / |d|)
+    wx = dx * r;
+    wy = dy * r;
+    wz = dz * r;
+    const float ux = -wx, uy = -wy, uz = -wz;
+    cosTheta = ux * c.fx + uy * c.fy + uz * c.fz;
+    float qx = ux, qy = uy, qz = uz;  // cameraRasterOf's direction
+    if constexpr (ThinLens) {
+        const float t = c.focusDistance / cosTheta;
+        qx = (lx + ux * t) - c.ox;
+        qy = (ly + uy * t) - c.oy;
+        qz = (lz + uz * t) - c.oz;
+    }
+    const float z = qx * c.fx + qy * c.fy + qz * c.fz;
+    const float sx = (qx * c.rx + qy * c.ry + qz * c.rz) / z / c.scaleX;
+    const float sy = (qx * c.ux + qy * c.uy + qz * c.uz) / z / c.scaleY;
+    px = (sx + 1.0f) * 0.5f * c.width;
+    py = (1.0f - sy) * 0.5f * c.height;
+    const float cos2 = cosTheta * cosTheta;
+    We = 1.0f / (c.planeArea * c.lensArea * cos2 * cos2);
+    pdf = dist2 / (cosTheta * c.lensArea);
+    return dist2 > 0 && cosTheta > 0 && z > 0 && px >= 0 && px < c.width && py >= 0 && py < c.height &&
+           std::isfinite(pdf) && pdf > 0;
+}
+
 struct CameraSample {
     Vec3 lens;            // point on the lens (pinhole: the position)
     Vec3 wi;              // unit, from ref to lens
@@ -176,7 +219,7 @@ struct CameraSample {
     float px = 0, py = 0; // raster position
     float We = 0;
     float pdf = 0;        // solid angle at ref: dist^2 / (cos(theta) A_lens)
-    bool valid = false;
+    bool valid = false;   // (else the other fields are unspecified)
 };
 
 // A lens point seen from ref (uniform on the lens disc) and the importance it receives
@@ -189,18 +232,43 @@ inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float 
         sampleConcentricDisk(u1, u2, lx, ly);
         s.lens = c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
     }
-    Vec3 d = s.lens - ref;
-    float dist2 = lengthSquared(d);
-    if (!(dist2 > 0)) return s;
+    const CameraFloats f = cameraFloats(c);
+    float dist2, cosTheta;
+    s.valid = c.thinLens ? cameraSampleAt<true>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y,
+                                                s.wi.z, dist2, s.px, s.py, cosTheta, s.We, s.pdf)
+                         : cameraSampleAt<false>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y,
+                                                 s.wi.z, dist2, s.px, s.py, cosTheta, s.We, s.pdf);
     s.dist = std::sqrt(dist2);
-    s.wi = d / s.dist;
-    float cosTheta;
-    if (!cameraRasterOfRay(c, s.lens, -s.wi, s.px, s.py, cosTheta)) return s;
-    float cos2 = cosTheta * cosTheta;
-    s.We = 1.0f / (cameraPlaneArea(c) * cameraLensArea(c) * cos2 * cos2);
-    s.pdf = dist2 / (cosTheta * cameraLensArea(c));
-    s.valid = std::isfinite(s.pdf) && s.pdf > 0;
     return s;
+}
+
+// For a pinhole camera, over h < n: sampleCameraFrom(ref[3 h ..]) into wi[3 h ..], px,
+// py, We, pdf and valid, and the area density at ref of the camera ray through it,
+// pdfArea[h] = solidAngleToArea(1 / (A cos^3 theta), lens, ref, refN[3 h ..], true) (the
+// reverse density a t = 1 strategy's MIS weight reads; cameraPdfOfRay). In one loop the
+// compiler vectorises.
+__attribute__((noinline)) inline void pinholeCameraSamples(const CameraFloats c, size_t n, const float* __restrict ref,
+                                                          const float* __restrict refN, float* __restrict wi,
+                                                          float* __restrict px, float* __restrict py,
+                                                          float* __restrict We, float* __restrict pdf,
+                                                          float* __restrict pdfArea, uint32_t* __restrict valid) {
+    for (size_t h = 0; h < n; ++h) {
+        const float rx = ref[3 * h], ry = ref[3 * h + 1], rz = ref[3 * h + 2];
+        float wx, wy, wz, dist2, cosTheta;
+        valid[h] = cameraSampleAt<false>(c, c.ox, c.oy, c.oz, rx, ry, rz, wx, wy, wz, dist2, px[h], py[h], cosTheta,
+                                         We[h], pdf[h])
+                       ? 1u
+                       : 0u;
+        wi[3 * h] = wx;
+        wi[3 * h + 1] = wy;
+        wi[3 * h + 2] = wz;
+        // cameraPdfOfRay(-wi), then solidAngleToArea from the lens to ref: d = ref - lens.
+        const float pdfSa = 1.0f / (c.planeArea * cosTheta * cosTheta * cosTheta);
+        const float cosRef = std::fabs(refN[3 * h] * (rx - c.ox) + refN[3 * h + 1] * (ry - c.oy) +
+                                       refN[3 * h + 2] * (rz - c.oz)) /
+                             std::sqrt(dist2);
+        pdfArea[h] = pdfSa * cosRef / dist2;
+    }
 }
 
 }  // namespace wmlt

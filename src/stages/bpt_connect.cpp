@@ -92,6 +92,31 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
     w.n = 0;
 }
 
+// A pinhole camera: the camera samples of the light vertices the t = 1 strategies of
+// slots [slot0, slot1) end at (BPT: every light vertex; MMLT: x_{s-1} of a slot whose
+// strategy has t = 1), in one flat loop (pinholeCameraSamples); setUpStrategy reads them.
+void sampleCameraFromLightVertices(const Scene& scene, BptBatch& b, uint32_t slot0, uint32_t slot1,
+                                   bool oneStrategyPerSlot) {
+    uint32_t n = 0;
+    auto list = [&](size_t a) {
+        b.cameraSampleOf[a] = n;
+        b.csRef[n] = b.light.p[a];
+        b.csRefN[n] = b.light.ng[a];
+        ++n;
+    };
+    for (uint32_t slot = slot0; slot < slot1; ++slot) {
+        const int nL = b.light.count[slot];
+        if (!oneStrategyPerSlot) {
+            for (int i = 0; i < nL; ++i) list(b.light.at(slot, i));
+            continue;
+        }
+        const int s = b.strategyS[slot], t = b.pathLength[slot] + 1 - s;
+        if (t == 1 && s >= 1 && s <= nL) list(b.light.at(slot, s - 1));
+    }
+    pinholeCameraSamples(cameraFloats(scene.camera), n, &b.csRef[0].x, &b.csRefN[0].x, &b.csWi[0].x, b.csPx.data(),
+                         b.csPy.data(), b.csWe.data(), b.csPdf.data(), b.csPdfArea.data(), b.csValid.data());
+}
+
 }  // namespace
 
 void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
@@ -118,7 +143,10 @@ void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, f
     cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
     w.n = 0;
+    const bool pinhole = !scene.camera.thinLens;
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
+        if (pinhole && slot % kCameraSampleSlots == 0)
+            sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), false);
         const int nC = b.cam.count[slot], nL = b.light.count[slot];
         for (int t = 1; t <= nC; ++t)
             for (int s = 0; s <= std::max(nL, 1); ++s) {
@@ -138,7 +166,10 @@ void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, 
     b.numConn = 0;
     w.n = 0;
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) b.L[slot] = Vec3(0.0f);
+    const bool pinhole = !scene.camera.thinLens;
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
+        if (pinhole && slot % kCameraSampleSlots == 0)
+            sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), true);
         const int s = b.strategyS[slot], k = b.pathLength[slot], t = k + 1 - s;
         if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity)
             finishStrategies(scene, b, misBeta, false, counters);

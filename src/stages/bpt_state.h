@@ -76,11 +76,12 @@ struct BptVertices {
 // Per strategy: slot, s, t, the light (s <= 1), the unweighted contribution or the factors
 // it is finished from once the ends' f are known (setUpStrategy), the new endpoint (s = 1,
 // t >= 2: the light point and its normal, `infinite` for the environment; t = 1: the lens
-// point) and the raster pixel (t = 1).
+// point) and the raster pixel (t = 1; with a pinhole camera also the area density at
+// x_{s-1} of the camera ray through it, from pinholeCameraSamples).
 #define WMLT_STRATEGY_ARRAYS(X)                                                              \
     X(uint32_t, slot) X(uint8_t, s) X(uint8_t, t) X(int16_t, light) X(Vec3, value)          \
     X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(uint8_t, infinite)         \
-    X(uint32_t, pixel)
+    X(uint32_t, pixel) X(float, cameraPdfArea)
 // Per end (2 i: y = x_{s-1}, a light subpath vertex; 2 i + 1: z = x_s, a camera subpath
 // vertex): the vertex (kNoEnd: strategy i has no surface there), f's directions and the
 // densities' directions in its shading frame (wo on the camera side, wi on the light
@@ -127,6 +128,16 @@ struct StrategyWave {
     X(uint8_t, emitOk)
 // MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
+// A pinhole camera's samples from the light vertices that t = 1 strategies end at, for a
+// chunk of kCameraSampleSlots slots at a time (sampleCameraFromLightVertices): per light
+// vertex, its index j in the chunk's list (cameraSampleOf); per j, the vertex's position
+// and normal (gathered), the sample (pinholeCameraSamples: direction, raster point, We,
+// pdf, valid) and the reverse area density.
+#define WMLT_BPT_CAMERA_SAMPLE_ARRAYS(X)                                                     \
+    X(Vec3, csRef) X(Vec3, csRefN) X(Vec3, csWi) X(float, csPx) X(float, csPy) X(float, csWe) \
+    X(float, csPdf) X(float, csPdfArea) X(uint32_t, csValid)
+constexpr uint32_t kCameraSampleSlots = 256;
+
 // Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
 // raster pixel), whether it is a t = 1 splat, its path length, unweighted unoccluded
 // value, MIS weight and strategy's s (strategy images).
@@ -139,6 +150,8 @@ struct BptBatch : PathWave {
     WMLT_BPT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_ARRAY)
+    std::vector<uint32_t> cameraSampleOf;  // per light vertex
     bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
 
     BptVertices cam, light;
@@ -161,6 +174,13 @@ struct BptBatch : PathWave {
         if (rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
         cam.reserve(n, maxLength + 1);
         light.reserve(n, maxLength);
+        const size_t samples = std::min<size_t>(kCameraSampleSlots, std::max<size_t>(n, 1)) *
+                               (oneStrategyPerSlot ? 1 : size_t(maxLength));  // a chunk's light vertices
+        {
+            const size_t n = samples;
+            WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        cameraSampleOf.resize(light.p.size());
         connCapacity = std::max<size_t>(n * 4, 1024);
         resizeConnections(connCapacity);
         strategies.reserve(std::clamp<size_t>(n, 1, 1024));

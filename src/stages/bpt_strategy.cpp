@@ -162,7 +162,20 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
     } else if (t == 1) {  // s = 1: value = beta_y Le |cos| We / pdf; s >= 2: beta_y f(y) tail
         const size_t yi = b.light.at(slot, s - 1);
         const Vec3 y = b.light.p[yi], yN = b.light.ng[yi];
-        const CameraSample cs = sampleCameraFrom(cam, y, uc(0), uc(1));
+        CameraSample cs;
+        if (!cam.thinLens) {  // sampleCameraFromLightVertices made it
+            const uint32_t j = b.cameraSampleOf[yi];
+            cs.valid = b.csValid[j] != 0;
+            cs.lens = cam.position;
+            cs.wi = b.csWi[j];
+            cs.px = b.csPx[j];
+            cs.py = b.csPy[j];
+            cs.We = b.csWe[j];
+            cs.pdf = b.csPdf[j];
+            w.cameraPdfArea[i] = b.csPdfArea[j];
+        } else {
+            cs = sampleCameraFrom(cam, y, uc(0), uc(1));
+        }
         if (!cs.valid) return false;
         if (s == 1) {
             const int li = b.light.light[yi];
@@ -279,7 +292,7 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         const PathPoint y = x(s - 1);
         // The direction is -wi of setUpStrategy's camera sample bit for bit (the same
         // difference and length), whose raster point was inside the image: no check again.
-        pE[s - 1] = pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
+        pE[s - 1] = !cam.thinLens ? w.cameraPdfArea[i] : pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
         if (s >= 2) pE[s - 2] = pdfAt(w.pdfCam[ey], y.p, x(s - 2));
     } else {  // s = 1, t >= 2
         const PathPoint z = x(1);
