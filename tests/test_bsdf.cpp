@@ -2,9 +2,16 @@
 // (chi-square), delta lobes (mirror, Fresnel, Snell, transport-mode scaling).
 #include <catch2/catch.hpp>
 
+#include <vector>
+
+#include <random>
+
+#include <cstring>
+
 #include "chi2.h"
 #include "kernels/bsdf.h"
 #include "kernels/fresnel.h"
+#include "kernels/scatter.h"
 
 using namespace wmlt;
 
@@ -394,4 +401,73 @@ TEST_CASE("Dielectric: lobe colours, Radiance vs Importance scaling", "[bsdf][de
     CHECK(in.f[0] * absCosTheta(in.wi) / in.pdf * out.f[0] * absCosTheta(out.wi) / out.pdf ==
           Approx(1.0).epsilon(1e-5));
     CHECK(in.f[0] * absCosTheta(in.wi) * out.f[0] * absCosTheta(out.wi) == Approx((1 - F) * (1 - F)).epsilon(1e-5));
+}
+
+// PT's flat loop for matte bounces (matteScatter) must make what the per-hit code makes,
+// bit for bit: the frame from the shading normal, matteSampleFrom on the cosine-weighted
+// direction (flipped to wo's side), beta f |cos| / pdf, Russian roulette (survivesRoulette,
+// scale 1) and normalize(toWorld(wi)); for wo on either side, black Kd channels and
+// numbers that kill paths.
+TEST_CASE("matteScatter equals the per-hit matte bounce bit for bit", "[bsdf]") {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f), sgn(-1.0f, 1.0f);
+    auto unit = [&] {
+        wmlt::Vec3 v;
+        do v = wmlt::Vec3(sgn(rng), sgn(rng), sgn(rng));
+        while (!(wmlt::lengthSquared(v) > 0.01f && wmlt::lengthSquared(v) < 1.0f));
+        return wmlt::normalize(v);
+    };
+    const size_t n = 2039;
+    std::vector<float> ns(3 * n), wo(3 * n), lx(n), ly(n), lz(n), kd(3 * n), beta(3 * n), u(n);
+    for (size_t h = 0; h < n; ++h) {
+        const wmlt::Vec3 N = h % 17 == 0 ? wmlt::Vec3(0.0f, 0.0f, h % 2 ? 1.0f : -1.0f) : unit(), O = unit();
+        float x, y, z;
+        wmlt::sampleCosineHemisphere(u01(rng), u01(rng), x, y, z);
+        lx[h] = x;
+        ly[h] = y;
+        lz[h] = z;
+        for (int a = 0; a < 3; ++a) {
+            ns[3 * h + a] = N[a];
+            wo[3 * h + a] = O[a];
+            kd[3 * h + a] = h % 7 == 0 ? 0.0f : (a == 1 && h % 5 == 0 ? 0.0f : u01(rng));
+            beta[3 * h + a] = 0.05f + u01(rng);
+        }
+        u[h] = u01(rng);
+    }
+    auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    for (bool roulette : {false, true}) {
+        std::vector<float> nextBeta(3 * n), dir(3 * n), pdf(n);
+        std::vector<uint32_t> ok(n);
+        (roulette ? wmlt::matteScatter<true> : wmlt::matteScatter<false>)(n, ns.data(), wo.data(), lx.data(), ly.data(),
+                                                                        lz.data(), kd.data(), beta.data(), u.data(),
+                                                                        nextBeta.data(), dir.data(), pdf.data(), ok.data());
+        size_t differ = 0, alive = 0, dead = 0;
+        for (size_t h = 0; h < n; ++h) {
+            const wmlt::Frame fr = wmlt::Frame::fromNormal(wmlt::Vec3(ns[3 * h], ns[3 * h + 1], ns[3 * h + 2]));
+            wmlt::BsdfParams m;
+            m.diffuse = wmlt::Vec3(kd[3 * h], kd[3 * h + 1], kd[3 * h + 2]);
+            const wmlt::Vec3 woL = fr.toLocal(wmlt::Vec3(wo[3 * h], wo[3 * h + 1], wo[3 * h + 2]));
+            wmlt::BsdfSample s;
+            bool go = wmlt::matteSampleFrom(m, woL, wmlt::Vec3(lx[h], ly[h], lz[h]), s) && s.pdf > 0 && !wmlt::isBlack(s.f);
+            wmlt::Vec3 b = wmlt::Vec3(beta[3 * h], beta[3 * h + 1], beta[3 * h + 2]) * s.f * (wmlt::absCosTheta(s.wi) / s.pdf);
+            if (go && roulette) go = wmlt::survivesRoulette(b, 1.0f, u[h]);
+            if (go != (ok[h] != 0)) {
+                ++differ;
+                continue;
+            }
+            if (!go) {
+                ++dead;
+                continue;
+            }
+            ++alive;
+            const wmlt::Vec3 d = wmlt::normalize(fr.toWorld(s.wi));
+            for (int a = 0; a < 3; ++a)
+                if (!same(b[a], nextBeta[3 * h + a]) || !same(d[a], dir[3 * h + a])) ++differ;
+            if (!same(s.pdf, pdf[h])) ++differ;
+        }
+        INFO("roulette " << roulette);
+        CHECK(alive > n / 4);
+        CHECK(dead > n / 10);
+        CHECK(differ == 0);
+    }
 }

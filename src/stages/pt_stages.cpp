@@ -3,6 +3,7 @@
 #include "kernels/rng.h"
 #include "kernels/nee.h"
 #include "kernels/sampling.h"
+#include "kernels/scatter.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
 #include "stages/surface.h"
@@ -46,6 +47,7 @@ namespace {
 template <class F>
 void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength) {
     const bool countEmission = inRange(depth, minLength, maxLength);
+    const bool matte = scene.features.has(MaterialKind::Matte);  // the matte flat loops' inputs
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
@@ -71,7 +73,13 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
             if (sp.material < 0) continue;
         }
         if (depth >= maxLength) continue;  // no longer path can count
-        recordHit<F>(scene, b, h++, i, sp, -d);
+        recordHit<F>(scene, b, h, i, sp, -d);
+        if (matte) {
+            b.hitNs[h] = sp.ns;
+            b.hitKd[h] = b.bsdf[h].diffuse;
+            b.hitBeta[h] = b.beta[i];
+        }
+        ++h;
     }
     b.numHits = h;
 }
@@ -101,14 +109,9 @@ void sampleRectLightFlat(const Scene& scene, const Light& l, PtBatch& b, int dep
                      b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(),
                      b.neeOk.data());
     if (!matte) return;
-    for (size_t h = 0; h < n; ++h) {
-        b.neeNs[h] = b.shading[h].n;
-        b.neeKd[h] = b.bsdf[h].diffuse;
-        b.neeBeta[h] = b.beta[b.hitPath[h]];
-    }
     const RectNeeConsts c{l.L.x, l.L.y, l.L.z, scene.lightDistribution.discretePmf(0)};
-    matteNeeValues(c, n, &b.neeNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
-                   b.neePdf.data(), &b.neeKd[0].x, &b.neeBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+    matteNeeValues(c, n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
+                   b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
     shadowRaysTo(scene.epsilonScale, n, &b.p[0].x, &b.ng[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
                  &b.neeP[0].x, &b.neeOrigin[0].x, &b.neeDir[0].x, b.neeTfar.data());
 }
@@ -187,19 +190,49 @@ void traceShadows(const Scene& scene, PtBatch& b, int length, RayCounters& c) {
         if (b.shadow[i].tfar >= 0) addRadiance(b, b.shadowSlot[i], b.shadowL[i], length);
 }
 
+namespace {
+
+// A scene with matte surfaces: every hit's matte bounce in flat loops the compiler
+// vectorises (the cosine-weighted directions in hit order, the roulette numbers, then
+// matteScatter, computed for every hit: the matte hits take theirs).
+void scatterMatteFlat(PtBatch& b, int depth) {
+    const size_t n = b.numHits;
+    for (size_t h = 0; h < n; ++h) b.sortedKey[h] = b.key[b.pathSlot[b.hitPath[h]]];
+    sampleCosineHemispheres(b.sortedKey.data(), n, bounceDim(depth, 4), bounceDim(depth, 5), b.localX.data(),
+                            b.localY.data(), b.localZ.data());
+    const bool roulette = depth >= kRouletteDepth;
+    if (roulette) {
+        const uint32_t d = bounceDim(depth, 6);
+        for (size_t h = 0; h < n; ++h) b.sortedU1[h] = sampleDimension(b.sortedKey[h], d);
+    }
+    (roulette ? matteScatter<true> : matteScatter<false>)(
+        n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), &b.hitKd[0].x,
+        &b.hitBeta[0].x, b.sortedU1.data(), &b.nextBeta[0].x, &b.nextDir[0].x, b.nextPdf.data(), b.scatterOk.data());
+    for (uint32_t r = b.kindStart[int(MaterialKind::Matte)]; r < b.kindStart[int(MaterialKind::Matte) + 1]; ++r) {
+        const uint32_t h = b.order[r];
+        b.alive[h] = uint8_t(b.scatterOk[h]);
+        b.nextDelta[h] = 0;
+    }
+}
+
+}  // namespace
+
 void sampleBsdfs(const Scene& scene, PtBatch& b, int depth) {
-    scatterHits(b, TransportMode::Radiance, [&](uint32_t m) { return bounceDim(depth, 3 + m); },
-                [&](uint32_t h, uint32_t path, uint32_t, uint64_t key, const BsdfSample& s) {
-                    Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) / s.pdf);
-                    if (depth >= kRouletteDepth &&
-                        !survivesRoulette(beta, 1.0f, sampleDimension(key, bounceDim(depth, 6))))
-                        return;
-                    b.alive[h] = 1;
-                    b.nextDir[h] = normalize(b.shading[h].toWorld(s.wi));
-                    b.nextBeta[h] = beta;
-                    b.nextPdf[h] = s.pdf;
-                    b.nextDelta[h] = s.delta ? 1 : 0;
-                });
+    const bool matteFlat = scene.features.has(MaterialKind::Matte);
+    if (matteFlat) scatterMatteFlat(b, depth);
+    scatterHits(
+        b, TransportMode::Radiance, [&](uint32_t m) { return bounceDim(depth, 3 + m); },
+        [&](uint32_t h, uint32_t path, uint32_t, uint64_t key, const BsdfSample& s) {
+            Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) / s.pdf);
+            if (depth >= kRouletteDepth && !survivesRoulette(beta, 1.0f, sampleDimension(key, bounceDim(depth, 6))))
+                return;
+            b.alive[h] = 1;
+            b.nextDir[h] = normalize(b.shading[h].toWorld(s.wi));
+            b.nextBeta[h] = beta;
+            b.nextPdf[h] = s.pdf;
+            b.nextDelta[h] = s.delta ? 1 : 0;
+        },
+        !matteFlat);
 }
 
 void advancePaths(const Scene& scene, PtBatch& b) {

@@ -19,20 +19,23 @@ namespace wmlt {
 
 // prevPdf: solid-angle pdf of the BSDF sample that made the path's ray; prevDelta: it was
 // a delta lobe (no MIS on what it hits). nextBeta, nextPdf, nextDelta: the same for the
-// next bounce, written by BSDF sampling at the hit's index. shadowL: the shadow ray's
-// unoccluded contribution to shadowSlot. neeP, neeDist, neePdf, neeOk: per hit, its light
-// sample on a scene's one rectangle light (sampleLights' flat loops; neeWi in localX/Y/Z);
-// neeNs, neeKd, neeBeta: its shading normal, Kd and its path's throughput, gathered for the matte loops
-// (matteNeeValues, shadowRaysTo), which write the shadow ray (neeOrigin, neeDir, neeTfar), its
-// contribution neeL and whether its f is not black.
+// next bounce, written by BSDF sampling at the hit's index. hitNs, hitKd, hitBeta: per hit
+// (a scene with matte surfaces), its shading normal, Kd and its path's throughput, for the
+// matte flat loops (matteScatter; matteNeeValues), scatterOk what matteScatter decided.
+// shadowL: the shadow ray's unoccluded contribution to shadowSlot. neeP, neeDist, neePdf,
+// neeOk: per hit, its light sample on a scene's one rectangle light (sampleLights' flat
+// loops; neeWi in localX/Y/Z); the matte loops (matteNeeValues, shadowRaysTo) write the
+// shadow ray (neeOrigin, neeDir, neeTfar), its contribution neeL and whether its f is not
+// black.
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
     WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, nextBeta) X(float, nextPdf) X(uint8_t, nextDelta)   \
+    X(Vec3, hitNs) X(Vec3, hitKd) X(Vec3, hitBeta) X(uint32_t, scatterOk)                   \
     X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
 // Allocated only for a scene whose one light is a rectangle (soleRectLight).
 #define WMLT_PT_RECT_LIGHT_ARRAYS(X)                                                         \
-    X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk) X(Vec3, neeNs) X(Vec3, neeKd) X(Vec3, neeBeta) \
+    X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
     X(Vec3, neeOrigin) X(Vec3, neeDir) X(float, neeTfar) X(Vec3, neeL) X(uint32_t, neeSend)
 
 struct PtBatch : PathWave {

@@ -180,14 +180,16 @@ inline void forEachHitByKind(const PathWave& w, F&& f) {
 // direction) and calls f(h, path, slot, key, s) for a usable sample (pdf > 0, f not black;
 // s in the hit's shading frame). alive[h] stays 0 unless f sets it.
 // Matte hits draw their cosine-weighted directions first, all of the kind in one flat loop
-// (sampleCosineHemispheres: the same numbers, vectorised).
+// (sampleCosineHemispheres: the same numbers, vectorised); withMatte false leaves them to
+// the caller (PT's matteScatter).
 template <class Batch, class DimOf, class F>
-inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f) {
+inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f, bool withMatte = true) {
     forEachMaterialKind([&](auto kind) {
         using B = BsdfOf<decltype(kind)::value>;
         constexpr bool matte = decltype(kind)::value == MaterialKind::Matte;
         const uint32_t r0 = b.kindStart[int(kind.value)], r1 = b.kindStart[int(kind.value) + 1];
         if constexpr (matte) {
+            if (!withMatte) return;
             for (uint32_t r = r0; r < r1; ++r) b.sortedKey[r] = b.key[b.pathSlot[b.hitPath[b.order[r]]]];
             sampleCosineHemispheres(&b.sortedKey[r0], r1 - r0, dimOf(1), dimOf(2), &b.localX[r0], &b.localY[r0],
                                     &b.localZ[r0]);
