@@ -44,13 +44,18 @@ TEST_CASE("FOV is the full angle across the shorter image side", "[camera]") {
     }
 }
 
-TEST_CASE("raster position and camera ray are inverses", "[camera]") {
+// A camera looking obliquely, its up vector not orthogonal to the view.
+static CameraDesc tiltedCamera(float fovDegrees) {
     CameraDesc d;
     d.position = {1, 2, 3};
     d.lookAt = {-2, 0.5f, 7};
     d.up = {0.1f, 1, 0};
-    d.fovDegrees = 35;
-    Camera c = makeCamera(d, 64, 48);
+    d.fovDegrees = fovDegrees;
+    return d;
+}
+
+TEST_CASE("raster position and camera ray are inverses", "[camera]") {
+    Camera c = makeCamera(tiltedCamera(35), 64, 48);
     for (float x : {0.5f, 10.25f, 63.5f})
         for (float y : {0.5f, 20.75f, 47.5f}) {
             Vec3 o, dir;
@@ -66,12 +71,7 @@ TEST_CASE("raster position and camera ray are inverses", "[camera]") {
 // plainly written pinhole ray's direction bit for bit (a refactor may change no image):
 // the stratified raster point, then forward + right sx + up sy normalised, in Vec3.
 TEST_CASE("camera rays: pinholeCameraDirections equals the Vec3 form bit for bit", "[camera]") {
-    CameraDesc d;
-    d.position = {1, 2, 3};
-    d.lookAt = {-2, 0.5f, 7};
-    d.up = {0.1f, 1, 0};
-    d.fovDegrees = 35;
-    const Camera c = makeCamera(d, 67, 45);
+    const Camera c = makeCamera(tiltedCamera(35), 67, 45);
     const int n = 5;  // strata per axis: 25 per round, not a power of four (cycle walking)
     const size_t m = 4099;  // not a multiple of any vector width
     std::vector<uint64_t> key(m);
@@ -111,12 +111,7 @@ TEST_CASE("camera rays: pinholeCameraDirections equals the Vec3 form bit for bit
 // reference the float forms must equal bit for bit.
 static CameraSample sampleCameraFromVec3(const Camera& c, Vec3 ref, float u1, float u2) {
     CameraSample s;
-    s.lens = c.position;
-    if (c.thinLens && c.lensRadius > 0) {
-        float lx, ly;
-        sampleConcentricDisk(u1, u2, lx, ly);
-        s.lens = c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
-    }
+    s.lens = cameraLensPoint(c, u1, u2);
     Vec3 d = s.lens - ref;
     float dist2 = lengthSquared(d);
     if (!(dist2 > 0)) return s;
@@ -136,11 +131,7 @@ static CameraSample sampleCameraFromVec3(const Camera& c, Vec3 ref, float u1, fl
 // reads) equal the Vec3 form bit for bit, points behind the camera and outside the image
 // included.
 TEST_CASE("camera samples: sampleCameraFrom and pinholeCameraSamples equal the Vec3 form bit for bit", "[camera]") {
-    CameraDesc d;
-    d.position = {1, 2, 3};
-    d.lookAt = {-2, 0.5f, 7};
-    d.up = {0.1f, 1, 0};
-    d.fovDegrees = 50;
+    CameraDesc d = tiltedCamera(50);
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-8.0f, 12.0f), sgn(-1.0f, 1.0f);
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };

@@ -224,14 +224,15 @@ struct CameraSample {
 
 // A lens point seen from ref (uniform on the lens disc) and the importance it receives
 // (pbrt-v4 PerspectiveCamera::SampleWi). (u1, u2) are used only by a thin lens.
+inline Vec3 cameraLensPoint(const Camera& c, float u1, float u2) {
+    if (!(c.thinLens && c.lensRadius > 0)) return c.position;
+    float lx, ly;
+    sampleConcentricDisk(u1, u2, lx, ly);
+    return c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
+}
 inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float u2) {
     CameraSample s;
-    s.lens = c.position;
-    if (c.thinLens && c.lensRadius > 0) {
-        float lx, ly;
-        sampleConcentricDisk(u1, u2, lx, ly);
-        s.lens = c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
-    }
+    s.lens = cameraLensPoint(c, u1, u2);
     const CameraFloats f = cameraFloats(c);
     float dist2, cosTheta;
     s.valid = c.thinLens ? cameraSampleAt<true>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y,
