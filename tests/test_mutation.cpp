@@ -402,7 +402,7 @@ TEST_CASE("MMLT pool rows fill every number the strategy's walks read, up to len
     using namespace wmlt;
     constexpr uint32_t n = 256;
     MmltBatch mb;
-    mb.reserve(n, kMaxPathLength, false);
+    mb.reserve(n, kMaxPathLength, BatchNeeds{});
     mb.lensRead = true;  // a thin lens reads the lens pair; every kind's lobe and direction
     mb.vertexLo = 0;
     mb.vertexHi = 3;

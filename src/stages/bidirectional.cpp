@@ -100,7 +100,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
         BptBatch b;
-        b.reserve(schedule.pathsPerBatch(), opt.maxPathLength, soleRectLight(scene) != nullptr);
+        b.reserve(schedule.pathsPerBatch(), opt.maxPathLength, batchNeeds(scene));
         b.strategyFilms = strategyFilms.get();
         return b;
     });

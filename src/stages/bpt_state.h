@@ -128,8 +128,8 @@ struct StrategyWave {
     X(uint8_t, emitOk)
 // MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
-// A pinhole camera's samples from the light vertices that t = 1 strategies end at, for a
-// chunk of kCameraSampleSlots slots at a time (sampleCameraFromLightVertices): per light
+// A pinhole camera's samples (allocated only for one) from the light vertices that t = 1
+// strategies end at, for a chunk of kCameraSampleSlots slots at a time (sampleCameraFromLightVertices): per light
 // vertex, its index j in the chunk's list (cameraSampleOf); per j, the vertex's position
 // and normal (gathered), the sample (pinholeCameraSamples: direction, raster point, We,
 // pdf, valid) and the reverse area density.
@@ -165,22 +165,23 @@ struct BptBatch : PathWave {
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;
 
-    // rectLight: the scene's one light is a rectangle (soleRectLight; the flat loop of
-    // generateBptLightPaths).
-    void reserve(size_t n, int maxLength, bool rectLight, bool oneStrategyPerSlot = false) {
+    // The optional arrays as the scene needs them (batchNeeds).
+    void reserve(size_t n, int maxLength, const BatchNeeds& needs, bool oneStrategyPerSlot = false) {
         resizeWave(n);
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
         if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
-        if (rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
         cam.reserve(n, maxLength + 1);
         light.reserve(n, maxLength);
-        const size_t samples = std::min<size_t>(kCameraSampleSlots, std::max<size_t>(n, 1)) *
-                               (oneStrategyPerSlot ? 1 : size_t(maxLength));  // a chunk's light vertices
-        {
-            const size_t n = samples;
-            WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_RESIZE)
+        if (needs.pinhole) {
+            const size_t samples = std::min<size_t>(kCameraSampleSlots, std::max<size_t>(n, 1)) *
+                                   (oneStrategyPerSlot ? 1 : size_t(maxLength));  // a chunk's light vertices
+            {
+                const size_t n = samples;
+                WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_RESIZE)
+            }
+            cameraSampleOf.resize(light.p.size());
         }
-        cameraSampleOf.resize(light.p.size());
         connCapacity = std::max<size_t>(n * 4, 1024);
         resizeConnections(connCapacity);
         strategies.reserve(std::clamp<size_t>(n, 1, 1024));

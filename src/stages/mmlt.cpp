@@ -39,7 +39,7 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
       batches_([&scene, maxLength = opt.maxPathLength] {
           MmltBatch mb;
-          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, soleRectLight(scene) != nullptr);
+          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, batchNeeds(scene));
           setNumbersRead(scene, mb);
           return mb;
       }),

@@ -168,8 +168,8 @@ struct MmltBatch {
     MmltCounters counters;
     std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
 
-    void reserve(size_t n, int maxLength, bool rectLight) {
-        bpt.reserve(n, maxLength, rectLight, true);
+    void reserve(size_t n, int maxLength, const BatchNeeds& needs) {
+        bpt.reserve(n, maxLength, needs, true);
         bpt.roulette = false;
         u.assign(n * StrategyLayout::size(maxLength), 0.0f);
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)

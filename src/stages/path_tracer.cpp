@@ -42,7 +42,7 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     Film film(scene.camera.width, scene.camera.height);
     tbb::enumerable_thread_specific<PtBatch> batches([&] {
         PtBatch b;
-        b.reserve(schedule.pathsPerBatch(), soleRectLight(scene) != nullptr);
+        b.reserve(schedule.pathsPerBatch(), batchNeeds(scene));
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;

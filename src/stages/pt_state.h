@@ -31,8 +31,9 @@ namespace wmlt {
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
     WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, nextBeta) X(float, nextPdf) X(uint8_t, nextDelta)   \
-    X(Vec3, hitNs) X(Vec3, hitKd) X(Vec3, hitBeta) X(uint32_t, scatterOk)                   \
     X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
+// Allocated only for a scene with matte surfaces.
+#define WMLT_PT_MATTE_ARRAYS(X) X(Vec3, hitNs) X(Vec3, hitKd) X(Vec3, hitBeta) X(uint32_t, scatterOk)
 // Allocated only for a scene whose one light is a rectangle (soleRectLight).
 #define WMLT_PT_RECT_LIGHT_ARRAYS(X)                                                         \
     X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
@@ -44,12 +45,14 @@ struct PtBatch : PathWave {
     ContributionTally tally;  // per batch
 
     WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_PT_MATTE_ARRAYS(WMLT_SOA_ARRAY)
 
-    // rectLight: the scene's one light is a rectangle (soleRectLight; sampleLights' flat loop).
-    void reserve(size_t n, bool rectLight) {
+    // The optional arrays as the scene needs them (batchNeeds).
+    void reserve(size_t n, const BatchNeeds& needs) {
         resizeWave(n);
         WMLT_PT_ARRAYS(WMLT_SOA_RESIZE)
-        if (rectLight) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.rectLight) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.matte) { WMLT_PT_MATTE_ARRAYS(WMLT_SOA_RESIZE) }
     }
 };
 

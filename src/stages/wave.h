@@ -21,6 +21,7 @@
 #include "kernels/camera.h"
 #include "kernels/rng.h"
 #include "scene/scene.h"
+#include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
 #include "stages/trace.h"
 
@@ -34,6 +35,17 @@ namespace wmlt {
 #define WMLT_SOA_ARRAY(type, name) std::vector<type> name;
 #define WMLT_SOA_RESIZE(type, name) name.resize(n);
 #define WMLT_SOA_ZERO(type, name) name.assign(n, type());
+
+// What a scene needs of a batch's optional arrays, decided once per render (a batch
+// allocates only those): its one light is a rectangle (the light-sample flat loops), it has
+// matte surfaces (PT's matte flat loops), its camera is a pinhole (BPT's and MMLT's t = 1
+// camera-sample loop).
+struct BatchNeeds {
+    bool rectLight = false, matte = false, pinhole = false;
+};
+inline BatchNeeds batchNeeds(const Scene& scene) {
+    return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), !scene.camera.thinLens};
+}
 
 // A batch's work: pixels [x0, x1) x [y0, y1), sample indices [sample0, sample1).
 struct Tile {
