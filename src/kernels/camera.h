@@ -78,8 +78,8 @@ inline uint32_t rasterPixel(const Camera& cam, float px, float py) {
 // jittered by (u1, u2). Round r = s / n^2 visits the strata in a random order (a
 // permutation keyed by the pixel's key and r): a complete round covers every stratum once,
 // and any prefix of a round (a render stopped early) is a uniform sample of the pixel, so
-// it stays unbiased. (A fixed order would cover the top rows of every pixel first.)
-// The raster coordinate x + (stratum + u) / n of a stratum's jittered point, per axis.
+// it stays unbiased. (A fixed order would cover the top rows of every pixel first.) Per
+// axis the point is stratumPoint: x + (stratum + u) / n.
 inline float stratumPoint(float x, float stratum, float u, float n) { return x + (stratum + u) / n; }
 inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, uint64_t pixelKey, float u1, float u2, float& px,
                                   float& py) {

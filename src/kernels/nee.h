@@ -25,8 +25,7 @@ struct RectNeeConsts {
 // pdf[h] its solid-angle density (where there is one: the caller reads only those hits'
 // outputs), diffuse[3 h ..] the hit's Kd, beta[3 h ..] its path's throughput. Out: the
 // contribution L[3 h ..] the shadow ray carries and send[h]: f is not black (else L is
-// unspecified). Restrict parameters, no byte arrays: the loop vectorises with 64-byte
-// vectors.
+// unspecified). Restrict parameters: the loop vectorises with 64-byte vectors.
 __attribute__((noinline)) inline void matteNeeValues(const RectNeeConsts c, size_t n, const float* __restrict ns,
                                                     const float* __restrict wo, const float* __restrict wix,
                                                     const float* __restrict wiy, const float* __restrict wiz,

@@ -81,7 +81,7 @@ __attribute__((noinline)) inline void permutationNetworks(uint32_t* __restrict v
 // holds index j on entry and at the end the value below n its walk stops at (not yet
 // rotated). One flat pass of the networks over all, then over the values still >= n, moved
 // to the front of (walkV, walkKey, walkSample) (scratch of m entries), until none is left:
-// the passes shorten by 1 - n / 2^(2 half) (under 3/4) each.
+// each pass leaves about a share 1 - n / 2^(2 half) (under 3/4) of its values to the next.
 inline void permuteWalks(uint32_t n, uint32_t* __restrict v, const uint64_t* __restrict key, size_t m,
                          uint32_t* __restrict walkV, uint64_t* __restrict walkKey, uint32_t* __restrict walkSample) {
     if (n <= 1) {
