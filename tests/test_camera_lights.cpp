@@ -425,7 +425,7 @@ TEST_CASE("rect light: rectEmissionSamples and sampleRectEmission equal the Vec3
         u3[i] = i % 17 == 0 ? 0.5f : i % 19 == 0 ? 0.0f : u01(rng);
         u4[i] = i % 17 == 0 ? 0.5f : u01(rng);
     }
-    rectEmissionSamples(rectFloats(l), Frame::fromNormal(l.n), u1.data(), u2.data(), u3.data(), u4.data(), n, p.data(), dx.data(),
+    rectEmissionSamples(rectFloats(l), frameFromNormal(l.n.x, l.n.y, l.n.z), u1.data(), u2.data(), u3.data(), u4.data(), n, p.data(), dx.data(),
                         dy.data(), dz.data(), pdfDir.data(), ok.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     size_t differ = 0, sampled = 0;

@@ -48,19 +48,32 @@ inline bool isFinite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) &
 inline float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 // Orthonormal basis around a unit normal n (Duff et al. 2017, "Building an
-// orthonormal basis, revisited").
+// orthonormal basis, revisited"), as floats: the form loops that vectorise use (a Frame
+// read from memory is a group of nine floats, which GCC 12 does not vectorise), and the
+// one Frame::fromNormal makes its vectors with.
+struct FrameFloats {
+    float sx, sy, sz, tx, ty, tz, nx, ny, nz;
+};
+inline FrameFloats frameFromNormal(float nx, float ny, float nz) {
+    const float sign = std::copysign(1.0f, nz);
+    const float a = -1.0f / (sign + nz);
+    const float b = nx * ny * a;
+    return {1.0f + sign * nx * nx * a, sign * b, -sign * nx, b, sign + ny * ny * a, -ny, nx, ny, nz};
+}
+// normalize(s x + t y + n z) (Frame::toWorld, then a / |a| as a * (1 / |a|)).
+inline void toWorldUnit(const FrameFloats& f, float x, float y, float z, float& dx, float& dy, float& dz) {
+    const float vx = (f.sx * x + f.tx * y) + f.nx * z, vy = (f.sy * x + f.ty * y) + f.ny * z,
+                vz = (f.sz * x + f.tz * y) + f.nz * z;
+    const float r = 1.0f / std::sqrt(vx * vx + vy * vy + vz * vz);
+    dx = vx * r;
+    dy = vy * r;
+    dz = vz * r;
+}
+
 struct Frame {
     Vec3 s, t, n;
-    static Frame fromNormal(Vec3 n) {
-        float sign = std::copysign(1.0f, n.z);
-        float a = -1.0f / (sign + n.z);
-        float b = n.x * n.y * a;
-        Frame f;
-        f.s = {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
-        f.t = {b, sign + n.y * n.y * a, -n.y};
-        f.n = n;
-        return f;
-    }
+    static Frame fromFloats(const FrameFloats& f) { return {{f.sx, f.sy, f.sz}, {f.tx, f.ty, f.tz}, {f.nx, f.ny, f.nz}}; }
+    static Frame fromNormal(Vec3 n) { return fromFloats(frameFromNormal(n.x, n.y, n.z)); }
     Vec3 toLocal(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
     Vec3 toWorld(Vec3 v) const { return s * v.x + t * v.y + n * v.z; }
 };

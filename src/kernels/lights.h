@@ -178,21 +178,16 @@ struct LightEmission {
 };
 
 // Cosine-weighted direction about frame f's normal, normalised: (dx, dy, dz); returns its
-// density cos / pi (pbrt-v4 12.5 SampleLe). In floats, as Vec3's operators round
-// (f.toWorld, then a / |a| as a * (1 / |a|)), so that loops of it vectorise.
-inline float cosineAboutAt(const Frame& f, float u1, float u2, float& dx, float& dy, float& dz) {
+// density cos / pi (pbrt-v4 12.5 SampleLe). In floats (toWorldUnit), so that loops of it
+// vectorise.
+inline float cosineAboutAt(const FrameFloats& f, float u1, float u2, float& dx, float& dy, float& dz) {
     float wx, wy, wz;
     sampleCosineHemisphere(u1, u2, wx, wy, wz);
-    const float vx = (f.s.x * wx + f.t.x * wy) + f.n.x * wz, vy = (f.s.y * wx + f.t.y * wy) + f.n.y * wz,
-                vz = (f.s.z * wx + f.t.z * wy) + f.n.z * wz;
-    const float r = 1.0f / std::sqrt(vx * vx + vy * vy + vz * vz);
-    dx = vx * r;
-    dy = vy * r;
-    dz = vz * r;
+    toWorldUnit(f, wx, wy, wz, dx, dy, dz);
     return cosineHemispherePdf(wz);
 }
 inline void sampleCosineAbout(Vec3 n, float u1, float u2, LightEmission& e) {
-    e.pdfDir = cosineAboutAt(Frame::fromNormal(n), u1, u2, e.dir.x, e.dir.y, e.dir.z);
+    e.pdfDir = cosineAboutAt(frameFromNormal(n.x, n.y, n.z), u1, u2, e.dir.x, e.dir.y, e.dir.z);
 }
 
 // Rect: area-uniform point (pdfPos = 1 / area), cosine-weighted direction about n.
@@ -205,10 +200,10 @@ inline bool sampleRectEmission(const Light& l, float u1, float u2, float u3, flo
     return e.pdfDir > 0;
 }
 
-// sampleRectEmission for i < n (frame: Frame::fromNormal(l.n), made once): e.p into p
+// sampleRectEmission for i < n (frame: frameFromNormal of l.n, made once): e.p into p
 // (three floats each), e.dir into (dx, dy, dz), e.pdfDir, and in ok[i] what it returned
 // (e.n is l.n, e.pdfPos 1 / l.area, e.Le l.L). Restrict parameters: the loop vectorises.
-__attribute__((noinline)) inline void rectEmissionSamples(const RectFloats g, const Frame frame,
+__attribute__((noinline)) inline void rectEmissionSamples(const RectFloats g, const FrameFloats frame,
                                                           const float* __restrict u1, const float* __restrict u2,
                                                           const float* __restrict u3, const float* __restrict u4,
                                                           size_t n, float* __restrict p, float* __restrict dx,

@@ -13,31 +13,24 @@
 
 namespace wmlt {
 
-// Over h < n: ns[3 h ..] the shading normal (the frame is Frame::fromNormal(ns), made
-// again here: a loop reading the 36-byte frames does not vectorise), wo[3 h ..] the unit
-// direction towards the previous vertex (world), (lx, ly, lz)[h] the cosine-weighted
+// Over h < n: ns[3 h ..] the shading normal (the frame is made again from it,
+// frameFromNormal: a loop reading the 36-byte frames does not vectorise), wo[3 h ..] the
+// unit direction towards the previous vertex (world), (lx, ly, lz)[h] the cosine-weighted
 // direction (sampleCosineHemispheres), kd[3 h ..] the Kd, beta[3 h ..] the path's
 // throughput; with Roulette, u[h] its roulette number (a template parameter: a load under
-// a run-time condition kept the loop from vectorising, as did the key's hash in it).
-// Out: nextBeta,
-// dir[3 h ..] the next ray's direction, pdf[h] its density, ok[h] whether the path goes on
-// (else the other outputs are unspecified). The loop vectorises with 64-byte vectors.
+// a run-time condition kept the loop from vectorising, as did the key's hash in it). Out:
+// nextBeta, dir[3 h ..] the next ray's direction, pdf[h] its density, ok[h] whether the
+// path goes on (else the other outputs are unspecified). The loop vectorises with 64-byte
+// vectors.
 template <bool Roulette>
-__attribute__((noinline)) void matteScatter(size_t n, const float* __restrict ns,
-                                                  const float* __restrict wo, const float* __restrict lx,
-                                                  const float* __restrict ly, const float* __restrict lz,
-                                                  const float* __restrict kd, const float* __restrict beta,
-                                                  const float* __restrict u, float* __restrict nextBeta,
-                                                  float* __restrict dir, float* __restrict pdf,
-                                                  uint32_t* __restrict ok) {
+__attribute__((noinline)) void matteScatter(size_t n, const float* __restrict ns, const float* __restrict wo,
+                                            const float* __restrict lx, const float* __restrict ly,
+                                            const float* __restrict lz, const float* __restrict kd,
+                                            const float* __restrict beta, const float* __restrict u,
+                                            float* __restrict nextBeta, float* __restrict dir,
+                                            float* __restrict pdf, uint32_t* __restrict ok) {
     for (size_t h = 0; h < n; ++h) {
         const float nx = ns[3 * h], ny = ns[3 * h + 1], nz = ns[3 * h + 2];
-        // Frame::fromNormal (Duff et al. 2017), in its order of operations.
-        const float sign = std::copysign(1.0f, nz);
-        const float a = -1.0f / (sign + nz);
-        const float b = nx * ny * a;
-        const float sx = 1.0f + sign * nx * nx * a, sy = sign * b, sz = -sign * nx;
-        const float tx = b, ty = sign + ny * ny * a, tz = -ny;
         const float woZ = wo[3 * h] * nx + wo[3 * h + 1] * ny + wo[3 * h + 2] * nz;
         const float z0 = lz[h];
         const float x = lx[h], y = ly[h], z = woZ < 0 ? -z0 : z0;  // matteSampleFrom
@@ -59,12 +52,7 @@ __attribute__((noinline)) void matteScatter(size_t n, const float* __restrict ns
         nextBeta[3 * h] = bx;
         nextBeta[3 * h + 1] = by;
         nextBeta[3 * h + 2] = bz;
-        // normalize(Frame::toWorld(wi)): s x + t y + n z, then a * (1 / |a|)
-        const float wx = (sx * x + tx * y) + nx * z, wy = (sy * x + ty * y) + ny * z, wz = (sz * x + tz * y) + nz * z;
-        const float r = 1.0f / std::sqrt((wx * wx + wy * wy) + wz * wz);
-        dir[3 * h] = wx * r;
-        dir[3 * h + 1] = wy * r;
-        dir[3 * h + 2] = wz * r;
+        toWorldUnit(frameFromNormal(nx, ny, nz), x, y, z, dir[3 * h], dir[3 * h + 1], dir[3 * h + 2]);
         pdf[h] = p;
         ok[h] = go;
     }

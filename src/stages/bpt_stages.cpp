@@ -130,7 +130,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
             b.emitU4[m] = u(slot, kBptLight, 4);
             ++m;
         }
-        const Frame frame = Frame::fromNormal(l.n);  // the emission's and y_0's, once
+        const FrameFloats frame = frameFromNormal(l.n.x, l.n.y, l.n.z);  // the emission's and y_0's, once
         rectEmissionSamples(rectFloats(l), frame, b.sortedU1.data(), b.sortedU2.data(), b.emitU3.data(),
                             b.emitU4.data(), m, &b.emitP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
                             b.emitPdfDir.data(), b.emitOk.data());
@@ -143,7 +143,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
             e.p = b.emitP[j];
             e.dir = Vec3(b.localX[j], b.localY[j], b.localZ[j]);
             e.pdfDir = b.emitPdfDir[j];
-            start(b.emitSlot[j], 0, pmf, e, frame);
+            start(b.emitSlot[j], 0, pmf, e, Frame::fromFloats(frame));
         }
         b.numPaths = n;
         return;
@@ -242,6 +242,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         constexpr bool matte = decltype(kind)::value == MaterialKind::Matte;
         const uint32_t r0 = b.kindStart[int(kind.value)], r1 = b.kindStart[int(kind.value) + 1];
         if constexpr (matte) {  // the directions first, in one flat loop (scatterHits)
+            if (r0 == r1) return;  // (&v[r0] of a full wave would be past the end)
             for (uint32_t r = r0; r < r1; ++r) {
                 const uint32_t slot = b.pathSlot[b.hitPath[b.order[r]]];
                 const int d = v.count[slot] - 1;

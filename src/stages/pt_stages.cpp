@@ -74,6 +74,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         }
         if (depth >= maxLength) continue;  // no longer path can count
         recordHit<F>(scene, b, h, i, sp, -d);
+        b.hitKey[h] = b.key[slot];
         if (matte) {
             b.hitNs[h] = sp.ns;
             b.hitKd[h] = b.bsdf[h].diffuse;
@@ -99,11 +100,10 @@ namespace {
 // sampleLights reads the matte hits').
 void sampleRectLightFlat(const Scene& scene, const Light& l, PtBatch& b, int depth, bool matte) {
     const size_t n = b.numHits;
-    for (size_t h = 0; h < n; ++h) b.sortedKey[h] = b.key[b.pathSlot[b.hitPath[h]]];
     const uint32_t d1 = bounceDim(depth, 1), d2 = bounceDim(depth, 2);
     for (size_t h = 0; h < n; ++h) {
-        b.sortedU1[h] = sampleDimension(b.sortedKey[h], d1);
-        b.sortedU2[h] = sampleDimension(b.sortedKey[h], d2);
+        b.sortedU1[h] = sampleDimension(b.hitKey[h], d1);
+        b.sortedU2[h] = sampleDimension(b.hitKey[h], d2);
     }
     rectLightSamples(rectFloats(l), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
                      b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(),
@@ -197,13 +197,12 @@ namespace {
 // matteScatter, computed for every hit: the matte hits take theirs).
 void scatterMatteFlat(PtBatch& b, int depth) {
     const size_t n = b.numHits;
-    for (size_t h = 0; h < n; ++h) b.sortedKey[h] = b.key[b.pathSlot[b.hitPath[h]]];
-    sampleCosineHemispheres(b.sortedKey.data(), n, bounceDim(depth, 4), bounceDim(depth, 5), b.localX.data(),
+    sampleCosineHemispheres(b.hitKey.data(), n, bounceDim(depth, 4), bounceDim(depth, 5), b.localX.data(),
                             b.localY.data(), b.localZ.data());
     const bool roulette = depth >= kRouletteDepth;
     if (roulette) {
         const uint32_t d = bounceDim(depth, 6);
-        for (size_t h = 0; h < n; ++h) b.sortedU1[h] = sampleDimension(b.sortedKey[h], d);
+        for (size_t h = 0; h < n; ++h) b.sortedU1[h] = sampleDimension(b.hitKey[h], d);
     }
     (roulette ? matteScatter<true> : matteScatter<false>)(
         n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), &b.hitKd[0].x,

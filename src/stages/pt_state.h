@@ -19,7 +19,8 @@ namespace wmlt {
 
 // prevPdf: solid-angle pdf of the BSDF sample that made the path's ray; prevDelta: it was
 // a delta lobe (no MIS on what it hits). nextBeta, nextPdf, nextDelta: the same for the
-// next bounce, written by BSDF sampling at the hit's index. hitNs, hitKd, hitBeta: per hit
+// next bounce, written by BSDF sampling at the hit's index. hitKey: the hit's sample key
+// (read by the flat loops in hit order). hitNs, hitKd, hitBeta: per hit
 // (a scene with matte surfaces), its shading normal, Kd and its path's throughput, for the
 // matte flat loops (matteScatter; matteNeeValues), scatterOk what matteScatter decided.
 // shadowL: the shadow ray's unoccluded contribution to shadowSlot. neeP, neeDist, neePdf,
@@ -30,8 +31,8 @@ namespace wmlt {
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
-    WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, nextBeta) X(float, nextPdf) X(uint8_t, nextDelta)   \
-    X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
+    WMLT_HIT_SURFACE_ARRAYS(X) X(uint64_t, hitKey) X(Vec3, nextBeta) X(float, nextPdf)     \
+    X(uint8_t, nextDelta) X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
 // Allocated only for a scene with matte surfaces.
 #define WMLT_PT_MATTE_ARRAYS(X) X(Vec3, hitNs) X(Vec3, hitKd) X(Vec3, hitBeta) X(uint32_t, scatterOk)
 // Allocated only for a scene whose one light is a rectangle (soleRectLight).

@@ -201,7 +201,7 @@ inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f, bool
         constexpr bool matte = decltype(kind)::value == MaterialKind::Matte;
         const uint32_t r0 = b.kindStart[int(kind.value)], r1 = b.kindStart[int(kind.value) + 1];
         if constexpr (matte) {
-            if (!withMatte) return;
+            if (!withMatte || r0 == r1) return;  // (&v[r0] of a full wave would be past the end)
             for (uint32_t r = r0; r < r1; ++r) b.sortedKey[r] = b.key[b.pathSlot[b.hitPath[b.order[r]]]];
             sampleCosineHemispheres(&b.sortedKey[r0], r1 - r0, dimOf(1), dimOf(2), &b.localX[r0], &b.localY[r0],
                                     &b.localZ[r0]);
