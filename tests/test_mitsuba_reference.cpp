@@ -160,7 +160,7 @@ TEST_CASE("Mitsuba Cornell box (importer) matches Tungsten's reference", "[rende
 // max_depth 7 is the conversion's B + 1). The blocks through the egg, whose bubbles mirror
 // the hidden bulb (paths of specular vertices only, found by s = 0 alone), are the
 // heaviest-tailed: our 8 x 64 spp see a fraction of the reference's specks there (the
-// worst block, about half the reference at z = -4.1, inside Bonferroni's 5.5).
+// worst block, block (9, 9), about half the reference at z = -3.3, inside Bonferroni's 5.5).
 TEST_CASE("Mitsuba glass egg (veach-bidir): the rough-conductor lamp matches Tungsten's reference", "[render][reference][mitsuba][stat]") {
     SceneDesc d = load("veach-bidir", 64, 64);
     REQUIRE(d.settings.maxPathLength == 7);  // the file's max_depth
