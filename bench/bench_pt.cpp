@@ -164,8 +164,12 @@ void benchScene(const std::string& path, int spp) {
         double pt = rays / r.stats.seconds;
         double stream = raysPerSecond(*scene, pool, size_t(rays), true);
         double loop1 = raysPerSecond(*scene, pool, size_t(rays), false);
-        if (threads == 1) pt1 = pt, seconds1 = r.stats.seconds;
-        else ratios.push_back(pt / pt1);
+        if (threads == 1) {
+            pt1 = pt;
+            seconds1 = r.stats.seconds;
+        } else {
+            ratios.push_back(pt / pt1);
+        }
         std::printf("%-8d %12.2f %12.2f %12.2f %12.2f %8.2f\n", threads, pt * 1e-6, stream * 1e-6, loop1 * 1e-6,
                     pt / std::max(stream, loop1), r.stats.seconds);
         if (all == 1) break;
