@@ -279,6 +279,72 @@ TEST_CASE("badinput: scene XML errors exit 2 with file and line and write nothin
     }
 }
 
+// Nesting deeper than the importers' bound (kMaxXmlNesting = 100, scene/xml_nesting.h):
+// without it, 10,000 nested Mitsuba BSDFs and 50,000 nested thesis elements exhausted the
+// stack in the importers' recursive walks (SIGSEGV). The files are made here, not stored.
+namespace {
+
+// A Mitsuba sphere whose BSDF is `wrappers` twosided BSDFs around a diffuse one, one per
+// line: the scene is depth 1, the shape 2 (line 5), the i-th twosided 2 + i (line 5 + i),
+// the diffuse one 3 + wrappers (line 6 + wrappers).
+std::string nestedMitsuba(int wrappers) {
+    std::string s = "<scene version=\"3.0.0\">\n"
+                    "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n"
+                    "<transform name=\"to_world\"><lookat origin=\"0, 0, 5\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>\n"
+                    "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
+                    "<shape type=\"sphere\">\n";
+    for (int i = 0; i < wrappers; ++i) s += "<bsdf type=\"twosided\">\n";
+    s += "<bsdf type=\"diffuse\"/>\n";
+    for (int i = 0; i < wrappers; ++i) s += "</bsdf>\n";
+    return s + "</shape>\n<emitter type=\"constant\"><rgb name=\"radiance\" value=\"1\"/></emitter>\n</scene>\n";
+}
+
+// <Scene> and `depth - 1` nested <Shape> elements, one per line (depth d on line d).
+std::string nestedThesis(int depth) {
+    std::string s = "<Scene>\n";
+    for (int i = 1; i < depth; ++i) s += "<Shape>\n";
+    for (int i = 1; i < depth; ++i) s += "</Shape>\n";
+    return s + "</Scene>\n";
+}
+
+}  // namespace
+
+TEST_CASE("badinput: elements nested deeper than 100 are refused before any recursion", "[badinput]") {
+    TempDir dir;
+    const std::string limit = "elements nested deeper than 100";
+    SECTION("Mitsuba: 10,000 nested twosided BSDFs") {
+        // The first element at depth 101 is the 99th twosided, on line 104.
+        requireBadScene("deep.xml", nestedMitsuba(10000), 104, limit, dir);
+    }
+    SECTION("Mitsuba: one level past the limit") {
+        requireBadScene("deep.xml", nestedMitsuba(98), 104, limit, dir);  // the diffuse BSDF is at 101
+    }
+    SECTION("Mitsuba: a file at the limit loads and renders") {
+        // 97 twosided wrappers: the diffuse BSDF is at depth exactly 100.
+        const std::string path = dir.write("limit.xml", nestedMitsuba(97)), out = dir.file("out.pfm");
+        std::vector<std::string> args = {path};
+        args.insert(args.end(), kFast.begin(), kFast.end());
+        args.insert(args.end(), {"-o", out});
+        const Proc p = run(args, dir);
+        INFO("stderr: " << p.err.substr(0, 2000));
+        REQUIRE(p.status == 0);
+        const wmlt::Image img = wmlt::readImage(out);
+        REQUIRE(img.width == 16);
+        // A grey diffuse sphere under a uniform sky of 1: the sky around it is exactly 1,
+        // the sphere (its BSDF found through all 97 wrappers) is lit and not the sky.
+        CHECK(img.at(0, 0).x == 1.0f);
+        CHECK(img.at(8, 8).x > 0.0f);
+        CHECK(img.at(8, 8).x != 1.0f);
+    }
+    SECTION("thesis format: 50,000 nested elements") {
+        requireBadScene("deep.xml", nestedThesis(50000), 101, limit, dir);
+    }
+    SECTION("thesis format: at the limit the file gets its ordinary error") {
+        // Depth 100 passes the bound; its second element is then an unknown element.
+        requireBadScene("deep.xml", nestedThesis(100), 2, "Shape: unknown element", dir);
+    }
+}
+
 // ---- OBJ ------------------------------------------------------------------------------------
 
 TEST_CASE("badinput: OBJ errors name the scene line and the OBJ file and line", "[badinput]") {

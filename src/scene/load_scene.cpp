@@ -14,6 +14,7 @@
 
 #include "scene/number.h"
 #include "scene/transform.h"
+#include "scene/xml_nesting.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -559,6 +560,9 @@ SceneDesc Loader::run() {
         }
     }
     if (!r) throw InputError(file_, lineOfOffset(r.offset), std::string("not well-formed XML: ") + r.description());
+    // Before anything walks the tree recursively (checkComments, what()).
+    if (Node deep = firstNestedDeeperThan(doc))
+        throw InputError(file_, line(deep), "elements nested deeper than " + std::to_string(kMaxXmlNesting));
     checkComments(doc);
     checkOutsideText();
     for (Node c : doc.children()) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "scene/number.h"
+#include "scene/xml_nesting.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt::mitsuba {
@@ -61,6 +62,9 @@ Node Files::add(const std::string& xml, const std::string& name) {
                    doc.lineStarts.begin());
     };
     if (!r) throw InputError(name, lineOf(r.offset), std::string("not well-formed XML: ") + r.description());
+    // Before anything walks the tree recursively (substitute, the ids, nested plugins).
+    if (Node deep = firstNestedDeeperThan(doc.doc))
+        throw InputError(name, lineOf(deep.offset_debug()), "elements nested deeper than " + std::to_string(kMaxXmlNesting));
     Node root;
     for (Node c : doc.doc.children()) {
         if (c.type() != pugi::node_element) continue;
