@@ -17,7 +17,8 @@
 //   --cache DIR               reference cache [<folder of this executable>/bench-cache]
 //   --csv PATH                CSV output [bench-error.csv]
 //   --chains N, --bootstrap N, --pass-length N, --p-large X, --mis-beta X   passed to
-//                             RenderOptions (MMLT, BPT)
+//                             RenderOptions (MMLT, BPT; chains: the default is auto, and
+//                             --sweep chains=auto,1024,65536 compares it with fixed counts)
 //   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
 //                             bootstrap, pass-length, mis-beta, max-length, round-spp; "a,b,...,z" fills in
 //                             the arithmetic progression (max-length=3,5,...,15)
@@ -203,7 +204,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
     std::vector<Variant> out;
     for (const std::string& v : o.sweepValues) {
         Variant x = base;
-        double d = toNumber(v, "--sweep");
+        double d = o.sweepName == "chains" && v == "auto" ? 0 : toNumber(v, "--sweep");  // chains=auto: 0
         x.label = o.sweepName + "=" + v;
         if (o.sweepName == "p-large") x.probLarge = d;
         else if (o.sweepName == "chains") x.chains = int(d);

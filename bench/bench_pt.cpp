@@ -211,6 +211,7 @@ void benchScene(const std::string& path, int spp) {
     {
         RenderOptions o = benchOptions(*scene, TracerKind::MMLT, spp);
         o.probLarge = scene->desc.settings.probLarge;
+        o.chains = 65536;  // the speed at full width (the default, auto, depends on the render's length)
         RenderResult r = renderMmlt(*scene, o);
         double rays = double(r.stats.raysIntersect + r.stats.raysOccluded);
         double mmlt = rays / r.stats.seconds;

@@ -33,6 +33,7 @@
 
 #include "power.h"
 #include "render_stats.h"
+#include "stages/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
@@ -499,4 +500,72 @@ TEST_CASE("MMLT: a fixed seed gives a bit-identical image, for 1, 2 and 4 thread
     other.seed = 43;
     RenderResult d = renderMmlt(desc, other);
     CHECK(a.image.rgb != d.image.rgb);
+}
+
+TEST_CASE("MMLT --chains auto: the count as a pure function of the mutations, at its edges", "[mmlt]") {
+    const double T = kAutoIterationsPerChain;
+    // A tiny render (none, one, a few thousand mutations): the least, 16 batches.
+    CHECK(autoChains(0) == kAutoChainsLeast);
+    CHECK(autoChains(1) == kAutoChainsLeast);
+    CHECK(autoChains(-5) == kAutoChainsLeast);
+    CHECK(autoChains(double(kAutoChainsLeast) * T) == kAutoChainsLeast);
+    // Between the edges: mutations / T, rounded down to whole batches of 256 chains.
+    CHECK(autoChains((4096.0 + 256.0) * T) == 4352u);
+    CHECK(autoChains((4096.0 + 256.0) * T - 1) == 4096u);
+    CHECK(autoChains(20000.0 * T) == 19968u);  // 78 batches
+    for (double m = 1e6; m < 1e12; m *= 1.7) {
+        const uint32_t c = autoChains(m);
+        INFO("mutations " << m);
+        CHECK(c % 256 == 0);
+        CHECK(c >= kAutoChainsLeast);
+        CHECK(c <= kAutoChainsMost);
+        CHECK(autoChains(m * 1.7) >= c);  // more mutations, never fewer chains
+    }
+    // A huge render: never more than 65536 (an explicit --chains may ask for more).
+    CHECK(autoChains(double(kAutoChainsMost) * T) == kAutoChainsMost);
+    CHECK(autoChains(1e18) == kAutoChainsMost);
+    // Under --time the least keeps every worker fed (2 batches of 256 each), never above the most.
+    CHECK(autoChains(1e6, T, 1024) == 1024u);
+    CHECK(autoChains(1e6, T, 1 << 20) == kAutoChainsMost);
+    CHECK(autoChains(1e9, T, 1024, 65536) == 65536u);
+}
+
+TEST_CASE("MMLT --chains auto: the chosen count runs, a seed gives one image for 1, 2 and 4 threads, "
+          "and an explicit 65536 runs 65536", "[mmlt]") {
+    const SceneDesc desc = caustic(6);
+    RenderOptions o = mmltOptions(64, 42, 1, 6, 0, 4096, 0.3f, 2);  // chains 0: auto
+    const double mutations = 64.0 * 32 * 32;
+    RenderResult a = renderMmlt(desc, o);
+    CHECK(a.stats.mmlt.chainsAuto);
+    CHECK(a.stats.mmlt.chainsAsked == 0);
+    CHECK(a.stats.mmlt.chainsRun == autoChains(mutations));
+    CHECK(a.stats.mmlt.chainsReason.find("auto: 4096 for 65.5 k mutations") == 0);
+    uint64_t sum = 0;
+    for (uint32_t c : a.stats.mmlt.chains) sum += c;
+    CHECK(sum == a.stats.mmlt.chainsRun);
+    RenderOptions one = o;
+    one.threads = 1;
+    RenderResult b = renderMmlt(desc, one);
+    CHECK(b.stats.mmlt.chainsRun == a.stats.mmlt.chainsRun);
+    CHECK(a.image.rgb == b.image.rgb);
+    RenderOptions four = o;
+    four.threads = 4;
+    RenderResult c;
+    tbb::task_arena(4).execute([&] { c = renderMmlt(desc, four); });
+    CHECK(c.stats.mmlt.chainsRun == a.stats.mmlt.chainsRun);
+    CHECK(a.image.rgb == c.image.rgb);
+    // An explicit count runs as asked, whatever auto would choose.
+    RenderOptions wide = o;
+    wide.chains = 65536;
+    RenderResult w = renderMmlt(desc, wide);
+    CHECK_FALSE(w.stats.mmlt.chainsAuto);
+    CHECK(w.stats.mmlt.chainsAsked == 65536u);
+    CHECK(w.stats.mmlt.chainsRun == 65536u);
+    CHECK(w.stats.mmlt.chainsReason == "--chains 65536");
+    // Fewer mutations than the least: no more chains than mutations, as for an explicit count.
+    RenderOptions tiny = o;
+    tiny.spp = 1;
+    RenderResult t = renderMmlt(desc, tiny);
+    CHECK(t.stats.mmlt.chainsRun == 1024u);
+    CHECK(t.stats.mmlt.chainsReason.find("no more than the 1024 mutations") != std::string::npos);
 }

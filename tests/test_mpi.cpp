@@ -217,6 +217,32 @@ TEST_CASE("mpirun: N ranks make one process's image from the same samples, for a
     }
 }
 
+TEST_CASE("mpirun: --chains auto chooses one count for 1 and 2 ranks and one process, and one image", "[mpi]") {
+    if (!mpiBuilt()) return;
+    const std::string dir = rstats::tempDir("mpi-auto");
+    const TracerCase t{"mmlt", TracerKind::MMLT, 128};
+    const std::string spec = "mmlt:128:0";  // chains 0: auto
+    const uint64_t seed = 300;
+    RenderOptions o = rstats::renderOptions(t.kind, t.spp, seed, 1, kMaxLength, 2);
+    o.chains = 0;
+    const RenderResult one = render(cornell(), o);
+    REQUIRE(one.stats.mmlt.chainsAuto);
+    for (int n : {1, 2}) {
+        INFO(n << " ranks");
+        const std::string d = dir + "/np" + std::to_string(n);
+        std::filesystem::create_directories(d);
+        runRunner(n, 1, seed, 1, d, {spec});
+        std::ifstream f(stem(d, t, seed) + ".txt");
+        uint32_t chains = 0;
+        for (std::string w; f >> w;)
+            if (w == "chains") f >> chains;
+        CHECK(chains == one.stats.mmlt.chainsRun);
+        const Image im = readImage(stem(d, t, seed) + ".pfm");
+        if (n == 1) CHECK(im.rgb == one.image.rgb);  // one rank is one process: bit for bit
+        else CHECK(worstRelative(im, one.image) <= 1e-6);  // the same sums in another order
+    }
+}
+
 TEST_CASE("mpirun -np 2 and -np 3 against one process: every tracer's images agree within the statistical tolerance",
           "[mpi][stat]") {
     if (!mpiBuilt()) return;

@@ -51,7 +51,7 @@ struct RenderOptions {
     int minPathLength = 1, maxPathLength = 10;
     float misBeta = 2;         // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
     // MMLT (spp: mutations per pixel).
-    int chains = 65536;        // Markov chains in flight (any N >= 1)
+    int chains = 0;            // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt.h)
     int bootstrap = 0;         // samples per path length in the first pass's pool; 0: automatic
     float probLarge = 0.3f;    // probability of a large step, (0, 1]
     int passLength = 0;        // iterations of every chain between restarts from a new pool; 0: automatic
@@ -66,6 +66,9 @@ struct RenderOptions {
     // Called now and then with the fraction done in [0, 1] (never with a time budget's
     // unknown total: then with the fraction of the budget spent).
     std::function<void(double)> progress;
+    // Called with a one-line notice of a choice the render made (MMLT: the chain count and
+    // why), once, before the work it governs; nullptr: none.
+    std::function<void(const std::string&)> notice;
     // A viewer: offered the image so far between passes or rounds (nullptr: none, no cost).
     RenderView* view = nullptr;
     // A render split across processes (mpirun; docs/mpi.md): every rank calls render() with
@@ -116,7 +119,9 @@ struct RenderStats {
         uint64_t replayed = 0;                    // seeded chains replayed (all in the first pass, then 1 in 8)
         uint64_t replayMismatches = 0;            // replays that differed from their pool entry (a bug)
         uint64_t chainBytes = 0;                  // memory of the chain state (largest pass)
-        uint32_t chainsAsked = 0, chainsRun = 0;  // --chains, and the chains run (fewer only under a tight --time)
+        uint32_t chainsAsked = 0, chainsRun = 0;  // --chains (0: auto), and the chains run (fewer only under a tight --time)
+        bool chainsAuto = false;                  // --chains auto chose chainsRun
+        std::string chainsReason;                 // how the count was chosen
         std::vector<std::vector<double>> bByRank; // b as each rank computed it (split across ranks)
         std::vector<uint64_t> poolDigestByRank;   // a hash of each rank's pools, every pass (split across ranks)
     } mmlt;

@@ -73,7 +73,10 @@ std::string usageText() {
         "  --mis-beta B             BPT, MMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
         "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N);\n"
         "                           MMLT: mutations per pixel\n"
-        "  --chains N               MMLT: Markov chains in flight (default 65536)\n"
+        "  --chains N|auto          MMLT: Markov chains in flight (default auto: one per 8000\n"
+        "                           mutations the render makes, 4096 to 65536, from --spp alone so\n"
+        "                           that a seed gives one image; under --time from the bootstrap's\n"
+        "                           rate, and at least 512 per worker; printed, and in --stats)\n"
         "  --bootstrap N            MMLT: bootstrap samples per path length (default: automatic)\n"
         "  --pass-length N          MMLT: iterations of every chain between restarts from the\n"
         "                           sample pools (default: automatic, 2 to 8 passes a render)\n"
@@ -122,7 +125,10 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);
         else if (a == "--threads") cl.threads = int(parseInt(a, value(), 0, 4096));
         // Any count is accepted here; main() refuses one that would not fit in memory.
-        else if (a == "--chains") cl.chains = parseInt(a, value(), 1, 1000000000000000LL);
+        else if (a == "--chains") {
+            const std::string v = value();
+            cl.chains = v == "auto" ? 0 : parseInt(a, v, 1, 1000000000000000LL);  // 0: auto
+        }
         else if (a == "--bootstrap") cl.bootstrap = int(parseInt(a, value(), 1, 1 << 30));
         else if (a == "--pass-length") cl.passLength = int(parseInt(a, value(), 1, 1 << 30));
         else if (a == "--p-large") {

@@ -14,7 +14,7 @@ struct CommandLine {
     std::optional<int> spp, threads, width, height, maxLength, minLength;
     std::optional<double> timeBudget;
     std::optional<float> misBeta;  // BPT's power-heuristic exponent
-    std::optional<long long> chains;       // MMLT; checked against memory in main()
+    std::optional<long long> chains;       // MMLT, 0: auto; checked against memory in main()
     std::optional<int> bootstrap;          // MMLT
     std::optional<int> passLength;         // MMLT
     std::optional<float> probLarge;        // MMLT

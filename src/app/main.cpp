@@ -124,7 +124,8 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << ",\n  \"mmlt_longest_task_ratio\": " << m.longestTaskRatio
       << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
       << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes
-      << ",\n  \"mmlt_chains_asked\": " << m.chainsAsked << ",\n  \"mmlt_chains_run\": " << m.chainsRun;
+      << ",\n  \"mmlt_chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked))
+      << ",\n  \"mmlt_chains_run\": " << m.chainsRun << ",\n  \"mmlt_chains_reason\": \"" << m.chainsReason << "\"";
     if (!m.poolDigestByRank.empty()) o << ",\n  \"mmlt_pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
     if (st.ranks.count > 1) {  // what each rank computed: the same on every rank (docs/mpi.md)
         o << ",\n  \"mmlt_b_by_rank\": [";
@@ -228,7 +229,8 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     applyCommandLine(cl, job.scene.settings);
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
-    if (cl.chains && job.scene.settings.tracer == TracerKind::MMLT) checkChainMemory(*cl.chains, job.scene.settings);
+    if (cl.chains && *cl.chains > 0 && job.scene.settings.tracer == TracerKind::MMLT)
+        checkChainMemory(*cl.chains, job.scene.settings);
     if (cl.describe) {
         if (root) std::cout << deriveFeatures(job.scene).describe();
         return false;
@@ -269,6 +271,7 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     opt.maxPathLength = s.maxPathLength;
     opt.cancel = &gCancel;
     if (ranks.many()) opt.ranks = &ranks;
+    if (root && !cl.quiet) opt.notice = [](const std::string& n) { std::fprintf(stderr, "%s\n", n.c_str()); };
     std::signal(SIGINT, onInterrupt);
     // Open MPI's mpirun turns a Ctrl-C into SIGTERM to every rank (then SIGKILL after
     // odls_base_sigkill_timeout, 1 s by default): the ranks agree to stop at the next

@@ -35,6 +35,23 @@ namespace wmlt {
 
 namespace mmlt_detail {
 
+namespace {
+// "4.19 M", "812 k", "96": a count for messages.
+std::string countText(double n) {
+    char buf[32];
+    if (n >= 1e9) std::snprintf(buf, sizeof buf, "%.3g G", n * 1e-9);
+    else if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.3g M", n * 1e-6);
+    else if (n >= 1e4) std::snprintf(buf, sizeof buf, "%.3g k", n * 1e-3);
+    else std::snprintf(buf, sizeof buf, "%.0f", n);
+    return buf;
+}
+std::string secondsText(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f s", s);
+    return buf;
+}
+}  // namespace
+
 MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
     : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
       batches_([&scene, maxLength = opt.maxPathLength] {
@@ -46,8 +63,22 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
       film_(scene.camera.width, scene.camera.height) {
     pixels_ = double(scene.camera.width) * double(scene.camera.height);
     targetMutations_ = double(opt.spp) * pixels_;
+    // --chains auto: with --spp chosen here from the mutations alone; under --time after the
+    // bootstrap (chooseTimedChains), until then at its largest (the memory check below).
+    double chosen = double(opt.chains);
+    if (autoChains_) {
+        chosen = timed() ? double(kAutoChainsMost) : double(autoChains(targetMutations_));
+        if (!timed())
+            chainsReason_ = "auto: " + std::to_string(uint32_t(chosen)) + " for " + countText(targetMutations_) +
+                            " mutations, " + std::to_string(int(kAutoIterationsPerChain)) +
+                            " iterations per chain, within " + std::to_string(kAutoChainsLeast) + " to " +
+                            std::to_string(kAutoChainsMost);
+    } else {
+        chainsReason_ = "--chains " + std::to_string(opt.chains);
+    }
     // No more chains than mutations asked for (a small image at few mutations per pixel).
-    const double asked = timed() ? double(opt.chains) : std::min(double(opt.chains), targetMutations_);
+    const double asked = timed() ? chosen : std::min(chosen, targetMutations_);
+    if (!timed() && asked < chosen) chainsReason_ += ", no more than the " + countText(targetMutations_) + " mutations";
     chains_ = uint32_t(std::max(1.0, asked));
     target_ = uint64_t(std::ceil(targetMutations_ / double(chains_)));
     const size_t n = size_t(kMax_) + 1;
@@ -234,9 +265,29 @@ void MmltRender::bootstrap() {
     tracePool(probe, to, true);
 }
 
+// --chains auto under --time: from the mutations the rest of the budget allows at the
+// bootstrap's measured rate (a mutation costs about a pool sample), and never fewer than
+// kAutoChainsLeast or two batches per worker of the job (every rank's threads, as many on
+// each rank as on rank 0), rank 0's figures on every rank.
+void MmltRender::chooseTimedChains() {
+    const double left = std::max(0.0, opt_.timeBudget - elapsed());
+    const double mutations = left / std::max(sampleSeconds_, 1e-12);
+    const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
+    const uint32_t least =
+        uint32_t(std::clamp(2.0 * kBatchChains * workers, double(kAutoChainsLeast), double(kAutoChainsMost)));
+    chains_ = uint32_t(agreeAtBoundary(autoChains(mutations, kAutoIterationsPerChain, least)).value);
+    chainsReason_ = "auto: " + std::to_string(chains_) + " for the " + countText(mutations) +
+                    " mutations the bootstrap's rate predicts in the " + secondsText(left) + " left, " +
+                    std::to_string(int(kAutoIterationsPerChain)) + " iterations per chain, within " +
+                    std::to_string(least) + " (at least " + std::to_string(kAutoChainsLeast) +
+                    " and 2 batches of 256 per worker, " + std::to_string(int(workers)) + " workers) to " +
+                    std::to_string(kAutoChainsMost);
+}
+
 RenderResult MmltRender::run() {
     const int nLengths = kMax_ - kMin_ + 1;
     bootstrap();
+    if (timed() && autoChains_) chooseTimedChains();  // before the pools are thinned to the chains' needs
     stats_.bBootstrap.assign(size_t(kMax_) + 1, 0.0);
     for (int k = kMin_; k <= kMax_; ++k) {
         stats_.bootstrapNonzero[size_t(k)] = pools_[size_t(k)].lit.size();
@@ -246,12 +297,18 @@ RenderResult MmltRender::run() {
     // Under a time budget one iteration of all chains (about C samples) may cost at most 2%
     // of the budget, or the render could not end within it (--time 3 with 65536 chains on
     // a slow build): the chains are capped there, and --stats and a warning say so.
-    stats_.chainsAsked = chains_;
+    stats_.chainsAsked = autoChains_ ? 0 : chains_;
+    stats_.chainsAuto = autoChains_;
+    stats_.chainsRun = chains_;  // before the cap
     if (timed()) {  // rank 0's figure on every rank
         const double cap = std::floor(0.02 * opt_.timeBudget / std::max(sampleSeconds_, 1e-12));
         chains_ = uint32_t(agreeAtBoundary(uint64_t(std::clamp(cap, 1.0, double(chains_)))).value);
     }
+    if (chains_ < stats_.chainsRun)
+        chainsReason_ += "; capped to " + std::to_string(chains_) + ": one iteration of them all costs at most 2% of --time";
     stats_.chainsRun = chains_;
+    stats_.chainsReason = chainsReason_;
+    if (opt_.notice) opt_.notice("MMLT: " + std::to_string(chains_) + " chains (" + chainsReason_ + ")");
     if (!allocateChains())
         throw InputError("no light reaches the camera: the bootstrap's " +
                          std::to_string(*std::min_element(stats_.bootstrapSamples.begin() + kMin_, stats_.bootstrapSamples.end())) +
@@ -323,6 +380,11 @@ RenderResult MmltRender::run() {
 }
 
 }  // namespace mmlt_detail
+
+uint32_t autoChains(double mutations, double iterationsPerChain, uint32_t least, uint32_t most) {
+    const double batches = std::floor(std::max(0.0, mutations) / std::max(iterationsPerChain, 1.0) / 256.0);
+    return uint32_t(std::clamp(256.0 * batches, double(std::min(least, most)), double(most)));
+}
 
 uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 4 * 4 + 12 + 8; }
 

@@ -8,6 +8,23 @@
 
 namespace wmlt {
 
+// --chains auto (RenderOptions::chains = 0, the command line's default; docs/mmlt-chains.md,
+// "How many chains: --chains auto"). More chains than a scene's pools have distinct lit
+// seeds are correlated copies until their iterations take them apart: measured on the seed
+// room and the Cornell box at 4-32 s, 4096 chains were as accurate as the best of 1024 to
+// 65536 on both, and more chains paid on the seed room only from about 8000 iterations each.
+constexpr double kAutoIterationsPerChain = 8000;
+constexpr uint32_t kAutoChainsLeast = 4096;   // 16 batches of 256 chains
+constexpr uint32_t kAutoChainsMost = 65536;
+
+// The chains for `mutations` mutations in all: mutations / iterationsPerChain, rounded down
+// to whole batches of 256 chains, within [least, most]. Pure: with --spp it is called with
+// the mutations asked for and kAutoChainsLeast, so that the count (and the image) does not
+// depend on the thread or rank count; under --time with the mutations the bootstrap's rate
+// predicts and a least that also keeps every worker of the job fed (2 batches each).
+uint32_t autoChains(double mutations, double iterationsPerChain = kAutoIterationsPerChain,
+                    uint32_t least = kAutoChainsLeast, uint32_t most = kAutoChainsMost);
+
 // Bytes of chain state per chain of path length k.
 uint64_t mmltChainBytes(int k);
 

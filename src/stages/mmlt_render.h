@@ -47,6 +47,7 @@ public:
 private:
     bool tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap);
     void bootstrap();
+    void chooseTimedChains();
     bool allocateChains();
     void seedChains();
     void planBatches();
@@ -97,6 +98,8 @@ private:
     int kMin_, kMax_;
     double pixels_, targetMutations_;
     uint32_t chains_ = 1;                  // C
+    bool autoChains_ = opt_.chains == 0;   // --chains auto
+    std::string chainsReason_;             // how C was chosen (--stats, the notice)
     uint64_t target_ = 0;                  // iterations per chain (spp renders)
     uint32_t passLength_ = 1;
     uint32_t pass_ = 0;

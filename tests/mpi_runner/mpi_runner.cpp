@@ -3,7 +3,7 @@
 // the ranks that wavemmlt itself uses. Every rank loads the scene; rank 0 writes, per tracer
 // and seed, OUT/<tracer>-<seed>.pfm and OUT/<tracer>-<seed>.txt (MMLT: b_k and the pools'
 // digest as each rank had them, one line per rank).
-//   mpirun -np N wavemmlt_mpi_runner SCENE.xml OUT WIDTH MAXLENGTH THREADS SEED0 RUNS TRACER:SPP[:CHAINS]...
+//   mpirun -np N wavemmlt_mpi_runner SCENE.xml OUT WIDTH MAXLENGTH THREADS SEED0 RUNS TRACER:SPP[:CHAINS]... (CHAINS 0: auto)
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
                 f << "ranks " << r.stats.ranks.count << " bytes";
                 for (uint64_t b : r.stats.ranks.bytes) f << ' ' << b;
                 f << "\nnonfinite " << r.stats.samplesNonfiniteDiscarded << " mismatches " << r.stats.mmlt.replayMismatches
-                  << '\n';
+                  << "\nchains " << r.stats.mmlt.chainsRun << '\n';
             }
         }
     } catch (const std::exception& e) {
