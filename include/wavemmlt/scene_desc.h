@@ -45,6 +45,12 @@ constexpr int kMaterialKinds = 10;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
+// The colour parameters a texture may scale (MaterialDesc::colourTexture): Kd (Matte,
+// Glossy, the plastics' diffuse_reflectance), Ks (Glossy), reflect (specular_reflectance),
+// refract (specular_transmittance).
+enum class ColourParam : uint8_t { Diffuse, Specular, Reflect, Refract };
+constexpr int kColourParams = 4;
+
 struct MaterialDesc {
     int id = 0;
     MaterialKind kind = MaterialKind::Matte;
@@ -54,7 +60,10 @@ struct MaterialDesc {
     Vec3 reflect{1.0f};   // Reflective, Dielectric
     Vec3 refract{1.0f};   // Dielectric
     float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
-    int texture = -1;     // index into SceneDesc::textures, -1: none
+    // A texture on a colour parameter multiplies its constant at the hit (index into
+    // SceneDesc::textures by ColourParam, -1: none): the thesis' <Texture> is the Diffuse
+    // one; an importer that maps a texture alone sets the constant to 1.
+    int colourTexture[kColourParams] = {-1, -1, -1, -1};
     int bump = -1;        // index into SceneDesc::textures, -1: none
     // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
     // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.

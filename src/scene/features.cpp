@@ -6,6 +6,25 @@
 
 namespace wmlt {
 
+// Whether m's kind reads a colour parameter that has a texture (a texture on a parameter
+// the kind does not read costs nothing).
+bool readsTexturedColour(const MaterialDesc& m) {
+    auto has = [&](ColourParam c) { return m.colourTexture[int(c)] >= 0; };
+    switch (m.kind) {
+        case MaterialKind::Matte: return has(ColourParam::Diffuse);
+        case MaterialKind::Glossy: return has(ColourParam::Diffuse) || has(ColourParam::Specular);
+        case MaterialKind::Reflective:
+        case MaterialKind::Conductor:
+        case MaterialKind::RoughConductor: return has(ColourParam::Reflect);
+        case MaterialKind::Dielectric:
+        case MaterialKind::RoughDielectric:
+        case MaterialKind::ThinDielectric: return has(ColourParam::Reflect) || has(ColourParam::Refract);
+        case MaterialKind::Plastic:
+        case MaterialKind::RoughPlastic: return has(ColourParam::Diffuse) || has(ColourParam::Reflect);
+    }
+    return false;
+}
+
 SceneFeatures deriveFeatures(const SceneDesc& d) {
     SceneFeatures f;
     // Only materials that some shape uses count: an unused shader costs nothing.
@@ -13,9 +32,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (s.material < 0) continue;
         const MaterialDesc& m = d.materials[s.material];
         f.material[int(m.kind)] = true;
-        if (m.texture >= 0 && (m.kind == MaterialKind::Matte || m.kind == MaterialKind::Glossy ||
-                               m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic))
-            f.textures = true;
+        if (readsTexturedColour(m)) f.textures = true;
         if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0) f.bump = true;
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;

@@ -29,5 +29,7 @@ struct SceneFeatures {
 };
 
 SceneFeatures deriveFeatures(const SceneDesc& desc);
+// Whether m's kind reads one of its textured colour parameters (MaterialDesc::colourTexture).
+bool readsTexturedColour(const MaterialDesc& m);
 
 }  // namespace wmlt

@@ -115,13 +115,16 @@ Node Importer::textureParam(Props& p, const std::string& name) {
 
 void Importer::materialParams(Props& p, MaterialDesc& m) {
     const std::string t = p.type();
-    auto colour = [&](const char* name, Vec3 def) {
+    // A colour parameter: a constant, or a texture that scales a constant 1 (the parameter
+    // it is, `param`; -1: one that takes no texture, such as a conductor's eta and k).
+    auto colour = [&](const char* name, Vec3 def, int param = -1) {
         if (Node tx = textureParam(p, name)) {
-            // A texture multiplies the diffuse colour (wavemmlt's textured parameter).
-            if (std::string(name) != "reflectance" && std::string(name) != "diffuse_reflectance")
+            if (param < 0)
                 p.fail(p.node().find_child_by_attribute("name", name),
-                       std::string("a texture on \"") + name + "\" is not supported (on reflectance and diffuse_reflectance it is)");
-            m.texture = texture(tx);
+                       std::string("a texture on \"") + name +
+                           "\" is not supported (on reflectance, diffuse_reflectance, specular_reflectance and "
+                           "specular_transmittance it is; eta and k are constants, or a named material)");
+            m.colourTexture[param] = texture(tx);
             return Vec3(1.0f);
         }
         Vec3 c = p.getColor(name, def);
@@ -150,13 +153,13 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
     m.twoSided = false;
     if (t == "diffuse") {
         m.kind = MaterialKind::Matte;
-        m.diffuse = colour("reflectance", Vec3(0.5f));
+        m.diffuse = colour("reflectance", Vec3(0.5f), int(ColourParam::Diffuse));
     } else if (t == "dielectric" || t == "thindielectric" || t == "roughdielectric") {
         m.kind = t == "dielectric" ? MaterialKind::Dielectric : t == "thindielectric" ? MaterialKind::ThinDielectric : MaterialKind::RoughDielectric;
         iors(1.5046f);
         if (t == "roughdielectric") rough();
-        m.reflect = colour("specular_reflectance", Vec3(1.0f));
-        m.refract = colour("specular_transmittance", Vec3(1.0f));
+        m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
+        m.refract = colour("specular_transmittance", Vec3(1.0f), int(ColourParam::Refract));
         m.twoSided = true;  // both sides scatter by definition
     } else if (t == "conductor" || t == "roughconductor") {
         m.kind = t == "conductor" ? MaterialKind::Conductor : MaterialKind::RoughConductor;
@@ -178,13 +181,13 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
             m.conductorEta = it->second.eta;
             m.conductorK = it->second.k;
         }
-        m.reflect = colour("specular_reflectance", Vec3(1.0f));
+        m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
     } else if (t == "plastic" || t == "roughplastic") {
         m.kind = t == "plastic" ? MaterialKind::Plastic : MaterialKind::RoughPlastic;
         iors(1.49f);
         if (t == "roughplastic") rough();
-        m.diffuse = colour("diffuse_reflectance", Vec3(0.5f));
-        m.reflect = colour("specular_reflectance", Vec3(1.0f));
+        m.diffuse = colour("diffuse_reflectance", Vec3(0.5f), int(ColourParam::Diffuse));
+        m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
         m.nonlinear = p.getBool("nonlinear", false);
     } else {
         p.fail(p.node(), "BSDF not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");

@@ -25,7 +25,7 @@ struct SurfacePoint {
 // resolve hits are instantiated per combination and choose one per stage call
 // (withSurfaceFeatures), so no hit tests them.
 //   Uv: the surface stage computes (u, v) (textures or bump); Bump: bump maps;
-//   Textures: textured diffuse colours; OneSided: materials black from below.
+//   Textures: textured colour parameters; OneSided: materials black from below.
 template <bool Uv, bool Bump, bool Textures, bool OneSided>
 struct SurfaceFeatures {
     static constexpr bool uv = Uv, bump = Bump, textures = Textures, oneSided = OneSided;
@@ -153,8 +153,14 @@ void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams&
             out = BsdfParams{};  // a black Matte: f = 0, every sample ends the path
             return;
         }
-        if (F::textures && m.texture >= 0)
-            out.diffuse = out.diffuse * evalTexture(scene.desc.textures[m.texture], sp.u, sp.v, sp.p);
+        if constexpr (F::textures) {
+            const int* t = m.colourTexture;
+            auto at = [&](ColourParam c) { return evalTexture(scene.desc.textures[t[int(c)]], sp.u, sp.v, sp.p); };
+            if (t[int(ColourParam::Diffuse)] >= 0) out.diffuse = out.diffuse * at(ColourParam::Diffuse);
+            if (t[int(ColourParam::Specular)] >= 0) out.specular = out.specular * at(ColourParam::Specular);
+            if (t[int(ColourParam::Reflect)] >= 0) out.reflect = out.reflect * at(ColourParam::Reflect);
+            if (t[int(ColourParam::Refract)] >= 0) out.refract = out.refract * at(ColourParam::Refract);
+        }
     }
 }
 
