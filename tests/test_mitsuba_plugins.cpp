@@ -694,12 +694,26 @@ TEST_CASE("Mitsuba textured parameters: a constant texture renders what its cons
     const std::string board = "<texture type=\"checkerboard\" name=\"specular_reflectance\"><rgb name=\"color0\" value=\"" + c +
                               "\"/><rgb name=\"color1\" value=\"" + c + "\"/></texture>";
     const std::string head = R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/>)";
-    const SceneDesc textured = texturedPlate(head + board + "</bsdf>");
-    const SceneDesc constant = texturedPlate(head + "<rgb name=\"specular_reflectance\" value=\"" + c + "\"/></bsdf>");
-    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
-        INFO("tracer " << int(tr));
-        RenderOptions o = rstats::renderOptions(tr, 16, 5, 1, 3);
-        if (tr == TracerKind::MMLT) o.chains = 1024;
-        CHECK(render(textured, o).image.rgb == render(constant, o).image.rgb);
+    // The plastics too: their lobe choice weighs the parameters by their textures' means
+    // (textureMean, as Mitsuba's roughplastic), here the constant itself.
+    auto boardOf = [&](const std::string& name) {
+        return "<texture type=\"checkerboard\" name=\"" + name + "\"><rgb name=\"color0\" value=\"" + c +
+               "\"/><rgb name=\"color1\" value=\"" + c + "\"/></texture>";
+    };
+    const std::string plastic = R"(<bsdf type="roughplastic"><float name="alpha" value="0.2"/>)";
+    const std::vector<std::pair<std::string, std::string>> pairs = {
+        {head + board + "</bsdf>", head + "<rgb name=\"specular_reflectance\" value=\"" + c + "\"/></bsdf>"},
+        {plastic + boardOf("diffuse_reflectance") + "</bsdf>", plastic + "<rgb name=\"diffuse_reflectance\" value=\"" + c + "\"/></bsdf>"},
+        {plastic + boardOf("specular_reflectance") + "</bsdf>", plastic + "<rgb name=\"specular_reflectance\" value=\"" + c + "\"/></bsdf>"},
+        {R"(<bsdf type="plastic">)" + boardOf("diffuse_reflectance") + "</bsdf>",
+         R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value=")" + c + "\"/></bsdf>"}};
+    for (const auto& [tex, con] : pairs) {
+        const SceneDesc textured = texturedPlate(tex), constant = texturedPlate(con);
+        for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+            INFO(tex << "\ntracer " << int(tr));
+            RenderOptions o = rstats::renderOptions(tr, 16, 5, 1, 3);
+            if (tr == TracerKind::MMLT) o.chains = 1024;
+            CHECK(render(textured, o).image.rgb == render(constant, o).image.rgb);
+        }
     }
 }

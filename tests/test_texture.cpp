@@ -186,3 +186,27 @@ TEST_CASE("Marble: deterministic, within its colours' hull, veined", "[texture]"
     CHECK(marbleParameter(Vec3(0.25f, 0.5f, 0.75f)) == Approx(0.736898363).margin(1e-5));
     CHECK(same(evalTexture(t, 0, 0, Vec3(0.1f, 0.2f, 0.3f)), evalTexture(marble(), 1, 1, Vec3(0.1f, 0.2f, 0.3f))));
 }
+
+TEST_CASE("textureMean: checkers, images and the marble's approximation", "[texture]") {
+    TextureDesc t;
+    t.kind = TextureKind::Checkerboard;
+    t.colour1 = Vec3(0.9f, 0.6f, 0.3f);
+    t.colour2 = Vec3(0.1f, 0.2f, 0.3f);
+    CHECK(textureMean(t).x == Approx(0.5f));
+    CHECK(textureMean(t).y == Approx(0.4f));
+    CHECK(textureMean(t).z == 0.3f);  // (c + c) / 2 = c exactly: a constant texture's mean is its value
+    t.kind = TextureKind::Checker;
+    CHECK(textureMean(t).x == Approx(0.5f));
+    t.kind = TextureKind::Bitmap;
+    t.image = Image(2, 1);
+    t.image.set(0, 0, Vec3(1, 0, 0.5f));
+    t.image.set(1, 0, Vec3(0, 1, 0.5f));
+    CHECK(textureMean(t).x == 0.5f);
+    CHECK(textureMean(t).y == 0.5f);
+    CHECK(textureMean(t).z == 0.5f);
+    t.kind = TextureKind::Marble;
+    t.colour1 = Vec3(0.0f);
+    t.colour2 = Vec3(1.0f);
+    t.colour3 = Vec3(2.0f);
+    CHECK(textureMean(t).x == 1.0f);
+}

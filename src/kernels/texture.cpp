@@ -56,6 +56,22 @@ float marbleParameter(Vec3 p) {
     return std::isfinite(t) ? std::min(1.0f, std::max(0.0f, t)) : 0.5f;
 }
 
+Vec3 textureMean(const TextureDesc& t) {
+    switch (t.kind) {
+        case TextureKind::Checker:
+        case TextureKind::Checkerboard: return (t.colour1 + t.colour2) * 0.5f;
+        case TextureKind::Marble: return (t.colour1 + t.colour2 * 2.0f + t.colour3) * 0.25f;
+        case TextureKind::ImageFile:
+        case TextureKind::Bitmap: {
+            double sum[3] = {0, 0, 0};
+            for (size_t i = 0; i < t.image.rgb.size(); ++i) sum[i % 3] += t.image.rgb[i];
+            const double n = std::max<double>(1, double(t.image.rgb.size() / 3));
+            return Vec3(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+        }
+    }
+    return Vec3(0.0f);
+}
+
 Vec3 marbleColour(const TextureDesc& t, Vec3 p) {
     const float m = marbleParameter(p);
     if (m < 0.5f) {

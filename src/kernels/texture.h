@@ -200,6 +200,11 @@ inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
     return Vec3(0.0f);
 }
 
+// The texture's mean over its domain: the checkers' two colours alike, an image's texels;
+// the marble's is approximate ((colour1 + 2 colour2 + colour3) / 4, its parameter taken as
+// uniform). For sampling weights (texture.cpp).
+Vec3 textureMean(const TextureDesc& t);
+
 // Height for bump mapping: the Rec. 709 luminance of the texture.
 inline float textureHeight(const TextureDesc& t, float u, float v, Vec3 p) {
     return luminance(evalTexture(t, u, v, p));

@@ -150,9 +150,15 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             x.etaC = m.conductorEta;
             x.kC = m.conductorK;
             x.nonlinear = m.nonlinear;
-            // Mitsuba's specular sampling weight: mean(Ks) / (mean(Kd) + mean(Ks)), Kd
-            // without its texture (the material's base value).
-            const float ks = (m.reflect.x + m.reflect.y + m.reflect.z) / 3, kd = (m.diffuse.x + m.diffuse.y + m.diffuse.z) / 3;
+            // Mitsuba's specular sampling weight: mean(Ks) / (mean(Kd) + mean(Ks)), each
+            // parameter with its texture's mean (as Mitsuba's roughplastic takes it); a
+            // sampling choice only, so an approximate mean costs noise, never bias.
+            auto withMean = [&](ColourParam c, Vec3 v) {
+                const int t = m.colourTexture[int(c)];
+                return t >= 0 ? v * textureMean(d.textures[size_t(t)]) : v;
+            };
+            const Vec3 Ks = withMean(ColourParam::Reflect, m.reflect), Kd = withMean(ColourParam::Diffuse, m.diffuse);
+            const float ks = (Ks.x + Ks.y + Ks.z) / 3, kd = (Kd.x + Kd.y + Kd.z) / 3;
             x.specularWeight = ks + kd > 0 ? ks / (ks + kd) : 0.5f;
             if (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic)
                 preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
