@@ -717,3 +717,20 @@ TEST_CASE("Mitsuba textured parameters: a constant texture renders what its cons
         }
     }
 }
+
+TEST_CASE("Mitsuba perspective sensor: focus_distance is read (a pinhole: no depth of field)", "[mitsuba][import]") {
+    const std::string sensor = R"(<sensor type="perspective"><float name="fov" value="40"/><float name="focus_distance" value="%"/>
+  <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+  <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>)";
+    auto with = [&](const std::string& f) {
+        std::string s = sensor;
+        s.replace(s.find('%'), 1, f);
+        return "<scene version=\"3.0.0\">\n" + s + "\n<emitter type=\"constant\"/>\n</scene>\n";
+    };
+    const SceneDesc d = load(with("3.5"));
+    CHECK_FALSE(d.camera.dof);
+    CHECK(d.camera.fovDegrees == Approx(40.0f));
+    const std::string e = errorOf(with("0"));
+    CHECK(e.find("t.xml:2:") == 0);
+    CHECK(e.find("focus_distance must be > 0") != std::string::npos);
+}

@@ -256,6 +256,9 @@ void Importer::sensor(Node n) {
     p.getFloat("near_clip", 0.01f);  // (accepted: nothing in these scenes is that close)
     p.getFloat("far_clip", 1e4f);
     CameraDesc& c = s_.camera;
+    // Mitsuba reads focus_distance on every projective sensor; a pinhole has no focus.
+    if (t == "perspective" && p.has("focus_distance") && !(p.getFloat("focus_distance", 1) > 0))
+        p.fail(n, "focus_distance must be > 0");
     if (t == "thinlens") {
         c.dof = true;
         const float r = p.getFloat("aperture_radius", 0.03f), f = p.getFloat("focus_distance", 0);
