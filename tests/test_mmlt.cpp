@@ -569,3 +569,22 @@ TEST_CASE("MMLT --chains auto: the chosen count runs, a seed gives one image for
     CHECK(t.stats.mmlt.chainsRun == 1024u);
     CHECK(t.stats.mmlt.chainsReason.find("no more than the 1024 mutations") != std::string::npos);
 }
+
+TEST_CASE("MMLT --chains auto under --time: chosen after the bootstrap, from its rate and the workers", "[mmlt]") {
+    const SceneDesc desc = caustic(6);
+    RenderOptions o = mmltOptions(1, 42, 1, 6, 0, 0, 0.3f, 2);
+    o.timeBudget = 1.0;
+    const RenderResult r = renderMmlt(desc, o);
+    const RenderStats::Mmlt& m = r.stats.mmlt;
+    CHECK(m.chainsAuto);
+    INFO(m.chainsReason);
+    CHECK(m.chainsReason.find("auto: ") == 0);
+    CHECK(m.chainsReason.find("mutations the bootstrap's rate predicts") != std::string::npos);
+    CHECK(m.chainsReason.find("2 workers") != std::string::npos);
+    // At least 1024 (2 threads: 2 batches each is 1024), unless the 2% cap of --time says less.
+    if (m.chainsReason.find("capped") == std::string::npos) {
+        CHECK(m.chainsRun >= kAutoChainsLeastTimed);
+        CHECK(m.chainsRun % 256 == 0);
+    }
+    CHECK(m.chainsRun <= kAutoChainsMost);
+}

@@ -76,7 +76,7 @@ std::string usageText() {
         "  --chains N|auto          MMLT: Markov chains in flight (default auto: one per 8000\n"
         "                           mutations the render makes, 4096 to 65536, from --spp alone so\n"
         "                           that a seed gives one image; under --time from the bootstrap's\n"
-        "                           rate, and at least 512 per worker; printed, and in --stats)\n"
+        "                           rate, at least 1024 and 512 per worker; printed, and in --stats)\n"
         "  --bootstrap N            MMLT: bootstrap samples per path length (default: automatic)\n"
         "  --pass-length N          MMLT: iterations of every chain between restarts from the\n"
         "                           sample pools (default: automatic, 2 to 8 passes a render)\n"

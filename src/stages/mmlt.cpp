@@ -267,19 +267,19 @@ void MmltRender::bootstrap() {
 
 // --chains auto under --time: from the mutations the rest of the budget allows at the
 // bootstrap's measured rate (a mutation costs about a pool sample), and never fewer than
-// kAutoChainsLeast or two batches per worker of the job (every rank's threads, as many on
-// each rank as on rank 0), rank 0's figures on every rank.
+// kAutoChainsLeastTimed or two batches per worker of the job (every rank's threads, as many
+// on each rank as on rank 0), rank 0's figures on every rank.
 void MmltRender::chooseTimedChains() {
     const double left = std::max(0.0, opt_.timeBudget - elapsed());
     const double mutations = left / std::max(sampleSeconds_, 1e-12);
     const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
     const uint32_t least =
-        uint32_t(std::clamp(2.0 * kBatchChains * workers, double(kAutoChainsLeast), double(kAutoChainsMost)));
+        uint32_t(std::clamp(2.0 * kBatchChains * workers, double(kAutoChainsLeastTimed), double(kAutoChainsMost)));
     chains_ = uint32_t(agreeAtBoundary(autoChains(mutations, kAutoIterationsPerChain, least)).value);
     chainsReason_ = "auto: " + std::to_string(chains_) + " for the " + countText(mutations) +
                     " mutations the bootstrap's rate predicts in the " + secondsText(left) + " left, " +
                     std::to_string(int(kAutoIterationsPerChain)) + " iterations per chain, within " +
-                    std::to_string(least) + " (at least " + std::to_string(kAutoChainsLeast) +
+                    std::to_string(least) + " (at least " + std::to_string(kAutoChainsLeastTimed) +
                     " and 2 batches of 256 per worker, " + std::to_string(int(workers)) + " workers) to " +
                     std::to_string(kAutoChainsMost);
 }
