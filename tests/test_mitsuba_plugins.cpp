@@ -599,6 +599,36 @@ TEST_CASE("Mitsuba point light: the floor's irradiance I cos / r^2, in PT, LT an
     CHECK(errorOf(scene(R"(<shape type="sphere"><emitter type="point"/></shape>)")).find("cannot be attached") != std::string::npos);
 }
 
+// A spot of intensity I at c shining along the unit axis a (Mitsuba's falloff: 1 within the
+// beam width, linear in the angle to 0 at the cutoff): E = I falloff(theta) h / r^3.
+TEST_CASE("Mitsuba spot light: the floor's irradiance I falloff cos / r^2, in PT, LT and BPT", "[mitsuba][render][point]") {
+    const Vec3 c(0.3f, 1.5f, -0.2f);
+    const Vec3 a = normalize(Vec3(0.2f, -1.0f, 0.1f));
+    const double cutoff = 35 * M_PI / 180, beam = 20 * M_PI / 180;
+    floorUnder(R"(<emitter type="spot"><rgb name="intensity" value="3"/><float name="cutoff_angle" value="35"/>
+      <float name="beam_width" value="20"/><transform name="to_world"><lookat origin="0.3, 1.5, -0.2" target="0.5, 0.5, -0.1" up="0, 0, 1"/></transform></emitter>)",
+               [&](Vec3 p) {
+                   const Vec3 d = p - c;
+                   const double r = length(d), theta = std::acos(std::clamp(double(dot(d, a)) / r, -1.0, 1.0));
+                   const double f = theta >= cutoff ? 0.0 : theta <= beam ? 1.0 : (cutoff - theta) / (cutoff - beam);
+                   return 3.0 * f * double(c.y) / (r * r * r);
+               },
+               "spot");
+    // The importer: the axis and angles, Mitsuba's defaults (20 degrees, beam 3/4 of it), bad values.
+    SceneDesc d = load(scene(R"(<emitter type="spot"><transform name="to_world"><translate x="1" y="2" z="3"/></transform></emitter>)", false));
+    REQUIRE(d.lights.size() == 1);
+    CHECK(d.lights[0].kind == LightKind::Point);
+    CHECK(d.lights[0].position.y == 2.0f);
+    CHECK(d.lights[0].spotAxis.z == 1.0f);
+    CHECK(d.lights[0].spotCutoff == Approx(20 * M_PI / 180));
+    CHECK(d.lights[0].spotBeam == Approx(15 * M_PI / 180));
+    CHECK(errorOf(scene(R"(<emitter type="spot"><float name="cutoff_angle" value="10"/><float name="beam_width" value="12"/></emitter>)"))
+              .find("beam_width must be in [0, cutoff_angle]") != std::string::npos);
+    CHECK(errorOf(scene(R"(<emitter type="spot"><float name="cutoff_angle" value="0"/></emitter>)")).find("cutoff_angle must be") != std::string::npos);
+    CHECK(errorOf(scene(R"(<emitter type="spot"><texture type="bitmap" name="texture"><string name="filename" value="x.png"/></texture></emitter>)"))
+              .find("texture") != std::string::npos);
+}
+
 // A disk emitter (Mitsuba's disk: a 512-gon here, a triangle mesh light) of radius R and
 // radiance L facing down at height h: a parallel receiver at lateral distance q gets
 // E = (pi L / 2) (1 - (h^2 + q^2 - R^2) / sqrt((h^2 + q^2 + R^2)^2 - 4 R^2 q^2)).

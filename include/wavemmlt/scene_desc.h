@@ -134,6 +134,11 @@ struct LightDesc {
     Vec3 radiance{1.0f};  // Intensity * Colour (Point: the intensity I, W / sr)
     int shape = -1;       // index into SceneDesc::shapes (-1 for Point)
     Vec3 position;        // Point
+    // Point as Mitsuba's spot: the unit axis (world) it shines along, and its angles in
+    // radians (cutoff: 0 beyond; beam width: full intensity within); spotCutoff 0: a
+    // point light.
+    Vec3 spotAxis{0, 0, 1};
+    float spotCutoff = 0, spotBeam = 0;
 };
 
 struct SceneDesc {

@@ -21,9 +21,32 @@ struct Light {
     float radius = 0;
     float area = 0;          // Rect, Sphere, Mesh: the emitting area; Point: 0
     int mesh = -1;           // Mesh: index into Scene::meshLights
+    // Point as a spot (Mitsuba's `spot`): L is the intensity on the unit axis, scaled by
+    // spotFalloff; cosCutoff < -1: a point light, emitting alike in every direction.
+    Vec3 axis{0, 0, 1};
+    float cosCutoff = -2, cosBeam = -2, cutoff = 0, invTransition = 0;
 };
 
 inline bool isDeltaLight(const Light& l) { return l.type == LightType::Point; }
+inline bool isSpot(const Light& l) { return l.cosCutoff >= -1; }
+
+// A spot's intensity factor in the unit direction w from it (Mitsuba's falloff curve): 1
+// within beam_width of the axis, falling linearly in the angle to 0 at cutoff_angle, 0
+// beyond; 1 for a point light.
+inline float spotFalloff(const Light& l, Vec3 w) {
+    if (!isSpot(l)) return 1.0f;
+    const float c = dot(w, l.axis);
+    if (!(c > l.cosCutoff)) return 0.0f;
+    if (c >= l.cosBeam) return 1.0f;
+    return std::max(0.0f, (l.cutoff - std::acos(std::min(c, 1.0f))) * l.invTransition);
+}
+
+// The solid-angle density with which a point light's emission (samplePointEmission)
+// leaves in the unit direction w: uniform over the sphere, a spot's uniform over its cone.
+inline float pointEmissionPdf(const Light& l, Vec3 w) {
+    if (!isSpot(l)) return kUniformSpherePdf;
+    return dot(w, l.axis) > l.cosCutoff ? 1.0f / (2.0f * kPi * (1.0f - l.cosCutoff)) : 0.0f;
+}
 
 struct LightSample {
     Vec3 p;         // point on the light
@@ -157,6 +180,7 @@ inline bool samplePointLight(const Light& l, Vec3 ref, LightSample& s) {
     s.p = l.center;
     s.n = -s.wi;
     s.Le = l.L / dist2;
+    if (isSpot(l)) s.Le = s.Le * spotFalloff(l, -s.wi);
     s.pdf = 1.0f;
     s.delta = true;
     return true;
@@ -165,6 +189,8 @@ inline bool samplePointLight(const Light& l, Vec3 ref, LightSample& s) {
 // Power (flux) of a light, used to choose lights in proportion to it: pi A L for area
 // lights (one-sided, cosine-weighted), 4 pi I for a point light.
 inline float lightPower(const Light& l) {
+    if (l.type == LightType::Point && isSpot(l))  // the cone to mid-falloff (pbrt-v4's SpotLight::Phi)
+        return 2.0f * kPi * (1.0f - 0.5f * (l.cosCutoff + l.cosBeam)) * luminance(l.L);
     return l.type == LightType::Point ? 4.0f * kPi * luminance(l.L) : kPi * l.area * luminance(l.L);
 }
 
@@ -228,11 +254,23 @@ inline bool sampleSphereEmission(const Light& l, float u1, float u2, float u3, f
 
 // Point light: the point, a uniform direction (pdfDir = 1 / 4 pi), the discrete position
 // pdf 1; n = dir, so that the caller's |n.dir| / (pdfPos pdfDir) is 4 pi; Le = I.
+// A spot: a uniform direction in its cone (cos theta = 1 - u (1 - cos cutoff)), Le = I
+// times the falloff.
 inline bool samplePointEmission(const Light& l, float u2, float u3, LightEmission& e) {
     e.p = l.center;
+    e.pdfPos = 1.0f;
+    if (isSpot(l)) {
+        const float c = 1.0f - u2 * (1.0f - l.cosCutoff), sn = std::sqrt(std::max(0.0f, 1.0f - c * c));
+        const float phi = 2.0f * kPi * u3;
+        const Frame f = Frame::fromNormal(l.axis);
+        e.dir = normalize(f.toWorld(Vec3(sn * std::cos(phi), sn * std::sin(phi), c)));
+        e.n = e.dir;
+        e.pdfDir = pointEmissionPdf(l, e.dir);
+        e.Le = l.L * spotFalloff(l, e.dir);
+        return e.pdfDir > 0;
+    }
     e.dir = sampleUniformSphere(u2, u3);
     e.n = e.dir;
-    e.pdfPos = 1.0f;
     e.pdfDir = kUniformSpherePdf;
     e.Le = l.L;
     return true;

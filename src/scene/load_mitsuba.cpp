@@ -209,6 +209,24 @@ void Importer::emitter(Node n, int shape) {
         if (hasPosition && hasTransform) p.fail(n, "give position or to_world, not both");
         l.position = hasPosition ? p.getPoint("position", Vec3(0.0f)) : p.getTransform("to_world").point(Vec3(0.0f));
         s_.lights.push_back(l);
+    } else if (t == "spot") {  // a point light shining along +z of to_world within a cone
+        if (shape >= 0) p.fail(n, "a spot emitter cannot be attached to a shape");
+        if (p.has("texture")) p.fail(n, "a spot's texture (a projected image) is not supported");
+        LightDesc l;
+        l.kind = LightKind::Point;
+        l.radiance = p.getColor("intensity", Vec3(1.0f));
+        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "intensity must be >= 0");
+        const float cutoff = p.getFloat("cutoff_angle", 20.0f), beam = p.getFloat("beam_width", cutoff * 0.75f);
+        if (!(cutoff > 0 && cutoff <= 180)) p.fail(n, "cutoff_angle must be in (0, 180] degrees");
+        if (!(beam >= 0 && beam <= cutoff)) p.fail(n, "beam_width must be in [0, cutoff_angle]");
+        const Matrix M = p.getTransform("to_world");
+        l.position = M.point(Vec3(0.0f));
+        const Vec3 axis = M.vector(Vec3(0, 0, 1));
+        if (!(length(axis) > 0)) p.fail(n, "to_world has no usable direction");
+        l.spotAxis = normalize(axis);
+        l.spotCutoff = float(cutoff * M_PI / 180);
+        l.spotBeam = float(beam * M_PI / 180);
+        s_.lights.push_back(l);
     } else if (t == "envmap") {
         if (shape >= 0) p.fail(n, "an envmap cannot be attached to a shape");
         if (s_.envMap.width > 0) p.fail(n, "a second environment emitter");

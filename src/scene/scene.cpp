@@ -233,6 +233,13 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             l.type = LightType::Point;
             l.L = ld.radiance;
             l.center = ld.position;
+            if (ld.spotCutoff > 0) {
+                l.axis = normalize(ld.spotAxis);
+                l.cutoff = ld.spotCutoff;
+                l.cosCutoff = std::cos(ld.spotCutoff);
+                l.cosBeam = std::cos(ld.spotBeam);
+                l.invTransition = ld.spotCutoff > ld.spotBeam ? 1.0f / (ld.spotCutoff - ld.spotBeam) : 0.0f;
+            }
             s->lights.push_back(l);
             continue;
         }

@@ -49,12 +49,16 @@ inline float originPdf(const Scene& scene, int li, const PathPoint& x0) {
 }
 
 // Density of x1 as the first scattering vertex of a light subpath from x0 (light li):
-// emitted direction (cosine about the normal; a point light: uniform) as area density;
+// emitted direction (cosine about the normal; a point light: uniform, a spot: uniform in its
+// cone) as area density;
 // the environment: the emission disc's density 1 / (pi R^2) projected onto x1's surface.
 inline float emissionPdfAt(const Scene& scene, int li, const PathPoint& x0, const PathPoint& x1) {
     if (x0.kind == BptVertexKind::Env)
         return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
-    if (isDeltaLight(scene.lights[li])) return solidAngleToArea(kUniformSpherePdf, x0.p, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+    if (const Light& l = scene.lights[li]; isDeltaLight(l)) {
+        const float pdf = isSpot(l) ? pointEmissionPdf(l, dirTo(x0.p, x1.p)) : kUniformSpherePdf;
+        return solidAngleToArea(pdf, x0.p, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+    }
     return lightDirPdfArea(x0.p, x0.ng, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
 }
 
