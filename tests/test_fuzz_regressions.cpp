@@ -124,6 +124,24 @@ TEST_CASE("fuzz corpus and regressions: OBJ loader", "[fuzz]") {
     }
 }
 
+TEST_CASE("fuzz corpus and regressions: serialized loader", "[fuzz]") {
+    const auto seeds = inputs("corpus", "serialized");
+    REQUIRE(seeds.size() >= 3);
+    for (const fs::path& f : seeds) {
+        INFO(f.string());
+        for (bool smooth : {false, true}) {
+            TriangleMesh m;
+            CHECK(run(f, [&] { m = loadSerialized(f.string(), 0, smooth); }) == Outcome::Loaded);
+            for (uint32_t i : m.indices) REQUIRE(i < m.positions.size());
+        }
+    }
+    for (const fs::path& f : inputs("regressions", "serialized")) {
+        INFO(f.string());
+        for (int shape : {0, 1})
+            for (bool smooth : {false, true}) run(f, [&] { loadSerialized(f.string(), shape, smooth); });
+    }
+}
+
 TEST_CASE("fuzz corpus and regressions: PNG reader", "[fuzz]") { images("png", ".png"); }
 TEST_CASE("fuzz corpus and regressions: JPEG reader", "[fuzz]") { images("jpeg", ".jpg"); }
 TEST_CASE("fuzz corpus and regressions: EXR reader", "[fuzz]") { images("exr", ".exr"); }

@@ -175,4 +175,9 @@ TriangleMesh loadObj(const std::string& path, bool smoothShading);
 // stored. Throws InputError("file:line: problem" or "file: byte N: problem").
 TriangleMesh loadPly(const std::string& path, bool smoothShading);
 
+// Loads shape `shapeIndex` (0 the first) of a Mitsuba serialized file (zlib-compressed
+// meshes, load_serialized.cpp) in its own coordinates, uv as stored. Throws
+// InputError("file: problem", "file: byte N: problem" or "file: shape I: problem").
+TriangleMesh loadSerialized(const std::string& path, int shapeIndex, bool smoothShading);
+
 }  // namespace wmlt

@@ -114,10 +114,14 @@ void Importer::shape(Node n) {
         if (flipUv)  // Mitsuba's v = 1 - the file's
             for (size_t i = 1; i < sh.mesh.uvs.size(); i += 2) sh.mesh.uvs[i] = 1 - sh.mesh.uvs[i];
         transformMesh(sh.mesh, M, flip);
-    } else if (t == "ply") {  // uv as stored (Mitsuba flips only OBJ's)
+    } else if (t == "ply" || t == "serialized") {  // uv as stored (Mitsuba flips only OBJ's)
         const std::string path = resolve(p.getString("filename", ""));
         const bool faceNormals = p.getBool("face_normals", false);
-        try { sh.mesh = loadPly(path, !faceNormals); } catch (const InputError& e) { p.fail(n, e.what()); }
+        const int index = t == "serialized" ? p.getInt("shape_index", 0) : 0;
+        if (index < 0) p.fail(n, "shape_index must be >= 0");
+        try {
+            sh.mesh = t == "ply" ? loadPly(path, !faceNormals) : loadSerialized(path, index, !faceNormals);
+        } catch (const InputError& e) { p.fail(n, e.what()); }
         transformMesh(sh.mesh, M, flip);
     } else if (t == "rectangle" || t == "cube" || t == "disk") {
         sh.mesh = t == "rectangle" ? rectangleMesh() : t == "cube" ? cubeMesh() : diskMesh(kDiskSegments);
@@ -191,7 +195,7 @@ void Importer::emitter(Node n, int shape) {
         LightDesc l;
         l.radiance = p.getColor("radiance", Vec3(1.0f));
         if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
-        // A rectangle: the analytic rect light; any other mesh (obj, ply, cube, disk): a
+        // A rectangle: the analytic rect light; any other mesh (obj, ply, serialized, cube, disk): a
         // triangle mesh light emitting on its winding's side.
         if (sh.kind == ShapeKind::Sphere) l.kind = LightKind::Sphere;
         else if (std::string(n.parent().attribute("type").value()) == "rectangle") l.kind = LightKind::Rect;
