@@ -127,11 +127,11 @@ struct ShapeDesc {
 
 // Mesh: any triangle mesh emitting on its winding's side (Mitsuba's area on obj, ply,
 // cube, disk); Point: Mitsuba's point light (no shape).
-enum class LightKind : uint8_t { Rect, Sphere, Mesh, Point };
+enum class LightKind : uint8_t { Rect, Sphere, Mesh, Point, Directional };
 
 struct LightDesc {
     LightKind kind = LightKind::Rect;
-    Vec3 radiance{1.0f};  // Intensity * Colour (Point: the intensity I, W / sr)
+    Vec3 radiance{1.0f};  // Intensity * Colour (Point: the intensity I, W / sr; Directional: the irradiance E, W / m^2)
     int shape = -1;       // index into SceneDesc::shapes (-1 for Point)
     Vec3 position;        // Point
     // Point as Mitsuba's spot: the unit axis (world) it shines along, and its angles in
@@ -139,6 +139,7 @@ struct LightDesc {
     // point light.
     Vec3 spotAxis{0, 0, 1};
     float spotCutoff = 0, spotBeam = 0;
+    Vec3 direction{0, 0, 1};  // Directional: the unit direction its light travels (world)
 };
 
 struct SceneDesc {

@@ -11,7 +11,7 @@
 
 namespace wmlt {
 
-enum class LightType : uint8_t { Rect, Sphere, Env, Mesh, Point };
+enum class LightType : uint8_t { Rect, Sphere, Env, Mesh, Point, Directional };
 
 struct Light {
     LightType type = LightType::Rect;
@@ -23,11 +23,18 @@ struct Light {
     int mesh = -1;           // Mesh: index into Scene::meshLights
     // Point as a spot (Mitsuba's `spot`): L is the intensity on the unit axis, scaled by
     // spotFalloff; cosCutoff < -1: a point light, emitting alike in every direction.
+    // Directional (Mitsuba's `directional`, a delta in direction at infinity): L is the
+    // irradiance on a plane facing it, axis the direction its light travels, area the
+    // emission disc's pi R^2 (R the scene's bounding radius).
     Vec3 axis{0, 0, 1};
     float cosCutoff = -2, cosBeam = -2, cutoff = 0, invTransition = 0;
 };
 
-inline bool isDeltaLight(const Light& l) { return l.type == LightType::Point; }
+// Delta lights are found by next-event estimation only: a point (or spot) in position, a
+// directional light in direction.
+inline bool isDeltaLight(const Light& l) { return l.type == LightType::Point || l.type == LightType::Directional; }
+// Lights at infinity: light subpaths start on a disc outside the scene's bounds.
+inline bool isInfiniteLight(const Light& l) { return l.type == LightType::Env || l.type == LightType::Directional; }
 inline bool isSpot(const Light& l) { return l.cosCutoff >= -1; }
 
 // A spot's intensity factor in the unit direction w from it (Mitsuba's falloff curve): 1
@@ -189,6 +196,7 @@ inline bool samplePointLight(const Light& l, Vec3 ref, LightSample& s) {
 // Power (flux) of a light, used to choose lights in proportion to it: pi A L for area
 // lights (one-sided, cosine-weighted), 4 pi I for a point light.
 inline float lightPower(const Light& l) {
+    if (l.type == LightType::Directional) return l.area * luminance(l.L);  // E through the disc pi R^2
     if (l.type == LightType::Point && isSpot(l))  // the cone to mid-falloff (pbrt-v4's SpotLight::Phi)
         return 2.0f * kPi * (1.0f - 0.5f * (l.cosCutoff + l.cosBeam)) * luminance(l.L);
     return l.type == LightType::Point ? 4.0f * kPi * luminance(l.L) : kPi * l.area * luminance(l.L);

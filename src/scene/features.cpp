@@ -41,7 +41,8 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
     }
     for (const LightDesc& l : d.lights)
         (l.kind == LightKind::Rect ? f.rectLights : l.kind == LightKind::Sphere ? f.sphereLights
-                                                 : l.kind == LightKind::Mesh ? f.meshLights : f.pointLights) = true;
+                                                 : l.kind == LightKind::Mesh ? f.meshLights
+                                                 : l.kind == LightKind::Directional ? f.directionalLights : f.pointLights) = true;
     f.envMap = d.envMap.width > 0;
     f.depthOfField = d.camera.dof;
     f.needUv = f.textures || f.bump;
@@ -60,7 +61,7 @@ std::string SceneFeatures::describe() const {
     for (int k = 0; k < kMaterialKinds; ++k)
         if (material[k]) o << ' ' << kMaterialNames[k];
     o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "") << (meshLights ? " mesh" : "")
-      << (pointLights ? " point" : "") << (envMap ? " environment-map" : "") << "\n";
+      << (pointLights ? " point" : "") << (directionalLights ? " directional" : "") << (envMap ? " environment-map" : "") << "\n";
     o << "textures: " << (textures ? "yes" : "no") << "\n";
     o << "bump mapping: " << (bump ? "yes" : "no") << "\n";
     o << "depth of field: " << (depthOfField ? "yes" : "no") << "\n";
@@ -80,7 +81,7 @@ std::string SceneFeatures::json() const {
         if (material[k]) { o << (first ? "" : ", ") << '"' << kMaterialNames[k] << '"'; first = false; }
     auto b = [](bool v) { return v ? "true" : "false"; };
     o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
-      << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights)
+      << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights)
       << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures)
       << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
       << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << "}";

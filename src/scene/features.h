@@ -13,7 +13,7 @@ struct SceneFeatures {
     bool bump = false;          // some shader has a Bump
     bool envMap = false;
     bool depthOfField = false;
-    bool rectLights = false, sphereLights = false, meshLights = false, pointLights = false;
+    bool rectLights = false, sphereLights = false, meshLights = false, pointLights = false, directionalLights = false;
     bool smoothNormals = false; // some mesh interpolates vertex normals
     bool spheres = false;       // sphere geometry (not lights)
     bool needUv = false;        // textures or bump: the surface stage computes (u, v)

@@ -213,6 +213,18 @@ void Importer::emitter(Node n, int shape) {
         if (hasPosition && hasTransform) p.fail(n, "give position or to_world, not both");
         l.position = hasPosition ? p.getPoint("position", Vec3(0.0f)) : p.getTransform("to_world").point(Vec3(0.0f));
         s_.lights.push_back(l);
+    } else if (t == "directional") {  // a delta in direction: irradiance E, from infinity
+        if (shape >= 0) p.fail(n, "a directional emitter cannot be attached to a shape");
+        LightDesc l;
+        l.kind = LightKind::Directional;
+        l.radiance = p.getColor("irradiance", Vec3(1.0f));
+        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "irradiance must be >= 0");
+        const bool hasDirection = p.has("direction"), hasTransform = p.has("to_world");
+        if (hasDirection && hasTransform) p.fail(n, "give direction or to_world, not both");
+        const Vec3 d = hasDirection ? p.getPoint("direction", Vec3(0, 0, 1)) : p.getTransform("to_world").vector(Vec3(0, 0, 1));
+        if (!(length(d) > 0) || !isFinite(d)) p.fail(n, "the direction must be a nonzero vector");
+        l.direction = normalize(d);
+        s_.lights.push_back(l);
     } else if (t == "spot") {  // a point light shining along +z of to_world within a cone
         if (shape >= 0) p.fail(n, "a spot emitter cannot be attached to a shape");
         if (p.has("texture")) p.fail(n, "a spot's texture (a projected image) is not supported");

@@ -229,6 +229,14 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
 
     for (const LightDesc& ld : d.lights) {
         Light l;
+        if (ld.kind == LightKind::Directional) {
+            l.type = LightType::Directional;
+            l.L = ld.radiance;
+            l.axis = normalize(ld.direction);
+            l.area = kPi * s->radius * s->radius;  // its emission disc
+            s->lights.push_back(l);
+            continue;
+        }
         if (ld.kind == LightKind::Point) {
             l.type = LightType::Point;
             l.L = ld.radiance;

@@ -40,7 +40,8 @@ inline const Light* soleRectLight(const Scene& s) {
     return s.lights.size() == 1 && s.lights[0].type == LightType::Rect ? &s.lights[0] : nullptr;
 }
 
-// Samples light `li` from reference point ref (solid-angle pdf, without the choice pmf).
+// Samples light `li` from reference point ref (solid-angle pdf, without the choice pmf;
+// delta lights: 1).
 inline bool sampleLightFrom(const Scene& s, int li, Vec3 ref, float u1, float u2, LightSample& ls) {
     const Light& l = s.lights[li];
     switch (l.type) {
@@ -48,6 +49,16 @@ inline bool sampleLightFrom(const Scene& s, int li, Vec3 ref, float u1, float u2
         case LightType::Sphere: return sampleSphereLight(l, ref, u1, u2, ls);
         case LightType::Mesh: return sampleMeshLight(s, l, ref, u1, u2, ls);
         case LightType::Point: return samplePointLight(l, ref, ls);
+        case LightType::Directional: {  // the one direction: a delta (pdf 1), at infinity
+            ls.wi = -l.axis;
+            ls.pdf = 1.0f;
+            ls.delta = true;
+            ls.dist = INFINITY;
+            ls.Le = l.L;
+            ls.p = ref + ls.wi * (2.0f * s.radius);
+            ls.n = -ls.wi;
+            return true;
+        }
         case LightType::Env: {
             ls.wi = s.env.sample(u1, u2, ls.pdf);
             ls.dist = INFINITY;
@@ -70,7 +81,8 @@ inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 di
         case LightType::Rect: pdf = rectLightPdf(l, ref, pLight); break;
         case LightType::Sphere: pdf = sphereLightPdf(l, ref); break;
         case LightType::Env: pdf = s.env.pdf(dir); break;
-        case LightType::Point: pdf = 1.0f; break;
+        case LightType::Point:
+        case LightType::Directional: pdf = 1.0f; break;
         case LightType::Mesh: {
             const Vec3 d = pLight - ref;
             const float dist2 = lengthSquared(d);
@@ -100,8 +112,15 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
             e.Le = l.L;
             return e.pdfDir > 0;
         }
-        case LightType::Env: {
-            Vec3 d = s.env.sample(u0, u1, e.pdfDir);
+        case LightType::Env:
+        case LightType::Directional: {  // directional: its one direction (pdfDir 1, a delta)
+            Vec3 d;
+            if (l.type == LightType::Directional) {
+                d = -l.axis;
+                e.pdfDir = 1.0f;
+            } else {
+                d = s.env.sample(u0, u1, e.pdfDir);
+            }
             if (!(e.pdfDir > 0)) return false;
             float dx, dy;
             sampleConcentricDisk(u2, u3, dx, dy);
@@ -111,7 +130,7 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
             e.n = -d;
             e.dir = -d;
             e.pdfPos = 1.0f / (kPi * R * R);
-            e.Le = s.env.Le(d);
+            e.Le = l.type == LightType::Directional ? l.L : s.env.Le(d);
             return true;
         }
     }

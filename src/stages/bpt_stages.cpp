@@ -89,7 +89,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
     // y_0 of slot i from light li (choice pmf), its emission sample e and shading frame (about
     // e.n), and its path.
     auto start = [&](size_t i, int li, float pmf, const LightEmission& e, const Frame& shading) {
-        const bool infinite = scene.lights[li].type == LightType::Env;
+        const bool infinite = isInfiniteLight(scene.lights[li]);
         const float pdfOrigin = pmf * e.pdfPos;
         const size_t y0 = b.light.at(uint32_t(i), 0);
         b.light.count[i] = 1;

@@ -40,11 +40,12 @@ inline float pdfAt(float pdfSa, Vec3 from, const PathPoint& to) {
 
 // Density with which a light subpath starts at x0 (light li): emission position times
 // the choice pmf; the environment: its direction's density times the pmf; a point
-// light: the pmf (its position is a discrete choice).
+// light: the pmf (its position is a discrete choice), a directional light too (its
+// direction).
 inline float originPdf(const Scene& scene, int li, const PathPoint& x0) {
     const float pmf = scene.lightDistribution.discretePmf(li);
+    if (isDeltaLight(scene.lights[li])) return pmf;  // (directional: its one direction)
     if (x0.kind == BptVertexKind::Env) return pmf * scene.env.pdf(-x0.ng);
-    if (isDeltaLight(scene.lights[li])) return pmf;
     return pmf / scene.lights[li].area;
 }
 

@@ -57,7 +57,7 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
             !sampleLightEmission(scene, li, sampleDimension(key, 1), sampleDimension(key, 2),
                                  sampleDimension(key, 3), sampleDimension(key, 4), e))
             return;
-        const bool infinite = scene.lights[li].type == LightType::Env;
+        const bool infinite = isInfiniteLight(scene.lights[li]);
         // Light vertex: alpha = Le-carrying weight 1 / (pmf pdfPos) (Veach 10.2).
         const float invPos = 1.0f / (pmf * e.pdfPos);
         if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
