@@ -128,7 +128,7 @@ TEST_CASE("Microfacet BSDFs: sampling matches the pdf, f/pdf of samples equal ev
                 auto r = chi2::sphereTest(sample, [&](Vec3 w) { return bsdfPdf(m.p, wo, w); },
                                           chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16), 100000,
                                           std::max(0.0, 1.0 - pdfIntegral(m, wo)), 300 + k++);
-                INFO(name(m) << " type " << int(m.x.dist.type) << " alpha " << m.x.dist.alpha << " eta " << m.p.eta
+                INFO(name(m) << " type " << int(m.x.dist.type) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta
                      << " theta " << th << " " << chi2::describe(r));
                 CHECK(r.pValue > kMinP);
             }
@@ -140,14 +140,14 @@ TEST_CASE("Microfacet BSDF pdfs integrate to at most 1, to 1 where nothing is lo
     for (const Material& m : roughCases()) {
         for (double th : {0.0, 30.0, 70.0, 160.0}) {
             const double s = pdfIntegral(m, dirAt(th, 25));
-            INFO(name(m) << " alpha " << m.x.dist.alpha << " eta " << m.p.eta << " theta " << th << " integral " << s);
+            INFO(name(m) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta << " theta " << th << " integral " << s);
             CHECK(s <= 1 + 1e-4);
             // Near normal incidence a rough dielectric, conductor or rough plastic loses
             // < 1% (samples shadowed below the horizon); the smooth plastic loses its coating.
             if (m.p.kind == MaterialKind::Plastic) {
                 const double F = fresnelDielectric(std::fabs(dirAt(th, 0).z), m.p.eta);
                 CHECK(s == Approx(1 - F * 0.5 / (F * 0.5 + (1 - F) * 0.5)).margin(1e-4));
-            } else if (th == 0.0 && m.x.dist.alpha <= 0.2f) {
+            } else if (th == 0.0 && m.x.dist.alphaX <= 0.2f) {
                 CHECK(s >= 0.99);
             }
         }
@@ -166,7 +166,7 @@ TEST_CASE("Microfacet BSDFs are reciprocal (rough dielectric: up to eta'^2)", "[
             if (m.p.kind == MaterialKind::RoughDielectric && wo.z * wi.z < 0) e2 = wo.z > 0 ? m.p.eta * m.p.eta : 1 / (m.p.eta * m.p.eta);
             for (int c = 0; c < 3; ++c) {
                 bool ok = close(a[c] * e2, b[c], 1e-3);
-                if (!ok && bad < 3) WARN(name(m) << " alpha " << m.x.dist.alpha << " wo " << wo.x << " " << wo.y << " " << wo.z
+                if (!ok && bad < 3) WARN(name(m) << " alpha " << m.x.dist.alphaX << " wo " << wo.x << " " << wo.y << " " << wo.z
                                          << " wi " << wi.x << " " << wi.y << " " << wi.z << ": " << a[c] * e2 << " vs " << b[c]);
                 bad += !ok;
             }
@@ -193,7 +193,7 @@ TEST_CASE("Microfacet BSDFs conserve energy; closed forms of the albedo", "[bsdf
                 }
                 for (int c = 0; c < 3; ++c) {
                     double mean = s[c] / N, se = std::sqrt(std::max(0.0, s2[c] / N - mean * mean) / N);
-                    INFO(name(m) << " alpha " << m.x.dist.alpha << " eta " << m.p.eta << " theta " << th << " mode "
+                    INFO(name(m) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta << " theta " << th << " mode "
                          << int(mode) << " channel " << c << " albedo " << mean << " se " << se);
                     // Radiance across a dielectric is not conserved (1/eta^2): only Importance.
                     if (!(m.p.kind == MaterialKind::RoughDielectric && mode == TransportMode::Radiance))

@@ -146,3 +146,19 @@ TEST_CASE("Mitsuba tracers: point lights and mesh lights in every tracer", "[mit
     <bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="diffuse_reflectance" value="0.3, 0.3, 0.6"/></bsdf></shape>
 )"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }
+
+// Anisotropic roughness (alpha_u != alpha_v) under a ceiling light: a rough copper plate
+// turned 30 degrees about its normal (its u direction, the highlight's, off the box's axes)
+// and a rough glass sphere. Every tracer must turn the shading frames alike (x along
+// dp/du, stages/surface.h) for the connections and the sampled directions to agree.
+TEST_CASE("Mitsuba tracers: anisotropic roughness in every tracer", "[mitsuba][render][stat][aniso]") {
+    agree("anisotropic roughness", scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
+    <emitter type="area"><rgb name="radiance" value="5"/></emitter></shape>
+  <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate z="1" angle="30"/><rotate x="1" angle="-90"/><translate x="-0.3" y="0.01"/></transform>
+    <bsdf type="roughconductor"><float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.4"/><string name="distribution" value="ggx"/>
+      <rgb name="eta" value="0.2, 0.92, 1.1"/><rgb name="k" value="3.9, 2.45, 2.14"/></bsdf></shape>
+  <shape type="sphere"><point name="center" x="0.45" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
+    <bsdf type="roughdielectric"><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.08"/></bsdf></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+}

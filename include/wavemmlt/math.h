@@ -74,6 +74,15 @@ struct Frame {
     Vec3 s, t, n;
     static Frame fromFloats(const FrameFloats& f) { return {{f.sx, f.sy, f.sz}, {f.tx, f.ty, f.tz}, {f.nx, f.ny, f.nz}}; }
     static Frame fromNormal(Vec3 n) { return fromFloats(frameFromNormal(n.x, n.y, n.z)); }
+    // s along tangent's part orthogonal to n (Gram-Schmidt), t = n x s (right-handed, as
+    // fromNormal's); fromNormal where the tangent is (nearly) parallel to n or zero.
+    static Frame fromNormalTangent(Vec3 n, Vec3 tangent) {
+        const Vec3 s = tangent - n * dot(n, tangent);
+        const float l2 = dot(s, s);
+        if (!(l2 > 1e-12f * dot(tangent, tangent))) return fromNormal(n);
+        const Vec3 su = s / std::sqrt(l2);
+        return {su, cross(n, su), n};
+    }
     Vec3 toLocal(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
     Vec3 toWorld(Vec3 v) const { return s * v.x + t * v.y + n * v.z; }
 };

@@ -68,7 +68,8 @@ struct MaterialDesc {
     // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
     // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.
     MicrofacetType distribution = MicrofacetType::Beckmann;
-    float alpha = 0.1f;                      // rough kinds
+    float alpha = 0.1f;                      // rough kinds (anisotropic: the roughness along u, alpha_u)
+    float alphaV = -1;                       // rough kinds: the roughness along v (alpha_v); < 0: alpha
     Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
     bool nonlinear = false;                  // Plastic, RoughPlastic
     bool twoSided = true;                    // false: black seen from below the shading normal
@@ -79,6 +80,16 @@ struct MaterialDesc {
     float opacity = 1;
     int opacityTexture = -1;                 // index into SceneDesc::textures, -1: none
 };
+
+// A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it
+// differs from the u one: the material is anisotropic, its shading frame's x axis follows
+// dp/du (stages/surface.h).
+inline float alphaVOf(const MaterialDesc& m) { return m.alphaV < 0 ? m.alpha : m.alphaV; }
+inline bool isAnisotropic(const MaterialDesc& m) {
+    const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric ||
+                       m.kind == MaterialKind::RoughPlastic;
+    return rough && alphaVOf(m) != m.alpha;
+}
 
 // The thesis' three textures, then Mitsuba's bitmap and checkerboard (docs/mitsuba.md).
 enum class TextureKind : uint8_t { Checker, ImageFile, Marble, Bitmap, Checkerboard };

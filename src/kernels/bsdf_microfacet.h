@@ -45,6 +45,8 @@ bool plasticSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2
 // (as a rough conductor with dielectric Fresnel) plus the base seen through it:
 // Kd' T(cos_o) T(cos_i) / (eta^2 pi), T the coating's transmittance table, Fdr_int from the
 // rough coating. Coating chosen with probability (1 - T_o) w / ((1 - T_o) w + T_o (1 - w)).
+// Isotropic only, as Mitsuba 3's: T is tabulated over cos alone (the importer refuses
+// alpha_u != alpha_v here).
 Vec3 roughPlasticF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 float roughPlasticPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
 bool roughPlasticSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, BsdfSample& s);

@@ -45,10 +45,12 @@ double beckmannSlopeX(double mu, double u) {
 }
 
 // GGX (Heitz 2018, "Sampling the GGX distribution of visible normals", listing 1): the
-// stretched view direction's projected hemisphere, sampled as a disc warped so that its
-// lower part shrinks to the projection of the half seen at grazing angles.
-Vec3 sampleGgx(float alpha, Vec3 wo, float u1, float u2) {
-    const Vec3 vh = normalize(Vec3(alpha * wo.x, alpha * wo.y, wo.z));
+// view direction stretched by (ax, ay) to the alpha = 1 configuration, its projected
+// hemisphere sampled as a disc warped so that its lower part shrinks to the projection of
+// the half seen at grazing angles, the normal unstretched. (ax == ay: the isotropic
+// arithmetic, the same bits as with one alpha.)
+Vec3 sampleGgx(float ax, float ay, Vec3 wo, float u1, float u2) {
+    const Vec3 vh = normalize(Vec3(ax * wo.x, ay * wo.y, wo.z));
     const float len2 = vh.x * vh.x + vh.y * vh.y;
     const Vec3 t1 = len2 > 0 ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(len2) : Vec3(1, 0, 0);
     const Vec3 t2 = cross(vh, t1);
@@ -58,13 +60,15 @@ Vec3 sampleGgx(float alpha, Vec3 wo, float u1, float u2) {
     const float p1 = r * cosPhi, s = 0.5f * (1.0f + vh.z);
     const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * sinPhi;
     const Vec3 nh = t1 * p1 + t2 * p2 + vh * std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
-    return normalize(Vec3(alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)));
+    return normalize(Vec3(ax * nh.x, ay * nh.y, std::max(1e-7f, nh.z)));
 }
 
-// Beckmann: stretch to alpha = 1, sample the slopes (x along wo's azimuth, y across it:
-// a normal of variance 1/2), rotate to wo's azimuth, unstretch (Heitz and d'Eon 2014).
-Vec3 sampleBeckmann(float alpha, Vec3 wo, float u1, float u2) {
-    const Vec3 v = normalize(Vec3(alpha * wo.x, alpha * wo.y, wo.z));
+// Beckmann: stretch by (ax, ay) to alpha = 1, sample the slopes (x along the stretched wo's
+// azimuth, y across it: a normal of variance 1/2), rotate to that azimuth, unstretch the
+// slopes by (ax, ay) (Heitz and d'Eon 2014, sec. 5: the anisotropic distribution is the
+// isotropic one stretched).
+Vec3 sampleBeckmann(float ax, float ay, Vec3 wo, float u1, float u2) {
+    const Vec3 v = normalize(Vec3(ax * wo.x, ay * wo.y, wo.z));
     const double sinT = std::sqrt(std::max(0.0, double(v.x) * v.x + double(v.y) * v.y));
     double sx, sy;
     if (sinT < 1e-7) {  // normal incidence: the slopes are Gaussian, P22 = exp(-x^2 - y^2) / pi
@@ -77,14 +81,15 @@ Vec3 sampleBeckmann(float alpha, Vec3 wo, float u1, float u2) {
         sx = c * x - s * y;
         sy = s * x + c * y;
     }
-    return normalize(Vec3(float(-alpha * sx), float(-alpha * sy), 1.0f));
+    return normalize(Vec3(float(-ax * sx), float(-ay * sy), 1.0f));
 }
 
 }  // namespace
 
 Vec3 sampleVisibleNormal(const Microfacet& d, Vec3 wo, float u1, float u2) {
     if (wo.z < 0) wo = -wo;
-    return d.type == MicrofacetType::GGX ? sampleGgx(d.alpha, wo, u1, u2) : sampleBeckmann(d.alpha, wo, u1, u2);
+    return d.type == MicrofacetType::GGX ? sampleGgx(d.alphaX, d.alphaY, wo, u1, u2)
+                                         : sampleBeckmann(d.alphaX, d.alphaY, wo, u1, u2);
 }
 
 }  // namespace wmlt

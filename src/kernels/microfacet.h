@@ -1,10 +1,13 @@
-// Isotropic microfacet distributions (Walter et al. 2007, "Microfacet models for refraction
+// Microfacet distributions (Walter et al. 2007, "Microfacet models for refraction
 // through rough surfaces"; Heitz 2014, "Understanding the masking-shadowing function"):
-// GGX and Beckmann, with the exact Smith Lambda of each, the separable shadowing-masking
-// G = G1(wo, m) G1(wi, m) (as Mitsuba 3 uses), and sampling of the visible normals
-// D_wo(m) = G1(wo, m) max(0, wo.m) D(m) / wo.z (Heitz 2018 for GGX; Heitz and d'Eon 2014
-// for Beckmann, inverting the slope CDF numerically).
+// GGX and Beckmann, isotropic or anisotropic (roughness alphaX along the local frame's x,
+// the shading tangent, alphaY along y), with the exact Smith Lambda of each, the separable
+// shadowing-masking G = G1(wo, m) G1(wi, m) (as Mitsuba 3 uses), and sampling of the
+// visible normals D_wo(m) = G1(wo, m) max(0, wo.m) D(m) / wo.z (Heitz 2018 for GGX; Heitz
+// and d'Eon 2014 for Beckmann, inverting the slope CDF numerically).
 // Directions are in the local frame, z = the macro-surface normal; m.z > 0.
+// An isotropic distribution (alphaX == alphaY) computes D and Lambda with the isotropic
+// arithmetic, chosen per call: the same bits as before anisotropy existed.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -16,13 +19,26 @@ namespace wmlt {
 
 struct Microfacet {
     MicrofacetType type = MicrofacetType::Beckmann;
-    float alpha = 0.1f;  // RMS slope (Beckmann) / width (GGX)
+    // RMS slope (Beckmann) / width (GGX) along the frame's x (Mitsuba's alpha_u) and y (alpha_v)
+    float alphaX = 0.1f, alphaY = 0.1f;
+    Microfacet() = default;
+    Microfacet(MicrofacetType t, float alpha) : type(t), alphaX(alpha), alphaY(alpha) {}
+    Microfacet(MicrofacetType t, float ax, float ay) : type(t), alphaX(ax), alphaY(ay) {}
+    bool isotropic() const { return alphaX == alphaY; }
 };
 
-// D(m), normalised so that the projected area int D(m) m.z dm = 1 (Walter 2007, eqs. 25, 33).
+// D(m), normalised so that the projected area int D(m) m.z dm = 1 (Walter 2007, eqs. 25, 33;
+// anisotropic: Heitz 2014's anisotropic forms, pbrt-v4 9.6: tan^2 / alpha^2 ->
+// (m.x^2 / ax^2 + m.y^2 / ay^2) / m.z^2 and alpha^2 -> ax ay).
 inline float microfacetD(const Microfacet& d, Vec3 m) {
     if (!(m.z > 0)) return 0.0f;
-    const double c2 = double(m.z) * m.z, a2 = double(d.alpha) * d.alpha;
+    if (!d.isotropic()) {
+        const double c2 = double(m.z) * m.z, ax = d.alphaX, ay = d.alphaY;
+        const double e = (double(m.x) * m.x / (ax * ax) + double(m.y) * m.y / (ay * ay)) / c2, axy = ax * ay;
+        if (d.type == MicrofacetType::Beckmann) return float(std::exp(-e) / (M_PI * axy * c2 * c2));
+        return float(1.0 / (M_PI * axy * c2 * c2 * (1.0 + e) * (1.0 + e)));
+    }
+    const double c2 = double(m.z) * m.z, a2 = double(d.alphaX) * d.alphaX;
     const double s2 = std::max(0.0, double(m.x) * m.x + double(m.y) * m.y);
     const double tan2 = s2 / c2, c4 = c2 * c2;
     if (d.type == MicrofacetType::Beckmann) return float(std::exp(-tan2 / a2) / (M_PI * a2 * c4));
@@ -31,12 +47,22 @@ inline float microfacetD(const Microfacet& d, Vec3 m) {
 }
 
 // Smith's Lambda(w) (Heitz 2014, eqs. 72 and 86): GGX (-1 + sqrt(1 + alpha^2 tan^2)) / 2;
-// Beckmann (exp(-a^2) / (a sqrt(pi)) - erfc(a)) / 2 with a = 1 / (alpha tan).
+// Beckmann (exp(-a^2) / (a sqrt(pi)) - erfc(a)) / 2 with a = 1 / (alpha tan). Anisotropic:
+// alpha is the projected roughness alpha(phi) = sqrt(cos^2 phi ax^2 + sin^2 phi ay^2) of
+// w's azimuth (Heitz 2014, anisotropic Smith), alpha^2 tan^2 = (w.x^2 ax^2 + w.y^2 ay^2) / w.z^2.
 inline double microfacetLambda(const Microfacet& d, Vec3 w) {
     const double s2 = std::max(0.0, double(w.x) * w.x + double(w.y) * w.y), c = std::fabs(double(w.z));
     if (s2 == 0) return 0.0;
     if (c == 0) return INFINITY;
-    const double alpha = d.alpha;
+    if (!d.isotropic()) {
+        const double ax = d.alphaX, ay = d.alphaY;
+        const double at2 = (double(w.x) * w.x * ax * ax + double(w.y) * w.y * ay * ay) / (c * c);  // alpha^2 tan^2
+        if (d.type == MicrofacetType::GGX) return 0.5 * at2 / (1.0 + std::sqrt(1.0 + at2));
+        const double a = 1.0 / std::sqrt(at2);
+        if (a > 26) return 0.0;
+        return 0.5 * (std::exp(-a * a) / (a * std::sqrt(M_PI)) - std::erfc(a));
+    }
+    const double alpha = d.alphaX;
     if (d.type == MicrofacetType::GGX) {
         const double t2 = alpha * alpha * s2 / (c * c);
         return 0.5 * t2 / (1.0 + std::sqrt(1.0 + t2));  // = (-1 + sqrt(1 + t2)) / 2, no cancellation

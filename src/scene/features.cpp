@@ -36,6 +36,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0) f.bump = true;
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
+        if (isAnisotropic(m)) f.anisotropic = true;
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
     }
@@ -70,6 +71,7 @@ std::string SceneFeatures::describe() const {
     o << "delta lobes: " << (delta ? "yes" : "no") << "\n";
     o << "one-sided materials: " << (oneSided ? "yes" : "no") << "\n";
     o << "masks (opacity): " << (masks ? "yes" : "no") << "\n";
+    o << "anisotropic roughness: " << (anisotropic ? "yes" : "no") << "\n";
     return o.str();
 }
 

@@ -20,6 +20,7 @@ struct SceneFeatures {
     bool delta = false;         // a material with a delta lobe exists
     bool oneSided = false;      // some material is black from below (Mitsuba without twosided)
     bool masks = false;         // some shape is partly transparent (Mitsuba's mask: Embree filters)
+    bool anisotropic = false;   // some rough material has alpha_u != alpha_v: frames follow dp/du
 
     bool has(MaterialKind k) const { return material[int(k)]; }
     // Human-readable listing for `wavemmlt --describe`.

@@ -131,19 +131,26 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
         if (!(c.x >= 0 && c.y >= 0 && c.z >= 0)) p.fail(p.node(), std::string(name) + " must be >= 0");
         return c;
     };
-    auto rough = [&]() {
+    // anisotropic: alpha_u != alpha_v accepted (Mitsuba 3's roughconductor and
+    // roughdielectric), else refused as Mitsuba's roughplastic refuses it.
+    auto rough = [&](bool anisotropic) {
         const std::string d = p.getString("distribution", "beckmann");
         if (d == "beckmann") m.distribution = MicrofacetType::Beckmann;
         else if (d == "ggx") m.distribution = MicrofacetType::GGX;
         else p.fail(p.node().find_child_by_attribute("name", "distribution"), "distribution \"" + d + "\" is not beckmann or ggx");
-        float a = p.getFloat("alpha", 0.1f);
-        if (p.has("alpha_u") || p.has("alpha_v")) {
-            const float au = p.getFloat("alpha_u", a), av = p.getFloat("alpha_v", a);
-            if (au != av) p.fail(p.node(), "anisotropic roughness (alpha_u != alpha_v) is not supported");
-            a = au;
+        float a = p.getFloat("alpha", 0.1f), av = a;
+        if (p.has("alpha_u") || p.has("alpha_v")) {  // Mitsuba 3's rules: both, and not with alpha
+            if (!p.has("alpha_u") || !p.has("alpha_v")) p.fail(p.node(), "give both alpha_u and alpha_v");
+            if (p.has("alpha")) p.fail(p.node(), "give either alpha or alpha_u and alpha_v, not both");
+            a = p.getFloat("alpha_u", a);
+            av = p.getFloat("alpha_v", a);
+            if (a != av && !anisotropic)
+                p.fail(p.node(), "anisotropic roughness (alpha_u != alpha_v) is not supported by roughplastic (as in Mitsuba 3)");
         }
-        if (!(a > 0 && a <= 10)) p.fail(p.node(), "alpha must be in (0, 10]");
+        for (float x : {a, av})
+            if (!(x > 0 && x <= 10)) p.fail(p.node(), "alpha must be in (0, 10]");
         m.alpha = std::max(a, 1e-4f);
+        if (av != a) m.alphaV = std::max(av, 1e-4f);  // else isotropic: alphaV stays unset
         p.getBool("sample_visible", true);  // sampling only: every choice gives the same image
     };
     auto iors = [&](float intDef) {
@@ -157,13 +164,13 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
     } else if (t == "dielectric" || t == "thindielectric" || t == "roughdielectric") {
         m.kind = t == "dielectric" ? MaterialKind::Dielectric : t == "thindielectric" ? MaterialKind::ThinDielectric : MaterialKind::RoughDielectric;
         iors(1.5046f);
-        if (t == "roughdielectric") rough();
+        if (t == "roughdielectric") rough(true);
         m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
         m.refract = colour("specular_transmittance", Vec3(1.0f), int(ColourParam::Refract));
         m.twoSided = true;  // both sides scatter by definition
     } else if (t == "conductor" || t == "roughconductor") {
         m.kind = t == "conductor" ? MaterialKind::Conductor : MaterialKind::RoughConductor;
-        if (t == "roughconductor") rough();
+        if (t == "roughconductor") rough(true);
         // Mitsuba 3: eta and k, or a named material; "none" (the default) is eta 0, k 1.
         const std::string mat = p.getString("material", "none");
         if (mat == "none") {
@@ -185,7 +192,7 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
     } else if (t == "plastic" || t == "roughplastic") {
         m.kind = t == "plastic" ? MaterialKind::Plastic : MaterialKind::RoughPlastic;
         iors(1.49f);
-        if (t == "roughplastic") rough();
+        if (t == "roughplastic") rough(false);
         m.diffuse = colour("diffuse_reflectance", Vec3(0.5f), int(ColourParam::Diffuse));
         m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
         m.nonlinear = p.getBool("nonlinear", false);

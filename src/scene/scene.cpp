@@ -146,7 +146,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         b.eta = m.iorInside / m.iorOutside;
         if (int(m.kind) >= int(MaterialKind::Conductor)) {
             BsdfExtra& x = s->bsdfExtras[i];
-            x.dist = Microfacet{m.distribution, m.alpha};
+            x.dist = Microfacet(m.distribution, m.alpha, alphaVOf(m));  // alphaX along u (the frame's x)
             x.etaC = m.conductorEta;
             x.kC = m.conductorK;
             x.nonlinear = m.nonlinear;

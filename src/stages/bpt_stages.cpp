@@ -202,7 +202,7 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         v.count[slot] = uint8_t(idx + 1);
         v.p[cur] = sp.p;
         v.ng[cur] = sp.ng;
-        v.shading[cur] = Frame::fromNormal(sp.ns);
+        v.shading[cur] = shadingFrame<F>(scene, sp);
         v.beta[cur] = b.pathBeta[i];
         v.pdfFwd[cur] = v.kind[prev] == BptVertexKind::Env
                             ? b.pathPdf[i] * std::fabs(dot(sp.ng, rayDir(rh)))  // disc density projected

@@ -19,16 +19,18 @@ struct SurfacePoint {
     float u = 0, v = 0;
     int material = -1;
     int light = -1;
+    Vec3 dpdu;    // F::aniso only: dp/du (the bump's derivative), the anisotropic frame's x
 };
 
 // The scene's surface choices (SceneFeatures) as compile-time constants: the stages that
 // resolve hits are instantiated per combination and choose one per stage call
 // (withSurfaceFeatures), so no hit tests them.
 //   Uv: the surface stage computes (u, v) (textures or bump); Bump: bump maps;
-//   Textures: textured colour parameters; OneSided: materials black from below.
-template <bool Uv, bool Bump, bool Textures, bool OneSided>
+//   Textures: textured colour parameters; OneSided: materials black from below;
+//   Aniso: some material is anisotropic, its hits' frames follow dp/du (shadingFrame).
+template <bool Uv, bool Bump, bool Textures, bool OneSided, bool Aniso = false>
 struct SurfaceFeatures {
-    static constexpr bool uv = Uv, bump = Bump, textures = Textures, oneSided = OneSided;
+    static constexpr bool uv = Uv, bump = Bump, textures = Textures, oneSided = OneSided, aniso = Aniso;
 };
 
 // Calls fn(F{}) with F the SurfaceFeatures of the scene.
@@ -41,9 +43,12 @@ void withBools(Fn&& fn, bool next, Rest... rest) {
     if (next) withBools<Chosen..., true>(fn, rest...);
     else withBools<Chosen..., false>(fn, rest...);
 }
+// A scene with anisotropic materials takes the one instantiation with every feature on
+// (each tests its material's own fields, so it is right for any scene) and dp/du kept.
 template <class Fn>
 void withSurfaceFeatures(const SceneFeatures& f, Fn&& fn) {
-    withBools(fn, f.needUv, f.bump, f.textures, f.oneSided);
+    if (f.anisotropic) fn(SurfaceFeatures<true, true, true, true, true>{});
+    else withBools(fn, f.needUv, f.bump, f.textures, f.oneSided);
 }
 
 // Helpers of surfaceAt (surface.cpp): partial derivatives of p in (u, v) on a triangle
@@ -96,6 +101,7 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
                 if (mitsuba) sphereDerivativesMitsuba(g, l, dpdu, dpdv);
                 else sphereDerivatives(g, l, dpdu, dpdv);
                 applyBump(scene, sp, dpdu, dpdv);
+                if constexpr (F::aniso) sp.dpdu = dpdu;
             }
         }
         return sp;
@@ -133,6 +139,7 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
             Vec3 dpdu, dpdv;
             triangleDerivatives(m, tri, sp.ns, dpdu, dpdv);
             applyBump(scene, sp, dpdu, dpdv);
+            if constexpr (F::aniso) sp.dpdu = dpdu;
         }
     }
     return sp;
@@ -164,6 +171,20 @@ void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams&
     }
 }
 
+// The shading frame of a hit: Frame::fromNormal, or, for an anisotropic material, x along
+// dp/du made orthogonal to the shading normal (Mitsuba 3's convention: alpha_u along u; a
+// mesh without (u, v) falls back to fromNormal's x, as triangleDerivatives does).
+template <class F>
+inline Frame shadingFrame(const Scene& scene, const SurfacePoint& sp) {
+    if constexpr (F::aniso) {
+        if (sp.material >= 0) {
+            const BsdfExtra* x = scene.materials[sp.material].x;
+            if (x && !x->dist.isotropic()) return Frame::fromNormalTangent(sp.ns, sp.dpdu);
+        }
+    }
+    return Frame::fromNormal(sp.ns);
+}
+
 // Writes hit h of a batch (PT, LT: the same hit arrays) from path i's surface point:
 // position, geometric normal, wo, shading frame and material.
 template <class F, class Batch>
@@ -172,7 +193,7 @@ inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const Su
     b.p[h] = sp.p;
     b.ng[h] = sp.ng;
     b.wo[h] = wo;
-    b.shading[h] = Frame::fromNormal(sp.ns);
+    b.shading[h] = shadingFrame<F>(scene, sp);
     materialAt<F>(scene, sp, wo, b.bsdf[h]);
 }
 
