@@ -27,6 +27,7 @@ struct Light {
     // irradiance on a plane facing it, axis the direction its light travels, area the
     // emission disc's pi R^2 (R the scene's bounding radius).
     Vec3 axis{0, 0, 1};
+    Frame axisFrame = Frame::fromNormal(Vec3(0, 0, 1));  // spot: about axis, made once with the scene
     float cosCutoff = -2, cosBeam = -2, cutoff = 0, invTransition = 0;
 };
 
@@ -270,8 +271,7 @@ inline bool samplePointEmission(const Light& l, float u2, float u3, LightEmissio
     if (isSpot(l)) {
         const float c = 1.0f - u2 * (1.0f - l.cosCutoff), sn = std::sqrt(std::max(0.0f, 1.0f - c * c));
         const float phi = 2.0f * kPi * u3;
-        const Frame f = Frame::fromNormal(l.axis);
-        e.dir = normalize(f.toWorld(Vec3(sn * std::cos(phi), sn * std::sin(phi), c)));
+        e.dir = normalize(l.axisFrame.toWorld(Vec3(sn * std::cos(phi), sn * std::sin(phi), c)));
         e.n = e.dir;
         e.pdfDir = pointEmissionPdf(l, e.dir);
         e.Le = l.L * spotFalloff(l, e.dir);

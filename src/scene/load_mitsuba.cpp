@@ -189,6 +189,16 @@ void Importer::shape(Node n) {
 void Importer::emitter(Node n, int shape) {
     Props p = props(n);
     const std::string t = p.type();
+    // A light without a shape (point, spot, directional) of kind k: its colour `name`
+    // (Mitsuba's default 1) must be >= 0.
+    auto shapeless = [&](LightKind k, const char* name) {
+        if (shape >= 0) p.fail(n, "a " + t + " emitter cannot be attached to a shape");
+        LightDesc l;
+        l.kind = k;
+        l.radiance = p.getColor(name, Vec3(1.0f));
+        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, std::string(name) + " must be >= 0");
+        return l;
+    };
     if (t == "area") {
         if (shape < 0) p.fail(n, "an area emitter belongs inside a <shape>");
         ShapeDesc& sh = s_.shapes[shape];
@@ -204,21 +214,13 @@ void Importer::emitter(Node n, int shape) {
         sh.light = int(s_.lights.size());
         s_.lights.push_back(l);
     } else if (t == "point") {  // a delta in position: intensity I (W / sr), never seen
-        if (shape >= 0) p.fail(n, "a point emitter cannot be attached to a shape");
-        LightDesc l;
-        l.kind = LightKind::Point;
-        l.radiance = p.getColor("intensity", Vec3(1.0f));
-        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "intensity must be >= 0");
+        LightDesc l = shapeless(LightKind::Point, "intensity");
         const bool hasPosition = p.has("position"), hasTransform = p.has("to_world");
         if (hasPosition && hasTransform) p.fail(n, "give position or to_world, not both");
         l.position = hasPosition ? p.getPoint("position", Vec3(0.0f)) : p.getTransform("to_world").point(Vec3(0.0f));
         s_.lights.push_back(l);
     } else if (t == "directional") {  // a delta in direction: irradiance E, from infinity
-        if (shape >= 0) p.fail(n, "a directional emitter cannot be attached to a shape");
-        LightDesc l;
-        l.kind = LightKind::Directional;
-        l.radiance = p.getColor("irradiance", Vec3(1.0f));
-        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "irradiance must be >= 0");
+        LightDesc l = shapeless(LightKind::Directional, "irradiance");
         const bool hasDirection = p.has("direction"), hasTransform = p.has("to_world");
         if (hasDirection && hasTransform) p.fail(n, "give direction or to_world, not both");
         const Vec3 d = hasDirection ? p.getPoint("direction", Vec3(0, 0, 1)) : p.getTransform("to_world").vector(Vec3(0, 0, 1));
@@ -226,12 +228,8 @@ void Importer::emitter(Node n, int shape) {
         l.direction = normalize(d);
         s_.lights.push_back(l);
     } else if (t == "spot") {  // a point light shining along +z of to_world within a cone
-        if (shape >= 0) p.fail(n, "a spot emitter cannot be attached to a shape");
+        LightDesc l = shapeless(LightKind::Point, "intensity");
         if (p.has("texture")) p.fail(n, "a spot's texture (a projected image) is not supported");
-        LightDesc l;
-        l.kind = LightKind::Point;
-        l.radiance = p.getColor("intensity", Vec3(1.0f));
-        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "intensity must be >= 0");
         const float cutoff = p.getFloat("cutoff_angle", 20.0f), beam = p.getFloat("beam_width", cutoff * 0.75f);
         if (!(cutoff > 0 && cutoff <= 180)) p.fail(n, "cutoff_angle must be in (0, 180] degrees");
         if (!(beam >= 0 && beam <= cutoff)) p.fail(n, "beam_width must be in [0, cutoff_angle]");

@@ -243,6 +243,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             l.center = ld.position;
             if (ld.spotCutoff > 0) {
                 l.axis = normalize(ld.spotAxis);
+                l.axisFrame = Frame::fromNormal(l.axis);
                 l.cutoff = ld.spotCutoff;
                 l.cosCutoff = std::cos(ld.spotCutoff);
                 l.cosBeam = std::cos(ld.spotBeam);
