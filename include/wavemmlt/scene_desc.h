@@ -26,6 +26,19 @@ struct Settings {
     std::string envMap;                 // resolved path, empty when none
 };
 
+// The pixel reconstruction filter (kernels/filter.h, docs/filters.md): each pixel is the
+// filter-weighted mean of the image plane about its centre. Box of radius 1/2 is each
+// pixel's plain average (the thesis format's default); Mitsuba's default is Gaussian.
+// Separable: f(x, y) = f(x) f(y). Catmull-Rom is Mitchell with B = 0, C = 1/2.
+enum class FilterKind : uint8_t { Box, Tent, Gaussian, Mitchell, Lanczos };
+struct FilterDesc {
+    FilterKind kind = FilterKind::Box;
+    float radius = 0.5f;        // pixels, > 0: f = 0 beyond it
+    float stddev = 0.5f;        // Gaussian: exp(-x^2 / 2 stddev^2) - its value at the radius
+    float B = 1 / 3.0f, C = 1 / 3.0f;  // Mitchell-Netravali's cubic at 2 |x| / radius
+    float tau = 3;              // Lanczos: sinc(x) sinc(x / tau)
+};
+
 struct CameraDesc {
     Vec3 position{0, 0, 0}, lookAt{0, 0, 1}, up{0, 1, 0};
     float fovDegrees = 45;  // full angle across the shorter image side
@@ -157,6 +170,7 @@ struct SceneDesc {
     std::string path;  // the scene file, "" for the built-in scene
     Settings settings;
     CameraDesc camera;
+    FilterDesc filter;
     std::vector<MaterialDesc> materials;
     std::vector<TextureDesc> textures;
     std::vector<ShapeDesc> shapes;

@@ -122,6 +122,9 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     const SceneDesc& d = s->desc;
     s->features = deriveFeatures(d);
     s->camera = makeCamera(d.camera, d.settings.width, d.settings.height);
+    s->filter = makePixelFilter(d.filter);
+    for (int x = 0; x < d.settings.width; ++x) s->filterNormX.push_back(float(filterNorm(s->filter, x, d.settings.width)));
+    for (int y = 0; y < d.settings.height; ++y) s->filterNormY.push_back(float(filterNorm(s->filter, y, d.settings.height)));
 
     std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
     s->device = rtcNewDevice(config.c_str());

@@ -9,6 +9,7 @@
 
 #include "kernels/bsdf.h"
 #include "kernels/camera.h"
+#include "kernels/filter.h"
 #include "kernels/distribution.h"
 #include "kernels/envmap.h"
 #include "kernels/lights.h"
@@ -60,6 +61,15 @@ public:
     SceneDesc desc;
     SceneFeatures features;
     Camera camera;
+    // The pixel filter and each column's and row's normalisation (kernels/filter.h).
+    PixelFilter filter;
+    std::vector<float> filterNormX, filterNormY;
+    // Calls add(pixel, weight) for the pixels a light-side contribution at film point
+    // (px, py) goes to (forEachFilterPixel; the box filter: the pixel holding it).
+    template <class Add>
+    void forEachFilmPixel(float px, float py, Add&& add) const {
+        forEachFilterPixel(filter, filterNormX.data(), filterNormY.data(), camera.width, camera.height, px, py, add);
+    }
     RTCDevice device = nullptr;
     RTCScene rtc = nullptr;
     std::vector<GeomRecord> geoms;  // by geomID

@@ -35,7 +35,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
     generateBptLightPaths(scene, b, u);
     walkBpt(scene, b, b.light, false, false, counters, u);
     connectBpt(scene, b, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
-    for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i]);
+    for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i] * b.filmWeight[i]);
     out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());
     out.strategySplats.insert(out.strategySplats.end(), b.strategySplats.begin(), b.strategySplats.end());
     out.tally.add(b.tally);

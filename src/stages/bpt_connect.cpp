@@ -13,9 +13,9 @@ namespace wmlt {
 
 namespace {
 
-// Appends the shadow ray of a strategy sample (target: the slot, or for a t = 1 splat
-// its raster pixel).
-inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t target, bool splat,
+// Appends the shadow ray of a strategy sample (target: the slot; a t = 1 splat: the
+// pixel it lands on, or kFilmPoint to spread it about its film point, pushSplat).
+inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t slot, bool splat,
                            int s, int pathLength, RayCounters& c) {
     if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
     if (ss.infinite) {  // towards the environment in direction `to`
@@ -31,7 +31,9 @@ inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample
         if (!(dist > 0)) return;
         setRay(b.conn[b.numConn], origin, d / dist, 0.0f, dist * (1.0f - 1e-4f));
     }
-    b.connSlot[b.numConn] = target;
+    b.connSlot[b.numConn] = !splat ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
+    b.connX[b.numConn] = ss.px;
+    b.connY[b.numConn] = ss.py;
     b.connSplat[b.numConn] = splat ? 1 : 0;
     b.connLength[b.numConn] = uint8_t(pathLength);
     b.connValue[b.numConn] = ss.value;
@@ -45,7 +47,8 @@ inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float wei
     const Vec3 v = unweighted * weight;
     if (!b.tally.take(v, length)) return;
     b.L[slot] += v;
-    if (b.strategyFilms) b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v, unweighted);
+    if (b.strategyFilms)
+        b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v * b.filmWeight[slot], unweighted * b.filmWeight[slot]);
 }
 
 }  // namespace
@@ -81,11 +84,14 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
         if (!weighStrategy(scene, b, w, i, misBeta, scratch, ss)) continue;
         const uint32_t slot = w.slot[i];
         const int s = w.s[i], k = s + w.t[i] - 1;
-        if (w.t[i] == 1 && !splat) b.pixel[slot] = ss.pixel;
+        if (w.t[i] == 1 && !splat) {
+            b.filmX[slot] = ss.px;
+            b.filmY[slot] = ss.py;
+        }
         if (s == 0)
             addCameraSide(b, slot, ss.value, ss.weight, 0, k);
         else if (w.t[i] == 1 && splat)
-            pushConnection(scene, b, ss, ss.pixel, true, s, k, counters);
+            pushConnection(scene, b, ss, slot, true, s, k, counters);
         else
             pushConnection(scene, b, ss, slot, false, s, k, counters);
     }
@@ -131,8 +137,15 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
         }
         const Vec3 v = b.connValue[i] * b.connWeight[i];
         if (!b.tally.take(v, k)) continue;
-        b.splats.push_back({b.connSlot[i], v});
-        if (b.strategyFilms) b.strategySplats.push_back({b.connSlot[i], uint8_t(s), v, b.connValue[i]});
+        pushSplat(scene, b.splats, b.connSlot[i], b.connX[i], b.connY[i], v);
+        if (!b.strategyFilms) continue;
+        if (b.connSlot[i] != kFilmPoint) {
+            b.strategySplats.push_back({b.connSlot[i], uint8_t(s), v, b.connValue[i]});
+            continue;
+        }
+        scene.forEachFilmPixel(b.connX[i], b.connY[i], [&](uint32_t p, float fw) {
+            b.strategySplats.push_back({p, uint8_t(s), v * fw, b.connValue[i] * fw});
+        });
     }
     b.numConn = 0;
 }

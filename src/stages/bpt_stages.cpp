@@ -72,7 +72,8 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
         const float px = u(slot, kBptCamera, 0) * float(cam.width), py = u(slot, kBptCamera, 1) * float(cam.height);
         Vec3 o, d;
         generateCameraRay(cam, px, py, lens ? u(slot, kBptCamera, 2) : 0.5f, lens ? u(slot, kBptCamera, 3) : 0.5f, o, d);
-        b.pixel[i] = rasterPixel(cam, px, py);
+        b.filmX[i] = px;
+        b.filmY[i] = py;
         startCameraPath(scene, b, i, o, d);
         b.pathSlot[n] = slot;
         setRayHit(b.ray[n], o, d);

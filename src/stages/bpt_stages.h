@@ -74,7 +74,7 @@ struct StrategySample {
     float weight = 0;    // its MIS weight
     bool infinite = false;  // the shadow ray ends at infinity (the environment)
     Vec3 from, nFrom, to, nTo;  // the shadow ray's ends (infinite: `to` is a direction; nTo = 0: not on a surface)
-    uint32_t pixel = 0;  // t = 1: the raster pixel the path lands on
+    float px = 0, py = 0;  // t = 1: the film point (raster coordinates) the path lands on
 };
 
 // Strategy (s, t) of slot's stored subpaths with the connection numbers of u, in three

@@ -76,12 +76,12 @@ struct BptVertices {
 // Per strategy: slot, s, t, the light (s <= 1), the unweighted contribution or the factors
 // it is finished from once the ends' f are known (setUpStrategy), the new endpoint (s = 1,
 // t >= 2: the light point and its normal, `infinite` for the environment; t = 1: the lens
-// point) and the raster pixel (t = 1; with a pinhole camera also the area density at
+// point) and the film point it lands on (t = 1; with a pinhole camera also the area density at
 // x_{s-1} of the camera ray through it, from pinholeCameraSamples).
 #define WMLT_STRATEGY_ARRAYS(X)                                                              \
     X(uint32_t, slot) X(uint8_t, s) X(uint8_t, t) X(int16_t, light) X(Vec3, value)          \
     X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(uint8_t, infinite)         \
-    X(uint32_t, pixel) X(float, cameraPdfArea)
+    X(float, filmX) X(float, filmY) X(float, cameraPdfArea)
 // Per end (2 i: y = x_{s-1}, a light subpath vertex; 2 i + 1: z = x_s, a camera subpath
 // vertex): the vertex (kNoEnd: strategy i has no surface there), f's directions and the
 // densities' directions in its shading frame (wo on the camera side, wi on the light
@@ -126,8 +126,9 @@ struct StrategyWave {
 #define WMLT_BPT_RECT_LIGHT_ARRAYS(X)                                                        \
     X(uint32_t, emitSlot) X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) \
     X(uint8_t, emitOk)
-// MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k.
-#define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength)
+// MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k,
+// and the film point its path lands on (filmX, filmY: raster coordinates).
+#define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength) X(float, filmX) X(float, filmY)
 // A pinhole camera's samples (allocated only for one) from the light vertices that t = 1
 // strategies end at, for a chunk of kCameraSampleSlots slots at a time (sampleCameraFromLightVertices): per light
 // vertex, its index j in the chunk's list (cameraSampleOf); per j, the vertex's position
@@ -139,11 +140,11 @@ struct StrategyWave {
 constexpr uint32_t kCameraSampleSlots = 256;
 
 // Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
-// raster pixel), whether it is a t = 1 splat, its path length, unweighted unoccluded
+// raster pixel, or kFilmPoint and the film point (connX, connY) to spread it about), whether it is a t = 1 splat, its path length, unweighted unoccluded
 // value, MIS weight and strategy's s (strategy images).
 #define WMLT_BPT_CONN_ARRAYS(X)                                                              \
-    X(RTCRay, conn) X(uint32_t, connSlot) X(uint8_t, connSplat) X(uint8_t, connLength)     \
-    X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
+    X(RTCRay, conn) X(uint32_t, connSlot) X(float, connX) X(float, connY) X(uint8_t, connSplat)  \
+    X(uint8_t, connLength) X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
 
 struct BptBatch : PathWave {
     size_t numSlots = 0;

@@ -198,7 +198,8 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
             w.tail[i] = absCosTheta(w.fWo[ey]) * corr * cs.We / cs.pdf;
         }
         w.endP[i] = cs.lens;
-        w.pixel[i] = rasterPixel(cam, cs.px, cs.py);
+        w.filmX[i] = cs.px;
+        w.filmY[i] = cs.py;
     } else {  // s, t >= 2: value = beta_y f(y) corr f(z) beta_z G
         const size_t yi = b.light.at(slot, s - 1);
         const Vec3 y = b.light.p[yi], z = b.cam.p[zi];
@@ -332,7 +333,10 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         out.nFrom = b.light.ng[yi];
         out.to = t == 1 ? w.endP[i] : b.cam.p[zi];
         if (t >= 2) out.nTo = b.cam.ng[zi];
-        if (t == 1) out.pixel = w.pixel[i];
+        if (t == 1) {
+            out.px = w.filmX[i];
+            out.py = w.filmY[i];
+        }
     }
     return out.weight > 0;
 }

@@ -69,6 +69,9 @@ struct Splat {
     uint32_t pixel;
     Vec3 value;
 };
+// A splat's target that is no pixel but a film point, to be spread over the pixels whose
+// filter footprint holds it (pushSplat, wave.h).
+constexpr uint32_t kFilmPoint = ~0u;
 
 // The light tracer's film: per-pixel sums of splats (double). Batches' splat lists are
 // added in batch order after each pass, so the image is the same for any threads.

@@ -19,7 +19,9 @@ inline void addConnection(const Scene& scene, LtBatch& b, Vec3 p, Vec3 ng, const
     float dist = length(toLens);
     if (!(dist > 0)) return;
     setRay(b.conn[b.numConn], origin, toLens / dist, 0.0f, dist * (1.0f - 1e-4f));
-    b.connPixel[b.numConn] = rasterPixel(scene.camera, cs.px, cs.py);
+    b.connPixel[b.numConn] = scene.filter.box ? rasterPixel(scene.camera, cs.px, cs.py) : kFilmPoint;
+    b.connX[b.numConn] = cs.px;
+    b.connY[b.numConn] = cs.py;
     b.connValue[b.numConn] = value;
     ++b.numConn;
 }
@@ -39,7 +41,7 @@ void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n,
         [&](size_t i, uint32_t pixel, uint64_t, Vec3 o, Vec3 d) {
             setRay(b.conn[i], o, d, 0.0f, INFINITY);
             b.connPixel[i] = pixel;
-            b.connValue[i] = scene.env.Le(d);
+            b.connValue[i] = scene.env.Le(d) * b.filmWeight[i];
         });
 }
 
@@ -87,7 +89,7 @@ void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c
     for (size_t k = 0; k < b.numConn; ++k) {
         if (!(b.conn[k].tfar >= 0)) continue;
         const Vec3 v = b.connValue[k];
-        if (b.tally.take(v, length)) b.splats.push_back({b.connPixel[k], v});
+        if (b.tally.take(v, length)) pushSplat(scene, b.splats, b.connPixel[k], b.connX[k], b.connY[k], v);
     }
     b.numConn = 0;
 }

@@ -20,10 +20,11 @@
 namespace wmlt {
 
 // betaScale: max component of the slot's initial beta (Russian roulette). beta: flux-like
-// throughput, Le |cos| / (pmf pdfPos pdfDir) ... connValue: the connection's unoccluded splat.
+// throughput, Le |cos| / (pmf pdfPos pdfDir) ... connValue: the connection's unoccluded splat,
+// at connPixel or, for kFilmPoint, spread about the film point (connX, connY) (pushSplat).
 #define WMLT_LT_ARRAYS(X)                                                                    \
     X(uint64_t, key) X(float, betaScale) X(Vec3, beta) WMLT_HIT_SURFACE_ARRAYS(X)          \
-    X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(Vec3, connValue)
+    X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(float, connX) X(float, connY) X(Vec3, connValue)
 
 struct LtBatch : PathWave {
     WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)

@@ -175,7 +175,7 @@ void MmltRender::runRounds(uint64_t passEnd) {
             for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
                 mutateChains(groups_, mb, opt_.seed, uint32_t(n), opt_.probLarge);
                 evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
-                acceptAndSplat(groups_, mb);
+                acceptAndSplat(scene_, groups_, mb);
             }
             TaskOutput& o = outputs[ti];
             for (uint32_t st = 0; st < kFilmStripes; ++st) {
@@ -386,7 +386,7 @@ uint32_t autoChains(double mutations, double iterationsPerChain, uint32_t least,
     return uint32_t(std::clamp(256.0 * batches, double(std::min(least, most)), double(most)));
 }
 
-uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 4 * 4 + 12 + 8; }
+uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 5 * 4 + 12 + 8; }
 
 RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) { return mmlt_detail::MmltRender(scene, opt).run(); }
 

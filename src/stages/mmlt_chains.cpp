@@ -82,7 +82,8 @@ void MmltRender::seedChains() {
             g.seed[c] = entry.key;
             g.F[c] = entry.F;
             g.c[c] = entry.c;
-            g.pixel[c] = entry.pixel;
+            g.filmX[c] = entry.filmX;
+            g.filmY[c] = entry.filmY;
             distinct.insert(g.seed[c]);
             for (uint32_t d = 0; d < g.dims; ++d) g.value[g.at(c, d)] = poolCoordinate(g.seed[c], d);
         }
@@ -98,7 +99,7 @@ void MmltRender::seedChains() {
 
 // Replays seeds (every one in the first pass, one in kReplayShare of them by their key's
 // hash after that): the evaluation of the seed's u must give its pool entry's F, c and
-// pixel bit for bit, or the estimator would be wrong (counted in mmlt_replay_mismatches).
+// film point bit for bit, or the estimator would be wrong (counted in mmlt_replay_mismatches).
 void MmltRender::replaySeeds() {
     constexpr uint64_t kReplayShare = 8;
     std::vector<std::vector<BatchSlice>> plan(1);
@@ -124,7 +125,8 @@ void MmltRender::replaySeeds() {
                 const Vec3 F = contributionOf(mb, i);
                 const float cc = targetOf(F);
                 if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0 || std::memcmp(&F, &g.F[c], sizeof F) != 0 ||
-                    mb.bpt.pixel[i] != g.pixel[c])
+                    std::memcmp(&mb.bpt.filmX[i], &g.filmX[c], sizeof(float)) != 0 ||
+                    std::memcmp(&mb.bpt.filmY[i], &g.filmY[c], sizeof(float)) != 0)
                     ++mismatches[ti];
             }
         }

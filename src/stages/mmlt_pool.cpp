@@ -43,7 +43,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
             for (uint32_t i = 0; i < t.n; ++i) {
                 Vec3 F;
                 const float c = evaluatedTarget(mb, i, F);
-                out[ti].addSample(mb.bpt.key[i], c, F, mb.bpt.pixel[i]);
+                out[ti].addSample(mb.bpt.key[i], c, F, mb.bpt.filmX[i], mb.bpt.filmY[i]);
             }
             nonfinite[ti] = mb.counters.nonfinite;
         });

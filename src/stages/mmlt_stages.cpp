@@ -222,7 +222,7 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCoun
     mb.counters.nonfinite += b.tally.nonfinite;
 }
 
-void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
+void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb) {
     for (const BatchSlice& sl : mb.slices) {
         ChainGroup& g = groups[size_t(sl.group)];
         const uint8_t k = uint8_t(g.k);
@@ -232,16 +232,16 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             Vec3 F;
             const float cP = evaluatedTarget(mb, i, F);
             const float a = acceptance(cP, g.c[c]);
-            const uint32_t pixel = mb.bpt.pixel[i];
+            const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
             if (a > 0) {
-                mb.addSplat(pixel, F * (a * g.weight / cP), k);
+                mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
             }
             if (a < 1 && g.c[c] > 0) {
-                mb.addSplat(g.pixel[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
+                mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
-            if (kind) pool.addSample(mb.bpt.key[i], cP, F, pixel);  // an independent uniform sample of u
+            if (kind) pool.addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
             if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;  // rejected
             ++mb.counters.accepted[kind][k];
             // Commit: the coordinates the proposal read (the chain's block is contiguous).
@@ -259,7 +259,8 @@ void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb) {
             if (kind) g.lastLarge[c] = next;
             g.F[c] = F;
             g.c[c] = cP;
-            g.pixel[c] = pixel;
+            g.filmX[c] = filmX;
+            g.filmY[c] = filmY;
         }
     }
 }

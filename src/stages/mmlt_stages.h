@@ -41,7 +41,7 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb);
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge);
 // Traces and connects each slot's strategy: bpt.L = its MIS-weighted contribution,
-// bpt.pixel = where it lands.
+// (bpt.filmX, bpt.filmY) = the film point where it lands.
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
 // The contribution F = (k + 1) L of slot i and its target c = luminance(F), 0 when it is
 // not finite (evaluatedTarget counts those in mb.counters.nonfinite).
@@ -54,9 +54,10 @@ inline float evaluatedTarget(MmltBatch& mb, size_t i, Vec3& F) {
     return c;
 }
 // Accepts or rejects each slot's proposal (a = min(1, c'/c)), splats a F'/c' at the
-// proposal's pixel and (1 - a) F/c at the current one's, both times the group's weight, to
+// proposal's film point and (1 - a) F/c at the current one's (spread over the filter's
+// footprint: MmltBatch::addSplat), both times the group's weight, to
 // mb.splats, and commits accepted proposals. Large-step proposals join mb.pools.
-void acceptAndSplat(std::vector<ChainGroup>& groups, MmltBatch& mb);
+void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb);
 // Thins a pool to about `keep` entries, keeping each with probability min(1, w c / tau)
 // (tau chosen for `keep` in expectation) and dividing its weight by that probability: an
 // unbiased thinning (systematic: one comb over the entries, its offset from (seed, round)).

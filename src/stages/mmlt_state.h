@@ -19,13 +19,13 @@ namespace wmlt {
 
 // A sample of u kept in a pool: its key (u_d = poolCoordinate(key, d)), its target c > 0,
 // its weight w (1, or 1 / the probability it survived the pool's thinning), and the
-// contribution F and pixel its evaluation gave (a chain seeded there starts with them; a
+// contribution F and film point its evaluation gave (a chain seeded there starts with them; a
 // share of the seeds is replayed to check them, seedChains).
 struct PoolEntry {
     uint64_t key;
     float c, w;
     Vec3 F;
-    uint32_t pixel;
+    float filmX, filmY;
 };
 
 // Independent uniform samples of u of one length k (mmlt.md, "Many chains"; the design in
@@ -41,11 +41,11 @@ struct SamplePool {
     double sumWC = 0;      // sum over lit of w c
     uint64_t count = 0;    // samples drawn
     double mean() const { return count ? sumWC / double(count) : 0.0; }
-    // One more independent sample (its key, target c, contribution F and pixel).
-    void addSample(uint64_t key, float c, Vec3 F, uint32_t pixel) {
+    // One more independent sample (its key, target c, contribution F and film point).
+    void addSample(uint64_t key, float c, Vec3 F, float filmX, float filmY) {
         sumWC += double(c);
         ++count;
-        if (c > 0) lit.push_back({key, c, 1.0f, F, pixel});
+        if (c > 0) lit.push_back({key, c, 1.0f, F, filmX, filmY});
     }
     void add(const SamplePool& o) {
         lit.insert(lit.end(), o.lit.begin(), o.lit.end());
@@ -63,12 +63,12 @@ struct SamplePool {
 // at(chain, coordinate): a chain's coordinates side by side, so that a proposal reads one
 // contiguous block: its value and the accepted proposal that last wrote it. Per chain: its
 // accepted proposals (the lazy step's clock), its last accepted large step, the current
-// state's contribution F = (k + 1) L_w, target c = luminance(F) and pixel, and the key of
+// state's contribution F = (k + 1) L_w, target c = luminance(F) and film point, and the key of
 // the pool entry it started from.
 #define WMLT_CHAIN_COORDINATE_ARRAYS(X) X(float, value) X(uint32_t, lastModified)
 #define WMLT_CHAIN_ARRAYS(X)                                                                 \
-    X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(uint32_t, pixel)   \
-    X(uint64_t, seed)
+    X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(float, filmX)      \
+    X(float, filmY) X(uint64_t, seed)
 
 struct ChainGroup {
     int k = 0;
@@ -163,6 +163,11 @@ struct MmltBatch {
         const uint32_t st = pixel >> stripeShift;
         splats[st].push_back({pixel, v});
         if (splatLengths) splatLength[st].push_back(k);
+    }
+    // v at film point (px, py): to the pixel holding it (box filter) or spread over the
+    // pixels whose filter footprint holds it (Scene::forEachFilmPixel).
+    void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
+        scene.forEachFilmPixel(px, py, [&](uint32_t pixel, float w) { addSplat(pixel, v * w, k); });
     }
     std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;

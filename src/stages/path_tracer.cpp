@@ -31,7 +31,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
         advancePaths(scene, b);
     }
     // Samples of one pixel are adjacent and added in sample order: deterministic.
-    for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], b.L[i]);
+    for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], b.L[i] * b.filmWeight[i]);
     totals.add(b.tally);  // what a tile's batches add up to besides the film: merged in tile order
 }
 

@@ -23,6 +23,7 @@
 #include "scene/scene.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
+#include "stages/film.h"
 #include "stages/trace.h"
 
 namespace wmlt {
@@ -63,12 +64,15 @@ struct RayCounters {
 // in which direction. Per hit in material order (index r of order): the slot's key or two
 // of its numbers, and a direction in the shading frame, for the flat loops of the scatter
 // stages (scatterHits, sampleBptBsdfs). Per camera sample, before the first intersect
-// (forEachCameraRay): its strata permutation's key and index, and a key of the walks.
+// (forEachCameraRay): its strata permutation's key and index, and a key of the walks; per
+// camera sample, the weight its pixel gives it (filmWeight: 1 with the box filter; else
+// kernels/filter.h's f / pdf, the density restricted to the film, times the pixel's
+// normalisation).
 #define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
     X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
     X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, sortedU1) X(float, sortedU2)  \
     X(float, localX) X(float, localY) X(float, localZ) X(uint64_t, permKey) X(uint32_t, permValue)   \
-    X(uint64_t, walkKey)
+    X(uint64_t, walkKey) X(float, filmWeight)
 
 struct PathWave {
     size_t numPaths = 0, numHits = 0;
@@ -137,24 +141,48 @@ inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, i
         w.sortedU1[i] = float(stratum % uint32_t(n));
         w.sortedU2[i] = float(stratum / uint32_t(n));
     }
-    const bool lens = cam.thinLens;
-    if (!lens)
+    const bool lens = cam.thinLens, filtered = !scene.filter.box;
+    if (!lens && !filtered)
         pinholeCameraDirections(cameraFloats(cam), w.sortedKey.data(), w.localX.data(), w.localY.data(),
                                 w.sortedU1.data(), w.sortedU2.data(), m, float(n), dims.jitterX, dims.jitterY,
                                 &w.nextDir[0].x);
-    forEachTileSample(t, cam.width, [&](size_t i, int, int, uint32_t pixel, uint32_t) {
+    forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t) {
         const uint64_t key = w.sortedKey[i];
-        if (!lens) {
+        w.filmWeight[i] = 1.0f;
+        if (!lens && !filtered) {
             emit(i, pixel, key, cam.position, w.nextDir[i]);
             return;
         }
-        const float px = stratumPoint(w.localX[i], w.sortedU1[i], sampleDimension(key, dims.jitterX), float(n));
-        const float py = stratumPoint(w.localY[i], w.sortedU2[i], sampleDimension(key, dims.jitterY), float(n));
+        float px, py;
+        if (!filtered) {
+            px = stratumPoint(w.localX[i], w.sortedU1[i], sampleDimension(key, dims.jitterX), float(n));
+            py = stratumPoint(w.localY[i], w.sortedU2[i], sampleDimension(key, dims.jitterY), float(n));
+        } else {  // filter importance sampling: the stratum's point through the filter's inverse cdf
+            float dx, dy;
+            const float ux = stratumPoint(0, w.sortedU1[i], sampleDimension(key, dims.jitterX), float(n));
+            const float uy = stratumPoint(0, w.sortedU2[i], sampleDimension(key, dims.jitterY), float(n));
+            const float wx = sampleFilterInFilm(scene.filter, ux, x, cam.width, dx);
+            const float wy = sampleFilterInFilm(scene.filter, uy, y, cam.height, dy);
+            px = (w.localX[i] + 0.5f) + dx;
+            py = (w.localY[i] + 0.5f) + dy;
+            w.filmWeight[i] = (wx * scene.filterNormX[size_t(x)]) * (wy * scene.filterNormY[size_t(y)]);
+        }
         Vec3 o, d;
-        generateCameraRay(cam, px, py, sampleDimension(key, dims.lensU), sampleDimension(key, dims.lensV), o, d);
+        generateCameraRay(cam, px, py, lens ? sampleDimension(key, dims.lensU) : 0.5f,
+                          lens ? sampleDimension(key, dims.lensV) : 0.5f, o, d);
         emit(i, pixel, key, o, d);
     });
     return m;
+}
+
+// Appends a light-side contribution v to `pixel`, or for pixel == kFilmPoint to every pixel
+// whose filter footprint holds the film point (px, py), weighted (Scene::forEachFilmPixel).
+inline void pushSplat(const Scene& scene, std::vector<Splat>& splats, uint32_t pixel, float px, float py, Vec3 v) {
+    if (pixel != kFilmPoint) {
+        splats.push_back({pixel, v});
+        return;
+    }
+    scene.forEachFilmPixel(px, py, [&](uint32_t p, float w) { splats.push_back({p, v * w}); });
 }
 
 // Path i of a new wave belongs to slot i and starts with the ray from o along d.
