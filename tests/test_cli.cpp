@@ -316,6 +316,37 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     CHECK_FALSE(fs::exists(out));
 }
 
+TEST_CASE("CLI: --filter", "[cli][filter]") {
+    TempDir dir;
+    std::string out = dir.file("out.pfm");
+    // The built-in scene is in the thesis' format: the box unless told otherwise.
+    Run box = run("--describe", dir);
+    CHECK(contains(box.out, "pixel filter: box (radius 0.5)\n"));
+    Run g = run("--describe --filter gaussian:stddev=0.4", dir);
+    INFO("stdout: " << g.out << "\nstderr: " << g.err);
+    CHECK(g.status == 0);
+    CHECK(contains(g.out, "pixel filter: gaussian (radius 1.6, stddev 0.4)\n"));
+    Run m = run("--describe --filter mitchell:B=0.2,C=0.4,radius=3", dir);
+    CHECK(contains(m.out, "pixel filter: mitchell (radius 3, B 0.2, C 0.4)\n"));
+    for (const auto& [arg, message] : std::vector<std::pair<std::string, std::string>>{
+             {"sinc", "--filter: 'sinc' is not one of box, tent, gaussian, mitchell, catmullrom, lanczos"},
+             {"tent:radius=0", "--filter: tent: radius must be > 0 and at most 16 pixels"},
+             {"tent:stddev=1", "--filter: tent: stddev applies to gaussian only"},
+             {"gaussian:stddev", "--filter: 'stddev' is not param=value"},
+             {"gaussian:stddev=x", "--filter stddev: 'x' is not a number"}}) {
+        Run r = run("--filter " + quote(arg) + kSmall + " -o " + quote(out), dir);
+        INFO(arg << ": " << r.err);
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, message));
+    }
+    CHECK_FALSE(fs::exists(out));
+    // A render through a wide filter writes its image.
+    Run ok = run("--filter lanczos --spp 4 --tracer bpt" + kSmall + " -o " + quote(out), dir);
+    INFO(ok.err);
+    CHECK(ok.status == 0);
+    CHECK(fs::exists(out));
+}
+
 TEST_CASE("cli: --describe, --help and --version exit 0", "[cli]") {
     TempDir dir;
     std::string out = dir.file("out.pfm");

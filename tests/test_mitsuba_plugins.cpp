@@ -2,7 +2,8 @@
 // emitters with BSDFs, textures (bitmap, checkerboard), bumpmap, mask, ply, envmap, point
 // lights and area lights on meshes. Importer checks on small hand-written files, bad
 // inputs, and the analytic checks that fit in a few seconds; the tracers' agreement on
-// each feature is in test_mitsuba_tracers.cpp.
+// each feature is in test_mitsuba_tracers.cpp. The films name the box filter: the closed
+// forms are of each pixel's (or block's) plain mean (Mitsuba's default is a Gaussian).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -29,7 +30,7 @@ namespace {
 
 const std::string kSensor = R"(<sensor type="perspective"><float name="fov" value="40"/>
   <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-  <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
+  <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
 </sensor>
 )";
 
@@ -230,7 +231,7 @@ TEST_CASE("Mitsuba textures: a bitmap on a rectangle, end to end (rectangle uv, 
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
   <sensor type="perspective"><float name="fov" value="53.130102"/>
     <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
     <string name="filename" value="t.pfm"/><string name="filter_type" value="nearest"/></texture></bsdf></shape>
   <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
@@ -320,7 +321,7 @@ TEST_CASE("Mitsuba mask: a partly transparent plate under a sky, end to end", "[
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
   <sensor type="perspective"><float name="fov" value="53.130102"/>
     <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><bsdf type="mask">)" + opacity + R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf></shape>
   <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
 </scene>)", "mask.xml", dir);
@@ -402,7 +403,7 @@ TEST_CASE("Mitsuba envmap: a uniform map with scale renders as the constant sky"
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
   <sensor type="perspective"><float name="fov" value="40"/>
     <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
   <emitter type="envmap"><string name="filename" value="env.pfm"/><float name="scale" value="4"/>
     <transform name="to_world"><rotate x="1" angle="30"/></transform></emitter>
@@ -556,7 +557,7 @@ void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& i
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
   <sensor type="perspective"><float name="fov" value="90"/>
     <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate x="1" angle="-90"/></transform>
     <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
 )" + emitter + "\n</scene>",
@@ -683,7 +684,7 @@ SceneDesc texturedPlate(const std::string& bsdf) {
   <integrator type="path"><integer name="max_depth" value="3"/></integrator>
   <sensor type="perspective"><float name="fov" value="53.130102"/>
     <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle">)" + bsdf + R"(</shape>
   <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
 </scene>)", "plate.xml", ".");
@@ -776,7 +777,7 @@ TEST_CASE("Mitsuba textured parameters: a constant texture renders what its cons
 TEST_CASE("Mitsuba perspective sensor: focus_distance is read (a pinhole: no depth of field)", "[mitsuba][import]") {
     const std::string sensor = R"(<sensor type="perspective"><float name="fov" value="40"/><float name="focus_distance" value="%"/>
   <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-  <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>)";
+  <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>)";
     auto with = [&](const std::string& f) {
         std::string s = sensor;
         s.replace(s.find('%'), 1, f);

@@ -162,3 +162,19 @@ TEST_CASE("Mitsuba tracers: anisotropic roughness in every tracer", "[mitsuba][r
     <bsdf type="roughdielectric"><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.08"/></bsdf></shape>
 )"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }
+
+// A Mitchell filter (B = C = 1/3: negative lobes) on a 16 x 16 film whose every pixel is
+// within the filter's radius of an edge or of the light: PT's importance-sampled camera
+// samples (signed weights) and LT's and MMLT's splats over the footprint against BPT's
+// mix of both, each pixel renormalised at the film's edges alike (docs/filters.md).
+TEST_CASE("Mitsuba tracers: a Mitchell filter in every tracer", "[mitsuba][render][stat][filter]") {
+    std::string xml = scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.3" y="0.3"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
+    <emitter type="area"><rgb name="radiance" value="8"/></emitter></shape>
+  <shape type="sphere"><point name="center" x="0.3" y="0.4" z="0.1"/><float name="radius" value="0.35"/>
+    <bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf></shape>
+)");
+    const std::string film = "</film>";
+    xml.replace(xml.find(film), film.size(), "<rfilter type=\"mitchell\"/></film>");
+    agree("Mitchell filter", xml, 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+}

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "scene/filter_desc.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
@@ -61,6 +62,26 @@ void parseHostPort(const std::string& v, std::string& host, std::string& port) {
     fail(opt + "has no valid host ('" + host + "': a name, an IPv4 address or an [IPv6] address)");
 }
 
+// --filter NAME[:param=value,...] (filter_desc.h).
+FilterDesc parseFilter(const std::string& v) {
+    const size_t colon = v.find(':');
+    const std::string name = v.substr(0, colon);
+    FilterDesc f;
+    if (!namedFilter(name, f)) fail("--filter: '" + name + "' is not one of " + kFilterNames);
+    std::string rest = colon == std::string::npos ? "" : v.substr(colon + 1);
+    while (colon != std::string::npos) {
+        const size_t comma = rest.find(',');
+        const std::string item = rest.substr(0, comma), param = item.substr(0, item.find('='));
+        if (item.find('=') == std::string::npos || param.empty()) fail("--filter: '" + item + "' is not param=value");
+        const double x = parseReal("--filter " + param, item.substr(param.size() + 1), -1e30, 1e30);
+        const std::string problem = setFilterParameter(f, param, x);
+        if (!problem.empty()) fail("--filter: " + name + ": " + problem);
+        if (comma == std::string::npos) break;
+        rest = rest.substr(comma + 1);
+    }
+    return f;
+}
+
 }  // namespace
 
 std::string usageText() {
@@ -88,6 +109,9 @@ std::string usageText() {
         "  --seed N                 random seed (same seed: same image, for any --threads)\n"
         "  --width N, --height N    image size\n"
         "  --max-length N, --min-length N   path lengths (segments) to render, 1..64\n"
+        "  --filter NAME[:P=V,...]  pixel filter: box, tent, gaussian, mitchell, catmullrom, lanczos,\n"
+        "                           with parameters radius, stddev, B, C, lobes, tau (e.g.\n"
+        "                           gaussian:stddev=0.5; default: the scene's, docs/filters.md)\n"
         "  -o FILE                  output image, .exr/.pfm/.png (repeatable; default: the scene's Output)\n"
         "  --exposure E             PNG exposure: pixels are scaled by 2^E before sRGB\n"
         "  --stats FILE.json        write render statistics\n"
@@ -142,6 +166,7 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--height") cl.height = int(parseInt(a, value(), 1, 16384));
         else if (a == "--max-length") cl.maxLength = int(parseInt(a, value(), 1, 64));
         else if (a == "--min-length") cl.minLength = int(parseInt(a, value(), 1, 64));
+        else if (a == "--filter") cl.filter = parseFilter(value());
         else if (a == "-o" || a == "--output") cl.outputs.push_back(value());
         else if (a == "-D" || (a.size() > 2 && a.compare(0, 2, "-D") == 0)) {
             const std::string d = a == "-D" ? value() : a.substr(2);

@@ -19,6 +19,7 @@ struct CommandLine {
     std::optional<int> passLength;         // MMLT
     std::optional<float> probLarge;        // MMLT
     std::string strategyImages;            // BPT: folder for per-strategy EXRs
+    std::optional<FilterDesc> filter;      // --filter NAME[:param=value,...]
     uint64_t seed = 0;
     std::vector<std::string> outputs;
     Defines defines;                       // -D name=value (Mitsuba scene files)

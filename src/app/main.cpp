@@ -227,6 +227,7 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     job.scene = cl.scenePath.empty() ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
                                      : loadScene(cl.scenePath, cl.defines);
     applyCommandLine(cl, job.scene.settings);
+    if (cl.filter) job.scene.filter = *cl.filter;
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
     if (cl.chains && *cl.chains > 0 && job.scene.settings.tracer == TracerKind::MMLT)

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "kernels/bsdf.h"
+#include "scene/filter_desc.h"
 
 namespace wmlt {
 
@@ -46,6 +47,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
                                                  : l.kind == LightKind::Directional ? f.directionalLights : f.pointLights) = true;
     f.envMap = d.envMap.width > 0;
     f.depthOfField = d.camera.dof;
+    f.filter = describeFilter(d.filter);
     f.needUv = f.textures || f.bump;
     for (int k = 0; k < kMaterialKinds; ++k)
         if (f.material[k] && (isDeltaMaterial(MaterialKind(k)) || MaterialKind(k) == MaterialKind::Plastic)) f.delta = true;
@@ -72,6 +74,7 @@ std::string SceneFeatures::describe() const {
     o << "one-sided materials: " << (oneSided ? "yes" : "no") << "\n";
     o << "masks (opacity): " << (masks ? "yes" : "no") << "\n";
     o << "anisotropic roughness: " << (anisotropic ? "yes" : "no") << "\n";
+    o << "pixel filter: " << filter << "\n";
     return o.str();
 }
 
@@ -86,7 +89,7 @@ std::string SceneFeatures::json() const {
       << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights)
       << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures)
       << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
-      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << "}";
+      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << ", \"pixel_filter\": \"" << filter << "\"}";
     return o.str();
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "scene/filter_desc.h"
 #include "scene/mitsuba_importer.h"
 #include "scene/mitsuba_shapes.h"
 #include "kernels/envmap.h"
@@ -299,6 +300,7 @@ void Importer::sensor(Node n) {
         c.fStop = f / (2 * r);
     }
     int w = 768, h = 576;
+    namedFilter("gaussian", s_.filter);  // Mitsuba's default rfilter
     for (Node film : p.nested("film")) {
         Props fp = props(film);
         if (fp.type() != "hdrfilm") fp.fail(film, "film not supported (hdrfilm is)");
@@ -306,9 +308,7 @@ void Importer::sensor(Node n) {
         h = fp.getInt("height", 576);
         if (w < 1 || h < 1 || w > 16384 || h > 16384) fp.fail(film, "width and height must be 1 to 16384");
         for (const char* ignored : {"file_format", "pixel_format", "component_format", "banner"}) fp.getString(ignored, "");
-        for (Node rf : fp.nested("rfilter"))
-            if (std::string(rf.attribute("type").value()) != "box")
-                warn(rf, std::string("rfilter ") + rf.attribute("type").value() + ": wavemmlt averages each pixel (box filter)");
+        for (Node rf : fp.nested("rfilter")) s_.filter = reconstructionFilter(rf);
         fp.finish();
     }
     for (Node smp : p.nested("sampler")) {
@@ -341,6 +341,25 @@ void Importer::sensor(Node n) {
     c.flipX = M.det3() < 0;
     if (length(cross(normalize(c.lookAt - c.position), c.up)) < 1e-6f) p.fail(n, "to_world has no usable view direction");
     p.finish();
+}
+
+// <rfilter type="..."> with Mitsuba 3's parameters (docs/filters.md): box, tent (radius),
+// gaussian (stddev; radius 4 stddev), mitchell (B, C), catmullrom, lanczos (lobes).
+FilterDesc Importer::reconstructionFilter(Node rf) {
+    Props p = props(rf);
+    FilterDesc f;
+    if (!namedFilter(p.type(), f)) p.fail(rf, std::string("not one of ") + kFilterNames);
+    auto set = [&](const char* name, double v) {
+        const std::string problem = setFilterParameter(f, name, v);
+        if (!problem.empty()) p.fail(rf, problem);
+    };
+    if (p.has("stddev")) set("stddev", p.getFloat("stddev", f.stddev));
+    if (p.has("radius")) set("radius", p.getFloat("radius", f.radius));
+    if (p.has("B")) set("B", p.getFloat("B", f.B));
+    if (p.has("C")) set("C", p.getFloat("C", f.C));
+    if (p.has("lobes")) set("lobes", p.getInt("lobes", 3));
+    p.finish();
+    return f;
 }
 
 void Importer::integrator(Node n) {

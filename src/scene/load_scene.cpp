@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/filter_desc.h"
 #include "scene/number.h"
 #include "scene/transform.h"
 #include "scene/xml_nesting.h"
@@ -254,6 +255,7 @@ private:
     }
 
     void settings(Node n);
+    void filter(Node c);
     void camera(Node n);
     void texture(Node n);
     void shader(Node n);
@@ -289,7 +291,7 @@ void Loader::rect(const Kids& k, Node n, ShapeDesc& sh) const {
 void Loader::settings(Node n) {
     attrs(n, {});
     Kids k = kids(n, {"Width", "Height", "Sample", "Thread", "Tracer", "MaxPathLength",
-                      "MinPathLength", "ProbLarge", "Output", "EnvMap"});
+                      "MinPathLength", "ProbLarge", "Output", "EnvMap", "Filter"});
     Settings& st = s_.settings;
     if (Node c = k["Width"]) st.width = integer(c, 1, 16384);
     if (Node c = k["Height"]) st.height = integer(c, 1, 16384);
@@ -322,6 +324,7 @@ void Loader::settings(Node n) {
         if (!isWritableImageExtension(o)) fail(c, "\"" + o + "\": the extension must be .exr, .pfm or .png");
         st.output = o;
     }
+    if (Node c = k["Filter"]) filter(c);
     if (Node c = k["EnvMap"]) {
         // (choice) any format readImage reads; the spec names .exr and .hdr.
         st.envMap = resolve(name(c));
@@ -331,6 +334,19 @@ void Loader::settings(Node n) {
         if (s_.envMap.width < 2 || s_.envMap.height < 2)
             fail(c, st.envMap + ": an environment map of " + std::to_string(s_.envMap.width) + " x " +
                         std::to_string(s_.envMap.height) + " pixels is too small (at least 2 x 2)");
+    }
+}
+
+// (choice, docs/filters.md) <Filter name="gaussian" radius="2" stddev="0.5" B=".." C=".."
+// lobes="3"/>: a name of kFilterNames and that filter's parameters; absent, the box.
+void Loader::filter(Node c) {
+    leaf(c, {"name", "radius", "stddev", "B", "C", "lobes", "tau"});
+    const std::string nm = attr(c, "name");
+    if (!namedFilter(nm, s_.filter)) fail(c, "name=\"" + nm + "\" is not one of " + kFilterNames);
+    for (const char* a : {"stddev", "radius", "B", "C", "lobes", "tau"}) {
+        if (!c.attribute(a)) continue;
+        const std::string problem = setFilterParameter(s_.filter, a, number(c, a));
+        if (!problem.empty()) fail(c, std::string(a) + "=\"" + c.attribute(a).value() + "\": " + problem);
     }
 }
 

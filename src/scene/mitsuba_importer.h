@@ -51,6 +51,7 @@ private:
     void shape(Node n);
     void emitter(Node n, int shape);
     void sensor(Node n);
+    FilterDesc reconstructionFilter(Node rf);
     void integrator(Node n);
 };
 
