@@ -153,6 +153,17 @@ inline double filterNorm(const PixelFilter& f, int i, int n) {
     return inside > 0 ? 1.0 / inside : 0.0;
 }
 
+// The pixels [x0, x1] x [y0, y1] whose centres are within the radius of (px, py) (a film point
+// of a filter that is not the box of radius 1/2).
+inline void filterFootprint(const PixelFilter& f, int width, int height, float px, float py, int& x0, int& x1, int& y0,
+                            int& y1) {
+    const float r = f.radius;
+    x0 = std::max(0, int(std::ceil(px - 0.5f - r)));
+    x1 = std::min(width - 1, int(std::floor(px - 0.5f + r)));
+    y0 = std::max(0, int(std::ceil(py - 0.5f - r)));
+    y1 = std::min(height - 1, int(std::floor(py - 0.5f + r)));
+}
+
 // Calls add(pixel, weight) for every pixel of a width x height film whose filter footprint
 // holds the film point (px, py), 0 <= px <= width, 0 <= py <= height (weight f(px - cx)
 // normX[x] f(py - cy) normY[y]; zero weights are left out). The box filter of radius 1/2:
@@ -165,9 +176,8 @@ inline void forEachFilterPixel(const PixelFilter& f, const float* normX, const f
         add(uint32_t(y) * uint32_t(width) + uint32_t(x), 1.0f);
         return;
     }
-    const float r = f.radius;
-    const int x0 = std::max(0, int(std::ceil(px - 0.5f - r))), x1 = std::min(width - 1, int(std::floor(px - 0.5f + r)));
-    const int y0 = std::max(0, int(std::ceil(py - 0.5f - r))), y1 = std::min(height - 1, int(std::floor(py - 0.5f + r)));
+    int x0, x1, y0, y1;
+    filterFootprint(f, width, height, px, py, x0, x1, y0, y1);
     constexpr int kMax = 2 * int(kMaxFilterRadius) + 2;
     float wx[kMax];
     for (int x = x0; x <= x1 && x - x0 < kMax; ++x) wx[x - x0] = filterValue(f.desc, px - (float(x) + 0.5f)) * normX[x];

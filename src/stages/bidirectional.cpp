@@ -27,6 +27,7 @@ namespace {
 void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, BptBatch& b, Film& film,
                 RayCounters& counters, TileSplats& out) {
     b.splats.clear();
+    b.points.clear();
     b.strategySplats.clear();
     b.tally = ContributionTally();
     generateBptCameraPaths(scene, b, tile, opt.strataPerAxis, opt.seed);
@@ -37,6 +38,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
     connectBpt(scene, b, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
     for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i] * b.filmWeight[i]);
     out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());
+    out.points.insert(out.points.end(), b.points.begin(), b.points.end());
     out.strategySplats.insert(out.strategySplats.end(), b.strategySplats.begin(), b.strategySplats.end());
     out.tally.add(b.tally);
 }
@@ -111,7 +113,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         [&](size_t t, const Tile& tile) {
             traceBatch(scene, opt, tile, batches.local(), film, counters.local(), outputs[t]);
         },
-        [&] { totals.addPass(outputs, splatFilm, strategyFilms.get()); },
+        [&] { totals.addPass(scene, outputs, splatFilm, strategyFilms.get()); },
         {[&](uint32_t spp) { return imageOfJob(opt.ranks, film, splatFilm, spp); }, &counters});
 
     RenderResult res = startResult("bpt", scene, opt, pr, counters);

@@ -137,7 +137,7 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
         }
         const Vec3 v = b.connValue[i] * b.connWeight[i];
         if (!b.tally.take(v, k)) continue;
-        pushSplat(scene, b.splats, b.connSlot[i], b.connX[i], b.connY[i], v);
+        pushSplat(b.splats, b.points, b.connSlot[i], b.connX[i], b.connY[i], v);
         if (!b.strategyFilms) continue;
         if (b.connSlot[i] != kFilmPoint) {
             b.strategySplats.push_back({b.connSlot[i], uint8_t(s), v, b.connValue[i]});

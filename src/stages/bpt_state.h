@@ -162,6 +162,7 @@ struct BptBatch : PathWave {
     StrategyWave strategies;
 
     std::vector<Splat> splats;
+    std::vector<PointSplat> points;  // filtered scenes: t = 1 contributions at film points
     StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;

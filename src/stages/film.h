@@ -72,6 +72,13 @@ struct Splat {
 // A splat's target that is no pixel but a film point, to be spread over the pixels whose
 // filter footprint holds it (pushSplat, wave.h).
 constexpr uint32_t kFilmPoint = ~0u;
+// A light-side contribution at a film point (raster coordinates), kept as one entry and
+// spread over the filter's footprint only when added to the film (addPointSplats, wave.h):
+// a footprint holds up to (2 radius + 1)^2 pixels.
+struct PointSplat {
+    float px, py;
+    Vec3 value;
+};
 
 // The light tracer's film: per-pixel sums of splats (double). Batches' splat lists are
 // added in batch order after each pass, so the image is the same for any threads.

@@ -21,6 +21,7 @@ namespace {
 void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, LtBatch& b,
                 RayCounters& counters, TileSplats& out) {
     b.splats.clear();
+    b.points.clear();
     b.tally = ContributionTally();
     const bool length1 = opt.minPathLength <= 1 && opt.maxPathLength >= 1;
     // Length 1 from the environment: camera rays that escape (a point at infinity cannot
@@ -49,6 +50,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
         }
     }
     out.splats.assign(b.splats.begin(), b.splats.end());
+    out.points.assign(b.points.begin(), b.points.end());
     out.tally = b.tally;
 }
 
@@ -68,7 +70,7 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
     PassResult pr = runPasses(
         schedule, opt,
         [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
-        [&] { totals.addPass(outputs, film, nullptr); },
+        [&] { totals.addPass(scene, outputs, film, nullptr); },
         {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); },
          &counters});
 

@@ -89,7 +89,7 @@ void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c
     for (size_t k = 0; k < b.numConn; ++k) {
         if (!(b.conn[k].tfar >= 0)) continue;
         const Vec3 v = b.connValue[k];
-        if (b.tally.take(v, length)) pushSplat(scene, b.splats, b.connPixel[k], b.connX[k], b.connY[k], v);
+        if (b.tally.take(v, length)) pushSplat(b.splats, b.points, b.connPixel[k], b.connX[k], b.connY[k], v);
     }
     b.numConn = 0;
 }

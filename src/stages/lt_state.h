@@ -30,6 +30,7 @@ struct LtBatch : PathWave {
     WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numConn = 0;
     std::vector<Splat> splats;
+    std::vector<PointSplat> points;  // filtered scenes: contributions at film points
     ContributionTally tally;  // of the splats
 
     void reserve(size_t n) {

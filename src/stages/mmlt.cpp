@@ -115,6 +115,8 @@ constexpr uint32_t kFilmStripes = MmltBatch::kStripes;
 struct TaskOutput {
     std::vector<Splat> splats[kFilmStripes];
     std::vector<uint8_t> splatLength[kFilmStripes];
+    std::vector<PointSplat> points[kFilmStripes];
+    std::vector<uint8_t> pointLength[kFilmStripes];
     std::vector<SamplePool> pools;
     MmltCounters counters;
     double seconds = 0;
@@ -169,6 +171,8 @@ void MmltRender::runRounds(uint64_t passEnd) {
             for (uint32_t st = 0; st < kFilmStripes; ++st) {
                 mb.splats[st].clear();
                 mb.splatLength[st].clear();
+                mb.points[st].clear();
+                mb.pointLength[st].clear();
             }
             for (SamplePool& p : mb.pools) p.clear();
             mb.counters = MmltCounters();
@@ -181,6 +185,8 @@ void MmltRender::runRounds(uint64_t passEnd) {
             for (uint32_t st = 0; st < kFilmStripes; ++st) {
                 o.splats[st].swap(mb.splats[st]);
                 o.splatLength[st].swap(mb.splatLength[st]);
+                o.points[st].swap(mb.points[st]);
+                o.pointLength[st].swap(mb.pointLength[st]);
             }
             o.pools.swap(mb.pools);
             mb.pools.resize(size_t(kMax_) + 1);
@@ -194,11 +200,21 @@ void MmltRender::runRounds(uint64_t passEnd) {
             exchangePools(roundPools, b0 * nk, (b1 - b0) * nk);
         }
         double longest = 0, sum = 0;
-        auto mergeStripe = [&](uint32_t st) {  // in batch order
+        // In batch order; a film point adds to its footprint's pixels in this stripe.
+        auto mergeStripe = [&](uint32_t st) {
             for (const TaskOutput& o : outputs) {
                 film_.addAll(o.splats[st].data(), o.splats[st].size());
                 if (!lengthFilms_.empty())
                     for (size_t i = 0; i < o.splats[st].size(); ++i) lengthFilms_[o.splatLength[st][i]].add(o.splats[st][i]);
+                for (size_t i = 0; i < o.points[st].size(); ++i) {
+                    const PointSplat& s = o.points[st][i];
+                    scene_.forEachFilmPixel(s.px, s.py, [&](uint32_t p, float w) {
+                        if ((p >> stripeShift) != st) return;
+                        const Splat sp{p, s.value * w};
+                        film_.add(sp);
+                        if (!lengthFilms_.empty()) lengthFilms_[o.pointLength[st][i]].add(sp);
+                    });
+                }
             }
         };
         auto mergePool = [&](size_t k) {  // in batch order

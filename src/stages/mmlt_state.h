@@ -164,10 +164,25 @@ struct MmltBatch {
         splats[st].push_back({pixel, v});
         if (splatLengths) splatLength[st].push_back(k);
     }
-    // v at film point (px, py): to the pixel holding it (box filter) or spread over the
-    // pixels whose filter footprint holds it (Scene::forEachFilmPixel).
+    // v at film point (px, py): to the pixel holding it (box filter), or kept as a film
+    // point in every stripe its filter footprint reaches (the merge spreads it over the
+    // footprint's pixels of each stripe: mergeStripe, mmlt.cpp).
+    std::vector<PointSplat> points[kStripes];
+    std::vector<uint8_t> pointLength[kStripes];
     void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
-        scene.forEachFilmPixel(px, py, [&](uint32_t pixel, float w) { addSplat(pixel, v * w, k); });
+        if (scene.filter.box) {
+            scene.forEachFilmPixel(px, py, [&](uint32_t pixel, float w) { addSplat(pixel, v * w, k); });
+            return;
+        }
+        int x0, x1, y0, y1;
+        filterFootprint(scene.filter, scene.camera.width, scene.camera.height, px, py, x0, x1, y0, y1);
+        const uint32_t w = uint32_t(scene.camera.width);
+        const uint32_t st0 = (uint32_t(y0) * w + uint32_t(x0)) >> stripeShift;
+        const uint32_t st1 = (uint32_t(y1) * w + uint32_t(x1)) >> stripeShift;
+        for (uint32_t st = st0; st <= st1 && st < kStripes; ++st) {
+            points[st].push_back({px, py, v});
+            if (splatLengths) pointLength[st].push_back(k);
+        }
     }
     std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;

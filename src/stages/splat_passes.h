@@ -10,11 +10,13 @@
 #include "stages/distributed_films.h"
 #include "stages/film.h"
 #include "stages/strategy_films.h"
+#include "stages/wave.h"
 
 namespace wmlt {
 
 struct TileSplats {
     std::vector<Splat> splats;
+    std::vector<PointSplat> points;             // filtered scenes: at film points
     std::vector<StrategySplat> strategySplats;  // BPT's --strategy-images only
     ContributionTally tally;
 };
@@ -25,14 +27,16 @@ struct SplatTotals {
 
     // A complete pass: every tile's splats (and strategy splats, when sf) in tile order;
     // the lists keep their capacity for the next pass.
-    void addPass(std::vector<TileSplats>& tiles, SplatFilm& film, StrategyFilms* sf) {
+    void addPass(const Scene& scene, std::vector<TileSplats>& tiles, SplatFilm& film, StrategyFilms* sf) {
         for (TileSplats& o : tiles) {
             film.addAll(o.splats.data(), o.splats.size());
+            addPointSplats(scene, film, o.points.data(), o.points.size());
             if (sf)
                 for (const StrategySplat& s : o.strategySplats) sf->addSplat(s);
             discarded += o.tally.nonfinite;
             lengths.add(o.tally.lengths);
             o.splats.clear();
+            o.points.clear();
             o.strategySplats.clear();
             o.tally = ContributionTally();
         }

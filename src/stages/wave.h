@@ -175,14 +175,19 @@ inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, i
     return m;
 }
 
-// Appends a light-side contribution v to `pixel`, or for pixel == kFilmPoint to every pixel
-// whose filter footprint holds the film point (px, py), weighted (Scene::forEachFilmPixel).
-inline void pushSplat(const Scene& scene, std::vector<Splat>& splats, uint32_t pixel, float px, float py, Vec3 v) {
-    if (pixel != kFilmPoint) {
-        splats.push_back({pixel, v});
-        return;
-    }
-    scene.forEachFilmPixel(px, py, [&](uint32_t p, float w) { splats.push_back({p, v * w}); });
+// Appends a light-side contribution v to `pixel`'s splats, or for pixel == kFilmPoint to
+// the film points (px, py) (spread over the filter's footprint by addPointSplats).
+inline void pushSplat(std::vector<Splat>& splats, std::vector<PointSplat>& points, uint32_t pixel, float px, float py,
+                      Vec3 v) {
+    if (pixel != kFilmPoint) splats.push_back({pixel, v});
+    else points.push_back({px, py, v});
+}
+
+// Adds film points [0, n) in order, each to every pixel whose filter footprint holds it,
+// weighted (Scene::forEachFilmPixel).
+inline void addPointSplats(const Scene& scene, SplatFilm& film, const PointSplat* s, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        scene.forEachFilmPixel(s[i].px, s[i].py, [&](uint32_t p, float w) { film.add({p, s[i].value * w}); });
 }
 
 // Path i of a new wave belongs to slot i and starts with the ray from o along d.
