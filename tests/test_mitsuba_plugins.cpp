@@ -790,3 +790,77 @@ TEST_CASE("Mitsuba perspective sensor: focus_distance is read (a pinhole: no dep
     CHECK(e.find("t.xml:2:") == 0);
     CHECK(e.find("focus_distance must be > 0") != std::string::npos);
 }
+
+// A textured roughness (issue 25): the luminance of the texture at the hit is the alpha
+// there. A checkerboard of two greys on alpha (alpha_u) renders, block by block, what the
+// constant alpha of its square renders, bit for bit (the constant written as the float the
+// texture's luminance gives); a constant texture renders its constant in all four tracers.
+TEST_CASE("Mitsuba textured roughness: a checkerboard alpha renders each square's constant bit for bit", "[mitsuba][texture][render]") {
+    const Vec3 greyA(0.1f), greyB(0.45f);
+    auto num = [](float v) {
+        char s[32];
+        std::snprintf(s, sizeof s, "%.9g", double(v));
+        return std::string(s);
+    };
+    const std::string la = num(luminance(greyA)), lb = num(luminance(greyB));
+    auto board = [&](const std::string& name, Vec3 c0, Vec3 c1) {
+        return "<texture type=\"checkerboard\" name=\"" + name + "\"><float name=\"color0\" value=\"" + num(c0.x) +
+               "\"/><float name=\"color1\" value=\"" + num(c1.x) + "\"/></texture>";
+    };
+    auto flt = [](const std::string& name, const std::string& v) { return "<float name=\"" + name + "\" value=\"" + v + "\"/>"; };
+    struct Case { const char* what; std::string head, param, tail; };
+    const std::vector<Case> cases = {
+        {"roughconductor alpha", R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/>)", "alpha", "</bsdf>"},
+        {"roughdielectric alpha", R"(<bsdf type="roughdielectric">)", "alpha", "</bsdf>"},
+        {"roughconductor alpha_u (alpha_v 0.05)", R"(<bsdf type="roughconductor"><float name="alpha_v" value="0.05"/>)", "alpha_u",
+         "</bsdf>"},
+    };
+    for (const Case& c : cases) {
+        const SceneDesc textured = texturedPlate(c.head + board(c.param, greyA, greyB) + c.tail);
+        const SceneDesc constA = texturedPlate(c.head + flt(c.param, la) + c.tail);
+        const SceneDesc constB = texturedPlate(c.head + flt(c.param, lb) + c.tail);
+        REQUIRE(textured.materials[0].alphaTexture >= 0);
+        for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT}) {
+            DYNAMIC_SECTION(c.what << ", tracer " << int(tr)) {
+                const RenderOptions o = rstats::renderOptions(tr, 16, 78, 1, 3);
+                const Image t = render(textured, o).image, ia = render(constA, o).image, ib = render(constB, o).image;
+                CHECK(t.rgb != ia.rgb);
+                CHECK(ia.rgb != ib.rgb);
+                CHECK(block(t, 0, 1) == block(ia, 0, 1));
+                CHECK(block(t, 1, 0) == block(ia, 1, 0));
+                CHECK(block(t, 0, 0) == block(ib, 0, 0));
+                CHECK(block(t, 1, 1) == block(ib, 1, 1));
+            }
+        }
+        // The same squares both greyA: the constant's image in MMLT too.
+        const SceneDesc flat = texturedPlate(c.head + board(c.param, greyA, greyA) + c.tail);
+        for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+            INFO(c.what << ", constant texture, tracer " << int(tr));
+            RenderOptions o = rstats::renderOptions(tr, 16, 6, 1, 3);
+            if (tr == TracerKind::MMLT) o.chains = 1024;
+            CHECK(render(flat, o).image.rgb == render(constA, o).image.rgb);
+        }
+    }
+}
+
+TEST_CASE("Mitsuba textured roughness: importer and bad inputs", "[mitsuba][import][texture]") {
+    auto plate = [](const std::string& bsdf) {
+        return R"(<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/></sensor>
+<emitter type="constant"/>
+<shape type="sphere"><bsdf type=")" + bsdf + "</bsdf></shape></scene>";
+    };
+    const std::string board = R"(<texture type="checkerboard" name="alpha"/>)";
+    const SceneDesc d = loadMitsubaFromString(plate("roughconductor\">" + board), "t.xml", ".");
+    CHECK(d.materials[0].alphaTexture >= 0);
+    CHECK(d.materials[0].alphaVTexture == d.materials[0].alphaTexture);
+    CHECK(d.materials[0].alpha == 1.0f);
+    CHECK_FALSE(isAnisotropic(d.materials[0]));
+    const SceneDesc u = loadMitsubaFromString(
+        plate("roughdielectric\">" + std::string(R"(<texture type="checkerboard" name="alpha_u"/><float name="alpha_v" value="0.3"/>)")),
+        "t.xml", ".");
+    CHECK((u.materials[0].alphaTexture >= 0 && u.materials[0].alphaVTexture == -1 && u.materials[0].alphaV == 0.3f));
+    CHECK(isAnisotropic(u.materials[0]));
+    CHECK(errorOf(plate("roughplastic\">" + board)) ==
+          "t.xml:3: <texture type=\"checkerboard\" name=\"alpha\">: a texture on \"alpha\" is not supported by roughplastic "
+          "(its tables are made for one alpha)");
+}

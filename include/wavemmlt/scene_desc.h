@@ -83,6 +83,10 @@ struct MaterialDesc {
     MicrofacetType distribution = MicrofacetType::Beckmann;
     float alpha = 0.1f;                      // rough kinds (anisotropic: the roughness along u, alpha_u)
     float alphaV = -1;                       // rough kinds: the roughness along v (alpha_v); < 0: alpha
+    // Rough conductors and dielectrics: a texture's luminance at the hit scales alpha
+    // (alpha_u) and alphaV (index into SceneDesc::textures, -1: none); a textured `alpha`
+    // sets both to the same texture (isotropic).
+    int alphaTexture = -1, alphaVTexture = -1;
     Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
     bool nonlinear = false;                  // Plastic, RoughPlastic
     bool twoSided = true;                    // false: black seen from below the shading normal
@@ -95,13 +99,13 @@ struct MaterialDesc {
 };
 
 // A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it
-// differs from the u one: the material is anisotropic, its shading frame's x axis follows
-// dp/du (stages/surface.h).
+// differs from the u one (or is scaled by another texture): the material is anisotropic,
+// its shading frame's x axis follows dp/du (stages/surface.h).
 inline float alphaVOf(const MaterialDesc& m) { return m.alphaV < 0 ? m.alpha : m.alphaV; }
 inline bool isAnisotropic(const MaterialDesc& m) {
     const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric ||
                        m.kind == MaterialKind::RoughPlastic;
-    return rough && alphaVOf(m) != m.alpha;
+    return rough && (alphaVOf(m) != m.alpha || m.alphaTexture != m.alphaVTexture);
 }
 
 // The thesis' three textures, then Mitsuba's bitmap and checkerboard (docs/mitsuba.md).

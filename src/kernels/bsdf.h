@@ -25,7 +25,8 @@ enum class TransportMode : uint8_t { Radiance, Importance };
 // Per-material constants of the Mitsuba materials, built once with the scene (the table
 // and the internal reflectance by bsdf_plastic.cpp's preparePlastic).
 struct BsdfExtra {
-    Microfacet dist;                   // rough kinds
+    Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)
+    bool anisotropic = false;          // rough kinds: isAnisotropic (the frame follows dp/du)
     Vec3 etaC{0.0f}, kC{1.0f};         // conductors: complex index relative to the outside
     float specularWeight = 0.5f;       // plastics: mean(Ks) / (mean(Kd) + mean(Ks))
     float fdrInt = 0;                  // plastics: diffuse reflectance of the coating from inside
@@ -44,7 +45,15 @@ struct BsdfParams {
     Vec3 refract{0.0f};
     float eta = 1.5f;  // iorInside / iorOutside
     const BsdfExtra* x = nullptr;  // the Mitsuba kinds' constants (owned by the Scene)
+    // Rough conductors and dielectrics with a textured roughness: the alphas at this hit
+    // (0: x->dist's; materialAt writes them).
+    float alphaX = 0, alphaY = 0;
 };
+
+// The microfacet distribution at a hit: the material's, or its textured roughness'.
+inline Microfacet distributionAt(const BsdfParams& m) {
+    return m.alphaX > 0 ? Microfacet(m.x->dist.type, m.alphaX, m.alphaY) : m.x->dist;
+}
 
 struct BsdfSample {
     Vec3 wi;

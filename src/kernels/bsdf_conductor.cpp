@@ -28,7 +28,7 @@ Vec3 roughConductorF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     Vec3 h = wo + wi;
     if (!(lengthSquared(h) > 0)) return Vec3(0.0f);
     h = normalize(h);
-    const Microfacet& d = m.x->dist;
+    const Microfacet d = distributionAt(m);
     const float DG = microfacetD(d, h) * microfacetG(d, wo, wi, h);
     if (!(DG > 0)) return Vec3(0.0f);
     return m.reflect * fresnelConductor(dot(wo, h), m.x->etaC, m.x->kC) * (DG / (4.0f * wo.z * wi.z));
@@ -40,14 +40,14 @@ float roughConductorPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     if (!(lengthSquared(h) > 0)) return 0.0f;
     h = normalize(h);
     const float woh = dot(wo, h);
-    return woh > 0 ? visibleNormalPdf(m.x->dist, wo, h) / (4.0f * woh) : 0.0f;
+    return woh > 0 ? visibleNormalPdf(distributionAt(m), wo, h) / (4.0f * woh) : 0.0f;
 }
 
 bool roughConductorSample(const BsdfParams& m, Vec3 wo, float u1, float u2, BsdfSample& s) {
     if (wo.z == 0) return false;
     const bool below = wo.z < 0;
     Vec3 w = below ? Vec3(wo.x, wo.y, -wo.z) : wo;
-    Vec3 h = sampleVisibleNormal(m.x->dist, w, u1, u2);
+    Vec3 h = sampleVisibleNormal(distributionAt(m), w, u1, u2);
     Vec3 wi = reflectAbout(w, h);
     if (!(wi.z > 0)) return false;  // reflected below the surface: shadowed, no sample
     if (below) wi.z = -wi.z;

@@ -26,7 +26,7 @@ Vec3 roughDielectricF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     Vec3 wm;
     float etap;
     if (!halfVector(m, wo, wi, wm, etap)) return Vec3(0.0f);
-    const Microfacet& d = m.x->dist;
+    const Microfacet d = distributionAt(m);
     const float DG = microfacetD(d, wm) * microfacetG(d, wo, wi, wm);
     // F from the direction in the less dense medium (for a refraction pair it is the same
     // from both, but the denser side's cosine near the critical angle amplifies rounding):
@@ -46,7 +46,7 @@ float roughDielectricPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     float etap;
     if (!halfVector(m, wo, wi, wm, etap)) return 0.0f;
     const float F = fresnelDielectric(dot(wo, wm), m.eta);
-    const float pdfM = visibleNormalPdf(m.x->dist, wo, wm);
+    const float pdfM = visibleNormalPdf(distributionAt(m), wo, wm);
     if (wo.z * wi.z > 0) return F * pdfM / (4.0f * std::fabs(dot(wo, wm)));
     const float a = dot(wi, wm), b = dot(wo, wm) / etap;
     const float denom = (a + b) * (a + b);
@@ -56,7 +56,7 @@ float roughDielectricPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
 bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode,
                            BsdfSample& s) {
     if (wo.z == 0) return false;
-    const Vec3 wm = sampleVisibleNormal(m.x->dist, wo, u1, u2);  // wm.z > 0
+    const Vec3 wm = sampleVisibleNormal(distributionAt(m), wo, u1, u2);  // wm.z > 0
     const float cosM = dot(wo, wm);
     const float F = fresnelDielectric(cosM, m.eta);
     Vec3 wi;

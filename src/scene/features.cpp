@@ -7,18 +7,19 @@
 
 namespace wmlt {
 
-// Whether m's kind reads a colour parameter that has a texture (a texture on a parameter
-// the kind does not read costs nothing).
+// Whether m's kind reads a parameter that has a texture (a texture on a parameter the kind
+// does not read costs nothing): its colours, a rough conductor's or dielectric's alphas.
 bool readsTexturedColour(const MaterialDesc& m) {
     auto has = [&](ColourParam c) { return m.colourTexture[int(c)] >= 0; };
     switch (m.kind) {
         case MaterialKind::Matte: return has(ColourParam::Diffuse);
         case MaterialKind::Glossy: return has(ColourParam::Diffuse) || has(ColourParam::Specular);
         case MaterialKind::Reflective:
-        case MaterialKind::Conductor:
-        case MaterialKind::RoughConductor: return has(ColourParam::Reflect);
-        case MaterialKind::Dielectric:
+        case MaterialKind::Conductor: return has(ColourParam::Reflect);
+        case MaterialKind::RoughConductor: return has(ColourParam::Reflect) || m.alphaTexture >= 0 || m.alphaVTexture >= 0;
         case MaterialKind::RoughDielectric:
+            return has(ColourParam::Reflect) || has(ColourParam::Refract) || m.alphaTexture >= 0 || m.alphaVTexture >= 0;
+        case MaterialKind::Dielectric:
         case MaterialKind::ThinDielectric: return has(ColourParam::Reflect) || has(ColourParam::Refract);
         case MaterialKind::Plastic:
         case MaterialKind::RoughPlastic: return has(ColourParam::Diffuse) || has(ColourParam::Reflect);

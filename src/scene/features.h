@@ -31,7 +31,7 @@ struct SceneFeatures {
 };
 
 SceneFeatures deriveFeatures(const SceneDesc& desc);
-// Whether m's kind reads one of its textured colour parameters (MaterialDesc::colourTexture).
+// Whether m's kind reads one of its textured parameters (MaterialDesc::colourTexture, alphaTexture).
 bool readsTexturedColour(const MaterialDesc& m);
 
 }  // namespace wmlt

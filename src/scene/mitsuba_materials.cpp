@@ -138,15 +138,31 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
         if (d == "beckmann") m.distribution = MicrofacetType::Beckmann;
         else if (d == "ggx") m.distribution = MicrofacetType::GGX;
         else p.fail(p.node().find_child_by_attribute("name", "distribution"), "distribution \"" + d + "\" is not beckmann or ggx");
-        float a = p.getFloat("alpha", 0.1f), av = a;
+        // A roughness: a number, or a texture whose luminance at the hit is the alpha there
+        // (rough conductors and dielectrics; roughplastic's tables are made for one alpha).
+        auto roughness = [&](const char* name, float def, int& tex) {
+            if (Node tx = textureParam(p, name)) {
+                if (!anisotropic)
+                    p.fail(p.node().find_child_by_attribute("name", name),
+                           std::string("a texture on \"") + name + "\" is not supported by roughplastic (its tables are made for one alpha)");
+                tex = texture(tx);
+                return 1.0f;
+            }
+            return p.getFloat(name, def);
+        };
+        int ta = -1, tav = -1;
+        float a = roughness("alpha", 0.1f, ta), av = a;
+        tav = ta;
         if (p.has("alpha_u") || p.has("alpha_v")) {  // Mitsuba 3's rules: both, and not with alpha
             if (!p.has("alpha_u") || !p.has("alpha_v")) p.fail(p.node(), "give both alpha_u and alpha_v");
             if (p.has("alpha")) p.fail(p.node(), "give either alpha or alpha_u and alpha_v, not both");
-            a = p.getFloat("alpha_u", a);
-            av = p.getFloat("alpha_v", a);
+            a = roughness("alpha_u", a, ta);
+            av = roughness("alpha_v", a, tav);
             if (a != av && !anisotropic)
                 p.fail(p.node(), "anisotropic roughness (alpha_u != alpha_v) is not supported by roughplastic (as in Mitsuba 3)");
         }
+        m.alphaTexture = ta;
+        m.alphaVTexture = tav;
         for (float x : {a, av})
             if (!(x > 0 && x <= 10)) p.fail(p.node(), "alpha must be in (0, 10]");
         m.alpha = std::max(a, 1e-4f);

@@ -150,6 +150,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         if (int(m.kind) >= int(MaterialKind::Conductor)) {
             BsdfExtra& x = s->bsdfExtras[i];
             x.dist = Microfacet(m.distribution, m.alpha, alphaVOf(m));  // alphaX along u (the frame's x)
+            x.anisotropic = isAnisotropic(m);
             x.etaC = m.conductorEta;
             x.kC = m.conductorK;
             x.nonlinear = m.nonlinear;

@@ -167,6 +167,13 @@ void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams&
             if (t[int(ColourParam::Specular)] >= 0) out.specular = out.specular * at(ColourParam::Specular);
             if (t[int(ColourParam::Reflect)] >= 0) out.reflect = out.reflect * at(ColourParam::Reflect);
             if (t[int(ColourParam::Refract)] >= 0) out.refract = out.refract * at(ColourParam::Refract);
+            if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {  // alpha = constant * luminance (as 1e-4 at least)
+                auto alpha = [&](int tex, float a) {
+                    return tex < 0 ? a : std::max(a * luminance(evalTexture(scene.desc.textures[tex], sp.u, sp.v, sp.p)), 1e-4f);
+                };
+                out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
+                out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
+            }
         }
     }
 }
@@ -179,7 +186,7 @@ inline Frame shadingFrame(const Scene& scene, const SurfacePoint& sp) {
     if constexpr (F::aniso) {
         if (sp.material >= 0) {
             const BsdfExtra* x = scene.materials[sp.material].x;
-            if (x && !x->dist.isotropic()) return Frame::fromNormalTangent(sp.ns, sp.dpdu);
+            if (x && x->anisotropic) return Frame::fromNormalTangent(sp.ns, sp.dpdu);
         }
     }
     return Frame::fromNormal(sp.ns);
