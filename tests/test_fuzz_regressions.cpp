@@ -144,6 +144,7 @@ TEST_CASE("fuzz corpus and regressions: serialized loader", "[fuzz]") {
 
 TEST_CASE("fuzz corpus and regressions: PNG reader", "[fuzz]") { images("png", ".png"); }
 TEST_CASE("fuzz corpus and regressions: JPEG reader", "[fuzz]") { images("jpeg", ".jpg"); }
+TEST_CASE("fuzz corpus and regressions: TGA reader", "[fuzz]") { images("tga", ".tga"); }
 TEST_CASE("fuzz corpus and regressions: EXR reader", "[fuzz]") { images("exr", ".exr"); }
 TEST_CASE("fuzz corpus and regressions: HDR reader", "[fuzz]") { images("hdr", ".hdr"); }
 TEST_CASE("fuzz corpus and regressions: PFM reader", "[fuzz]") { images("pfm", ".pfm"); }

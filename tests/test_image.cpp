@@ -211,6 +211,36 @@ TEST_CASE("PNG and JPEG are decoded and linearised, grey becomes RGB", "[image]"
     CHECK(linearToSrgb(j.at(5, 5).z) * 255 == Approx(50).margin(3));
 }
 
+TEST_CASE("TGA: plain and run-length, written by stb_image_write, decoded top row first and linearised", "[image]") {
+    TempDir dir;
+    // stbi_write_tga writes run-length TGA by default; the 2 x 2 image's top row first.
+    unsigned char rgb[3 * 4] = {255, 0, 51, 0, 10, 255, 128, 128, 128, 0, 0, 0};
+    for (int rle : {1, 0}) {
+        stbi_write_tga_with_rle = rle;
+        const std::string f = dir.file("c" + std::to_string(rle) + ".tga");
+        REQUIRE(stbi_write_tga(f.c_str(), 2, 2, 3, rgb));
+        const Image c = readImage(f);
+        REQUIRE((c.width == 2 && c.height == 2));
+        CHECK(c.at(0, 0).x == Approx(1.0f));
+        CHECK(c.at(0, 0).y == 0.0f);
+        CHECK(c.at(0, 0).z == Approx(srgbToLinear(0.2f)).epsilon(1e-6));
+        CHECK(c.at(1, 0).y == Approx(10.0 / 255.0 / 12.92).epsilon(1e-6));
+        CHECK(c.at(0, 1).x == Approx(srgbToLinear(128 / 255.0f)).epsilon(1e-6));
+        CHECK(c.at(1, 1).z == 0.0f);
+    }
+    stbi_write_tga_with_rle = 1;
+    // A PNG named .tga is refused (no decoder but the named format's is reached).
+    REQUIRE(stbi_write_png(dir.file("p.png").c_str(), 2, 2, 3, rgb, 6));
+    fs::copy_file(dir.file("p.png"), dir.file("p.tga"));
+    std::string what;
+    try {
+        readImage(dir.file("p.tga"));
+    } catch (const InputError& e) {
+        what = e.what();
+    }
+    CHECK(what.find("not a TGA file") != std::string::npos);
+}
+
 TEST_CASE("Radiance HDR matches stb_image's float loader", "[image]") {
     TempDir dir;
     for (int w : {5, 40}) {  // < 8 wide: flat scanlines; otherwise run-length encoded

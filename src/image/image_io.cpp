@@ -1,4 +1,4 @@
-// readImage / writeImage: dispatch on the extension, the sRGB curve, PNG and JPEG through
+// readImage / writeImage: dispatch on the extension, the sRGB curve, PNG, JPEG and TGA through
 // stb_image (Debian's libstb.so provides the implementation), the write-to-a-temporary-
 // name-then-rename protocol. EXR is in exr.cpp, PFM in pfm.cpp, Radiance HDR in hdr.cpp.
 #include <stb/stb_image.h>
@@ -178,9 +178,17 @@ Image readStb(const std::string& path, const char* format) {
     }
     // stb_image picks the decoder from the data, not the name: a ".png" holding a GIF, PSD,
     // TGA, BMP or PIC would reach stb's other decoders. Only the named format is read.
-    const bool jpeg = std::string(format) == "JPEG";
-    if (jpeg ? bytes.compare(0, 3, "\xFF\xD8\xFF") != 0 : bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
+    const bool jpeg = std::string(format) == "JPEG", tga = std::string(format) == "TGA";
+    if (tga) {
+        // TGA has no signature: its header's colour-map type (0 or 1) and image type
+        // (1-3 plain, 9-11 run-length) tell it from every other format stb_image reads
+        // (whose first two bytes are never such a pair).
+        const int mapType = bytes.size() > 2 ? data[1] : -1, type = bytes.size() > 2 ? data[2] : -1;
+        if (bytes.size() < 18 || mapType > 1 || !((type >= 1 && type <= 3) || (type >= 9 && type <= 11)))
+            throw InputError(path, 0, "not a TGA file (its header's colour-map and image types are not TGA's)");
+    } else if (jpeg ? bytes.compare(0, 3, "\xFF\xD8\xFF") != 0 : bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) {
         throw InputError(path, 0, std::string("not a ") + format + " file (no " + format + " signature)");
+    }
     if (jpeg) checkJpegTables(path, data, bytes.size());
     if (!stbi_info_from_memory(data, len, &w, &h, &comp))
         throw InputError(path, 0, std::string("not a readable ") + format + " file (" + stbReason() + ")");
@@ -260,8 +268,9 @@ Image readImage(const std::string& path) {
     if (ext == ".hdr" || ext == ".rgbe" || ext == ".pic") return imageio::readHdr(path);
     if (ext == ".png") return readStb(path, "PNG");
     if (ext == ".jpg" || ext == ".jpeg") return readStb(path, "JPEG");
+    if (ext == ".tga") return readStb(path, "TGA");
     throw InputError(path, 0,
-                     "unknown image extension '" + ext + "' (readable: .exr, .pfm, .hdr, .png, .jpg, .jpeg)");
+                     "unknown image extension '" + ext + "' (readable: .exr, .pfm, .hdr, .png, .jpg, .jpeg, .tga)");
 }
 
 void writeImage(const std::string& path, const Image& image, float exposure) {
