@@ -30,6 +30,7 @@
 #include <tbb/global_control.h>
 
 #include "scene/scene_lights.h"
+#include "stages/splat_passes.h"
 
 namespace wmlt {
 
@@ -168,12 +169,7 @@ void MmltRender::runRounds(uint64_t passEnd) {
             mb.slices = plan_[ti];
             mb.stripeShift = stripeShift;
             mb.splatLengths = !lengthFilms_.empty();
-            for (uint32_t st = 0; st < kFilmStripes; ++st) {
-                mb.splats[st].clear();
-                mb.splatLength[st].clear();
-                mb.points[st].clear();
-                mb.pointLength[st].clear();
-            }
+            mb.clearSplats();
             for (SamplePool& p : mb.pools) p.clear();
             mb.counters = MmltCounters();
             for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
@@ -206,15 +202,7 @@ void MmltRender::runRounds(uint64_t passEnd) {
                 film_.addAll(o.splats[st].data(), o.splats[st].size());
                 if (!lengthFilms_.empty())
                     for (size_t i = 0; i < o.splats[st].size(); ++i) lengthFilms_[o.splatLength[st][i]].add(o.splats[st][i]);
-                for (size_t i = 0; i < o.points[st].size(); ++i) {
-                    const PointSplat& s = o.points[st][i];
-                    scene_.forEachFilmPixel(s.px, s.py, [&](uint32_t p, float w) {
-                        if ((p >> stripeShift) != st) return;
-                        const Splat sp{p, s.value * w};
-                        film_.add(sp);
-                        if (!lengthFilms_.empty()) lengthFilms_[o.pointLength[st][i]].add(sp);
-                    });
-                }
+                addPointSplatsInStripe(scene_, film_, lengthFilms_, o.points[st], o.pointLength[st], st, stripeShift);
             }
         };
         auto mergePool = [&](size_t k) {  // in batch order

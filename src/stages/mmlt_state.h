@@ -169,6 +169,14 @@ struct MmltBatch {
     // footprint's pixels of each stripe: mergeStripe, mmlt.cpp).
     std::vector<PointSplat> points[kStripes];
     std::vector<uint8_t> pointLength[kStripes];
+    void clearSplats() {
+        for (uint32_t st = 0; st < kStripes; ++st) {
+            splats[st].clear();
+            splatLength[st].clear();
+            points[st].clear();
+            pointLength[st].clear();
+        }
+    }
     void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
         if (scene.filter.box) {
             scene.forEachFilmPixel(px, py, [&](uint32_t pixel, float w) { addSplat(pixel, v * w, k); });

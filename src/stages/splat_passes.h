@@ -21,6 +21,20 @@ struct TileSplats {
     ContributionTally tally;
 };
 
+// MMLT's merge of one film stripe (pixels p with p >> shift == st): the film points'
+// footprints' pixels in it, in order, also to lengthFilms[length[i]] when there are any.
+inline void addPointSplatsInStripe(const Scene& scene, SplatFilm& film, std::vector<SplatFilm>& lengthFilms,
+                                   const std::vector<PointSplat>& points, const std::vector<uint8_t>& length,
+                                   uint32_t st, uint32_t shift) {
+    for (size_t i = 0; i < points.size(); ++i)
+        scene.forEachFilmPixel(points[i].px, points[i].py, [&](uint32_t p, float w) {
+            if ((p >> shift) != st) return;
+            const Splat s{p, points[i].value * w};
+            film.add(s);
+            if (!lengthFilms.empty()) lengthFilms[length[i]].add(s);
+        });
+}
+
 struct SplatTotals {
     uint64_t discarded = 0;  // non-finite contributions
     PathLengthSums lengths;
