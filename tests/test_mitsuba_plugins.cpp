@@ -551,7 +551,9 @@ namespace {
 // directional light on a diffuse floor): their block means equal the expected ones to
 // float rounding instead.
 void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& irradiance, const std::string& what,
-                const std::vector<TracerKind>& exact = {}) {
+                const std::vector<TracerKind>& exact = {},
+                const std::string& floorBsdf = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)",
+                const std::string& dir = ".") {
     const double rho = 0.6;
     const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
@@ -559,9 +561,9 @@ void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& i
     <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
     <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate x="1" angle="-90"/></transform>
-    <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+    )" + floorBsdf + R"(</shape>
 )" + emitter + "\n</scene>",
-                                              what + ".xml", ".");
+                                              what + ".xml", dir);
     const Camera cam = makeCamera(d.camera, 16, 16);
     std::vector<double> expected(16, 0.0);
     for (int y = 0; y < 16; ++y)
@@ -863,4 +865,59 @@ TEST_CASE("Mitsuba textured roughness: importer and bad inputs", "[mitsuba][impo
     CHECK(errorOf(plate("roughplastic\">" + board)) ==
           "t.xml:3: <texture type=\"checkerboard\" name=\"alpha\">: a texture on \"alpha\" is not supported by roughplastic "
           "(its tables are made for one alpha)");
+}
+
+// Mitsuba's normalmap (issue 25): a constant map tilting the floor's shading normal by 30
+// degrees about v, n' = (sin 30, 0, cos 30) in the tangent frame (x along dp/du: the
+// rectangle's u is world +x here). A diffuse floor under a directional light then has
+// radiance rho / pi E (n' . -d) everywhere: PT exactly (next-event estimation alone), LT
+// and BPT within their noise: their adjoint shading-normal corrections must give the same
+// image as PT's radiance transport.
+TEST_CASE("Mitsuba normalmap: a tilted constant map under a directional light, in PT, LT and BPT", "[mitsuba][render][bump]") {
+    const std::string dir = rstats::tempDir("mitsuba-normalmap");
+    const double s = 0.5, c = std::sqrt(0.75);
+    writeImage(dir + "/n.pfm", texels(2, 2, [&](int, int) { return Vec3(float((s + 1) / 2), 0.5f, float((c + 1) / 2)); }));
+    const std::string bsdf = R"(<bsdf type="normalmap"><texture type="bitmap" name="normalmap"><string name="filename" value="n.pfm"/>
+      <boolean name="raw" value="true"/></texture><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf>)";
+    const Vec3 d = normalize(Vec3(-0.4f, -1.0f, 0.2f));  // towards -x: the tilted normal faces it more
+    // The map's normal as the renderer decodes it (2 rgb - 1 in floats, normalised).
+    const Vec3 m = normalize(Vec3(float((s + 1) / 2), 0.5f, float((c + 1) / 2)) * 2.0f - Vec3(1.0f));
+    const Vec3 n(m.x, m.z, -m.y);  // tangent frame (x, y, z) = world (+x, -z, +y) on the floor
+    const double cosine = -double(dot(n, d));
+    REQUIRE(cosine > -double(d.y) * 1.05);  // the tilt matters: 6 % more than the flat floor's
+    floorUnder(R"(<emitter type="directional"><vector name="direction" x="-0.4" y="-1" z="0.2"/><rgb name="irradiance" value="2"/></emitter>)",
+               [&](Vec3) { return 2.0 * cosine; }, "normalmap", {TracerKind::PT}, bsdf, dir);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Mitsuba normalmap: importer and bad inputs", "[mitsuba][import][bump]") {
+    const std::string dir = rstats::tempDir("mitsuba-normalmap-import");
+    writeImage(dir + "/n.pfm", texels(2, 2, [](int, int) { return Vec3(0.5f, 0.5f, 1.0f); }));
+    const std::string map = R"(<texture type="bitmap" name="normalmap"><string name="filename" value="n.pfm"/></texture>)";
+    SceneDesc d = load(scene(R"(<shape type="sphere"><bsdf type="normalmap">)" + map +
+                             R"(<bsdf type="roughconductor"/></bsdf></shape>)"), dir);
+    const MaterialDesc& mm = d.materials[d.shapes[0].material];
+    CHECK(mm.kind == MaterialKind::RoughConductor);
+    REQUIRE(mm.normalMap >= 0);
+    CHECK(d.textures[mm.normalMap].kind == TextureKind::Bitmap);
+    // (0.5, 0.5, 1): the normal itself.
+    const Vec3 ns = normalize(Vec3(0.1f, 0.2f, 1.0f));
+    const Vec3 n = normalMapped(d.textures[mm.normalMap], 0.3f, 0.6f, Vec3(0.0f), ns, Vec3(0, 0, 1), Vec3(1, 0, 0));
+    CHECK(n.x == Approx(ns.x).margin(1e-6));
+    CHECK(n.y == Approx(ns.y).margin(1e-6));
+    CHECK(n.z == Approx(ns.z).margin(1e-6));
+    // A mesh without (u, v), no texture, a bumpmap inside.
+    {
+        std::ofstream(dir + "/tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    }
+    CHECK(errorOf(scene(R"(<shape type="obj"><string name="filename" value="tri.obj"/><bsdf type="normalmap">)" + map +
+                        R"(<bsdf type="diffuse"/></bsdf></shape>)"), dir)
+              .find("a normalmap needs the mesh's (u, v), and this mesh has none") != std::string::npos);
+    CHECK(errorOf(scene(R"(<shape type="sphere"><bsdf type="normalmap"><bsdf type="diffuse"/></bsdf></shape>)"), dir)
+              .find("normalmap needs a texture named \"normalmap\"") != std::string::npos);
+    CHECK(errorOf(scene(R"(<shape type="sphere"><bsdf type="normalmap">)" + map +
+                        R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="n.pfm"/></texture><bsdf type="diffuse"/></bsdf></bsdf></shape>)"),
+                  dir)
+              .find("not supported") != std::string::npos);
+    std::filesystem::remove_all(dir);
 }

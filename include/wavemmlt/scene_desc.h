@@ -91,6 +91,10 @@ struct MaterialDesc {
     bool nonlinear = false;                  // Plastic, RoughPlastic
     bool twoSided = true;                    // false: black seen from below the shading normal
     bool bumpMitsuba = false;                // bump is Mitsuba's bumpmap: height = bumpScale * luminance
+    // Mitsuba's normalmap: a texture whose RGB at the hit is the shading normal in the
+    // tangent frame (x along dp/du, z the interpolated normal) as (n + 1) / 2 (index into
+    // SceneDesc::textures, -1: none; kernels/bump.h, normalMapped).
+    int normalMap = -1;
     float bumpScale = 1;
     // Mitsuba's mask: the surface is there with probability opacity (or the texture's
     // luminance at the hit), else rays pass straight through (an any-hit test).

@@ -36,7 +36,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         f.material[int(m.kind)] = true;
         if (readsTexturedColour(m)) f.textures = true;
         if (!m.twoSided) f.oneSided = true;
-        if (m.bump >= 0) f.bump = true;
+        if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (isAnisotropic(m)) f.anisotropic = true;
         if (s.kind == ShapeKind::Sphere) f.spheres = true;

@@ -169,6 +169,8 @@ void Importer::shape(Node n) {
         sh.material = m.id;
     } else {
         sh.material = material(bsdfs[0]);
+        if (s_.materials[sh.material].normalMap >= 0 && sh.uv == UvKind::None)
+            p.fail(bsdfs[0], "a normalmap needs the mesh's (u, v), and this mesh has none");
     }
     if (!emitters.empty()) {
         // Emitters scatter by their BSDF as Mitsuba's do; a black diffuse one only absorbs,

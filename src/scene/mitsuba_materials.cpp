@@ -239,6 +239,7 @@ int Importer::material(Node bsdf) {
         m.twoSided = true;
     } else if (p.type() == "bumpmap") {  // a height texture (any name) over the nested BSDF
         m = inner("bumpmap");
+        if (m.normalMap >= 0) p.fail(bsdf, "a bumpmap over a normalmap is not supported");
         std::vector<Node> tx;
         for (Node c : p.node().children())
             if (c.type() == pugi::node_element && std::string(c.name()) == "texture") tx.push_back(c);
@@ -255,6 +256,12 @@ int Importer::material(Node bsdf) {
             p.fail(tx[0], "a bumpmap's height must be a bitmap (Mitsuba differentiates only those)");
         m.bumpMitsuba = true;
         m.bumpScale = p.getFloat("scale", 1.0f);
+    } else if (p.type() == "normalmap") {  // the `normalmap` texture over the nested BSDF
+        m = inner("normalmap");
+        if (m.bump >= 0 || m.normalMap >= 0) p.fail(bsdf, "a normalmap over a bumpmap or normalmap is not supported");
+        Node tn = textureParam(p, "normalmap");
+        if (!tn) p.fail(bsdf, "normalmap needs a texture named \"normalmap\"");
+        m.normalMap = texture(tn);
     } else if (p.type() == "mask") {  // opacity: a float or a texture's luminance
         m = inner("mask");
         if (m.opacity < 1 || m.opacityTexture >= 0) p.fail(bsdf, "a mask inside a mask is not supported");

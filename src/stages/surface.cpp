@@ -45,6 +45,10 @@ void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpd
 
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
     const MaterialDesc& m = scene.desc.materials[sp.material];
+    if (m.normalMap >= 0) {
+        sp.ns = normalMapped(scene.desc.textures[m.normalMap], sp.u, sp.v, sp.p, sp.ns, sp.ng, dpdu);
+        return;
+    }
     if (m.bump < 0) return;
     if (m.bumpMitsuba)
         sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
