@@ -239,6 +239,20 @@ TEST_CASE("TGA: plain and run-length, written by stb_image_write, decoded top ro
         what = e.what();
     }
     CHECK(what.find("not a TGA file") != std::string::npos);
+    // A header of 1000 x 1000 pixels over 4 bytes of data: refused before decoding.
+    {
+        std::ofstream f(dir.file("t.tga"), std::ios::binary);
+        const unsigned char h[18] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xE8, 3, 0xE8, 3, 24, 0};
+        f.write(reinterpret_cast<const char*>(h), 18);
+        f.write("abcd", 4);
+    }
+    what.clear();
+    try {
+        readImage(dir.file("t.tga"));
+    } catch (const InputError& e) {
+        what = e.what();
+    }
+    CHECK(what.find("the file holds 22 bytes, fewer than its 1000 x 1000 pixels need (3000018)") != std::string::npos);
 }
 
 TEST_CASE("Radiance HDR matches stb_image's float loader", "[image]") {

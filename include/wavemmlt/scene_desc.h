@@ -155,6 +155,18 @@ struct ShapeDesc {
     float radius = 0;   // Sphere, world space
     Affine toWorld;     // object to world (for sphere and plane uv)
     Affine toLocal;     // world to object
+    // >= 0: a shape of that group (Mitsuba's shapegroup), in the group's coordinates, placed
+    // only by the instances of the group (SceneDesc::instances); a triangle mesh without
+    // emitter or mask.
+    int group = -1;
+};
+
+// One placement of a group of shapes (Mitsuba's instance of a shapegroup): stored once,
+// traced through an Embree instance with this transform.
+struct InstanceDesc {
+    int group = 0;
+    Affine toWorld, toLocal;  // group to world, and back
+    int line = 0;             // of the element in the scene file
 };
 
 // Mesh: any triangle mesh emitting on its winding's side (Mitsuba's area on obj, ply,
@@ -183,6 +195,8 @@ struct SceneDesc {
     std::vector<TextureDesc> textures;
     std::vector<ShapeDesc> shapes;
     std::vector<LightDesc> lights;
+    int groups = 0;                       // shape groups (ShapeDesc::group)
+    std::vector<InstanceDesc> instances;  // their placements
     Image envMap;  // empty (0 x 0) when none
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };

@@ -193,6 +193,17 @@ Image readStb(const std::string& path, const char* format) {
     if (!stbi_info_from_memory(data, len, &w, &h, &comp))
         throw InputError(path, 0, std::string("not a readable ") + format + " file (" + stbReason() + ")");
     imageio::checkSize(path, w, h);
+    if (tga) {  // the pixels must be in the file (stb_image would decode a huge image from a few bytes)
+        auto le16 = [&](size_t o) { return uint64_t(data[o]) | (uint64_t(data[o + 1]) << 8); };
+        const uint64_t pixelBytes = (uint64_t(data[16]) + 7) / 8, pixels = uint64_t(w) * uint64_t(h);
+        const uint64_t map = data[1] ? le16(5) * ((uint64_t(data[7]) + 7) / 8) : 0;
+        const uint64_t body = data[2] >= 9 ? (pixels + 127) / 128 * (1 + pixelBytes) : pixels * pixelBytes;
+        const uint64_t need = 18 + uint64_t(data[0]) + map + body;
+        if (bytes.size() < need)
+            throw InputError(path, 0, "the file holds " + std::to_string(bytes.size()) + " bytes, fewer than its " +
+                                          std::to_string(w) + " x " + std::to_string(h) + " pixels need (" +
+                                          std::to_string(need) + ")");
+    }
     Image img;  // allocated once stb_image has decoded the data (a header alone proves little)
     size_t n = 0;
     auto toRgb = [&](auto* px, int c, auto lin) {

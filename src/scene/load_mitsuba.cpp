@@ -98,7 +98,58 @@ void Importer::topLevel(Node scene) {
     if (!haveSensor_) files_.fail(scene, "no <sensor>");
 }
 
+// <shape type="shapegroup" id="...">: its shapes (triangle meshes, without emitters or
+// masks) in the group's own coordinates, stored once (ShapeDesc::group); read when first
+// met, at its place or at an instance that refers to it before it.
+int Importer::shapeGroup(Node n) {
+    if (auto it = groupOf_.find(n.internal_object()); it != groupOf_.end()) return it->second;
+    if (currentGroup_ >= 0) files_.fail(n, "a shapegroup inside a shapegroup is not supported (nor is Mitsuba's)");
+    const int g = s_.groups++;
+    groupOf_[n.internal_object()] = g;
+    currentGroup_ = g;
+    int shapes = 0;
+    for (Node c : n.children()) {
+        if (c.type() != pugi::node_element) continue;
+        if (std::string(c.name()) != "shape") files_.fail(c, "a shapegroup holds shapes only");
+        shape(c);
+        ++shapes;
+    }
+    currentGroup_ = -1;
+    if (shapes == 0) files_.fail(n, "an empty shapegroup");
+    return g;
+}
+
+// <shape type="instance"><ref id="group"/> with to_world: one placement of a shapegroup.
+void Importer::instance(Node n) {
+    if (currentGroup_ >= 0) files_.fail(n, "an instance inside a shapegroup is not supported (nested instancing)");
+    Props p = props(n);
+    const Matrix M = p.getTransform("to_world");
+    if (M.det3() == 0) p.fail(n, "to_world is singular");
+    const std::vector<Node> groups = p.nested("shape");  // the <ref id=...> resolved
+    if (groups.size() != 1) p.fail(n, "an instance needs one <ref id=...> to a shapegroup");
+    Node gn = groups[0];
+    if (std::string(gn.attribute("type").value()) != "shapegroup")
+        p.fail(n, "an instance's <ref> must name a shapegroup (" + files_.where(gn) + " is a shape of type \"" +
+                      gn.attribute("type").value() + "\")");
+    InstanceDesc in;
+    in.group = shapeGroup(gn);
+    in.toWorld = M.affine();
+    in.toLocal = M.inverse().affine();
+    in.line = files_.line(n);
+    p.finish();
+    s_.instances.push_back(in);
+}
+
 void Importer::shape(Node n) {
+    const std::string type = n.attribute("type").value();
+    if (type == "shapegroup") {
+        shapeGroup(n);
+        return;
+    }
+    if (type == "instance") {
+        instance(n);
+        return;
+    }
     Props p = props(n);
     const std::string t = p.type();
     ShapeDesc sh;
@@ -157,6 +208,9 @@ void Importer::shape(Node n) {
         p.fail(n, "shape not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
     }
     if (sh.kind == ShapeKind::Mesh) sh.uv = sh.mesh.uvs.empty() ? UvKind::None : UvKind::Mesh;
+    sh.group = currentGroup_;
+    if (sh.group >= 0 && sh.kind != ShapeKind::Mesh)
+        p.fail(n, "a sphere inside a shapegroup is not supported (triangle meshes are)");
     std::vector<Node> bsdfs = p.nested("bsdf");
     if (bsdfs.size() > 1) p.fail(bsdfs[1], "a shape has one BSDF");
     std::vector<Node> emitters = p.nested("emitter");
@@ -172,7 +226,10 @@ void Importer::shape(Node n) {
         if (s_.materials[sh.material].normalMap >= 0 && sh.uv == UvKind::None)
             p.fail(bsdfs[0], "a normalmap needs the mesh's (u, v), and this mesh has none");
     }
+    if (sh.group >= 0 && (s_.materials[sh.material].opacity < 1 || s_.materials[sh.material].opacityTexture >= 0))
+        p.fail(bsdfs[0], "a mask inside a shapegroup is not supported");
     if (!emitters.empty()) {
+        if (sh.group >= 0) p.fail(emitters[0], "an emitter inside a shapegroup is not supported (nor is Mitsuba's)");
         // Emitters scatter by their BSDF as Mitsuba's do; a black diffuse one only absorbs,
         // which wavemmlt's emitters without a material (-1) do at no cost.
         const MaterialDesc& m = s_.materials[sh.material];

@@ -25,6 +25,8 @@ private:
     std::map<std::string, Node> ids_;
     std::map<const void*, int> materialOf_;  // bsdf element -> material index
     std::map<const void*, int> textureOf_;   // texture element -> texture index
+    std::map<const void*, int> groupOf_;     // shapegroup element -> group index
+    int currentGroup_ = -1;                  // the shapegroup whose shapes are being read
     bool camel_ = false;
     SceneDesc s_;
     bool haveSensor_ = false, haveIntegrator_ = false;
@@ -49,6 +51,8 @@ private:
     Node textureParam(Props& p, const std::string& name);
     void materialParams(Props& p, MaterialDesc& m);
     void shape(Node n);
+    int shapeGroup(Node n);
+    void instance(Node n);
     void emitter(Node n, int shape);
     void sensor(Node n);
     FilterDesc reconstructionFilter(Node rf);

@@ -130,6 +130,13 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->device = rtcNewDevice(config.c_str());
     if (!s->device) throw std::runtime_error("cannot create the Embree device");
     rtcSetDeviceErrorFunction(s->device, embreeError, &s->embreeErrorMessage);
+    rtcSetDeviceMemoryMonitorFunction(
+        s->device,
+        [](void* p, ssize_t bytes, bool) {
+            static_cast<std::atomic<int64_t>*>(p)->fetch_add(int64_t(bytes), std::memory_order_relaxed);
+            return true;
+        },
+        &s->embreeBytes);
     s->rtc = rtcNewScene(s->device);
     // Medium (binned SAH): on the bunny and the dragon both the build and the traversal
     // measured faster than high (spatial splits), and Embree's multi-threaded high-quality
@@ -172,6 +179,11 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     }
 
     Vec3 lo(INFINITY), hi(-INFINITY);
+    std::vector<Vec3> groupLo(size_t(d.groups), Vec3(INFINITY)), groupHi(size_t(d.groups), Vec3(-INFINITY));
+    for (int g = 0; g < d.groups; ++g) {
+        s->groupScenes.push_back(rtcNewScene(s->device));
+        rtcSetSceneBuildQuality(s->groupScenes.back(), RTC_BUILD_QUALITY_MEDIUM);
+    }
     s->geoms.resize(d.shapes.size());
     s->masks.reserve(d.shapes.size());  // not reallocated: the filters point into it
     for (size_t i = 0; i < d.shapes.size(); ++i) {
@@ -191,7 +203,12 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
                 for (size_t c = 0; c < sh.mesh.indices.size(); ++c)
                     r.cornerNormals[c] = sh.mesh.normals[sh.mesh.indices[c]];
             }
-            for (Vec3 p : sh.mesh.positions) { lo = vmin(lo, p); hi = vmax(hi, p); }
+            Vec3& l = sh.group >= 0 ? groupLo[size_t(sh.group)] : lo;
+            Vec3& h = sh.group >= 0 ? groupHi[size_t(sh.group)] : hi;
+            for (Vec3 p : sh.mesh.positions) { l = vmin(l, p); h = vmax(h, p); }
+            s->meshBytes += sh.mesh.positions.size() * sizeof(Vec3) + sh.mesh.normals.size() * sizeof(Vec3) +
+                            sh.mesh.uvs.size() * sizeof(float) + sh.mesh.indices.size() * sizeof(uint32_t) +
+                            s->geoms[i].cornerNormals.size() * sizeof(Vec3);
             g = buildMesh(s->device, s->desc.shapes[i].mesh);
         } else {
             r.center = sh.center;
@@ -218,8 +235,31 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             }
         }
         rtcCommitGeometry(g);
-        rtcAttachGeometryByID(s->rtc, g, unsigned(i));
+        rtcAttachGeometryByID(sh.group >= 0 ? s->groupScenes[size_t(sh.group)] : s->rtc, g, unsigned(i));
         rtcReleaseGeometry(g);
+    }
+    // The instances: each group's scene committed first, then an instance geometry per
+    // placement (Embree's order), its bounds the group's box carried to the world.
+    for (RTCScene gs : s->groupScenes) rtcCommitScene(gs);
+    s->instances = d.instances;
+    s->firstInstanceID = unsigned(d.shapes.size());
+    for (size_t k = 0; k < d.instances.size(); ++k) {
+        const InstanceDesc& in = d.instances[k];
+        RTCGeometry g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, s->groupScenes[size_t(in.group)]);
+        float m[12];  // column-major 3 x 4
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 3; ++r) m[3 * c + r] = in.toWorld.m[r][c];
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(s->rtc, g, s->firstInstanceID + unsigned(k));
+        rtcReleaseGeometry(g);
+        const Vec3 gl = groupLo[size_t(in.group)], gh = groupHi[size_t(in.group)];
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3 p = in.toWorld.point(Vec3(corner & 1 ? gh.x : gl.x, corner & 2 ? gh.y : gl.y, corner & 4 ? gh.z : gl.z));
+            lo = vmin(lo, p);
+            hi = vmax(hi, p);
+        }
     }
     rtcCommitScene(s->rtc);
     if (rtcGetDeviceError(s->device) != RTC_ERROR_NONE || !s->embreeErrorMessage.empty())
@@ -310,6 +350,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
 
 Scene::~Scene() {
     if (rtc) rtcReleaseScene(rtc);
+    for (RTCScene g : groupScenes) rtcReleaseScene(g);
     if (device) rtcReleaseDevice(device);
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <embree3/rtcore.h>
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -72,7 +73,14 @@ public:
     }
     RTCDevice device = nullptr;
     RTCScene rtc = nullptr;
-    std::vector<GeomRecord> geoms;  // by geomID
+    std::vector<GeomRecord> geoms;  // by geomID: shape i is geomID i, in the top scene or in its group's
+    // Shape groups (Mitsuba's shapegroup): one Embree scene each, placed by the instances,
+    // instance k being geomID shapes + k of the top scene (a hit's instID[0]).
+    std::vector<RTCScene> groupScenes;
+    std::vector<InstanceDesc> instances;
+    unsigned firstInstanceID = 0;
+    std::atomic<int64_t> embreeBytes{0};  // Embree's memory now (its memory monitor)
+    uint64_t meshBytes = 0;               // the triangle meshes' arrays (a group's once)
     std::vector<BsdfParams> materials;  // by material index, before textures
     std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
     std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)

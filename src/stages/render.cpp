@@ -72,6 +72,10 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
                                                      : renderPathTracing(*scene, opt);
     r.stats.threads = threads;
     if (r.stats.buffers.empty()) r.stats.buffers = buffers;
+    // The scene: its triangle meshes' arrays (a shape group's once, however many instances)
+    // and what Embree holds (BVHs, instances), from Embree's memory monitor.
+    r.stats.buffers.push_back({"meshes", scene->meshBytes});
+    r.stats.buffers.push_back({"embree", uint64_t(std::max<int64_t>(0, scene->embreeBytes.load()))});
     return r;
 }
 

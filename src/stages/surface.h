@@ -113,14 +113,21 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     // point is o + t d: the vertex positions, no longer in cache after traversal (Embree's
     // BVH leaves hold copies), are not fetched again.
     sp.p = o + d * rh.ray.tfar;
+    // A shape of a group, hit through an instance: Embree's Ng and the mesh are in the
+    // group's coordinates (normals go to the world by the inverse transpose).
+    const InstanceDesc* inst =
+        rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? nullptr : &scene.instances[rh.hit.instID[0] - scene.firstInstanceID];
+    Vec3 ngRaw(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    if (inst) ngRaw = inst->toLocal.normalFromLocal(ngRaw);
     // Both normals from the register: `sp.ns = sp.ng` read sp.ng back from memory across
     // two of its stores and stalled on store forwarding (a third of surfaceAt's samples).
-    const Vec3 ng = normalize(Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    const Vec3 ng = normalize(ngRaw);
     sp.ng = ng;
     sp.ns = ng;
     if (!g.cornerNormals.empty()) {
         const Vec3* cn = &g.cornerNormals[size_t(rh.hit.primID) * 3];
         Vec3 ns = cn[0] * b0 + cn[1] * b1 + cn[2] * b2;
+        if (inst) ns = inst->toLocal.normalFromLocal(ns);
         float l2 = lengthSquared(ns);
         if (l2 > 0) {
             ns = ns / std::sqrt(l2);
@@ -137,7 +144,13 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     if constexpr (F::bump) {
         if (sp.material >= 0) {
             Vec3 dpdu, dpdv;
-            triangleDerivatives(m, tri, sp.ns, dpdu, dpdv);
+            if (!inst) {
+                triangleDerivatives(m, tri, sp.ns, dpdu, dpdv);
+            } else {  // in the group's coordinates, then to the world
+                triangleDerivatives(m, tri, normalize(inst->toWorld.normalFromLocal(sp.ns)), dpdu, dpdv);
+                dpdu = inst->toWorld.vector(dpdu);
+                dpdv = inst->toWorld.vector(dpdv);
+            }
             applyBump(scene, sp, dpdu, dpdv);
             if constexpr (F::aniso) sp.dpdu = dpdu;
         }
