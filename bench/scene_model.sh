@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Issue 25's scene-model figures, measured in this run with build/wavemmlt:
+#   1. a textured rough conductor (a bitmap on specular_reflectance and one on alpha)
+#      against the same conductor with constants: CPU seconds (user + system), medians of
+#      REPS interleaved runs, PT and BPT;
+#   2. a grid mesh placed N times by instances against N flattened copies: --stats' meshes
+#      and Embree bytes, the process's peak RSS (GNU time) and its build + render CPU time.
+# Writes its scenes in a temporary folder; needs nothing from ../shared.
+#
+#   bench/scene_model.sh [--reps N] [--copies N]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+reps=3 copies=256
+while [ $# -gt 0 ]; do
+  case $1 in
+    --reps) reps=$2; shift 2 ;; --copies) copies=$2; shift 2 ;;
+    *) echo "scene_model.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+[ -x /usr/bin/time ] || { echo "scene_model.sh: needs GNU time (apt-get install time)" >&2; exit 1; }
+cmake --build build -j"$(nproc)" --target wavemmlt >/dev/null
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+python3 - "$tmp" "$copies" <<'PY'
+import sys, struct, math
+tmp, copies = sys.argv[1], int(sys.argv[2])
+w = h = 64
+with open(f"{tmp}/c.pfm", "wb") as f:  # a colour map and a roughness map
+    f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+    for y in range(h):
+        for x in range(w):
+            f.write(struct.pack("<3f", 0.5 + 0.4 * math.sin(x / 5), 0.6, 0.4 + 0.3 * math.cos(y / 7)))
+with open(f"{tmp}/a.pfm", "wb") as f:
+    f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+    for y in range(h):
+        for x in range(w):
+            a = 0.05 + 0.3 * ((x // 8 + y // 8) % 2)
+            f.write(struct.pack("<3f", a, a, a))
+head = """<scene version="3.0.0"><integrator type="path"><integer name="max_depth" value="6"/></integrator>
+<sensor type="perspective"><float name="fov" value="50"/><transform name="to_world"><lookat origin="0, 2, 5" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+<film type="hdrfilm"><integer name="width" value="256"/><integer name="height" value="192"/><rfilter type="box"/></film></sensor>
+<shape type="rectangle"><transform name="to_world"><scale value="8"/><rotate x="1" angle="-90"/></transform>%s</shape>
+<shape type="sphere"><point name="center" x="0" y="3" z="1"/><float name="radius" value="0.4"/><emitter type="area"><rgb name="radiance" value="20"/></emitter></shape>
+"""
+const = '<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/><rgb name="specular_reflectance" value="0.7, 0.6, 0.5"/></bsdf>'
+tex = ('<bsdf type="roughconductor"><string name="distribution" value="ggx"/>'
+       '<texture type="bitmap" name="alpha"><string name="filename" value="a.pfm"/></texture>'
+       '<texture type="bitmap" name="specular_reflectance"><string name="filename" value="c.pfm"/></texture></bsdf>')
+open(f"{tmp}/const.xml", "w").write(head % const + "</scene>")
+open(f"{tmp}/tex.xml", "w").write(head % tex + "</scene>")
+n = 64  # a 2 x 64 x 64 triangle grid
+with open(f"{tmp}/grid.obj", "w") as f:
+    for j in range(n + 1):
+        for i in range(n + 1):
+            f.write(f"v {i / n} {0.05 * math.sin(i + 2 * j)} {j / n}\n")
+    for j in range(n):
+        for i in range(n):
+            v = j * (n + 1) + i + 1
+            f.write(f"f {v} {v + 1} {v + n + 2}\nf {v} {v + n + 2} {v + n + 1}\n")
+side = int(math.ceil(math.sqrt(copies)))
+place = lambda k: f'<transform name="to_world"><scale value="0.3"/><translate x="{(k % side - side / 2) * 0.35}" z="{(k // side - side / 2) * 0.35}"/></transform>'
+diffuse = '<bsdf type="diffuse"/>'
+inst = head % diffuse + '<shape type="shapegroup" id="g"><shape type="obj"><string name="filename" value="grid.obj"/></shape></shape>'
+flat = head % diffuse
+for k in range(copies):
+    inst += f'<shape type="instance"><ref id="g"/>{place(k)}</shape>\n'
+    flat += f'<shape type="obj"><string name="filename" value="grid.obj"/>{place(k)}</shape>\n'
+open(f"{tmp}/inst.xml", "w").write(inst + "</scene>")
+open(f"{tmp}/flat.xml", "w").write(flat + "</scene>")
+PY
+cpu() { /usr/bin/time -f "%U %S %M" -o "$tmp/t" build/wavemmlt "$@" --quiet --seed 1 -o "$tmp/o.pfm" --stats "$tmp/s.json"; awk '{printf "%.2f", $1 + $2}' "$tmp/t"; }
+echo "== textured rough conductor (bitmaps on alpha and specular_reflectance) against constants, CPU s, medians of $reps"
+for t in pt bpt; do
+  c=() x=()
+  for ((r = 0; r < reps; ++r)); do
+    c+=("$(cpu "$tmp/const.xml" --tracer $t --spp 16)")
+    x+=("$(cpu "$tmp/tex.xml" --tracer $t --spp 16)")
+  done
+  mc=$(median "${c[@]}") mx=$(median "${x[@]}")
+  printf '%-4s constant %s  textured %s  medians %s / %s  textured/constant %.3f\n' "$t" "${c[*]}" "${x[*]}" "$mc" "$mx" "$(echo "$mx / $mc" | bc -l)"
+done
+echo "== $copies copies of a 8192-triangle grid: instances against flattened copies (PT, 4 spp)"
+for s in inst flat; do
+  secs=$(cpu "$tmp/$s.xml" --tracer pt --spp 4)
+  rss=$(awk '{print $3}' "$tmp/t")
+  meshes=$(grep -o '"meshes": [0-9]*' "$tmp/s.json" | awk '{print $2}')
+  embree=$(grep -o '"embree": [0-9]*' "$tmp/s.json" | awk '{print $2}')
+  printf '%-5s meshes %10d B  embree %10d B  peak RSS %7d KB  CPU %s s\n' "$s" "$meshes" "$embree" "$rss" "$secs"
+done
