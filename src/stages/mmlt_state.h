@@ -177,11 +177,15 @@ struct MmltBatch {
             pointLength[st].clear();
         }
     }
-    void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
-        if (scene.filter.box) {
-            scene.forEachFilmPixel(px, py, [&](uint32_t pixel, float w) { addSplat(pixel, v * w, k); });
+    __attribute__((always_inline)) void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
+        if (scene.filter.box) {  // the pixel holding the point (forEachFilterPixel's box), inline
+            const int x = std::min(int(px), scene.camera.width - 1), y = std::min(int(py), scene.camera.height - 1);
+            addSplat(uint32_t(y) * uint32_t(scene.camera.width) + uint32_t(x), v, k);
             return;
         }
+        addPointSplat(scene, px, py, v, k);
+    }
+    __attribute__((noinline)) void addPointSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
         int x0, x1, y0, y1;
         filterFootprint(scene.filter, scene.camera.width, scene.camera.height, px, py, x0, x1, y0, y1);
         const uint32_t w = uint32_t(scene.camera.width);
