@@ -61,6 +61,11 @@ struct PixelFilter {
     double integral = 1;   // int f over one axis
     float cdf[kBins + 1] = {};
     float binPdf[kBins] = {};  // the density (per pixel of x) in bin i
+    // guide[j]: the last bin i with cdf[i] <= j / kGuide, where sampleFilter's search for
+    // u in [j / kGuide, (j + 1) / kGuide) starts (a binary search's unpredictable branches
+    // were most of a filtered camera ray's cost).
+    static constexpr int kGuide = 1024;
+    uint16_t guide[kGuide] = {};
 };
 
 // int_a^b f(x) dx by 3-point Gauss-Legendre on 256 panels per piece, the pieces split at
@@ -110,14 +115,21 @@ inline PixelFilter makePixelFilter(const FilterDesc& d) {
         f.binPdf[i] = float(mass[i] / total / width);
     }
     f.cdf[PixelFilter::kBins] = 1.0f;
+    for (int j = 0, i = 0; j < PixelFilter::kGuide; ++j) {
+        const float u = float(j) / float(PixelFilter::kGuide);
+        while (i + 1 < PixelFilter::kBins && f.cdf[i + 1] <= u) ++i;
+        f.guide[j] = uint16_t(i);
+    }
     return f;
 }
 
 // A point x in [-radius, radius) drawn with density pdf from u in [0, 1); returns
 // f(x) / pdf(x) (negative in a negative lobe).
 inline float sampleFilter(const PixelFilter& f, float u, float& x) {
-    const int i = std::clamp(int(std::upper_bound(f.cdf, f.cdf + PixelFilter::kBins + 1, u) - f.cdf) - 1, 0,
-                             PixelFilter::kBins - 1);
+    // The last bin i < kBins with cdf[i] <= u (upper_bound's answer), from the guide (u kGuide
+    // is exact: kGuide is a power of two, so the guide's bin never starts past it).
+    int i = f.guide[std::clamp(int(u * float(PixelFilter::kGuide)), 0, PixelFilter::kGuide - 1)];
+    while (i + 1 < PixelFilter::kBins && f.cdf[i + 1] <= u) ++i;
     const float lo = f.cdf[i], hi = f.cdf[i + 1];
     const float t = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f;
     const float width = 2.0f * f.radius / float(PixelFilter::kBins);
