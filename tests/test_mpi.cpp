@@ -282,6 +282,36 @@ TEST_CASE("mpirun -np 2 and -np 3 against one process: every tracer's images agr
     }
 }
 
+// A pixel filter across ranks (docs/filters.md): PT's filtered camera samples stay each
+// pixel's rank's, LT's, BPT's and MMLT's film points are spread on the rank that made them
+// and the films summed: the image of one process, bit for bit (PT) or to float rounding.
+TEST_CASE("mpirun wavemmlt: a Gaussian-filtered render makes one process's image, every tracer", "[mpi][filter]") {
+    if (!mpiBuilt()) return;
+    const std::string dir = rstats::tempDir("mpi-filter");
+    for (const TracerCase& t : kTracers) {
+        INFO(t.name);
+        auto args = [&](const std::string& out) {
+            std::vector<std::string> a = {WAVEMMLT_BIN, kCornell, "--width", std::to_string(kSize), "--height",
+                                          std::to_string(kSize), "--max-length", std::to_string(kMaxLength), "--tracer",
+                                          t.name, "--spp", std::to_string(t.spp), "--seed", "11", "--threads", "1",
+                                          "--filter", "gaussian", "--quiet", "-o", out};
+            if (t.kind == TracerKind::MMLT) a.insert(a.end(), {"--chains", "1024"});
+            return a;
+        };
+        const std::string one = dir + "/" + t.name + "-np1.pfm", two = dir + "/" + t.name + "-np2.pfm";
+        REQUIRE(mpirun(1, args(one), dir).status == 0);
+        REQUIRE(mpirun(2, args(two), dir).status == 0);
+        const Image a = readImage(one), b = readImage(two);
+        if (t.kind == TracerKind::PT) {
+            CHECK(a.rgb == b.rgb);
+        } else {
+            const double worst = worstRelative(b, a);
+            INFO("largest relative difference to one process " << worst);
+            CHECK(worst <= 1e-6);
+        }
+    }
+}
+
 TEST_CASE("mpirun wavemmlt: bad input gives one message and exit status 2 on every rank, without a hang", "[mpi]") {
     if (!mpiBuilt()) return;
     const std::string dir = rstats::tempDir("mpi-bad");
