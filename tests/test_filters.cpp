@@ -49,6 +49,17 @@ std::vector<std::pair<std::string, FilterDesc>> allFilters() {
     return v;
 }
 
+// The message of the InputError `load` throws ("" when none).
+template <class Load>
+std::string errorOf(Load&& load) {
+    try {
+        load();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
 // int_a^b f by the midpoint rule on n points (independent of integrateFilter's Simpson).
 double midpoint(const FilterDesc& d, double a, double b, int n = 400000) {
     double s = 0, h = (b - a) / n;
@@ -197,14 +208,7 @@ TEST_CASE("filters: the thesis format's <Filter> and Mitsuba's rfilter", "[filte
     CHECK(g.filter.radius == 1.6f);
     const SceneDesc m = loadSceneFromString(thesis("<Filter name=\"mitchell\" B=\"0.2\" C=\"0.4\" radius=\"1.5\"/>"), "t.xml", ".");
     CHECK((m.filter.B == 0.2f && m.filter.C == 0.4f && m.filter.radius == 1.5f));
-    auto error = [&](const std::string& filter) -> std::string {
-        try {
-            loadSceneFromString(thesis(filter), "t.xml", ".");
-        } catch (const InputError& e) {
-            return e.what();
-        }
-        return "";
-    };
+    auto error = [&](const std::string& filter) { return errorOf([&] { loadSceneFromString(thesis(filter), "t.xml", "."); }); };
     CHECK(error("<Filter name=\"gaussian\" radius=\"0\"/>") ==
           "t.xml:3: Settings: Filter: radius=\"0\": radius must be > 0 and at most 16 pixels");
     CHECK(error("<Filter name=\"sinc\"/>") ==
@@ -224,14 +228,7 @@ TEST_CASE("filters: the thesis format's <Filter> and Mitsuba's rfilter", "[filte
     CHECK((t.filter.kind == FilterKind::Tent && t.filter.radius == 1.5f));
     const SceneDesc l = loadMitsubaFromString(mitsuba("<rfilter type=\"lanczos\"><integer name=\"lobes\" value=\"2\"/></rfilter>"), "m.xml", ".");
     CHECK((l.filter.kind == FilterKind::Lanczos && l.filter.radius == 2.0f && l.filter.tau == 2.0f));
-    auto mError = [&](const std::string& film) -> std::string {
-        try {
-            loadMitsubaFromString(mitsuba(film), "m.xml", ".");
-        } catch (const InputError& e) {
-            return e.what();
-        }
-        return "";
-    };
+    auto mError = [&](const std::string& film) { return errorOf([&] { loadMitsubaFromString(mitsuba(film), "m.xml", "."); }); };
     CHECK(mError("<rfilter type=\"tent\"><float name=\"radius\" value=\"-1\"/></rfilter>") ==
           "m.xml:3: <rfilter type=\"tent\">: radius must be > 0 and at most 16 pixels");
     CHECK(mError("<rfilter type=\"sinc\"/>") ==

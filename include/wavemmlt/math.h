@@ -100,13 +100,6 @@ struct Affine {
                 m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
                 m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
     }
-    // A normal carried by the inverse of this transform (this is world to object): its
-    // transpose times n.
-    Vec3 normalFromLocal(Vec3 n) const {
-        return {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
-                m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
-                m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
-    }
 };
 
 }  // namespace wmlt

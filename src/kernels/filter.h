@@ -66,7 +66,18 @@ struct PixelFilter {
     // were most of a filtered camera ray's cost).
     static constexpr int kGuide = 1024;
     uint16_t guide[kGuide] = {};
+    // Gaussian: filterValue's exponent factor and its value at the radius, made once.
+    float gaussK = 0, gaussBias = 0;
 };
+
+// filterValue(f.desc, x), bit for bit, with the Gaussian's constants made once (the
+// per-sample and per-splat evaluations).
+inline float filterValue(const PixelFilter& f, float x) {
+    if (f.desc.kind != FilterKind::Gaussian) return filterValue(f.desc, x);
+    const float a = std::fabs(x);
+    if (!(a < f.desc.radius)) return 0.0f;
+    return std::max(0.0f, std::exp(f.gaussK * a * a) - f.gaussBias);
+}
 
 // int_a^b f(x) dx by 3-point Gauss-Legendre on 256 panels per piece, the pieces split at
 // the filters' kinks (0, +-radius/2); no end point is evaluated (the box jumps there).
@@ -95,6 +106,10 @@ inline PixelFilter makePixelFilter(const FilterDesc& d) {
     f.desc = d;
     f.radius = d.radius;
     f.box = d.kind == FilterKind::Box && d.radius == 0.5f;
+    if (d.kind == FilterKind::Gaussian) {  // filterValue's expressions, evaluated once
+        f.gaussK = -0.5f / (d.stddev * d.stddev);
+        f.gaussBias = std::exp(f.gaussK * d.radius * d.radius);
+    }
     f.integral = integrateFilter(d, -double(d.radius), double(d.radius));
     double mass[PixelFilter::kBins], total = 0;
     const double width = 2.0 * double(d.radius) / PixelFilter::kBins;
@@ -134,7 +149,7 @@ inline float sampleFilter(const PixelFilter& f, float u, float& x) {
     const float t = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f;
     const float width = 2.0f * f.radius / float(PixelFilter::kBins);
     x = std::min(-f.radius + (float(i) + t) * width, std::nextafter(f.radius, 0.0f));
-    return filterValue(f.desc, x) / f.binPdf[i];
+    return filterValue(f, x) / f.binPdf[i];
 }
 
 // The table's cdf at x in [-radius, radius] (linear within a bin, as sampleFilter inverts it).
@@ -192,9 +207,9 @@ inline void forEachFilterPixel(const PixelFilter& f, const float* normX, const f
     filterFootprint(f, width, height, px, py, x0, x1, y0, y1);
     constexpr int kMax = 2 * int(kMaxFilterRadius) + 2;
     float wx[kMax];
-    for (int x = x0; x <= x1 && x - x0 < kMax; ++x) wx[x - x0] = filterValue(f.desc, px - (float(x) + 0.5f)) * normX[x];
+    for (int x = x0; x <= x1 && x - x0 < kMax; ++x) wx[x - x0] = filterValue(f, px - (float(x) + 0.5f)) * normX[x];
     for (int y = y0; y <= y1; ++y) {
-        const float wy = filterValue(f.desc, py - (float(y) + 0.5f)) * normY[y];
+        const float wy = filterValue(f, py - (float(y) + 0.5f)) * normY[y];
         if (wy == 0) continue;
         for (int x = x0; x <= x1 && x - x0 < kMax; ++x) {
             const float w = wx[x - x0] * wy;

@@ -19,14 +19,13 @@ bool namedFilter(const std::string& name, FilterDesc& f) {
         f.kind = FilterKind::Gaussian;
         f.stddev = 0.5f;
         f.radius = 2;
-    } else if (name == "mitchell") {
+    } else if (name == "mitchell" || name == "catmullrom") {  // Catmull-Rom: B = 0, C = 1/2
         f.kind = FilterKind::Mitchell;
         f.radius = 2;
-    } else if (name == "catmullrom") {
-        f.kind = FilterKind::Mitchell;
-        f.radius = 2;
-        f.B = 0;
-        f.C = 0.5f;
+        if (name == "catmullrom") {
+            f.B = 0;
+            f.C = 0.5f;
+        }
     } else if (name == "lanczos") {
         f.kind = FilterKind::Lanczos;
         f.radius = f.tau = 3;

@@ -178,9 +178,8 @@ struct MmltBatch {
         }
     }
     __attribute__((always_inline)) void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
-        if (scene.filter.box) {  // the pixel holding the point (forEachFilterPixel's box), inline
-            const int x = std::min(int(px), scene.camera.width - 1), y = std::min(int(py), scene.camera.height - 1);
-            addSplat(uint32_t(y) * uint32_t(scene.camera.width) + uint32_t(x), v, k);
+        if (scene.filter.box) {  // the pixel holding the point, inline
+            addSplat(rasterPixel(scene.camera, px, py), v, k);
             return;
         }
         addPointSplat(scene, px, py, v, k);

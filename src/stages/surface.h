@@ -9,6 +9,7 @@
 #include "kernels/bsdf.h"
 #include "kernels/texture.h"
 #include "scene/scene.h"
+#include "scene/transform.h"
 
 namespace wmlt {
 
@@ -118,7 +119,7 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     const InstanceDesc* inst =
         rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? nullptr : &scene.instances[rh.hit.instID[0] - scene.firstInstanceID];
     Vec3 ngRaw(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    if (inst) ngRaw = inst->toLocal.normalFromLocal(ngRaw);
+    if (inst) ngRaw = normalToWorld(inst->toLocal, ngRaw);
     // Both normals from the register: `sp.ns = sp.ng` read sp.ng back from memory across
     // two of its stores and stalled on store forwarding (a third of surfaceAt's samples).
     const Vec3 ng = normalize(ngRaw);
@@ -127,7 +128,7 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     if (!g.cornerNormals.empty()) {
         const Vec3* cn = &g.cornerNormals[size_t(rh.hit.primID) * 3];
         Vec3 ns = cn[0] * b0 + cn[1] * b1 + cn[2] * b2;
-        if (inst) ns = inst->toLocal.normalFromLocal(ns);
+        if (inst) ns = normalToWorld(inst->toLocal, ns);
         float l2 = lengthSquared(ns);
         if (l2 > 0) {
             ns = ns / std::sqrt(l2);
@@ -147,7 +148,8 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
             if (!inst) {
                 triangleDerivatives(m, tri, sp.ns, dpdu, dpdv);
             } else {  // in the group's coordinates, then to the world
-                triangleDerivatives(m, tri, normalize(inst->toWorld.normalFromLocal(sp.ns)), dpdu, dpdv);
+                // (world to group: normalToWorld of the inverse pair, toWorld's transpose)
+                triangleDerivatives(m, tri, normalize(normalToWorld(inst->toWorld, sp.ns)), dpdu, dpdv);
                 dpdu = inst->toWorld.vector(dpdu);
                 dpdv = inst->toWorld.vector(dpdv);
             }
