@@ -20,6 +20,7 @@ while [ $# -gt 0 ]; do
 done
 [ -n "$old" ] || { echo "filters.sh: --old REV is required" >&2; exit 2; }
 [ -x /usr/bin/time ] || { echo "filters.sh: needs GNU time (apt-get install time)" >&2; exit 1; }
+command -v bc >/dev/null || { echo "filters.sh: needs bc (apt-get install bc)" >&2; exit 1; }
 scene=../shared/scenes/bitterli-cornell/bitterli-cornell-256.xml
 if [ ! -f "$scene" ]; then
   echo "filters.sh: $scene is missing: using tests/data's copy" >&2

@@ -18,6 +18,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -x /usr/bin/time ] || { echo "scene_model.sh: needs GNU time (apt-get install time)" >&2; exit 1; }
+command -v bc >/dev/null || { echo "scene_model.sh: needs bc (apt-get install bc)" >&2; exit 1; }
 cmake --build build -j"$(nproc)" --target wavemmlt >/dev/null
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
