@@ -1,4 +1,4 @@
-// The scene loader (src/scene/load_scene.cpp, load_obj.cpp) against
+// The scene loader (src/scene/thesis/load_scene.cpp, meshes/load_obj.cpp) against
 // ../shared/spec/scene-format.md: what each element parses to, and one InputError
 // "file:line: ..." for each kind of bad input.
 #include <catch2/catch.hpp>

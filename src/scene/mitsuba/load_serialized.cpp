@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/vertex_normals.h"
+#include "scene/meshes/vertex_normals.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 

@@ -1,4 +1,4 @@
-#include "scene/mitsuba_xml.h"
+#include "scene/mitsuba/mitsuba_xml.h"
 
 #include <algorithm>
 #include <cmath>

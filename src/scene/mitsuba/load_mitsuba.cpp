@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "scene/filter_desc.h"
-#include "scene/mitsuba_importer.h"
-#include "scene/mitsuba_shapes.h"
+#include "scene/mitsuba/mitsuba_importer.h"
+#include "scene/mitsuba/mitsuba_shapes.h"
 #include "kernels/envmap.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"

@@ -1,4 +1,4 @@
-#include "scene/vertex_normals.h"
+#include "scene/meshes/vertex_normals.h"
 
 #include <cmath>
 

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "scene/mitsuba_importer.h"
+#include "scene/mitsuba/mitsuba_importer.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 

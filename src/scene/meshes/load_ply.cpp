@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "scene/number.h"
-#include "scene/vertex_normals.h"
+#include "scene/meshes/vertex_normals.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 

@@ -3,7 +3,7 @@
 // faces, disk of radius 1 at z = 0 (a polygon). uv as Mitsuba defines them (v = 0 at the
 // bottom of the shape's parameter square).
 #pragma once
-#include "scene/mitsuba_xml.h"
+#include "scene/mitsuba/mitsuba_xml.h"
 
 namespace wmlt::mitsuba {
 

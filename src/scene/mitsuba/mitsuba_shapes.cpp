@@ -1,4 +1,4 @@
-#include "scene/mitsuba_shapes.h"
+#include "scene/mitsuba/mitsuba_shapes.h"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 #include <functional>
 #include <set>
 
-#include "scene/mitsuba_xml.h"
+#include "scene/mitsuba/mitsuba_xml.h"
 
 namespace wmlt::mitsuba {
 
