@@ -673,6 +673,81 @@ TEST_CASE("Mitsuba area light on a mesh (a disk): the floor's irradiance, in PT,
                "disk");
 }
 
+// A textured area emitter (LightDesc::texture, scene/mesh_light.h): a 1.2 x 1.2 rectangle
+// facing down at height h = 1.2 over (0.3, 0), its radiance a checkerboard: L0 = 3 on the
+// squares where (x > 0.3) == (z > 0) (u, v > 1/2 or both not), L1 = 0.5 on the others. Each
+// square is a uniform parallel rectangle, whose irradiance at a point below the corner of a
+// a x b rectangle is (L / 2) (A atan(b / sqrt(a^2 + h^2)) + B atan(a / sqrt(b^2 + h^2))),
+// A = a / sqrt(a^2 + h^2), B = b / sqrt(b^2 + h^2): G(a, b), odd in a and in b, so that a
+// rectangle [x1, x2] x [z1, z2] gets G(x2, z2) - G(x1, z2) - G(x2, z1) + G(x1, z1).
+// The same with both colours 3 (a constant texture) is the constant emitter's closed form.
+TEST_CASE("Mitsuba area light with a textured radiance: the floor's irradiance, in PT, LT and BPT", "[mitsuba][render][meshlight][texture]") {
+    const double h = 1.2;
+    auto G = [&](double a, double b) {
+        const double ra = std::sqrt(a * a + h * h), rb = std::sqrt(b * b + h * h);
+        return 0.5 * (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb));
+    };
+    auto rect = [&](Vec3 p, double x1, double x2, double z1, double z2) {
+        x1 -= p.x, x2 -= p.x, z1 -= p.z, z2 -= p.z;
+        return G(x2, z2) - G(x1, z2) - G(x2, z1) + G(x1, z1);
+    };
+    for (double L1 : {0.5, 3.0}) {
+        const std::string emitter = R"(<shape type="rectangle"><transform name="to_world"><scale value="0.6"/><rotate x="1" angle="90"/><translate x="0.3" y="1.2"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><texture type="checkerboard" name="radiance">
+    <rgb name="color0" value="3"/><rgb name="color1" value=")" + std::to_string(L1) + R"("/></texture></emitter></shape>)";
+        floorUnder(emitter,
+                   [&](Vec3 p) {
+                       return 3.0 * (rect(p, 0.3, 0.9, 0, 0.6) + rect(p, -0.3, 0.3, -0.6, 0)) +
+                              L1 * (rect(p, -0.3, 0.3, 0, 0.6) + rect(p, 0.3, 0.9, -0.6, 0));
+                   },
+                   L1 == 3.0 ? "constant-texture" : "checkerboard-emitter");
+    }
+    // The importer: a mesh light holding the texture, L = 1; bad inputs.
+    SceneDesc d = load(scene(R"(<shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false));
+    REQUIRE(d.lights.size() == 1);
+    CHECK(d.lights[0].kind == LightKind::Mesh);
+    CHECK(d.lights[0].texture == 0);
+    CHECK(d.lights[0].radiance.x == 1.0f);
+    CHECK(errorOf(scene(R"(<shape type="sphere"><emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false))
+              .find("not supported") != std::string::npos);
+    CHECK(errorOf(scene(R"(<shape type="rectangle"><emitter type="area"><texture type="bitmap" name="radiance"><string name="filename" value="missing.png"/></texture></emitter></shape>)", false))
+              .find("missing.png") != std::string::npos);
+}
+
+// A textured emitter seen directly, filling the 16 x 16 film (the rectangle [-1, 1]^2 at
+// z = 0 seen from (0, 0, 2), fov 2 atan(1/2)): its radiance a checkerboard whose 2 x 2
+// squares are the image's 8 x 8 pixel blocks: 3 where (u > 1/2) == (v > 1/2), 0.5
+// elsewhere (v = 1/2 at the image's middle row, the top half v > 1/2). PT sees each
+// block's value exactly; LT only by light tracing (s = 1, t = 1); BPT and MMLT weigh that
+// with the camera's hits (s = 0), each reading T where its strategy finds the point.
+TEST_CASE("Mitsuba area light with a textured radiance: seen directly, in every tracer", "[mitsuba][render][meshlight][texture]") {
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="1"/></integrator>
+  <sensor type="perspective"><float name="fov" value="53.130102"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
+  <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
+    <rgb name="color0" value="3"/><rgb name="color1" value="0.5"/></texture></emitter></shape>
+</scene>)", "seen.xml", ".");
+    const std::vector<double> expected = {0.5, 3.0, 3.0, 0.5};  // blocks (0, 0), (1, 0), (0, 1), (1, 1)
+    const std::vector<double> pt = rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 4, 1, 1, 1)).image, 8, 1);
+    for (size_t i = 0; i < 4; ++i) CHECK(pt[i] == Approx(expected[i]).epsilon(1e-5));
+    for (TracerKind t : {TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 8; ++k) {
+            RenderOptions o = rstats::renderOptions(t, 16, 70 + uint64_t(k), 1, 1);
+            if (t == TracerKind::MMLT) {
+                o.chains = 256;
+                o.bootstrap = 1 << 12;
+            }
+            runs.add(rstats::blockMeans(render(d, o).image, 8, 1));
+        }
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO("tracer " << int(t) << ": " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
 // Textured colour parameters (MaterialDesc::colourTexture). A rectangle filling a 16 x 16
 // image (as above) under a uniform sky, its BSDF's parameter a checkerboard whose 2 x 2
 // squares are 8 x 8 pixel blocks: every pixel sees one square only, and a path through it

@@ -178,3 +178,22 @@ TEST_CASE("Mitsuba tracers: a Mitchell filter in every tracer", "[mitsuba][rende
     xml.replace(xml.find(film), film.size(), "<rfilter type=\"mitchell\"/></film>");
     agree("Mitchell filter", xml, 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }
+
+// A ceiling panel whose radiance is a 4 x 4 bitmap (bright and dim texels, bilinear: a
+// textured mesh light sampled by its luminance, scene/mesh_light.h) and that reflects
+// (twosided diffuse 0.6), seen by the camera, over the box: every tracer reads T at the
+// points it samples (next-event estimation, light subpaths) and at the points it hits
+// (s = 0, PT's emission), and weighs both with the same density.
+TEST_CASE("Mitsuba tracers: a textured area light in every tracer", "[mitsuba][render][stat][meshlight]") {
+    const std::string dir = rstats::tempDir("mitsuba-tracers-textured-light");
+    Image im(4, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) im.set(x, y, x == 3 && y < 2 ? Vec3(20.0f, 16.0f, 10.0f) : Vec3(0.5f * float(x + y), 0.4f, 0.3f));
+    writeImage(dir + "/panel.pfm", im);
+    agree("textured light", scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.6" y="0.5"/><rotate x="1" angle="70"/><translate y="1.6" z="-0.3"/></transform>
+    <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf>
+    <emitter type="area"><texture type="bitmap" name="radiance"><string name="filename" value="panel.pfm"/></texture></emitter></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
+    std::filesystem::remove_all(dir);
+}

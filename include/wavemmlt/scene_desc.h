@@ -184,6 +184,10 @@ struct LightDesc {
     Vec3 spotAxis{0, 0, 1};
     float spotCutoff = 0, spotBeam = 0;
     Vec3 direction{0, 0, 1};  // Directional: the unit direction its light travels (world)
+    // Mesh: a texture (index into SceneDesc::textures, -1: none) whose value at the point's
+    // (u, v) multiplies radiance (Mitsuba's area with a textured radiance); light sampling
+    // then follows its luminance (scene/mesh_light.h).
+    int texture = -1;
 };
 
 struct SceneDesc {

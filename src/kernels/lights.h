@@ -64,6 +64,7 @@ struct LightSample {
     Vec3 Le;        // radiance arriving along -wi (Point: I / dist^2, the irradiance's factor)
     float pdf = 0;  // solid angle (Point: 1, a discrete choice)
     bool delta = false;  // a point light: no other strategy finds it (MIS weight 1)
+    float pdfA = -1;     // a textured emitter: the area density of p (else < 0: 1 / area)
 };
 
 // Emitted radiance leaving a rect light's point in direction w (towards the viewer).
@@ -210,6 +211,7 @@ struct LightEmission {
     Vec3 p, n, dir;
     Vec3 Le;
     float pdfPos = 0, pdfDir = 0;
+    Vec3 tex{1.0f};  // a textured emitter: the texture's value at p (Le includes it)
 };
 
 // Cosine-weighted direction about frame f's normal, normalised: (dx, dy, dz); returns its

@@ -46,6 +46,8 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         (l.kind == LightKind::Rect ? f.rectLights : l.kind == LightKind::Sphere ? f.sphereLights
                                                  : l.kind == LightKind::Mesh ? f.meshLights
                                                  : l.kind == LightKind::Directional ? f.directionalLights : f.pointLights) = true;
+    for (const LightDesc& l : d.lights)
+        if (l.texture >= 0) f.texturedEmitters = true;
     f.envMap = d.envMap.width > 0;
     f.depthOfField = d.camera.dof;
     f.filter = describeFilter(d.filter);
@@ -67,6 +69,7 @@ std::string SceneFeatures::describe() const {
     o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "") << (meshLights ? " mesh" : "")
       << (pointLights ? " point" : "") << (directionalLights ? " directional" : "") << (envMap ? " environment-map" : "") << "\n";
     o << "textures: " << (textures ? "yes" : "no") << "\n";
+    o << "textured emitters: " << (texturedEmitters ? "yes" : "no") << "\n";
     o << "bump mapping: " << (bump ? "yes" : "no") << "\n";
     o << "depth of field: " << (depthOfField ? "yes" : "no") << "\n";
     o << "smooth normals: " << (smoothNormals ? "yes" : "no") << "\n";
@@ -88,7 +91,7 @@ std::string SceneFeatures::json() const {
     auto b = [](bool v) { return v ? "true" : "false"; };
     o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
       << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights)
-      << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures)
+      << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures) << ", \"textured_emitters\": " << b(texturedEmitters)
       << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
       << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << ", \"pixel_filter\": \"" << filter << "\"}";
     return o.str();

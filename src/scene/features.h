@@ -21,6 +21,7 @@ struct SceneFeatures {
     bool oneSided = false;      // some material is black from below (Mitsuba without twosided)
     bool masks = false;         // some shape is partly transparent (Mitsuba's mask: Embree filters)
     bool anisotropic = false;   // some rough material has alpha_u != alpha_v: frames follow dp/du
+    bool texturedEmitters = false;  // some mesh light's radiance is a texture (LightDesc::texture)
     std::string filter = "box (radius 0.5)";  // the pixel filter (describeFilter)
 
     bool has(MaterialKind k) const { return material[int(k)]; }

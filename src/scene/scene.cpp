@@ -300,22 +300,13 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         if (ld.kind == LightKind::Rect) {
             l = rectLight(sh.mesh, ld.radiance);
         } else if (ld.kind == LightKind::Mesh) {
-            MeshLight ml;
-            ml.mesh = &sh.mesh;
-            std::vector<float> areas(sh.mesh.indices.size() / 3);
-            double total = 0;
-            for (size_t t = 0; t < areas.size(); ++t) {
-                const Vec3 p0 = sh.mesh.positions[sh.mesh.indices[3 * t]], p1 = sh.mesh.positions[sh.mesh.indices[3 * t + 1]],
-                           p2 = sh.mesh.positions[sh.mesh.indices[3 * t + 2]];
-                areas[t] = 0.5f * length(cross(p1 - p0, p2 - p0));
-                if (!std::isfinite(areas[t])) areas[t] = 0;
-                total += areas[t];
-            }
-            if (!(total > 0)) throw InputError(d.path, sh.line, "an emitting mesh of zero area");
-            ml.triangles.build(areas.data(), areas.size());
+            if (ld.texture >= 0 && sh.mesh.uvs.empty())
+                throw InputError(d.path, sh.line, "a textured emitter on a mesh without (u, v)");
+            MeshLight ml = buildMeshLight(sh.mesh, ld.texture >= 0 ? &d.textures[size_t(ld.texture)] : nullptr);
+            if (!(ml.area > 0)) throw InputError(d.path, sh.line, "an emitting mesh of zero area");
             l.type = LightType::Mesh;
             l.L = ld.radiance;
-            l.area = float(total);
+            l.area = float(ml.area);
             l.mesh = int(s->meshLights.size());
             s->meshLights.push_back(std::move(ml));
         } else {
@@ -328,7 +319,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         s->lights.push_back(l);
     }
     std::vector<float> power;
-    for (const Light& l : s->lights) power.push_back(lightPower(l));
+    for (const Light& l : s->lights)  // a textured emitter's: times its texture's mean luminance
+        power.push_back(lightPower(l) * (l.type == LightType::Mesh ? s->meshLights[size_t(l.mesh)].meanLuminance : 1.0f));
     if (s->features.envMap) {
         s->env.build(d.envMap);
         Light l;

@@ -15,6 +15,7 @@
 #include "kernels/envmap.h"
 #include "kernels/lights.h"
 #include "scene/features.h"
+#include "scene/mesh_light.h"
 #include "wavemmlt/scene_desc.h"
 
 namespace wmlt {
@@ -34,11 +35,6 @@ struct GeomRecord {
     Affine toLocal, toWorld;
 };
 
-// A triangle mesh emitter's triangles, chosen in proportion to their areas.
-struct MeshLight {
-    const TriangleMesh* mesh = nullptr;
-    Distribution1D triangles;
-};
 
 // Mitsuba's mask on a shape: what its Embree filter functions read (scene.cpp).
 struct MaskRecord {

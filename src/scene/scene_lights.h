@@ -19,8 +19,12 @@ inline void sampleMeshPoint(const Scene& s, const Light& l, float u1, float u2, 
     p = p0 * b0 + p1 * b1 + p2 * (1.0f - b0 - b1);
     n = normalize(cross(p1 - p0, p2 - p0));
 }
+// A textured mesh light (mesh_light.h): Le = L T at the point, its density pdfA.
 inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, float u2, LightSample& ls) {
-    sampleMeshPoint(s, l, u1, u2, ls.p, ls.n);
+    const MeshLight& m = s.meshLights[size_t(l.mesh)];
+    Vec3 tex(1.0f);
+    if (m.texture) sampleTexturedMeshPoint(m, u1, u2, ls.p, ls.n, tex, ls.pdfA);
+    else sampleMeshPoint(s, l, u1, u2, ls.p, ls.n);
     const Vec3 d = ls.p - ref;
     const float dist2 = lengthSquared(d);
     if (!(dist2 > 0)) return false;
@@ -28,9 +32,25 @@ inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, 
     ls.wi = d / ls.dist;
     const float cosL = -dot(ls.wi, ls.n);
     if (!(cosL > 0)) return false;  // the back of a one-sided emitter
-    ls.Le = l.L;
-    ls.pdf = dist2 / (cosL * l.area);
+    if (m.texture) {
+        ls.Le = l.L * tex;
+        ls.pdf = dist2 * ls.pdfA / cosL;
+    } else {
+        ls.Le = l.L;
+        ls.pdf = dist2 / (cosL * l.area);
+    }
     return std::isfinite(ls.pdf);
+}
+
+// The emitter hit rh found (light li): whether it is a textured mesh light, and then T at
+// the hit and its area density under light sampling (texturedEmitterAt).
+inline bool texturedEmitterHit(const Scene& s, int li, const RTCRayHit& rh, Vec3 p, Vec3& tex, float& pdfA) {
+    const Light& l = s.lights[size_t(li)];
+    if (l.type != LightType::Mesh) return false;
+    const MeshLight& m = s.meshLights[size_t(l.mesh)];
+    if (!m.texture) return false;
+    texturedEmitterAt(m, int(rh.hit.primID), rh.hit.u, rh.hit.v, p, tex, pdfA);
+    return true;
 }
 
 // The scene's light when it has exactly one and that is a rectangle, else nullptr: the
@@ -74,7 +94,8 @@ inline bool sampleLightFrom(const Scene& s, int li, Vec3 ref, float u1, float u2
 // Solid-angle pdf (times the choice pmf) with which next-event estimation from ref
 // would have produced the emitter point pLight (normal nLight) of light li, in
 // direction dir. Point lights: the discrete pmf (their only strategy is this one).
-inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 dir, Vec3 nLight) {
+// pdfA: a textured mesh light's area density at pLight (emitterAt; < 0: 1 / area).
+inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 dir, Vec3 nLight, float pdfA = -1) {
     const Light& l = s.lights[li];
     float pdf = 0;
     switch (l.type) {
@@ -87,7 +108,8 @@ inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 di
             const Vec3 d = pLight - ref;
             const float dist2 = lengthSquared(d);
             const float cosL = std::fabs(dot(d, nLight)) / std::sqrt(dist2);
-            pdf = cosL > 0 ? dist2 / (cosL * l.area) : 0.0f;
+            if (pdfA >= 0) pdf = cosL > 0 ? dist2 * pdfA / cosL : 0.0f;
+            else pdf = cosL > 0 ? dist2 / (cosL * l.area) : 0.0f;
             break;
         }
     }
@@ -105,11 +127,17 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
         case LightType::Rect: return sampleRectEmission(l, u0, u1, u2, u3, e);
         case LightType::Sphere: return sampleSphereEmission(l, u0, u1, u2, u3, e);
         case LightType::Point: return samplePointEmission(l, u2, u3, e);
-        case LightType::Mesh: {  // area-uniform point, cosine-weighted direction about its normal
-            sampleMeshPoint(s, l, u0, u1, e.p, e.n);
-            e.pdfPos = 1.0f / l.area;
+        case LightType::Mesh: {  // area-uniform point (textured: by T), cosine-weighted direction about its normal
+            const MeshLight& m = s.meshLights[size_t(l.mesh)];
+            if (m.texture) {
+                sampleTexturedMeshPoint(m, u0, u1, e.p, e.n, e.tex, e.pdfPos);
+                e.Le = l.L * e.tex;
+            } else {
+                sampleMeshPoint(s, l, u0, u1, e.p, e.n);
+                e.pdfPos = 1.0f / l.area;
+                e.Le = l.L;
+            }
             sampleCosineAbout(e.n, u2, u3, e);
-            e.Le = l.L;
             return e.pdfDir > 0;
         }
         case LightType::Env:

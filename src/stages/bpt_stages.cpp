@@ -97,7 +97,9 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.light.p[y0] = e.p;
         b.light.ng[y0] = e.n;
         b.light.shading[y0] = shading;
-        b.light.beta[y0] = Vec3(1.0f / pdfOrigin);  // Le is applied by each connection
+        b.light.beta[y0] = e.tex * (1.0f / pdfOrigin);  // L is applied by each connection (T, 1 untextured, here)
+        if (!b.light.emitPdfA.empty())  // a textured emitter's density of y_0 (else 1 / area: -1)
+            b.light.emitPdfA[y0] = scene.lights[li].type == LightType::Mesh && scene.meshLights[size_t(scene.lights[li].mesh)].texture ? e.pdfPos : -1.0f;
         b.light.pdfFwd[y0] = pdfOrigin;
         b.light.pdfRev[y0] = 0.0f;
         b.light.delta[y0] = 0;
@@ -211,6 +213,11 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;
         v.light[cur] = int16_t(sp.light);  // a Surface on an emitter keeps its light (s = 0)
+        if (cameraWalk && sp.light >= 0 && !v.emitPdfA.empty()) {  // a textured emitter's T and density here
+            v.emitTex[cur] = Vec3(1.0f);
+            v.emitPdfA[cur] = -1;
+            texturedEmitterHit(scene, sp.light, rh, sp.p, v.emitTex[cur], v.emitPdfA[cur]);
+        }
         if (sp.material < 0) {  // camera walk: the path ends on the emitter
             v.kind[cur] = BptVertexKind::Light;
             continue;

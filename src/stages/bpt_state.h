@@ -40,6 +40,9 @@ enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
     X(Vec3, p) X(Vec3, ng) X(Frame, shading) X(BsdfParams, bsdf) X(Vec3, beta)             \
     X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light) \
     X(double, misSum)
+// Scenes with a textured emitter (BatchNeeds::texturedEmitter): at an emitter vertex, T and
+// the area density of light sampling there (camera walk: s = 0; y_0: emission's).
+#define WMLT_BPT_EMITTER_ARRAYS(X) X(Vec3, emitTex) X(float, emitPdfA)
 
 struct BptVertices {
     int capacity = 0;
@@ -47,8 +50,10 @@ struct BptVertices {
     std::vector<uint8_t> maxCount;   // per slot: the walk stops at this many vertices (<= capacity)
     std::vector<uint32_t> first;     // per slot: the index of its vertex 0
     WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_ARRAY)
 
-    void reserve(size_t slots, int cap) {
+    void reserve(size_t slots, int cap, bool emitters = false) {
+        texturedEmitters = emitters;
         capacity = cap;
         count.assign(slots, 0);
         maxCount.assign(slots, uint8_t(cap));
@@ -56,7 +61,11 @@ struct BptVertices {
         for (size_t i = 0; i < slots; ++i) first[i] = uint32_t(i * size_t(cap));
         resizeVertices(slots * size_t(cap));
     }
-    void resizeVertices(size_t n) { WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_RESIZE) }
+    bool texturedEmitters = false;
+    void resizeVertices(size_t n) {
+        WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_RESIZE)
+        if (texturedEmitters) { WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_RESIZE) }
+    }
     // Slots whose walks stop early (MMLT's: maxCount is known before the walk) get only
     // their vertices, one after the other (at least one each), so that a batch's vertices
     // stay in cache instead of capacity apart.
@@ -80,7 +89,7 @@ struct BptVertices {
 // x_{s-1} of the camera ray through it, from pinholeCameraSamples).
 #define WMLT_STRATEGY_ARRAYS(X)                                                              \
     X(uint32_t, slot) X(uint8_t, s) X(uint8_t, t) X(int16_t, light) X(Vec3, value)          \
-    X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(uint8_t, infinite)         \
+    X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(float, endPdfA) X(uint8_t, infinite)       \
     X(float, filmX) X(float, filmY) X(float, cameraPdfArea)
 // Per end (2 i: y = x_{s-1}, a light subpath vertex; 2 i + 1: z = x_s, a camera subpath
 // vertex): the vertex (kNoEnd: strategy i has no surface there), f's directions and the
@@ -173,8 +182,8 @@ struct BptBatch : PathWave {
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
         if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
-        cam.reserve(n, maxLength + 1);
-        light.reserve(n, maxLength);
+        cam.reserve(n, maxLength + 1, needs.texturedEmitter);
+        light.reserve(n, maxLength, needs.texturedEmitter);
         if (needs.pinhole) {
             const size_t samples = std::min<size_t>(kCameraSampleSlots, std::max<size_t>(n, 1)) *
                                    (oneStrategyPerSlot ? 1 : size_t(maxLength));  // a chunk's light vertices

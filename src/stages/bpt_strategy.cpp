@@ -18,6 +18,7 @@ namespace {
 struct PathPoint {
     Vec3 p, ng;
     BptVertexKind kind = BptVertexKind::Surface;
+    float pdfA = -1;  // x_0 on a textured emitter: its area density under light sampling (else < 0)
 };
 
 // Emission direction density (cosine about n) towards `to`, as area density at `to`.
@@ -46,7 +47,7 @@ inline float originPdf(const Scene& scene, int li, const PathPoint& x0) {
     const float pmf = scene.lightDistribution.discretePmf(li);
     if (isDeltaLight(scene.lights[li])) return pmf;  // (directional: its one direction)
     if (x0.kind == BptVertexKind::Env) return pmf * scene.env.pdf(-x0.ng);
-    return pmf / scene.lights[li].area;
+    return x0.pdfA >= 0 ? pmf * x0.pdfA : pmf / scene.lights[li].area;
 }
 
 // Density of x1 as the first scattering vertex of a light subpath from x0 (light li):
@@ -73,7 +74,7 @@ inline size_t indexOf(const BptBatch& b, uint32_t slot, int i, int s, int k) {
 // x_0's density under next-event estimation from x_1 (light l0; k >= 2, not a point light).
 inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathPoint& x1) {
     Vec3 dir = x0.kind == BptVertexKind::Env ? -x0.ng : dirTo(x1.p, x0.p);
-    return pdfAt(lightPdfFrom(scene, l0, x1.p, x0.p, dir, x0.ng), x1.p, x0);
+    return pdfAt(lightPdfFrom(scene, l0, x1.p, x0.p, dir, x0.ng, x0.pdfA), x1.p, x0);
 }
 
 }  // namespace
@@ -98,7 +99,8 @@ void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta) {
         const size_t y0 = l.at(slot, 0), y1 = l.at(slot, 1);
         const int l0 = l.light[y0];
         const bool x0Delta = isDeltaLight(scene.lights[l0]);
-        const float nee = x0Delta ? l.pdfFwd[y0] : neePdf(scene, l0, {l.p[y0], l.ng[y0], l.kind[y0]}, {l.p[y1], l.ng[y1], l.kind[y1]});
+        const float pdfA0 = l.emitPdfA.empty() ? -1.0f : l.emitPdfA[y0];
+        const float nee = x0Delta ? l.pdfFwd[y0] : neePdf(scene, l0, {l.p[y0], l.ng[y0], l.kind[y0], pdfA0}, {l.p[y1], l.ng[y1], l.kind[y1]});
         b.lightNee[slot] = nee;
         if (nL < 3) continue;
         b.light.misSum[y0] = bptLightMisSum0(l.pdfRev[y0], nee, x0Delta, misBeta);
@@ -143,6 +145,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         const size_t x1 = b.cam.at(slot, t - 2);  // k >= 1: t >= 2
         Vec3 Le = zKind == BptVertexKind::Env ? scene.env.Le(-b.cam.ng[zi])
                                               : areaLe(scene.lights[li], b.cam.ng[zi], dirTo(b.cam.p[zi], b.cam.p[x1]));
+        if (!b.cam.emitTex.empty() && zKind != BptVertexKind::Env) Le = Le * b.cam.emitTex[zi];
         w.value[i] = b.cam.beta[zi] * Le;
         w.light[i] = int16_t(li);
     } else if (s == 1 && t >= 2) {  // value = beta_z f(z) |cos| Le / (pmf pdf)
@@ -163,6 +166,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         w.light[i] = int16_t(li);
         w.endP[i] = ls.p;
         w.endN[i] = infinite ? -ls.wi : ls.n;
+        w.endPdfA[i] = ls.pdfA;
         w.infinite[i] = infinite ? 1 : 0;
     } else if (t == 1) {  // s = 1: value = beta_y Le |cos| We / pdf; s >= 2: beta_y f(y) tail
         const size_t yi = b.light.at(slot, s - 1);
@@ -263,11 +267,11 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     for (int j = std::max(1, s - 3); j <= std::min(k, s + 2); ++j) load(j);
     auto x = [&](int j) {
         if (s == 1 && t >= 2 && j == 0)
-            return PathPoint{w.endP[i], w.endN[i], w.infinite[i] ? BptVertexKind::Env : BptVertexKind::Light};
+            return PathPoint{w.endP[i], w.endN[i], w.infinite[i] ? BptVertexKind::Env : BptVertexKind::Light, w.endPdfA[i]};
         if (t == 1 && j == k) return PathPoint{w.endP[i], cam.forward, BptVertexKind::Camera};
         const BptVertices& v = sideOf(b, j, s);
         const size_t a = indexOf(b, slot, j, s, k);
-        PathPoint q{v.p[a], v.ng[a], v.kind[a]};
+        PathPoint q{v.p[a], v.ng[a], v.kind[a], j == 0 && !v.emitPdfA.empty() ? v.emitPdfA[a] : -1.0f};
         if (s == 0 && j == 0 && q.kind == BptVertexKind::Surface) q.kind = BptVertexKind::Light;  // the path's light end
         return q;
     };

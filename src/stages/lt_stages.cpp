@@ -65,7 +65,7 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
         if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
             CameraSample cs = sampleCameraFrom(cam, e.p, sampleDimension(key, 5), sampleDimension(key, 6));
             if (cs.valid) {
-                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi);
+                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi) * e.tex;  // (tex 1 but for textured emitters)
                 float cosL = std::fabs(dot(cs.wi, e.n));
                 if (!isBlack(Le)) addConnection(scene, b, e.p, e.n, cs, Le * (cosL * invPos * cs.We / cs.pdf));
             }

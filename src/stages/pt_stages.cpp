@@ -66,9 +66,13 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.light >= 0) {  // an emitter: without a material it absorbs and the path ends
             if (countEmission && dot(d, sp.ng) < 0) {
+                Vec3 tex;
+                float pdfA = -1;
+                const bool textured = scene.features.texturedEmitters && texturedEmitterHit(scene, sp.light, rh, sp.p, tex, pdfA);
                 float w = b.prevDelta[i] ? 1.0f
-                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d, sp.ng));
-                addRadiance(b, slot, b.beta[i] * scene.lights[sp.light].L * w, depth);
+                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d, sp.ng, pdfA));
+                const Vec3 Le = textured ? scene.lights[sp.light].L * tex : scene.lights[sp.light].L;
+                addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
             if (sp.material < 0) continue;
         }

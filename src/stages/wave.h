@@ -40,12 +40,13 @@ namespace wmlt {
 // What a scene needs of a batch's optional arrays, decided once per render (a batch
 // allocates only those): its one light is a rectangle (the light-sample flat loops), it has
 // matte surfaces (PT's matte flat loops), its camera is a pinhole (BPT's and MMLT's t = 1
-// camera-sample loop).
+// camera-sample loop), it has a textured emitter (BPT's emitter vertices keep T and pdfA).
 struct BatchNeeds {
-    bool rectLight = false, matte = false, pinhole = false;
+    bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false;
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
-    return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), !scene.camera.thinLens};
+    return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), !scene.camera.thinLens,
+            scene.features.texturedEmitters};
 }
 
 // A batch's work: pixels [x0, x1) x [y0, y1), sample indices [sample0, sample1).

@@ -263,12 +263,20 @@ void Importer::emitter(Node n, int shape) {
         if (shape < 0) p.fail(n, "an area emitter belongs inside a <shape>");
         ShapeDesc& sh = s_.shapes[shape];
         LightDesc l;
-        l.radiance = p.getColor("radiance", Vec3(1.0f));
-        if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
-        // A rectangle: the analytic rect light; any other mesh (obj, ply, serialized, cube, disk): a
-        // triangle mesh light emitting on its winding's side.
+        // A textured radiance: L = 1 times the texture at the point (a mesh light sampled by its
+        // luminance, scene/mesh_light.h).
+        if (Node tx = textureParam(p, "radiance")) {
+            if (sh.kind == ShapeKind::Sphere) p.fail(tx, "a textured radiance on a sphere is not supported (on meshes and rectangles it is)");
+            if (sh.mesh.uvs.empty()) p.fail(tx, "a textured radiance needs a mesh with (u, v) coordinates");
+            l.texture = texture(tx);
+        } else {
+            l.radiance = p.getColor("radiance", Vec3(1.0f));
+            if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
+        }
+        // A rectangle: the analytic rect light; any other mesh (obj, ply, serialized, cube, disk),
+        // or one with a textured radiance: a triangle mesh light emitting on its winding's side.
         if (sh.kind == ShapeKind::Sphere) l.kind = LightKind::Sphere;
-        else if (std::string(n.parent().attribute("type").value()) == "rectangle") l.kind = LightKind::Rect;
+        else if (std::string(n.parent().attribute("type").value()) == "rectangle" && l.texture < 0) l.kind = LightKind::Rect;
         else l.kind = LightKind::Mesh;
         l.shape = shape;
         sh.light = int(s_.lights.size());
