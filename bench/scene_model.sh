@@ -4,7 +4,10 @@
 #      against the same conductor with constants: CPU seconds (user + system), medians of
 #      REPS interleaved runs, PT and BPT;
 #   2. a grid mesh placed N times by instances against N flattened copies: --stats' meshes
-#      and Embree bytes, the process's peak RSS (GNU time) and its build + render CPU time.
+#      and Embree bytes, the process's peak RSS (GNU time) and its build + render CPU time;
+#   3. a ceiling panel whose radiance is a 64 x 64 bitmap (a bright spot on a dim screen:
+#      a textured mesh light, sampled by its luminance) against the same panel with a
+#      constant radiance of the same power: CPU seconds of PT and BPT (medians of REPS).
 # Writes its scenes in a temporary folder; needs nothing from ../shared.
 #
 #   bench/scene_model.sh [--reps N] [--copies N]
@@ -68,6 +71,19 @@ for k in range(copies):
     inst += f'<shape type="instance"><ref id="g"/>{place(k)}</shape>\n'
     flat += f'<shape type="obj"><string name="filename" value="grid.obj"/>{place(k)}</shape>\n'
 open(f"{tmp}/inst.xml", "w").write(inst + "</scene>")
+mean = 0.0
+with open(f"{tmp}/panel.pfm", "wb") as f:  # a dim screen with a bright spot
+    f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+    for y in range(h):
+        for x in range(w):
+            v = 0.2 + (200.0 if (x - 40) ** 2 + (y - 20) ** 2 < 25 else 0.0)
+            mean += v / (w * h)
+            f.write(struct.pack("<3f", v, v, v))
+lit = lambda radiance: (head % diffuse).replace('<rgb name="radiance" value="20"/>', '<rgb name="radiance" value="0"/>') + (
+    '<shape type="rectangle"><transform name="to_world"><scale value="1.2"/><rotate x="1" angle="90"/><translate y="3"/></transform>'
+    f'<emitter type="area">{radiance}</emitter></shape></scene>')
+open(f"{tmp}/panel_tex.xml", "w").write(lit('<texture type="bitmap" name="radiance"><string name="filename" value="panel.pfm"/></texture>'))
+open(f"{tmp}/panel_const.xml", "w").write(lit(f'<rgb name="radiance" value="{mean}"/>'))
 open(f"{tmp}/flat.xml", "w").write(flat + "</scene>")
 PY
 cpu() { /usr/bin/time -f "%U %S %M" -o "$tmp/t" build/wavemmlt "$@" --quiet --seed 1 -o "$tmp/o.pfm" --stats "$tmp/s.json"; awk '{printf "%.2f", $1 + $2}' "$tmp/t"; }
@@ -88,4 +104,14 @@ for s in inst flat; do
   meshes=$(grep -o '"meshes": [0-9]*' "$tmp/s.json" | awk '{print $2}')
   embree=$(grep -o '"embree": [0-9]*' "$tmp/s.json" | awk '{print $2}')
   printf '%-5s meshes %10d B  embree %10d B  peak RSS %7d KB  CPU %s s\n' "$s" "$meshes" "$embree" "$rss" "$secs"
+done
+echo "== a textured area light (64 x 64 bitmap) against a constant one of the same power, CPU s, medians of $reps"
+for t in pt bpt; do
+  c=() x=()
+  for ((r = 0; r < reps; ++r)); do
+    c+=("$(cpu "$tmp/panel_const.xml" --tracer $t --spp 16)")
+    x+=("$(cpu "$tmp/panel_tex.xml" --tracer $t --spp 16)")
+  done
+  mc=$(median "${c[@]}") mx=$(median "${x[@]}")
+  printf '%-4s constant %s  textured %s  medians %s / %s  textured/constant %.3f\n' "$t" "${c[*]}" "${x[*]}" "$mc" "$mx" "$(echo "$mx / $mc" | bc -l)"
 done
