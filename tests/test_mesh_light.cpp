@@ -130,3 +130,39 @@ TEST_CASE("textured mesh light: the density integrates to one over the surface",
             }
     CHECK(total == Approx(1.0).epsilon(1e-3));
 }
+
+TEST_CASE("textured mesh light: a mesh of many triangles (one cell each) is sampled by their luminance", "[meshlight][texture]") {
+    // The 2 x 1 plate as a 64 x 36 grid of quads (4608 triangles, over the 4096 of one cell
+    // each), uv over [0, 1]^2, under the ramp.
+    TriangleMesh m;
+    const int nx = 64, ny = 36;
+    for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) {
+            m.positions.push_back(Vec3(2.0f * float(i) / nx, float(j) / ny, 0.0f));
+            m.uvs.push_back(float(i) / nx);
+            m.uvs.push_back(float(j) / ny);
+        }
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const uint32_t v = uint32_t(j * (nx + 1) + i);
+            for (uint32_t k : {v, v + 1, v + uint32_t(nx) + 2, v, v + uint32_t(nx) + 2, v + uint32_t(nx) + 1}) m.indices.push_back(k);
+        }
+    const TextureDesc tex = ramp();
+    const MeshLight ml = buildMeshLight(m, &tex);
+    REQUIRE(ml.grids.empty());
+    chi2::Pcg32 rng(11);
+    const int n = 200000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < n; ++i) {
+        Vec3 p, nn, T;
+        float pdfA;
+        sampleTexturedMeshPoint(ml, rng.uniform(), rng.uniform(), p, nn, T, pdfA);
+        const double f = T.y / pdfA;
+        sum += f;
+        sum2 += f * f;
+    }
+    const double integral = 2.0 * 65.0 * 129.0 / (6.0 * 4096.0), mean = sum / n, var = sum2 / n - mean * mean;
+    INFO("mean " << mean << " +- " << std::sqrt(var / n) << ", expected " << integral << ", variance " << var);
+    CHECK(std::fabs(mean - integral) < 4.5 * std::sqrt(var / n));
+    CHECK(var < 0.05 * 0.366);  // uniform sampling's: 0.366 (the test above)
+}

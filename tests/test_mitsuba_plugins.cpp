@@ -712,6 +712,14 @@ TEST_CASE("Mitsuba area light with a textured radiance: the floor's irradiance, 
               .find("not supported") != std::string::npos);
     CHECK(errorOf(scene(R"(<shape type="rectangle"><emitter type="area"><texture type="bitmap" name="radiance"><string name="filename" value="missing.png"/></texture></emitter></shape>)", false))
               .find("missing.png") != std::string::npos);
+    const std::string dir = rstats::tempDir("textured-emitter-no-uv");  // an OBJ without vt
+    std::ofstream(dir + "/tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const std::string e = errorOf(scene(R"(<shape type="obj"><string name="filename" value="tri.obj"/>
+      <emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false), dir);
+    INFO(e);
+    CHECK(e.find("t.xml:7:") == 0);
+    CHECK(e.find("(u, v)") != std::string::npos);
+    std::filesystem::remove_all(dir);
 }
 
 // A textured emitter seen directly, filling the 16 x 16 film (the rectangle [-1, 1]^2 at

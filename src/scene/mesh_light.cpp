@@ -8,6 +8,9 @@ namespace wmlt {
 namespace {
 
 constexpr int kMaxGrid = 64;   // cells along each side of a triangle's square, at most
+// Meshes of more triangles than this: one cell each (the triangles are the grid; no
+// per-triangle tables for millions of small triangles).
+constexpr size_t kGridTriangles = 4096;
 constexpr int kCellPoints = 3; // a cell's mean from kCellPoints^2 points
 constexpr float kFloor = 0.1f;   // defensive: no cell below 1/10 of the mean (a sliver its points missed)
 
@@ -53,7 +56,7 @@ MeshLight buildMeshLight(const TriangleMesh& m, const TextureDesc* texture) {
     std::vector<size_t> first(nt + 1, 0);
     for (size_t t = 0; t < nt; ++t) {
         const double n = std::ceil(std::sqrt(texelsCovered(m, t, *texture)));
-        side[t] = int(std::clamp(n, 1.0, double(kMaxGrid)));
+        side[t] = nt > kGridTriangles ? 1 : int(std::clamp(n, 1.0, double(kMaxGrid)));
         first[t + 1] = first[t] + size_t(side[t]) * size_t(side[t]);
     }
     std::vector<float> cell(first[nt]);

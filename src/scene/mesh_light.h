@@ -4,7 +4,8 @@
 //   - a triangle t in proportion to area_t times the mean luminance of T over it;
 //   - in t, a point through the square-to-triangle warp (sampleUniformTriangle, which keeps
 //     area) from a piecewise-constant density over an n x n grid of the warp's square, each
-//     cell weighted by the mean luminance of T over it (n from the texels t covers, <= 64);
+//     cell weighted by the mean luminance of T over it (n from the texels t covers, <= 64;
+//     1 in meshes of more than 4096 triangles, whose triangles are fine enough a grid);
 //   - area density pdfA = P(t) pdf2(a, b) / area_t, (a, b) the point's place in t's square.
 // Cell means are estimated from 3 x 3 points and floored at 1/10 of the light's mean
 // (defensive sampling): every point where T > 0 has a positive density (an unbiased sampler
