@@ -756,6 +756,42 @@ TEST_CASE("Mitsuba area light with a textured radiance: seen directly, in every 
     }
 }
 
+// blendbsdf: (1 - w) f_0 + w f_1. Two diffuse parts, 0.3 and 0.8 with w = 0.6, are a
+// diffuse 0.6: the floor under a point light has the point light's closed form, with w a
+// constant and with w a texture (a checkerboard of 0.6 and 0.6), in PT, LT and BPT.
+TEST_CASE("Mitsuba blendbsdf: two diffuse parts are their weighted mean, in PT, LT and BPT", "[mitsuba][render][blend]") {
+    const Vec3 c(0.2f, 1.3f, -0.1f);
+    auto E = [&](Vec3 p) {
+        const Vec3 d = c - p;
+        const double r = length(d);
+        return 2.0 * double(c.y) / (r * r * r);
+    };
+    const std::string light = R"(<emitter type="point"><point name="position" x="0.2" y="1.3" z="-0.1"/><rgb name="intensity" value="2"/></emitter>)";
+    const std::string parts = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.3"/></bsdf><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf>)";
+    floorUnder(light, E, "blend", {}, R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/>)" + parts + "</bsdf>");
+    floorUnder(light, E, "blend-textured", {},
+               R"(<bsdf type="blendbsdf"><texture type="checkerboard" name="weight"><rgb name="color0" value="0.6"/><rgb name="color1" value="0.6"/></texture>)" +
+                   parts + "</bsdf>");
+    // The importer: the parts, the weight, twosided over a blend; bad inputs.
+    SceneDesc d = load(scene(R"(<shape type="cube"><bsdf type="twosided"><bsdf type="blendbsdf"><float name="weight" value="0.25"/>
+      <bsdf type="roughconductor"/><bsdf type="diffuse"/></bsdf></bsdf></shape>)"));
+    const MaterialDesc& m = d.materials[size_t(d.shapes[0].material)];
+    CHECK(m.kind == MaterialKind::Blend);
+    CHECK(m.twoSided);
+    CHECK(m.blendWeight == 0.25f);
+    CHECK(d.materials[size_t(m.blendPart[0])].kind == MaterialKind::RoughConductor);
+    CHECK(d.materials[size_t(m.blendPart[1])].kind == MaterialKind::Matte);
+    expectErrors({{R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf></shape>)", "exactly two"},
+                  {R"(<shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf></shape>)", "weight must be in [0, 1]"},
+                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+                   "inside a blendbsdf"},
+                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+                   "textured"},
+                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+                   "twosided and a one-sided"}},
+                 ".", [](const std::string& b) { return b; });
+}
+
 // Textured colour parameters (MaterialDesc::colourTexture). A rectangle filling a 16 x 16
 // image (as above) under a uniform sky, its BSDF's parameter a checkerboard whose 2 x 2
 // squares are 8 x 8 pixel blocks: every pixel sees one square only, and a path through it

@@ -197,3 +197,31 @@ TEST_CASE("Mitsuba tracers: a textured area light in every tracer", "[mitsuba][r
 )"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
     std::filesystem::remove_all(dir);
 }
+
+// blendbsdf on the floor patch and a sphere: a rough copper and a diffuse part weighted by a
+// checkerboard (w 0.2 and 0.9), and two rough glasses (alpha 0.2, eta 1.5 and alpha 0.5,
+// eta 1.33; w 0.4): the mixture's f and pdf (its adjoint on light subpaths). Then a smooth
+// glass (delta lobes) with a rough one: the blend's sample takes the part's delta lobe,
+// and BPT connects at its vertices as at a plastic's; LT is left out there (the camera sees
+// the delta lobe directly, which light tracing cannot).
+TEST_CASE("Mitsuba tracers: blendbsdf in every tracer", "[mitsuba][render][stat][blend]") {
+    agree("blendbsdf", scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
+    <emitter type="area"><rgb name="radiance" value="5"/></emitter></shape>
+  <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="-90"/><translate x="-0.3" y="0.01"/></transform>
+    <bsdf type="blendbsdf"><texture type="checkerboard" name="weight"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.9"/>
+      <transform name="to_uv"><scale value="3"/></transform></texture>
+      <bsdf type="roughconductor"><float name="alpha" value="0.15"/><rgb name="eta" value="0.2, 0.92, 1.1"/><rgb name="k" value="3.9, 2.45, 2.14"/></bsdf>
+      <bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.3, 0.7"/></bsdf></bsdf></shape>
+  <shape type="sphere"><point name="center" x="0.45" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
+    <bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf>
+      <bsdf type="roughdielectric"><float name="alpha" value="0.5"/><float name="int_ior" value="1.33"/></bsdf></bsdf></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+    agree("blendbsdf with a delta part", scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
+    <emitter type="area"><rgb name="radiance" value="5"/></emitter></shape>
+  <shape type="sphere"><point name="center" x="0.2" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
+    <bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="dielectric"/>
+      <bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf></bsdf></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::MMLT, 256}});
+}

@@ -49,12 +49,13 @@ struct CameraDesc {
 };
 
 // The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and
-// rough conductor, rough and thin dielectric, smooth and rough plastic.
+// rough conductor, rough and thin dielectric, smooth and rough plastic, and the blend of
+// two of those (blendbsdf: f = (1 - w) f_0 + w f_1).
 enum class MaterialKind : uint8_t {
     Matte, Glossy, Reflective, Dielectric,
-    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic
+    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend
 };
-constexpr int kMaterialKinds = 10;
+constexpr int kMaterialKinds = 11;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
@@ -100,6 +101,12 @@ struct MaterialDesc {
     // luminance at the hit), else rays pass straight through (an any-hit test).
     float opacity = 1;
     int opacityTexture = -1;                 // index into SceneDesc::textures, -1: none
+    // Blend: its two parts (indices into SceneDesc::materials: kinds other than Blend, with
+    // constant parameters and no bump, normal map or mask) and the weight w of part 1,
+    // a constant in [0, 1] or (blendWeightTexture >= 0) that texture's luminance at the hit.
+    int blendPart[2] = {-1, -1};
+    float blendWeight = 0.5f;
+    int blendWeightTexture = -1;
 };
 
 // A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it

@@ -14,6 +14,8 @@
 //   the light side (the connections evaluate it so); in TransportMode::Importance the
 //   sample's f is the adjoint, f(wi, wo) (bsdf_microfacet.h).
 #pragma once
+#include <algorithm>
+
 #include "kernels/microfacet.h"
 #include "kernels/sampling.h"
 #include "wavemmlt/scene_desc.h"
@@ -24,6 +26,7 @@ enum class TransportMode : uint8_t { Radiance, Importance };
 
 // Per-material constants of the Mitsuba materials, built once with the scene (the table
 // and the internal reflectance by bsdf_plastic.cpp's preparePlastic).
+struct BsdfParams;
 struct BsdfExtra {
     Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)
     bool anisotropic = false;          // rough kinds: isAnisotropic (the frame follows dp/du)
@@ -33,6 +36,7 @@ struct BsdfExtra {
     bool nonlinear = false;            // plastics: Mitsuba's `nonlinear`
     static constexpr int kRes = 64;    // roughplastic: T(cos) at cos = i / (kRes - 1)
     float transmittance[kRes] = {};
+    const BsdfParams* blendParts = nullptr;  // Blend: its two parts (owned by the Scene)
 };
 
 // A material at one hit, with its texture already applied to `diffuse`.
@@ -44,6 +48,7 @@ struct BsdfParams {
     Vec3 reflect{0.0f};
     Vec3 refract{0.0f};
     float eta = 1.5f;  // iorInside / iorOutside
+    float blendWeight = 0;  // Blend: the weight of part 1 at this hit (x->blendParts)
     const BsdfExtra* x = nullptr;  // the Mitsuba kinds' constants (owned by the Scene)
     // Rough conductors and dielectrics with a textured roughness: the alphas at this hit
     // (0: x->dist's; materialAt writes them).
@@ -110,7 +115,12 @@ inline float shadingCorrection(Vec3 wo, Vec3 wi, Vec3 ns, Vec3 ng) {
     return den > 0 ? std::fabs(dot(wo, ns)) * std::fabs(dot(wi, ng)) / den : 0.0f;
 }
 
-// ---- Dispatch by kind (tests and rare paths; stages call the kind's function) ----
+// ---- Blend (blendbsdf): f = (1 - w) f_0 + w f_1, the parts by the switches below ----
+inline Vec3 blendF(const BsdfParams& m, Vec3 wo, Vec3 wi);
+inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
+inline bool blendSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
+
+// ---- Dispatch by kind (tests, rare paths and a blend's parts; stages call the kind's function) ----
 inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     switch (m.kind) {
         case MaterialKind::Matte: return matteF(m, wo, wi);
@@ -119,6 +129,7 @@ inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::RoughDielectric: return roughDielectricF(m, wo, wi);
         case MaterialKind::Plastic: return plasticF(m, wo, wi);
         case MaterialKind::RoughPlastic: return roughPlasticF(m, wo, wi);
+        case MaterialKind::Blend: return blendF(m, wo, wi);
         default: return Vec3(0.0f);  // delta lobes
     }
 }
@@ -130,6 +141,7 @@ inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::RoughDielectric: return roughDielectricPdf(m, wo, wi);
         case MaterialKind::Plastic: return plasticPdf(m, wo, wi);
         case MaterialKind::RoughPlastic: return roughPlasticPdf(m, wo, wi);
+        case MaterialKind::Blend: return blendPdf(m, wo, wi);
         default: return 0.0f;
     }
 }
@@ -146,8 +158,39 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
         case MaterialKind::ThinDielectric: return thinDielectricSample(m, wo, uLobe, s);
         case MaterialKind::Plastic: return plasticSample(m, wo, uLobe, u1, u2, s);
         case MaterialKind::RoughPlastic: return roughPlasticSample(m, wo, uLobe, u1, u2, s);
+        case MaterialKind::Blend: return blendSample(m, wo, uLobe, u1, u2, mode, s);
     }
     return false;
+}
+
+// The parts are never blends (the importer refuses that), so these recurse one level.
+inline Vec3 blendF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    const BsdfParams* part = m.x->blendParts;
+    return bsdfF(part[0], wo, wi) * (1.0f - m.blendWeight) + bsdfF(part[1], wo, wi) * m.blendWeight;
+}
+inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    const BsdfParams* part = m.x->blendParts;
+    return bsdfPdf(part[0], wo, wi) * (1.0f - m.blendWeight) + bsdfPdf(part[1], wo, wi) * m.blendWeight;
+}
+// Part k with probability its weight (uLobe chooses and is reused, rescaled, by the part);
+// a delta lobe of it: f and pdf times that weight (their ratio the part's); any other
+// direction: the mixture's f (its adjoint f(wi, wo) in importance mode, as every kind's
+// sample gives) and pdf, as both parts could have sampled it.
+inline bool blendSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s) {
+    const float w1 = m.blendWeight, w0 = 1.0f - w1;
+    const int k = uLobe < w0 ? 0 : 1;
+    const float wk = k ? w1 : w0;
+    if (!(wk > 0)) return false;
+    const float u = std::min((k ? uLobe - w0 : uLobe) / wk, 0x1.fffffep-1f);
+    if (!bsdfSample(m.x->blendParts[k], wo, u, u1, u2, mode, s)) return false;
+    if (s.delta) {
+        s.f = s.f * wk;
+        s.pdf *= wk;
+        return true;
+    }
+    s.f = mode == TransportMode::Radiance ? blendF(m, wo, s.wi) : blendF(m, s.wi, wo);
+    s.pdf = blendPdf(m, wo, s.wi);
+    return s.pdf > 0;
 }
 
 }  // namespace wmlt

@@ -23,6 +23,7 @@ bool readsTexturedColour(const MaterialDesc& m) {
         case MaterialKind::ThinDielectric: return has(ColourParam::Reflect) || has(ColourParam::Refract);
         case MaterialKind::Plastic:
         case MaterialKind::RoughPlastic: return has(ColourParam::Diffuse) || has(ColourParam::Reflect);
+        case MaterialKind::Blend: return m.blendWeightTexture >= 0;  // (its parts are constant)
     }
     return false;
 }
@@ -39,6 +40,11 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (isAnisotropic(m)) f.anisotropic = true;
+        if (m.kind == MaterialKind::Blend)  // a part's delta lobes count as the blend's
+            for (int part : m.blendPart) {
+                const MaterialKind k = d.materials[size_t(part)].kind;
+                if (isDeltaMaterial(k) || k == MaterialKind::Plastic) f.delta = true;
+            }
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
     }
@@ -59,7 +65,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
 
 static const char* kMaterialNames[kMaterialKinds] = {
     "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
-    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic"};
+    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend"};
 
 std::string SceneFeatures::describe() const {
     std::ostringstream o;

@@ -175,7 +175,18 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
                 preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
             b.x = &x;
         }
+        b.blendWeight = m.blendWeight;
         s->materials.push_back(b);
+    }
+    // Blends: their parts' constants side by side (reserved once: the extras point into it).
+    size_t blends = 0;
+    for (const MaterialDesc& m : d.materials) blends += m.kind == MaterialKind::Blend ? 1 : 0;
+    s->blendParts.reserve(2 * blends);
+    for (size_t i = 0; i < d.materials.size(); ++i) {
+        const MaterialDesc& m = d.materials[i];
+        if (m.kind != MaterialKind::Blend) continue;
+        s->bsdfExtras[i].blendParts = s->blendParts.data() + s->blendParts.size();
+        for (int part : m.blendPart) s->blendParts.push_back(s->materials[size_t(part)]);
     }
 
     Vec3 lo(INFINITY), hi(-INFINITY);

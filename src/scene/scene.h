@@ -79,6 +79,7 @@ public:
     uint64_t meshBytes = 0;               // the triangle meshes' arrays (a group's once)
     std::vector<BsdfParams> materials;  // by material index, before textures
     std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
+    std::vector<BsdfParams> blendParts; // each Blend's two parts (BsdfExtra::blendParts)
     std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;

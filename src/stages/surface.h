@@ -189,6 +189,8 @@ void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams&
                 out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
                 out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
             }
+            if (m.blendWeightTexture >= 0)  // blendbsdf's weight: the texture's luminance, in [0, 1]
+                out.blendWeight = std::clamp(luminance(evalTexture(scene.desc.textures[size_t(m.blendWeightTexture)], sp.u, sp.v, sp.p)), 0.0f, 1.0f);
         }
     }
 }

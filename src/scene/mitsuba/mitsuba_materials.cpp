@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "scene/features.h"
 #include "scene/mitsuba/mitsuba_importer.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
@@ -270,6 +271,31 @@ int Importer::material(Node bsdf) {
         } else {
             m.opacity = p.getFloat("opacity", 0.5f);
             if (!(m.opacity >= 0 && m.opacity <= 1)) p.fail(bsdf, "opacity must be in [0, 1]");
+        }
+    } else if (p.type() == "blendbsdf") {  // f = (1 - weight) f_0 + weight f_1
+        std::vector<Node> b = p.nested("bsdf");
+        if (b.size() != 2) p.fail(bsdf, "blendbsdf needs exactly two nested BSDFs");
+        m.kind = MaterialKind::Blend;
+        for (int k = 0; k < 2; ++k) {
+            const int part = material(b[size_t(k)]);
+            const MaterialDesc& q = s_.materials[size_t(part)];
+            const char* why = q.kind == MaterialKind::Blend ? "a blendbsdf inside a blendbsdf"
+                              : readsTexturedColour(q) || q.bump >= 0 || q.normalMap >= 0 ? "a textured, bump- or normal-mapped BSDF"
+                              : q.opacity < 1 || q.opacityTexture >= 0                    ? "a mask"
+                              : isAnisotropic(q)                                          ? "anisotropic roughness"
+                                                                                          : nullptr;
+            if (why) p.fail(b[size_t(k)], std::string(why) + " inside a blendbsdf is not supported (its parts are constant BSDFs)");
+            m.blendPart[k] = part;
+        }
+        if (s_.materials[size_t(m.blendPart[0])].twoSided != s_.materials[size_t(m.blendPart[1])].twoSided)
+            p.fail(bsdf, "a blendbsdf of a twosided and a one-sided BSDF is not supported (wrap the blendbsdf in twosided)");
+        m.twoSided = s_.materials[size_t(m.blendPart[0])].twoSided;
+        if (Node tx = textureParam(p, "weight")) {
+            m.blendWeightTexture = texture(tx);
+            m.blendWeight = 1;
+        } else {
+            m.blendWeight = p.getFloat("weight", 0.5f);
+            if (!(m.blendWeight >= 0 && m.blendWeight <= 1)) p.fail(bsdf, "weight must be in [0, 1]");
         }
     } else {
         materialParams(p, m);
