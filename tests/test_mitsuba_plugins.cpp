@@ -553,12 +553,13 @@ namespace {
 void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& irradiance, const std::string& what,
                 const std::vector<TracerKind>& exact = {},
                 const std::string& floorBsdf = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)",
-                const std::string& dir = ".") {
+                const std::string& dir = ".",
+                const std::string& sensor = R"(<sensor type="perspective"><float name="fov" value="90"/>
+    <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>)") {
     const double rho = 0.6;
     const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
-  <sensor type="perspective"><float name="fov" value="90"/>
-    <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+  )" + sensor + R"(
     <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate x="1" angle="-90"/></transform>
     )" + floorBsdf + R"(</shape>
@@ -790,6 +791,66 @@ TEST_CASE("Mitsuba blendbsdf: two diffuse parts are their weighted mean, in PT, 
                   {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
                    "twosided and a one-sided"}},
                  ".", [](const std::string& b) { return b; });
+}
+
+// Mitsuba's orthographic sensor (a delta in direction: rays along the view direction from
+// the film rectangle, CameraDesc::orthographic). Looking down at the floor at 35 degrees
+// from the vertical (the film's density projected with that cosine) over a 1.6 x 1.6 film
+// (to_world scaled by 0.8) under a point light: each block's radiance
+// rho / pi E with E = I h / r^3, in PT, LT (connections along -forward, We = 1 / A) and BPT
+// (the film's density projected at the first hit, and at t = 1).
+TEST_CASE("Mitsuba orthographic sensor: a floor under a point light, in PT, LT and BPT", "[mitsuba][render][ortho]") {
+    const Vec3 c(0.3f, 1.4f, -0.2f);
+    floorUnder(R"(<emitter type="point"><point name="position" x="0.3" y="1.4" z="-0.2"/><rgb name="intensity" value="2"/></emitter>)",
+               [&](Vec3 p) {
+                   const Vec3 d = c - p;
+                   const double r = length(d);
+                   return 2.0 * double(c.y) / (r * r * r);
+               },
+               "ortho", {}, R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)", ".",
+               R"(<sensor type="orthographic"><transform name="to_world"><scale value="0.8"/><lookat origin="0.2, 1, 0.7" target="0.2, 0, 0" up="0, 0, 1"/></transform>)");
+}
+
+// An orthographic view of a textured emitter filling the film (the rectangle [-1, 1]^2 at
+// z = 0, the film to_world's unit square at z = 2): the blocks of the seen-directly test
+// above, PT exactly, LT, BPT and MMLT within noise. And the importer: extents (y by the
+// film's aspect), near_clip, bad inputs.
+TEST_CASE("Mitsuba orthographic sensor: an emitter seen directly in every tracer, and the importer", "[mitsuba][render][ortho]") {
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="1"/></integrator>
+  <sensor type="orthographic"><transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
+  <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
+    <rgb name="color0" value="3"/><rgb name="color1" value="0.5"/></texture></emitter></shape>
+</scene>)", "ortho-seen.xml", ".");
+    REQUIRE(d.camera.orthographic);
+    const std::vector<double> expected = {0.5, 3.0, 3.0, 0.5};
+    const std::vector<double> pt = rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 4, 1, 1, 1)).image, 8, 1);
+    for (size_t i = 0; i < 4; ++i) CHECK(pt[i] == Approx(expected[i]).epsilon(1e-5));
+    for (TracerKind t : {TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 8; ++k) {
+            RenderOptions o = rstats::renderOptions(t, 16, 80 + uint64_t(k), 1, 1);
+            if (t == TracerKind::MMLT) {
+                o.chains = 256;
+                o.bootstrap = 1 << 12;
+            }
+            runs.add(rstats::blockMeans(render(d, o).image, 8, 1));
+        }
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO("tracer " << int(t) << ": " << z.describe());
+        CHECK(z.pass);
+    }
+    const std::string head = R"(<scene version="3.0.0"><sensor type="orthographic">)";
+    const std::string film = R"(<film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="20"/></film></sensor>
+      <shape type="sphere"><emitter type="area"/></shape></scene>)";
+    const SceneDesc e = load(head + R"(<float name="near_clip" value="0.5"/><transform name="to_world"><scale x="3" y="2"/></transform>)" + film);
+    CHECK(e.camera.orthoHalfWidth == Approx(3.0f));
+    CHECK(e.camera.orthoHalfHeight == Approx(1.0f));  // 2 * 20 / 40
+    CHECK(e.camera.nearClip == 0.5f);
+    CHECK(errorOf(head + R"(<float name="fov" value="40"/>)" + film).find("fov") != std::string::npos);
+    CHECK(errorOf(head + R"(<float name="near_clip" value="-1"/>)" + film).find("near_clip must be >= 0") != std::string::npos);
+    CHECK(errorOf(head + R"(<transform name="to_world"><scale x="0" y="1"/></transform>)" + film).find("no area") != std::string::npos);
 }
 
 // Textured colour parameters (MaterialDesc::colourTexture). A rectangle filling a 16 x 16

@@ -46,6 +46,11 @@ struct CameraDesc {
     float focalLength = 1;  // focus distance
     float fStop = 1;        // aperture radius = focalLength / (2 fStop)
     bool flipX = false;     // image right = up x forward instead (a mirroring Mitsuba to_world)
+    // Mitsuba's orthographic sensor: rays along the view direction from the film rectangle
+    // through `position` (half extents in world units; fovDegrees and dof unused), starting
+    // nearClip in front of it.
+    bool orthographic = false;
+    float orthoHalfWidth = 1, orthoHalfHeight = 1, nearClip = 0;
 };
 
 // The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and

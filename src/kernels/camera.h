@@ -16,6 +16,10 @@ struct Camera {
     int width = 1, height = 1;
     bool thinLens = false;
     float lensRadius = 0, focusDistance = 1;
+    // Orthographic (a delta in direction): rays along `forward` from the film rectangle
+    // through `position`, of half extents scaleX, scaleY (world units), nearClip ahead.
+    bool ortho = false;
+    float nearClip = 0;
 };
 
 inline Camera makeCamera(const CameraDesc& d, int width, int height) {
@@ -34,8 +38,19 @@ inline Camera makeCamera(const CameraDesc& d, int width, int height) {
     c.thinLens = d.dof;
     c.lensRadius = d.dof ? d.focalLength / (2.0f * d.fStop) : 0.0f;
     c.focusDistance = d.focalLength;
+    if (d.orthographic) {
+        c.ortho = true;
+        c.thinLens = false;
+        c.lensRadius = 0;
+        c.scaleX = d.orthoHalfWidth;
+        c.scaleY = d.orthoHalfHeight;
+        c.nearClip = d.nearClip;
+    }
     return c;
 }
+
+// A pinhole: the one camera whose rays all start at its position (the flat loops').
+inline bool isPinhole(const Camera& c) { return !c.thinLens && !c.ortho; }
 
 // The camera's frame and image as floats, made once for many rays: the per-element
 // functions below take it by value, so that loops of them read no Camera through a
@@ -114,6 +129,12 @@ __attribute__((noinline)) inline void pinholeCameraDirections(
 // plane of focus at distance focusDistance along the view direction.
 inline void generateCameraRay(const Camera& c, float px, float py, float u1, float u2,
                               Vec3& origin, Vec3& dir) {
+    if (c.ortho) {  // the film point (the unit plane's offsets, in world units), along forward
+        const Vec3 d = cameraPlaneDirection(c, px, py) - c.forward;
+        origin = c.position + d + c.forward * c.nearClip;
+        dir = c.forward;
+        return;
+    }
     Vec3 d = cameraPlaneDirection(c, px, py);
     if (!c.thinLens) {
         origin = c.position;
@@ -230,7 +251,26 @@ inline Vec3 cameraLensPoint(const Camera& c, float u1, float u2) {
     sampleConcentricDisk(u1, u2, lx, ly);
     return c.position + c.right * (lx * c.lensRadius) + c.up * (ly * c.lensRadius);
 }
+// Orthographic: the film point ref projects to along -forward, reached from ref along wi =
+// -forward (a delta: pdf 1), We = 1 / A (the film's area: I_j = (W H / A) int_pixel L dA).
+inline CameraSample sampleOrthographicFrom(const Camera& c, Vec3 ref) {
+    CameraSample s;
+    const Vec3 q = ref - c.position;
+    const float depth = dot(q, c.forward);
+    const float sx = dot(q, c.right) / c.scaleX, sy = dot(q, c.up) / c.scaleY;
+    s.px = (sx + 1.0f) * 0.5f * float(c.width);
+    s.py = (1.0f - sy) * 0.5f * float(c.height);
+    s.dist = depth - c.nearClip;
+    s.wi = -c.forward;
+    s.lens = ref + s.wi * s.dist;
+    s.We = 1.0f / cameraPlaneArea(c);
+    s.pdf = 1.0f;
+    s.valid = s.dist > 0 && s.px >= 0 && s.px < float(c.width) && s.py >= 0 && s.py < float(c.height);
+    return s;
+}
+
 inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float u2) {
+    if (c.ortho) return sampleOrthographicFrom(c, ref);
     CameraSample s;
     s.lens = cameraLensPoint(c, u1, u2);
     const CameraFloats f = cameraFloats(c);

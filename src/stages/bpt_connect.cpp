@@ -156,7 +156,7 @@ void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, f
     cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
     w.n = 0;
-    const bool pinhole = !scene.camera.thinLens;
+    const bool pinhole = isPinhole(scene.camera);
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
         if (pinhole && slot % kCameraSampleSlots == 0)
             sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), false);
@@ -179,7 +179,7 @@ void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, 
     b.numConn = 0;
     w.n = 0;
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) b.L[slot] = Vec3(0.0f);
-    const bool pinhole = !scene.camera.thinLens;
+    const bool pinhole = isPinhole(scene.camera);
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
         if (pinhole && slot % kCameraSampleSlots == 0)
             sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), true);

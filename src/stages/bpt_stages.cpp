@@ -34,6 +34,7 @@ uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
 }
 
 float cameraPdfOfRay(const Camera& c, Vec3 w) {
+    if (c.ortho) return 1.0f / cameraPlaneArea(c);  // per unit of film area: projected at the first hit
     const float cosTheta = dot(w, c.forward);
     return cosTheta > 0 ? 1.0f / (cameraPlaneArea(c) * cosTheta * cosTheta * cosTheta) : 0.0f;
 }
@@ -207,8 +208,8 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         v.ng[cur] = sp.ng;
         v.shading[cur] = shadingFrame<F>(scene, sp);
         v.beta[cur] = b.pathBeta[i];
-        v.pdfFwd[cur] = v.kind[prev] == BptVertexKind::Env
-                            ? b.pathPdf[i] * std::fabs(dot(sp.ng, rayDir(rh)))  // disc density projected
+        const bool projected = v.kind[prev] == BptVertexKind::Env || (scene.camera.ortho && v.kind[prev] == BptVertexKind::Camera);
+        v.pdfFwd[cur] = projected ? b.pathPdf[i] * std::fabs(dot(sp.ng, rayDir(rh)))  // disc's (film's) density projected
                             : solidAngleToArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;

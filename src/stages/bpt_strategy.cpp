@@ -172,7 +172,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         const size_t yi = b.light.at(slot, s - 1);
         const Vec3 y = b.light.p[yi], yN = b.light.ng[yi];
         CameraSample cs;
-        if (!cam.thinLens) {  // sampleCameraFromLightVertices made it
+        if (isPinhole(cam)) {  // sampleCameraFromLightVertices made it
             const uint32_t j = b.cameraSampleOf[yi];
             cs.valid = b.csValid[j] != 0;
             cs.lens = cam.position;
@@ -183,7 +183,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
             cs.pdf = b.csPdf[j];
             w.cameraPdfArea[i] = b.csPdfArea[j];
         } else {
-            cs = sampleCameraFrom(cam, y, uc(0), uc(1));
+            cs = cam.ortho ? sampleOrthographicFrom(cam, y) : sampleCameraFrom(cam, y, uc(0), uc(1));  // (ortho reads no number)
         }
         if (!cs.valid) return false;
         if (s == 1) {
@@ -302,7 +302,9 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         const PathPoint y = x(s - 1);
         // The direction is -wi of setUpStrategy's camera sample bit for bit (the same
         // difference and length), whose raster point was inside the image: no check again.
-        pE[s - 1] = !cam.thinLens ? w.cameraPdfArea[i] : pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
+        pE[s - 1] = isPinhole(cam)  ? w.cameraPdfArea[i]
+                    : cam.ortho     ? cameraPdfOfRay(cam, cam.forward) * std::fabs(dot(y.ng, cam.forward))  // the film's, projected
+                                    : pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
         if (s >= 2) pE[s - 2] = pdfAt(w.pdfCam[ey], y.p, x(s - 2));
     } else {  // s = 1, t >= 2
         const PathPoint z = x(1);

@@ -45,7 +45,7 @@ struct BatchNeeds {
     bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false;
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
-    return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), !scene.camera.thinLens,
+    return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), isPinhole(scene.camera),
             scene.features.texturedEmitters};
 }
 
@@ -142,15 +142,15 @@ inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, i
         w.sortedU1[i] = float(stratum % uint32_t(n));
         w.sortedU2[i] = float(stratum / uint32_t(n));
     }
-    const bool lens = cam.thinLens, filtered = !scene.filter.box;
-    if (!lens && !filtered)
+    const bool lens = cam.thinLens, filtered = !scene.filter.box, pinhole = isPinhole(cam);
+    if (pinhole && !filtered)
         pinholeCameraDirections(cameraFloats(cam), w.sortedKey.data(), w.localX.data(), w.localY.data(),
                                 w.sortedU1.data(), w.sortedU2.data(), m, float(n), dims.jitterX, dims.jitterY,
                                 &w.nextDir[0].x);
     forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t) {
         const uint64_t key = w.sortedKey[i];
         w.filmWeight[i] = 1.0f;
-        if (!lens && !filtered) {
+        if (pinhole && !filtered) {
             emit(i, pixel, key, cam.position, w.nextDir[i]);
             return;
         }

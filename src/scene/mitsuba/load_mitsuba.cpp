@@ -348,12 +348,17 @@ void Importer::sensor(Node n) {
     haveSensor_ = true;
     Props p = props(n);
     const std::string t = p.type();
-    if (t != "perspective" && t != "thinlens") p.fail(n, "sensor not supported (perspective and thinlens are)");
-    const float fov = p.getFloat("fov", 0);
+    if (t != "perspective" && t != "thinlens" && t != "orthographic")
+        p.fail(n, "sensor not supported (perspective, thinlens and orthographic are)");
+    const bool ortho = t == "orthographic";
+    const float fov = ortho ? 90.0f : p.getFloat("fov", 0);
     if (!(fov > 0 && fov < 180)) p.fail(n, "fov must be given, 0 < fov < 180 (focal_length is not supported)");
-    const std::string axis = p.getString("fov_axis", "x");
+    const std::string axis = ortho ? "x" : p.getString("fov_axis", "x");
     const Matrix M = p.getTransform("to_world");
-    p.getFloat("near_clip", 0.01f);  // (accepted: nothing in these scenes is that close)
+    // near_clip: accepted on the projective sensors (nothing in these scenes is that close);
+    // an orthographic sensor's rays start there.
+    const float nearClip = p.getFloat("near_clip", 0.01f);
+    if (ortho && !(nearClip >= 0)) p.fail(n, "near_clip must be >= 0");
     p.getFloat("far_clip", 1e4f);
     CameraDesc& c = s_.camera;
     // Mitsuba reads focus_distance on every projective sensor; a pinhole has no focus.
@@ -407,6 +412,14 @@ void Importer::sensor(Node n) {
     c.up = normalize(M.vector(Vec3(0, 1, 0)));
     c.flipX = M.det3() < 0;
     if (length(cross(normalize(c.lookAt - c.position), c.up)) < 1e-6f) p.fail(n, "to_world has no usable view direction");
+    if (ortho) {  // Mitsuba's [-1, 1] x [-1 / aspect, 1 / aspect] of to_world's x-y plane
+        c.orthographic = true;
+        c.nearClip = nearClip;
+        c.orthoHalfWidth = length(M.vector(Vec3(1, 0, 0)));
+        c.orthoHalfHeight = length(M.vector(Vec3(0, 1, 0))) * float(h) / float(w);
+        if (!(c.orthoHalfWidth > 0 && c.orthoHalfHeight > 0) || !std::isfinite(c.orthoHalfWidth * c.orthoHalfHeight))
+            p.fail(n, "to_world gives the orthographic film no area");
+    }
     p.finish();
 }
 
