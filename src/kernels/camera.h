@@ -269,8 +269,8 @@ inline CameraSample sampleOrthographicFrom(const Camera& c, Vec3 ref) {
     return s;
 }
 
-inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float u2) {
-    if (c.ortho) return sampleOrthographicFrom(c, ref);
+// A pinhole's or a thin lens' (not orthographic).
+inline CameraSample sampleProjectiveFrom(const Camera& c, Vec3 ref, float u1, float u2) {
     CameraSample s;
     s.lens = cameraLensPoint(c, u1, u2);
     const CameraFloats f = cameraFloats(c);
@@ -281,6 +281,9 @@ inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float 
                                                  s.wi.z, dist2, s.px, s.py, cosTheta, s.We, s.pdf);
     s.dist = std::sqrt(dist2);
     return s;
+}
+inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float u2) {
+    return c.ortho ? sampleOrthographicFrom(c, ref) : sampleProjectiveFrom(c, ref, u1, u2);
 }
 
 // For a pinhole camera, over h < n: sampleCameraFrom(ref[3 h ..]) into wi[3 h ..], px,

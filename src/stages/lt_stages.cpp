@@ -119,25 +119,32 @@ void resolveLightHits(const Scene& scene, LtBatch& b) {
 
 void connectToCamera(const Scene& scene, LtBatch& b, int d) {
     b.numConn = 0;
-    forEachHitByKind(b, [&](auto kind, uint32_t h) {
-        using B = BsdfOf<decltype(kind)::value>;
-        if constexpr (!B::delta) {
-            const uint32_t path = b.hitPath[h];
-            const uint64_t key = b.key[b.pathSlot[path]];
-            CameraSample cs = sampleCameraFrom(scene.camera, b.p[h], sampleDimension(key, ltVertexDim(d, 0)),
+    // The camera's kind chosen once per call (the loop is the projective one's without it).
+    auto connect = [&](auto orthographic) {
+        forEachHitByKind(b, [&](auto kind, uint32_t h) {
+            using B = BsdfOf<decltype(kind)::value>;
+            if constexpr (!B::delta) {
+                const uint32_t path = b.hitPath[h];
+                const uint64_t key = b.key[b.pathSlot[path]];
+                CameraSample cs;
+                if constexpr (decltype(orthographic)::value) cs = sampleOrthographicFrom(scene.camera, b.p[h]);
+                else cs = sampleProjectiveFrom(scene.camera, b.p[h], sampleDimension(key, ltVertexDim(d, 0)),
                                                sampleDimension(key, ltVertexDim(d, 1)));
-            if (!cs.valid) return;
-            const Frame& fr = b.shading[h];
-            // Radiance view: light arrives from wo and leaves towards the camera.
-            Vec3 woL = fr.toLocal(b.wo[h]), wiL = fr.toLocal(cs.wi);
-            Vec3 f = B::f(b.bsdf[h], wiL, woL);
-            if (isBlack(f)) return;
-            // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
-            float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
-            Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
-            addConnection(scene, b, b.p[h], b.ng[h], cs, v);
-        }
-    });
+                if (!cs.valid) return;
+                const Frame& fr = b.shading[h];
+                // Radiance view: light arrives from wo and leaves towards the camera.
+                Vec3 woL = fr.toLocal(b.wo[h]), wiL = fr.toLocal(cs.wi);
+                Vec3 f = B::f(b.bsdf[h], wiL, woL);
+                if (isBlack(f)) return;
+                // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
+                float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
+                Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
+                addConnection(scene, b, b.p[h], b.ng[h], cs, v);
+            }
+        });
+    };
+    if (scene.camera.ortho) connect(std::true_type{});
+    else connect(std::false_type{});
 }
 
 void sampleLightBsdfs(const Scene& scene, LtBatch& b, int d) {
