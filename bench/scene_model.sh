@@ -87,16 +87,20 @@ open(f"{tmp}/panel_const.xml", "w").write(lit(f'<rgb name="radiance" value="{mea
 open(f"{tmp}/flat.xml", "w").write(flat + "</scene>")
 PY
 cpu() { /usr/bin/time -f "%U %S %M" -o "$tmp/t" build/wavemmlt "$@" --quiet --seed 1 -o "$tmp/o.pfm" --stats "$tmp/s.json"; awk '{printf "%.2f", $1 + $2}' "$tmp/t"; }
-echo "== textured rough conductor (bitmaps on alpha and specular_reflectance) against constants, CPU s, medians of $reps"
-for t in pt bpt; do
-  c=() x=()
-  for ((r = 0; r < reps; ++r)); do
-    c+=("$(cpu "$tmp/const.xml" --tracer $t --spp 16)")
-    x+=("$(cpu "$tmp/tex.xml" --tracer $t --spp 16)")
+# PT and BPT on the constant scene $1 and the textured $2, interleaved REPS times.
+versus() {
+  for t in pt bpt; do
+    c=() x=()
+    for ((r = 0; r < reps; ++r)); do
+      c+=("$(cpu "$1" --tracer $t --spp 16)")
+      x+=("$(cpu "$2" --tracer $t --spp 16)")
+    done
+    mc=$(median "${c[@]}") mx=$(median "${x[@]}")
+    printf '%-4s constant %s  textured %s  medians %s / %s  textured/constant %.3f\n' "$t" "${c[*]}" "${x[*]}" "$mc" "$mx" "$(echo "$mx / $mc" | bc -l)"
   done
-  mc=$(median "${c[@]}") mx=$(median "${x[@]}")
-  printf '%-4s constant %s  textured %s  medians %s / %s  textured/constant %.3f\n' "$t" "${c[*]}" "${x[*]}" "$mc" "$mx" "$(echo "$mx / $mc" | bc -l)"
-done
+}
+echo "== textured rough conductor (bitmaps on alpha and specular_reflectance) against constants, CPU s, medians of $reps"
+versus "$tmp/const.xml" "$tmp/tex.xml"
 echo "== $copies copies of a 8192-triangle grid: instances against flattened copies (PT, 4 spp)"
 for s in inst flat; do
   secs=$(cpu "$tmp/$s.xml" --tracer pt --spp 4)
@@ -106,12 +110,4 @@ for s in inst flat; do
   printf '%-5s meshes %10d B  embree %10d B  peak RSS %7d KB  CPU %s s\n' "$s" "$meshes" "$embree" "$rss" "$secs"
 done
 echo "== a textured area light (64 x 64 bitmap) against a constant one of the same power, CPU s, medians of $reps"
-for t in pt bpt; do
-  c=() x=()
-  for ((r = 0; r < reps; ++r)); do
-    c+=("$(cpu "$tmp/panel_const.xml" --tracer $t --spp 16)")
-    x+=("$(cpu "$tmp/panel_tex.xml" --tracer $t --spp 16)")
-  done
-  mc=$(median "${c[@]}") mx=$(median "${x[@]}")
-  printf '%-4s constant %s  textured %s  medians %s / %s  textured/constant %.3f\n' "$t" "${c[*]}" "${x[*]}" "$mc" "$mx" "$(echo "$mx / $mc" | bc -l)"
-done
+versus "$tmp/panel_const.xml" "$tmp/panel_tex.xml"

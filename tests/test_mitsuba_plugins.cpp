@@ -723,28 +723,26 @@ TEST_CASE("Mitsuba area light with a textured radiance: the floor's irradiance, 
     std::filesystem::remove_all(dir);
 }
 
-// A textured emitter seen directly, filling the 16 x 16 film (the rectangle [-1, 1]^2 at
-// z = 0 seen from (0, 0, 2), fov 2 atan(1/2)): its radiance a checkerboard whose 2 x 2
-// squares are the image's 8 x 8 pixel blocks: 3 where (u > 1/2) == (v > 1/2), 0.5
-// elsewhere (v = 1/2 at the image's middle row, the top half v > 1/2). PT sees each
-// block's value exactly; LT only by light tracing (s = 1, t = 1); BPT and MMLT weigh that
-// with the camera's hits (s = 0), each reading T where its strategy finds the point.
-TEST_CASE("Mitsuba area light with a textured radiance: seen directly, in every tracer", "[mitsuba][render][meshlight][texture]") {
+namespace {
+
+// The scene of the test below seen through `sensor` (its opening tag and to_world), the
+// blocks checked: PT's exactly, LT's, BPT's and MMLT's by z-tests over 8 seeds from seed0.
+void checkerboardEmitterFillingFilm(const std::string& sensor, const std::string& name, uint64_t seed0, bool ortho) {
     const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
   <integrator type="path"><integer name="max_depth" value="1"/></integrator>
-  <sensor type="perspective"><float name="fov" value="53.130102"/>
-    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+  )" + sensor + R"(
     <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
     <rgb name="color0" value="3"/><rgb name="color1" value="0.5"/></texture></emitter></shape>
-</scene>)", "seen.xml", ".");
+</scene>)", name, ".");
+    REQUIRE(d.camera.orthographic == ortho);
     const std::vector<double> expected = {0.5, 3.0, 3.0, 0.5};  // blocks (0, 0), (1, 0), (0, 1), (1, 1)
     const std::vector<double> pt = rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 4, 1, 1, 1)).image, 8, 1);
     for (size_t i = 0; i < 4; ++i) CHECK(pt[i] == Approx(expected[i]).epsilon(1e-5));
     for (TracerKind t : {TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
         rstats::RunStats runs;
         for (int k = 0; k < 8; ++k) {
-            RenderOptions o = rstats::renderOptions(t, 16, 70 + uint64_t(k), 1, 1);
+            RenderOptions o = rstats::renderOptions(t, 16, seed0 + uint64_t(k), 1, 1);
             if (t == TracerKind::MMLT) {
                 o.chains = 256;
                 o.bootstrap = 1 << 12;
@@ -752,9 +750,22 @@ TEST_CASE("Mitsuba area light with a textured radiance: seen directly, in every 
             runs.add(rstats::blockMeans(render(d, o).image, 8, 1));
         }
         const rstats::ZTestResult z = rstats::zTest(runs, expected);
-        INFO("tracer " << int(t) << ": " << z.describe());
+        INFO(name << ", tracer " << int(t) << ": " << z.describe());
         CHECK(z.pass);
     }
+}
+
+}  // namespace
+
+// A textured emitter seen directly, filling the 16 x 16 film (the rectangle [-1, 1]^2 at
+// z = 0 seen from (0, 0, 2), fov 2 atan(1/2)): its radiance a checkerboard whose 2 x 2
+// squares are the image's 8 x 8 pixel blocks: 3 where (u > 1/2) == (v > 1/2), 0.5
+// elsewhere (v = 1/2 at the image's middle row, the top half v > 1/2). PT sees each
+// block's value exactly; LT only by light tracing (s = 1, t = 1); BPT and MMLT weigh that
+// with the camera's hits (s = 0), each reading T where its strategy finds the point.
+TEST_CASE("Mitsuba area light with a textured radiance: seen directly, in every tracer", "[mitsuba][render][meshlight][texture]") {
+    checkerboardEmitterFillingFilm(R"(<sensor type="perspective"><float name="fov" value="53.130102"/>
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>)", "seen.xml", 70, false);
 }
 
 // blendbsdf: (1 - w) f_0 + w f_1. Two diffuse parts, 0.3 and 0.8 with w = 0.6, are a
@@ -816,31 +827,8 @@ TEST_CASE("Mitsuba orthographic sensor: a floor under a point light, in PT, LT a
 // above, PT exactly, LT, BPT and MMLT within noise. And the importer: extents (y by the
 // film's aspect), near_clip, bad inputs.
 TEST_CASE("Mitsuba orthographic sensor: an emitter seen directly in every tracer, and the importer", "[mitsuba][render][ortho]") {
-    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
-  <integrator type="path"><integer name="max_depth" value="1"/></integrator>
-  <sensor type="orthographic"><transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
-  <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
-    <rgb name="color0" value="3"/><rgb name="color1" value="0.5"/></texture></emitter></shape>
-</scene>)", "ortho-seen.xml", ".");
-    REQUIRE(d.camera.orthographic);
-    const std::vector<double> expected = {0.5, 3.0, 3.0, 0.5};
-    const std::vector<double> pt = rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 4, 1, 1, 1)).image, 8, 1);
-    for (size_t i = 0; i < 4; ++i) CHECK(pt[i] == Approx(expected[i]).epsilon(1e-5));
-    for (TracerKind t : {TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
-        rstats::RunStats runs;
-        for (int k = 0; k < 8; ++k) {
-            RenderOptions o = rstats::renderOptions(t, 16, 80 + uint64_t(k), 1, 1);
-            if (t == TracerKind::MMLT) {
-                o.chains = 256;
-                o.bootstrap = 1 << 12;
-            }
-            runs.add(rstats::blockMeans(render(d, o).image, 8, 1));
-        }
-        const rstats::ZTestResult z = rstats::zTest(runs, expected);
-        INFO("tracer " << int(t) << ": " << z.describe());
-        CHECK(z.pass);
-    }
+    checkerboardEmitterFillingFilm(R"(<sensor type="orthographic">
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>)", "ortho-seen.xml", 80, true);
     const std::string head = R"(<scene version="3.0.0"><sensor type="orthographic">)";
     const std::string film = R"(<film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="20"/></film></sensor>
       <shape type="sphere"><emitter type="area"/></shape></scene>)";

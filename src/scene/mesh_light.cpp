@@ -63,8 +63,6 @@ MeshLight buildMeshLight(const TriangleMesh& m, const TextureDesc* texture) {
     double weighted = 0;
     for (size_t t = 0; t < nt; ++t) {
         const int n = side[t];
-        const uint32_t* tri = &m.indices[3 * t];
-        const Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
         double sum = 0;
         for (int y = 0; y < n; ++y)
             for (int x = 0; x < n; ++x) {
@@ -73,12 +71,11 @@ MeshLight buildMeshLight(const TriangleMesh& m, const TextureDesc* texture) {
                     for (int i = 0; i < kCellPoints; ++i) {
                         const float a = (float(x) + (float(i) + 0.5f) / kCellPoints) / float(n);
                         const float b = (float(y) + (float(j) + 0.5f) / kCellPoints) / float(n);
-                        float b0, b1;
-                        sampleUniformTriangle(a, b, b0, b1);
-                        const float b2 = 1.0f - b0 - b1;
-                        float u, v;
+                        Vec3 p, n;
+                        float b1, b2, u, v;
+                        meshTrianglePoint(m, int(t), a, b, p, n, b1, b2);
                         meshUvAt(m, int(t), b1, b2, u, v);
-                        const float l = luminance(evalTexture(*texture, u, v, p0 * b0 + p1 * b1 + p2 * b2));
+                        const float l = luminance(evalTexture(*texture, u, v, p));
                         lum += std::isfinite(l) && l > 0 ? l : 0.0;
                     }
                 cell[first[t] + size_t(y * n + x)] = float(lum / (kCellPoints * kCellPoints));

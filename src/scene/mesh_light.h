@@ -48,6 +48,27 @@ inline void meshUvAt(const TriangleMesh& m, int t, float b1, float b2, float& u,
     v = a[1] * b0 + b[1] * b1 + c[1] * b2;
 }
 
+// The point of triangle t at (a, b) of sampleUniformTriangle's square, its winding normal
+// cross(p1 - p0, p2 - p0) (Embree's Ng, the side a mesh light emits on) and the weights
+// (b1, b2) of its second and third corners.
+inline void meshTrianglePoint(const TriangleMesh& m, int t, float a, float b, Vec3& p, Vec3& n, float& b1, float& b2) {
+    const uint32_t* tri = &m.indices[size_t(t) * 3];
+    const Vec3 p0 = m.positions[tri[0]], p1 = m.positions[tri[1]], p2 = m.positions[tri[2]];
+    float b0;
+    sampleUniformTriangle(a, b, b0, b1);
+    b2 = 1.0f - b0 - b1;
+    p = p0 * b0 + p1 * b1 + p2 * b2;
+    n = normalize(cross(p1 - p0, p2 - p0));
+}
+
+// A constant mesh light's point from (u1, u2): a triangle in proportion to its area (u1
+// picks it and is reused within it), a uniform point in it (area density 1 / area).
+inline void sampleMeshPoint(const MeshLight& m, float u1, float u2, Vec3& p, Vec3& n) {
+    float ur = 0, b1, b2;
+    const int t = m.triangles.sampleDiscrete(u1, nullptr, &ur);
+    meshTrianglePoint(*m.mesh, t, ur, u2, p, n, b1, b2);
+}
+
 // A textured mesh light at triangle t, weights (b1, b2) of its second and third corners
 // (Embree's hit u, v), point p: T there and the area density with which
 // sampleTexturedMeshPoint makes the point (the warp inverted: a = (b1 + b2)^2,
@@ -69,13 +90,8 @@ inline void sampleTexturedMeshPoint(const MeshLight& m, float u1, float u2, Vec3
     float a = ur, b = u2, pdf2 = 1;
     const int g = m.gridOf[size_t(t)];
     if (g >= 0) m.grids[size_t(g)].sampleContinuous(ur, u2, a, b, &pdf2);
-    const uint32_t* tri = &m.mesh->indices[size_t(t) * 3];
-    const Vec3 p0 = m.mesh->positions[tri[0]], p1 = m.mesh->positions[tri[1]], p2 = m.mesh->positions[tri[2]];
-    float b0, b1;
-    sampleUniformTriangle(a, b, b0, b1);
-    const float b2 = 1.0f - b0 - b1;
-    p = p0 * b0 + p1 * b1 + p2 * b2;
-    n = normalize(cross(p1 - p0, p2 - p0));
+    float b1, b2;
+    meshTrianglePoint(*m.mesh, t, a, b, p, n, b1, b2);
     float u, v;
     meshUvAt(*m.mesh, t, b1, b2, u, v);
     tex = evalTexture(*m.texture, u, v, p);

@@ -5,26 +5,21 @@
 
 namespace wmlt {
 
-// A triangle mesh emitter: a triangle in proportion to its area (u1 picks it and is
-// reused within it), a uniform point in it: area density 1 / area; the normal is the
-// winding's, cross(p1 - p0, p2 - p0) (Embree's Ng, the side it emits on).
-inline void sampleMeshPoint(const Scene& s, const Light& l, float u1, float u2, Vec3& p, Vec3& n) {
+// Light li's mesh light when it is a textured one (mesh_light.h), else nullptr.
+inline const MeshLight* texturedMeshLight(const Scene& s, int li) {
+    const Light& l = s.lights[size_t(li)];
+    if (l.type != LightType::Mesh) return nullptr;
     const MeshLight& m = s.meshLights[size_t(l.mesh)];
-    float ur = 0;
-    const int t = m.triangles.sampleDiscrete(u1, nullptr, &ur);
-    const uint32_t* tri = &m.mesh->indices[size_t(t) * 3];
-    const Vec3 p0 = m.mesh->positions[tri[0]], p1 = m.mesh->positions[tri[1]], p2 = m.mesh->positions[tri[2]];
-    float b0, b1;
-    sampleUniformTriangle(ur, u2, b0, b1);
-    p = p0 * b0 + p1 * b1 + p2 * (1.0f - b0 - b1);
-    n = normalize(cross(p1 - p0, p2 - p0));
+    return m.texture ? &m : nullptr;
 }
-// A textured mesh light (mesh_light.h): Le = L T at the point, its density pdfA.
+
+// A triangle mesh emitter (mesh_light.h); a textured one: Le = L T at the point, its
+// density pdfA.
 inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, float u2, LightSample& ls) {
     const MeshLight& m = s.meshLights[size_t(l.mesh)];
     Vec3 tex(1.0f);
     if (m.texture) sampleTexturedMeshPoint(m, u1, u2, ls.p, ls.n, tex, ls.pdfA);
-    else sampleMeshPoint(s, l, u1, u2, ls.p, ls.n);
+    else sampleMeshPoint(m, u1, u2, ls.p, ls.n);
     const Vec3 d = ls.p - ref;
     const float dist2 = lengthSquared(d);
     if (!(dist2 > 0)) return false;
@@ -45,12 +40,9 @@ inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, 
 // The emitter hit rh found (light li): whether it is a textured mesh light, and then T at
 // the hit and its area density under light sampling (texturedEmitterAt).
 inline bool texturedEmitterHit(const Scene& s, int li, const RTCRayHit& rh, Vec3 p, Vec3& tex, float& pdfA) {
-    const Light& l = s.lights[size_t(li)];
-    if (l.type != LightType::Mesh) return false;
-    const MeshLight& m = s.meshLights[size_t(l.mesh)];
-    if (!m.texture) return false;
-    texturedEmitterAt(m, int(rh.hit.primID), rh.hit.u, rh.hit.v, p, tex, pdfA);
-    return true;
+    const MeshLight* m = texturedMeshLight(s, li);
+    if (m) texturedEmitterAt(*m, int(rh.hit.primID), rh.hit.u, rh.hit.v, p, tex, pdfA);
+    return m != nullptr;
 }
 
 // The scene's light when it has exactly one and that is a rectangle, else nullptr: the
@@ -133,7 +125,7 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
                 sampleTexturedMeshPoint(m, u0, u1, e.p, e.n, e.tex, e.pdfPos);
                 e.Le = l.L * e.tex;
             } else {
-                sampleMeshPoint(s, l, u0, u1, e.p, e.n);
+                sampleMeshPoint(m, u0, u1, e.p, e.n);
                 e.pdfPos = 1.0f / l.area;
                 e.Le = l.L;
             }

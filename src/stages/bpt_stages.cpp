@@ -100,7 +100,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.light.shading[y0] = shading;
         b.light.beta[y0] = e.tex * (1.0f / pdfOrigin);  // L is applied by each connection (T, 1 untextured, here)
         if (!b.light.emitPdfA.empty())  // a textured emitter's density of y_0 (else 1 / area: -1)
-            b.light.emitPdfA[y0] = scene.lights[li].type == LightType::Mesh && scene.meshLights[size_t(scene.lights[li].mesh)].texture ? e.pdfPos : -1.0f;
+            b.light.emitPdfA[y0] = texturedMeshLight(scene, li) ? e.pdfPos : -1.0f;
         b.light.pdfFwd[y0] = pdfOrigin;
         b.light.pdfRev[y0] = 0.0f;
         b.light.delta[y0] = 0;

@@ -183,7 +183,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
             cs.pdf = b.csPdf[j];
             w.cameraPdfArea[i] = b.csPdfArea[j];
         } else {
-            cs = cam.ortho ? sampleOrthographicFrom(cam, y) : sampleCameraFrom(cam, y, uc(0), uc(1));  // (ortho reads no number)
+            cs = cam.ortho ? sampleOrthographicFrom(cam, y) : sampleProjectiveFrom(cam, y, uc(0), uc(1));  // (ortho reads no number)
         }
         if (!cs.valid) return false;
         if (s == 1) {
