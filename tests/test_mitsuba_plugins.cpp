@@ -17,6 +17,7 @@
 #include "kernels/bump.h"
 #include "kernels/camera.h"
 #include "kernels/envmap.h"
+#include "mitsuba_floor.h"
 #include "render_stats.h"
 #include "scene/scene.h"
 #include "wavemmlt/error.h"
@@ -25,6 +26,7 @@
 #include "wavemmlt/scene_desc.h"
 
 using namespace wmlt;
+using floor_test::floorUnder;
 
 namespace {
 
@@ -540,57 +542,6 @@ TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (bin
     std::filesystem::remove_all(dir);
 }
 
-namespace {
-
-// A diffuse floor (y = 0, reflectance rho) seen from y = 1 (below the light, which would
-// hide it) by a 16 x 16 camera looking down, lit by
-// `emitter` only, direct light only: the exact 4 x 4 block means of rho / pi * E(p), E the
-// floor's irradiance at p, averaged over 8 x 8 points per pixel, against K runs of each of
-// PT, LT and BPT (rstats::zTest, p = 1e-4).
-// `exact`: tracers whose estimate has no variance here (next-event estimation of a
-// directional light on a diffuse floor): their block means equal the expected ones to
-// float rounding instead.
-void floorUnder(const std::string& emitter, const std::function<double(Vec3)>& irradiance, const std::string& what,
-                const std::vector<TracerKind>& exact = {},
-                const std::string& floorBsdf = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)",
-                const std::string& dir = ".",
-                const std::string& sensor = R"(<sensor type="perspective"><float name="fov" value="90"/>
-    <transform name="to_world"><lookat origin="0, 1, 0" target="0, 0, 0" up="0, 0, 1"/></transform>)") {
-    const double rho = 0.6;
-    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
-  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
-  )" + sensor + R"(
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
-  <shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate x="1" angle="-90"/></transform>
-    )" + floorBsdf + R"(</shape>
-)" + emitter + "\n</scene>",
-                                              what + ".xml", dir);
-    const Camera cam = makeCamera(d.camera, 16, 16);
-    std::vector<double> expected(16, 0.0);
-    for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x)
-            for (int j = 0; j < 8; ++j)
-                for (int i = 0; i < 8; ++i) {
-                    Vec3 o, dir;
-                    generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 8, float(y) + (float(j) + 0.5f) / 8, 0.5f, 0.5f, o, dir);
-                    const Vec3 p = o + dir * (-o.y / dir.y);
-                    expected[size_t(y / 4) * 4 + size_t(x / 4)] += rho / M_PI * irradiance(p) / (16 * 64);
-                }
-    for (TracerKind t : {TracerKind::PT, TracerKind::LT, TracerKind::BPT}) {
-        if (std::find(exact.begin(), exact.end(), t) != exact.end()) {
-            const std::vector<double> m = rstats::blockMeans(render(d, rstats::renderOptions(t, 64, 90, 1, 2)).image, 4, 1);
-            for (size_t i = 0; i < m.size(); ++i) CHECK(m[i] == Approx(expected[i]).epsilon(1e-5));
-            continue;
-        }
-        rstats::RunStats runs;
-        for (int k = 0; k < 8; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(t, 64, 90 + uint64_t(k), 1, 2)).image, 4, 1));
-        const rstats::ZTestResult z = rstats::zTest(runs, expected);
-        INFO(what << ", tracer " << int(t) << ": " << z.describe());
-        CHECK(z.pass);
-    }
-}
-
-}  // namespace
 
 // A point light of intensity I at height h: E = I cos(theta) / r^2 = I h / r^3.
 TEST_CASE("Mitsuba point light: the floor's irradiance I cos / r^2, in PT, LT and BPT", "[mitsuba][render][point]") {

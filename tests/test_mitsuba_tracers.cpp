@@ -225,3 +225,22 @@ TEST_CASE("Mitsuba tracers: blendbsdf in every tracer", "[mitsuba][render][stat]
       <bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf></bsdf></shape>
 )"), 64, {{TracerKind::PT, 64}, {TracerKind::MMLT, 256}});
 }
+
+// principled: a floor patch with every reflecting lobe (anisotropic: its frame follows
+// dp/du; clearcoat, sheen, metallic, textured base colour) and a sphere that transmits
+// (spec_trans 0.7: rough refraction tinted by sqrt(base), its adjoint on light subpaths,
+// reflection only from inside), under a ceiling light.
+TEST_CASE("Mitsuba tracers: principled in every tracer", "[mitsuba][render][stat][principled]") {
+    agree("principled", scene(R"(
+  <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
+    <emitter type="area"><rgb name="radiance" value="5"/></emitter></shape>
+  <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate z="1" angle="30"/><rotate x="1" angle="-90"/><translate x="-0.3" y="0.01"/></transform>
+    <bsdf type="principled"><texture type="checkerboard" name="base_color"><rgb name="color0" value="0.8, 0.5, 0.2"/><rgb name="color1" value="0.2, 0.4, 0.8"/>
+      <transform name="to_uv"><scale value="3"/></transform></texture>
+      <float name="roughness" value="0.4"/><float name="anisotropic" value="0.7"/><float name="metallic" value="0.4"/>
+      <float name="clearcoat" value="0.7"/><float name="clearcoat_gloss" value="0.3"/><float name="sheen" value="0.5"/><float name="spec_tint" value="0.3"/></bsdf></shape>
+  <shape type="sphere"><point name="center" x="0.45" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
+    <bsdf type="principled"><rgb name="base_color" value="0.9, 0.8, 0.6"/><float name="roughness" value="0.35"/>
+      <float name="spec_trans" value="0.7"/><float name="eta" value="1.4"/></bsdf></shape>
+)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+}

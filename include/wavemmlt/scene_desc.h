@@ -58,9 +58,9 @@ struct CameraDesc {
 // two of those (blendbsdf: f = (1 - w) f_0 + w f_1).
 enum class MaterialKind : uint8_t {
     Matte, Glossy, Reflective, Dielectric,
-    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend
+    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled
 };
-constexpr int kMaterialKinds = 11;
+constexpr int kMaterialKinds = 12;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
@@ -69,6 +69,13 @@ enum class MicrofacetType : uint8_t { Beckmann, GGX };
 // refract (specular_transmittance).
 enum class ColourParam : uint8_t { Diffuse, Specular, Reflect, Refract };
 constexpr int kColourParams = 4;
+
+// The principled BSDF's float parameters (Mitsuba 3's names: roughness, anisotropic,
+// metallic, spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss).
+enum class PrincipledParam : uint8_t {
+    Roughness, Anisotropic, Metallic, SpecTrans, SpecTint, Sheen, SheenTint, Flatness, Clearcoat, ClearcoatGloss
+};
+constexpr int kPrincipledParams = 10;
 
 struct MaterialDesc {
     int id = 0;
@@ -112,7 +119,22 @@ struct MaterialDesc {
     int blendPart[2] = {-1, -1};
     float blendWeight = 0.5f;
     int blendWeightTexture = -1;
+    // Principled (Mitsuba's `principled`): base_color is `diffuse` (its texture the Diffuse
+    // one), eta iorInside / iorOutside; its float parameters below, each a constant or
+    // (principledTexture >= 0) that texture's luminance at the hit; sampling rates of the
+    // diffuse, main specular and clearcoat lobes.
+    float principled[kPrincipledParams] = {0.5f, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    int principledTexture[kPrincipledParams] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+    float samplingRate[3] = {1, 1, 1};
 };
+
+// Whether a principled material transmits (spec_trans given: a texture or a number > 0, as
+// Mitsuba 3 decides): it then has a back side of its own; else it reflects only, one-sided
+// unless wrapped in twosided.
+inline bool principledTransmits(const MaterialDesc& m) {
+    const int t = int(PrincipledParam::SpecTrans);
+    return m.kind == MaterialKind::Principled && (m.principled[t] > 0 || m.principledTexture[t] >= 0);
+}
 
 // A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it
 // differs from the u one (or is scaled by another texture): the material is anisotropic,
@@ -121,6 +143,8 @@ inline float alphaVOf(const MaterialDesc& m) { return m.alphaV < 0 ? m.alpha : m
 inline bool isAnisotropic(const MaterialDesc& m) {
     const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric ||
                        m.kind == MaterialKind::RoughPlastic;
+    const int a = int(PrincipledParam::Anisotropic);
+    if (m.kind == MaterialKind::Principled) return m.principled[a] != 0 || m.principledTexture[a] >= 0;
     return rough && (alphaVOf(m) != m.alpha || m.alphaTexture != m.alphaVTexture);
 }
 

@@ -37,6 +37,11 @@ struct BsdfExtra {
     static constexpr int kRes = 64;    // roughplastic: T(cos) at cos = i / (kRes - 1)
     float transmittance[kRes] = {};
     const BsdfParams* blendParts = nullptr;  // Blend: its two parts (owned by the Scene)
+    // Principled: whether it transmits (spec_trans given: a back side of its own; else it
+    // reflects only and is two-sided here, as the other reflecting kinds), and the sampling
+    // rates of its diffuse, main specular and clearcoat lobes.
+    bool transmits = false;
+    float samplingRate[3] = {1, 1, 1};
 };
 
 // A material at one hit, with its texture already applied to `diffuse`.
@@ -51,9 +56,35 @@ struct BsdfParams {
     float blendWeight = 0;  // Blend: the weight of part 1 at this hit (x->blendParts)
     const BsdfExtra* x = nullptr;  // the Mitsuba kinds' constants (owned by the Scene)
     // Rough conductors and dielectrics with a textured roughness: the alphas at this hit
-    // (0: x->dist's; materialAt writes them).
+    // (0: x->dist's; materialAt writes them). Principled: always its GGX alphas here.
     float alphaX = 0, alphaY = 0;
 };
+
+// Principled (Mitsuba's `principled`): base_color is `diffuse`, eta `eta`, the GGX alphas
+// (from roughness and anisotropic) alphaX, alphaY; its other weights at the hit are kept in
+// slots the kind has no other use for (shininess, specular, reflect, refract), so that
+// BsdfParams stays 80 bytes for every kind. Read and written only through these two.
+struct PrincipledLobes {
+    float roughness = 0.5f, metallic = 0, specTrans = 0, specTint = 0, sheen = 0, sheenTint = 0, flatness = 0,
+          clearcoat = 0, clearcoatGloss = 0;
+};
+inline PrincipledLobes principledLobes(const BsdfParams& m) {
+    return {m.shininess, m.specular.x, m.specular.y, m.specular.z, m.reflect.x, m.reflect.y, m.reflect.z, m.refract.x, m.refract.y};
+}
+// Writes the parameters v (indexed by PrincipledParam) into m: the weights, and the main
+// lobes' GGX alphas from roughness r and anisotropic a (Burley 2012, as Mitsuba 3:
+// r^2 / aspect and r^2 aspect, aspect = sqrt(1 - 0.9 a), each at least 0.001).
+inline void setPrincipled(BsdfParams& m, const float v[kPrincipledParams]) {
+    auto at = [&](PrincipledParam q) { return v[int(q)]; };
+    using P = PrincipledParam;
+    m.shininess = at(P::Roughness);
+    m.specular = Vec3(at(P::Metallic), at(P::SpecTrans), at(P::SpecTint));
+    m.reflect = Vec3(at(P::Sheen), at(P::SheenTint), at(P::Flatness));
+    m.refract = Vec3(at(P::Clearcoat), at(P::ClearcoatGloss), 0.0f);
+    const float r2 = at(P::Roughness) * at(P::Roughness), aspect = std::sqrt(1.0f - 0.9f * at(P::Anisotropic));
+    m.alphaX = std::max(0.001f, r2 / aspect);
+    m.alphaY = std::max(0.001f, r2 * aspect);
+}
 
 // The microfacet distribution at a hit: the material's, or its textured roughness'.
 inline Microfacet distributionAt(const BsdfParams& m) {
@@ -115,6 +146,11 @@ inline float shadingCorrection(Vec3 wo, Vec3 wi, Vec3 ns, Vec3 ng) {
     return den > 0 ? std::fabs(dot(wo, ns)) * std::fabs(dot(wi, ng)) / den : 0.0f;
 }
 
+// ---- Principled (bsdf_principled.cpp) -------------------------------------------------
+Vec3 principledF(const BsdfParams& m, Vec3 wo, Vec3 wi);
+float principledPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
+bool principledSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
+
 // ---- Blend (blendbsdf): f = (1 - w) f_0 + w f_1, the parts by the switches below ----
 inline Vec3 blendF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
@@ -130,6 +166,7 @@ inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::Plastic: return plasticF(m, wo, wi);
         case MaterialKind::RoughPlastic: return roughPlasticF(m, wo, wi);
         case MaterialKind::Blend: return blendF(m, wo, wi);
+        case MaterialKind::Principled: return principledF(m, wo, wi);
         default: return Vec3(0.0f);  // delta lobes
     }
 }
@@ -142,6 +179,7 @@ inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::Plastic: return plasticPdf(m, wo, wi);
         case MaterialKind::RoughPlastic: return roughPlasticPdf(m, wo, wi);
         case MaterialKind::Blend: return blendPdf(m, wo, wi);
+        case MaterialKind::Principled: return principledPdf(m, wo, wi);
         default: return 0.0f;
     }
 }
@@ -159,6 +197,7 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
         case MaterialKind::Plastic: return plasticSample(m, wo, uLobe, u1, u2, s);
         case MaterialKind::RoughPlastic: return roughPlasticSample(m, wo, uLobe, u1, u2, s);
         case MaterialKind::Blend: return blendSample(m, wo, uLobe, u1, u2, mode, s);
+        case MaterialKind::Principled: return principledSample(m, wo, uLobe, u1, u2, mode, s);
     }
     return false;
 }

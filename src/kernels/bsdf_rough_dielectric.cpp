@@ -4,28 +4,11 @@
 #include "kernels/fresnel.h"
 
 namespace wmlt {
-namespace {
-
-// The generalised half vector of (wo, wi), facing +z, and eta' = n(wi side) / n(wo side)
-// (1 for reflection). False for a degenerate pair or one that sees a facet's back.
-inline bool halfVector(const BsdfParams& m, Vec3 wo, Vec3 wi, Vec3& wm, float& etap) {
-    if (wo.z == 0 || wi.z == 0) return false;
-    const bool reflect = wo.z * wi.z > 0;
-    etap = reflect ? 1.0f : (wo.z > 0 ? m.eta : 1.0f / m.eta);
-    wm = wi * etap + wo;
-    if (!(lengthSquared(wm) > 0)) return false;
-    wm = normalize(wm);
-    if (wm.z < 0) wm = -wm;
-    // Discard back-facing microfacets (Walter 2007: wo and wi each on their facet's side).
-    return dot(wm, wi) * wi.z > 0 && dot(wm, wo) * wo.z > 0;
-}
-
-}  // namespace
 
 Vec3 roughDielectricF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     Vec3 wm;
     float etap;
-    if (!halfVector(m, wo, wi, wm, etap)) return Vec3(0.0f);
+    if (!generalizedHalfVector(m.eta, wo, wi, wm, etap)) return Vec3(0.0f);
     const Microfacet d = distributionAt(m);
     const float DG = microfacetD(d, wm) * microfacetG(d, wo, wi, wm);
     // F from the direction in the less dense medium (for a refraction pair it is the same
@@ -44,7 +27,7 @@ Vec3 roughDielectricF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
 float roughDielectricPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     Vec3 wm;
     float etap;
-    if (!halfVector(m, wo, wi, wm, etap)) return 0.0f;
+    if (!generalizedHalfVector(m.eta, wo, wi, wm, etap)) return 0.0f;
     const float F = fresnelDielectric(dot(wo, wm), m.eta);
     const float pdfM = visibleNormalPdf(distributionAt(m), wo, wm);
     if (wo.z * wi.z > 0) return F * pdfM / (4.0f * std::fabs(dot(wo, wm)));

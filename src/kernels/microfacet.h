@@ -110,4 +110,19 @@ inline bool refractAbout(Vec3 w, Vec3 m, float etaRel, Vec3& wt) {
     return true;
 }
 
+// The generalised half vector of (wo, wi) at an interface of relative index eta (inside /
+// outside, z pointing outside; Walter 2007, eq. 16), facing +z, and eta' = n(wi side) /
+// n(wo side) (1 for reflection). False for a degenerate pair or one that sees a facet's back.
+inline bool generalizedHalfVector(float eta, Vec3 wo, Vec3 wi, Vec3& wm, float& etap) {
+    if (wo.z == 0 || wi.z == 0) return false;
+    const bool reflect = wo.z * wi.z > 0;
+    etap = reflect ? 1.0f : (wo.z > 0 ? eta : 1.0f / eta);
+    wm = wi * etap + wo;
+    if (!(lengthSquared(wm) > 0)) return false;
+    wm = normalize(wm);
+    if (wm.z < 0) wm = -wm;
+    // Discard back-facing microfacets (Walter 2007: wo and wi each on their facet's side).
+    return dot(wm, wi) * wi.z > 0 && dot(wm, wo) * wo.z > 0;
+}
+
 }  // namespace wmlt

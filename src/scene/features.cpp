@@ -24,6 +24,10 @@ bool readsTexturedColour(const MaterialDesc& m) {
         case MaterialKind::Plastic:
         case MaterialKind::RoughPlastic: return has(ColourParam::Diffuse) || has(ColourParam::Reflect);
         case MaterialKind::Blend: return m.blendWeightTexture >= 0;  // (its parts are constant)
+        case MaterialKind::Principled:
+            for (int t : m.principledTexture)
+                if (t >= 0) return true;
+            return has(ColourParam::Diffuse);
     }
     return false;
 }
@@ -65,7 +69,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
 
 static const char* kMaterialNames[kMaterialKinds] = {
     "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
-    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend"};
+    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled"};
 
 std::string SceneFeatures::describe() const {
     std::ostringstream o;

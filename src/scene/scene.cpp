@@ -114,6 +114,15 @@ Light rectLight(const TriangleMesh& m, Vec3 L) {
     return l;
 }
 
+// A principled material's constants: its weights and alphas in b (setPrincipled),
+// whether it transmits, its sampling rates.
+void principledConstants(const MaterialDesc& m, BsdfParams& b, BsdfExtra& x) {
+    setPrincipled(b, m.principled);
+    x.dist = Microfacet(MicrofacetType::GGX, b.alphaX, b.alphaY);
+    x.transmits = principledTransmits(m);
+    for (int i = 0; i < 3; ++i) x.samplingRate[i] = m.samplingRate[i];
+}
+
 }  // namespace
 
 std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
@@ -173,6 +182,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             x.specularWeight = ks + kd > 0 ? ks / (ks + kd) : 0.5f;
             if (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic)
                 preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
+            if (m.kind == MaterialKind::Principled) principledConstants(m, b, x);
             b.x = &x;
         }
         b.blendWeight = m.blendWeight;

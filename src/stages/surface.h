@@ -58,6 +58,10 @@ void triangleDerivatives(const TriangleMesh& m, const uint32_t* tri, Vec3 ns, Ve
 void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv);
 void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv);
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv);
+// A principled material's textured weights at (u, v, p): each its constant times the
+// texture's luminance there (clamped to [0, 1]), the alphas again from roughness and
+// anisotropic.
+void principledTexturesAt(const Scene& scene, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out);
 
 // Called by a stage resolving hits i = 0 .. n - 1 of rays before it resolves hit i: starts
 // loading what surfaceAt will read of hit i + 8 that is not in cache after traversal, its
@@ -191,6 +195,7 @@ void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams&
             }
             if (m.blendWeightTexture >= 0)  // blendbsdf's weight: the texture's luminance, in [0, 1]
                 out.blendWeight = std::clamp(luminance(evalTexture(scene.desc.textures[size_t(m.blendWeightTexture)], sp.u, sp.v, sp.p)), 0.0f, 1.0f);
+            if (m.kind == MaterialKind::Principled) principledTexturesAt(scene, m, sp.u, sp.v, sp.p, out);
         }
     }
 }

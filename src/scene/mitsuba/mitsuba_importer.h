@@ -50,6 +50,7 @@ private:
     int texture(Node tex);
     Node textureParam(Props& p, const std::string& name);
     void materialParams(Props& p, MaterialDesc& m);
+    void principledParams(Props& p, MaterialDesc& m);
     void shape(Node n);
     int shapeGroup(Node n);
     void instance(Node n);

@@ -114,6 +114,52 @@ Node Importer::textureParam(Props& p, const std::string& name) {
     return Node();
 }
 
+// Mitsuba 3's `principled` (not base_color: materialParams reads that): each float
+// parameter a number in [0, 1] or a texture (its luminance); eta or specular (not both;
+// eta = 2 / (1 - sqrt(0.08 specular)) - 1); the three sampling rates. It transmits when
+// spec_trans is given and not 0 (then eta 1 becomes 1.001 and specular 0 becomes 1e-3, as
+// Mitsuba 3 does); only then is it two-sided by itself.
+void Importer::principledParams(Props& p, MaterialDesc& m) {
+    m.kind = MaterialKind::Principled;
+    static const char* kNames[kPrincipledParams] = {"roughness", "anisotropic", "metallic", "spec_trans", "spec_tint",
+                                                    "sheen", "sheen_tint", "flatness", "clearcoat", "clearcoat_gloss"};
+    for (int i = 0; i < kPrincipledParams; ++i) {
+        if (Node tx = textureParam(p, kNames[i])) {
+            m.principledTexture[i] = texture(tx);
+            m.principled[i] = 1;
+            continue;
+        }
+        m.principled[i] = p.getFloat(kNames[i], i == int(PrincipledParam::Roughness) ? 0.5f : 0.0f);
+        if (!(m.principled[i] >= 0 && m.principled[i] <= 1))
+            p.fail(p.node().find_child_by_attribute("name", kNames[i]), std::string(kNames[i]) + " must be in [0, 1]");
+    }
+    const bool transmits = principledTransmits(m);
+    for (const char* name : {"eta", "specular"})
+        if (Node tx = textureParam(p, name)) p.fail(tx, std::string("a texture on \"") + name + "\" is not supported (Mitsuba 3 reads a number)");
+    if (p.has("eta") && p.has("specular")) p.fail(p.node(), "give either eta or specular, not both");
+    float eta;
+    if (p.has("eta")) {
+        eta = p.getFloat("eta", 1.5f);
+        if (!(eta > 0)) p.fail(p.node().find_child_by_attribute("name", "eta"), "eta must be > 0");
+        if (transmits && eta == 1) eta = 1.001f;
+    } else {
+        float specular = p.getFloat("specular", 0.5f);
+        if (!(specular >= 0 && specular < 12.5f)) p.fail(p.node().find_child_by_attribute("name", "specular"), "specular must be in [0, 12.5)");
+        if (transmits && specular == 0) specular = 1e-3f;
+        eta = 2.0f / (1.0f - std::sqrt(0.08f * specular)) - 1.0f;
+    }
+    m.iorInside = eta;
+    m.iorOutside = 1;
+    static const char* kRates[3] = {"diffuse_reflectance_sampling_rate", "main_specular_sampling_rate", "clearcoat_sampling_rate"};
+    for (int i = 0; i < 3; ++i) {
+        m.samplingRate[i] = p.getFloat(kRates[i], 1.0f);
+        if (!(m.samplingRate[i] >= 0 && m.samplingRate[i] < 1e6f) || (i == 1 && !(m.samplingRate[i] > 0)))
+            p.fail(p.node().find_child_by_attribute("name", kRates[i]),
+                   std::string(kRates[i]) + (i == 1 ? " must be > 0" : " must be >= 0"));
+    }
+    m.twoSided = transmits;
+}
+
 void Importer::materialParams(Props& p, MaterialDesc& m) {
     const std::string t = p.type();
     // A colour parameter: a constant, or a texture that scales a constant 1 (the parameter
@@ -213,6 +259,9 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
         m.diffuse = colour("diffuse_reflectance", Vec3(0.5f), int(ColourParam::Diffuse));
         m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
         m.nonlinear = p.getBool("nonlinear", false);
+    } else if (t == "principled") {
+        principledParams(p, m);
+        m.diffuse = colour("base_color", Vec3(0.5f), int(ColourParam::Diffuse));
     } else {
         p.fail(p.node(), "BSDF not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
     }
@@ -235,7 +284,8 @@ int Importer::material(Node bsdf) {
         std::vector<Node> b = p.nested("bsdf");
         if (b.size() != 1) p.fail(bsdf, "twosided needs exactly one nested BSDF (two different faces are not supported)");
         m = s_.materials[material(b[0])];
-        if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::ThinDielectric || m.kind == MaterialKind::RoughDielectric)
+        if (m.kind == MaterialKind::Dielectric || m.kind == MaterialKind::ThinDielectric || m.kind == MaterialKind::RoughDielectric ||
+            principledTransmits(m))
             p.fail(bsdf, "twosided cannot wrap a transmitting BSDF");
         m.twoSided = true;
     } else if (p.type() == "bumpmap") {  // a height texture (any name) over the nested BSDF
