@@ -56,6 +56,37 @@ TEST_CASE("Mitsuba import: sensor, film, camera convention (+x to the image's le
     CHECK(mirrored.camera.flipX);
 }
 
+// focal_length (Mitsuba 3): the field of view of the 36 x 24 mm film's diagonal (43.27 mm)
+// for a lens of x mm, about the image's diagonal; 50mm when neither it nor fov is given.
+TEST_CASE("Mitsuba import: focal_length and its default", "[mitsuba][import]") {
+    auto fovOf = [](const std::string& sensorBody) {
+        const SceneDesc d = load(scene("<sensor type=\"perspective\">" + sensorBody +
+                                       "<film type=\"hdrfilm\"><integer name=\"width\" value=\"60\"/><integer name=\"height\" value=\"40\"/></film></sensor>"));
+        return d.camera.fovDegrees;
+    };
+    for (const auto& [body, mm] : std::vector<std::pair<std::string, double>>{
+             {"<string name=\"focal_length\" value=\"35mm\"/>", 35}, {"<string name=\"focal_length\" value=\"85\"/>", 85},
+             {"<float name=\"focal_length\" value=\"24\"/>", 24}, {"", 50}}) {
+        // tan of half the diagonal's angle is 43.27 / (2 x); across the shorter side (40 of
+        // the 72.1-pixel diagonal) that tangent scales by 40 / 72.1.
+        const double tDiag = std::sqrt(36.0 * 36 + 24 * 24) / (2 * mm), shorter = 40 / std::sqrt(60.0 * 60 + 40 * 40);
+        INFO(body);
+        CHECK(std::tan(fovOf(body) * M_PI / 360) == Approx(tDiag * shorter).epsilon(1e-5));
+    }
+    // the diagonal's field of view: focal_length 50mm equals fov 46.79 about the diagonal
+    CHECK(fovOf("") == Approx(fovOf("<float name=\"fov\" value=\"46.7930\"/><string name=\"fov_axis\" value=\"diagonal\"/>")).epsilon(1e-4));
+    for (const auto& [body, words] : std::vector<std::pair<std::string, std::string>>{
+             {"<float name=\"fov\" value=\"40\"/><string name=\"focal_length\" value=\"35mm\"/>", "either fov or focal_length"},
+             {"<string name=\"focal_length\" value=\"35cm\"/>", "focal_length must be"},
+             {"<string name=\"focal_length\" value=\"-5mm\"/>", "focal_length must be"},
+             {"<float name=\"fov\" value=\"190\"/>", "fov must be in (0, 180)"}}) {
+        const std::string e = errorOf(scene("<sensor type=\"perspective\">" + body + "</sensor>"));
+        INFO(body << ": " << e);
+        CHECK(e.find("t.xml:") == 0);
+        CHECK(e.find(words) != std::string::npos);
+    }
+}
+
 TEST_CASE("Mitsuba import: transforms compose in file order", "[mitsuba][import]") {
     SceneDesc d = load(scene(kSensor + R"(
 <shape type="sphere"><float name="radius" value="0.5"/>

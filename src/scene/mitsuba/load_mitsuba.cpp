@@ -351,9 +351,29 @@ void Importer::sensor(Node n) {
     if (t != "perspective" && t != "thinlens" && t != "orthographic")
         p.fail(n, "sensor not supported (perspective, thinlens and orthographic are)");
     const bool ortho = t == "orthographic";
-    const float fov = ortho ? 90.0f : p.getFloat("fov", 0);
-    if (!(fov > 0 && fov < 180)) p.fail(n, "fov must be given, 0 < fov < 180 (focal_length is not supported)");
-    const std::string axis = ortho ? "x" : p.getString("fov_axis", "x");
+    // fov (about fov_axis), or focal_length (Mitsuba 3: "<x>mm" of a 36 x 24 mm film, the
+    // diagonal's field of view; the default, 50mm, when neither is given).
+    if (!ortho && p.has("fov") && p.has("focal_length")) p.fail(n, "give either fov or focal_length, not both");
+    float fov = 90.0f;
+    std::string axis = "x";
+    if (!ortho && p.has("fov")) {
+        fov = p.getFloat("fov", 0);
+        if (!(fov > 0 && fov < 180)) p.fail(n, "fov must be in (0, 180)");
+        axis = p.getString("fov_axis", "x");
+    } else if (!ortho) {
+        Node fn = p.node().find_child_by_attribute("name", "focal_length");
+        std::string f = fn && std::string(fn.name()) == "float" ? std::to_string(p.getFloat("focal_length", 50)) : p.getString("focal_length", "50mm");
+        if (f.size() > 2 && f.compare(f.size() - 2, 2, "mm") == 0) f.resize(f.size() - 2);
+        char* end = nullptr;
+        const double mm = std::strtod(f.c_str(), &end);
+        if (f.empty() || *end != '\0' || !(mm > 0) || !std::isfinite(mm)) p.fail(fn ? fn : n, "focal_length must be <x>mm with x > 0");
+        fov = float(2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)) * 180.0 / M_PI);
+        axis = "diagonal";
+        if (p.has("fov_axis")) {  // not read by Mitsuba 3 with a focal length
+            warn(p.node().find_child_by_attribute("name", "fov_axis"), "fov_axis is ignored with focal_length (the diagonal's, as Mitsuba 3)");
+            p.getString("fov_axis", "x");
+        }
+    }
     const Matrix M = p.getTransform("to_world");
     // near_clip: accepted on the projective sensors (nothing in these scenes is that close);
     // an orthographic sensor's rays start there.
