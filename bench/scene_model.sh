@@ -7,7 +7,10 @@
 #      and Embree bytes, the process's peak RSS (GNU time) and its build + render CPU time;
 #   3. a ceiling panel whose radiance is a 64 x 64 bitmap (a bright spot on a dim screen:
 #      a textured mesh light, sampled by its luminance) against the same panel with a
-#      constant radiance of the same power: CPU seconds of PT and BPT (medians of REPS).
+#      constant radiance of the same power: CPU seconds of PT and BPT (medians of REPS);
+#   4. a principled floor (every reflecting lobe, constants) against a roughplastic one, and
+#      the principled floor with bitmaps on base_color, roughness and metallic against its
+#      constants: CPU seconds of PT and BPT (medians of REPS).
 # Writes its scenes in a temporary folder; needs nothing from ../shared.
 #
 #   bench/scene_model.sh [--reps N] [--copies N]
@@ -85,10 +88,20 @@ lit = lambda radiance: (head % diffuse).replace('<rgb name="radiance" value="20"
 open(f"{tmp}/panel_tex.xml", "w").write(lit('<texture type="bitmap" name="radiance"><string name="filename" value="panel.pfm"/></texture>'))
 open(f"{tmp}/panel_const.xml", "w").write(lit(f'<rgb name="radiance" value="{mean}"/>'))
 open(f"{tmp}/flat.xml", "w").write(flat + "</scene>")
+lobes = ('<float name="anisotropic" value="0.3"/><float name="spec_tint" value="0.2"/><float name="sheen" value="0.4"/>'
+         '<float name="clearcoat" value="0.5"/><float name="clearcoat_gloss" value="0.6"/>')
+bitmap = lambda name, f: f'<texture type="bitmap" name="{name}"><string name="filename" value="{f}"/></texture>'
+open(f"{tmp}/plastic.xml", "w").write(head % '<bsdf type="roughplastic"><float name="alpha" value="0.2"/><rgb name="diffuse_reflectance" value="0.6, 0.6, 0.5"/></bsdf>' + "</scene>")
+open(f"{tmp}/principled.xml", "w").write(head % ('<bsdf type="principled"><rgb name="base_color" value="0.6, 0.6, 0.5"/><float name="roughness" value="0.4"/>'
+                                               '<float name="metallic" value="0.3"/>' + lobes + '</bsdf>') + "</scene>")
+open(f"{tmp}/principled_tex.xml", "w").write(head % ('<bsdf type="principled">' + bitmap("base_color", "c.pfm") + bitmap("roughness", "a.pfm") +
+                                                   bitmap("metallic", "a.pfm") + lobes + '</bsdf>') + "</scene>")
 PY
 cpu() { /usr/bin/time -f "%U %S %M" -o "$tmp/t" build/wavemmlt "$@" --quiet --seed 1 -o "$tmp/o.pfm" --stats "$tmp/s.json"; awk '{printf "%.2f", $1 + $2}' "$tmp/t"; }
-# PT and BPT on the constant scene $1 and the textured $2, interleaved REPS times.
+# PT and BPT on the scene $1 (the baseline, named $3, default constant) and $2 (named $4,
+# default textured), interleaved REPS times.
 versus() {
+  local a=${3:-constant} b=${4:-textured}
   for t in pt bpt; do
     c=() x=()
     for ((r = 0; r < reps; ++r)); do
@@ -96,7 +109,7 @@ versus() {
       x+=("$(cpu "$2" --tracer $t --spp 16)")
     done
     mc=$(median "${c[@]}") mx=$(median "${x[@]}")
-    printf '%-4s constant %s  textured %s  medians %s / %s  textured/constant %.3f\n' "$t" "${c[*]}" "${x[*]}" "$mc" "$mx" "$(echo "$mx / $mc" | bc -l)"
+    printf '%-4s %s %s  %s %s  medians %s / %s  %s/%s %.3f\n' "$t" "$a" "${c[*]}" "$b" "${x[*]}" "$mc" "$mx" "$b" "$a" "$(echo "$mx / $mc" | bc -l)"
   done
 }
 echo "== textured rough conductor (bitmaps on alpha and specular_reflectance) against constants, CPU s, medians of $reps"
@@ -111,3 +124,13 @@ for s in inst flat; do
 done
 echo "== a textured area light (64 x 64 bitmap) against a constant one of the same power, CPU s, medians of $reps"
 versus "$tmp/panel_const.xml" "$tmp/panel_tex.xml"
+echo "== a principled floor (every reflecting lobe) against a roughplastic one, CPU s, medians of $reps"
+versus "$tmp/plastic.xml" "$tmp/principled.xml" roughplastic principled
+# (their albedos differ, so do their paths: the CPU time per million rays, one PT run each)
+for s in plastic principled; do
+  secs=$(cpu "$tmp/$s.xml" --tracer pt --spp 16)
+  rays=$(grep -o '"rays_[a-z]*": [0-9]*' "$tmp/s.json" | awk '{n += $2} END {print n}')
+  printf '%-12s PT: %s CPU s, %d rays, %.3f CPU s per million rays\n' "$s" "$secs" "$rays" "$(echo "$secs * 1000000 / $rays" | bc -l)"
+done
+echo "== the principled floor with bitmaps on base_color, roughness and metallic against its constants, CPU s, medians of $reps"
+versus "$tmp/principled.xml" "$tmp/principled_tex.xml"
