@@ -276,7 +276,7 @@ bool rectEmissionVec3(const Light& l, float u1, float u2, float u3, float u4, Li
 // give the Vec3 form's samples bit for bit (a refactor may change no image), including the
 // reference points behind the light (no sample) and on its plane, for a tilted light with
 // uneven edges.
-TEST_CASE("rect light: rectLightSamples and sampleRectLight equal the Vec3 form bit for bit", "[lights]") {
+TEST_CASE("rect light: rectLightSamples(Of) and sampleRectLight equal the Vec3 form bit for bit", "[lights]") {
     Light l = testRectLight();
     l.corner = {-0.37f, 1.9f, -0.21f};
     l.e1 = {0.93f, 0.11f, 0.07f};
@@ -324,14 +324,40 @@ TEST_CASE("rect light: rectLightSamples and sampleRectLight equal the Vec3 form 
     CHECK(sampled > n / 4);
     CHECK(refused > n / 4);
     CHECK(differ == 0);
+    // rectLightSamplesOf: each hit its own light of three -- l, l facing up, and a light
+    // that is no rectangle (zeros: never sampled) -- equals sampleRectLight of that light.
+    Light up = l;
+    up.n = -l.n;
+    const RectFloats table[3] = {rectFloats(l), rectFloats(up), RectFloats{}};
+    std::vector<uint32_t> which(n);
+    for (size_t i = 0; i < n; ++i) which[i] = uint32_t((i * 7 + i / 5) % 3);
+    rectLightSamplesOf(table, which.data(), u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(),
+                       dist.data(), pdf.data(), ok.data());
+    size_t perLight[3] = {0, 0, 0};
+    differ = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 r(ref[3 * i], ref[3 * i + 1], ref[3 * i + 2]);
+        LightSample t;
+        const bool valid = which[i] < 2 && sampleRectLight(which[i] ? up : l, r, u1[i], u2[i], t);
+        if (valid != bool(ok[i])) ++differ;
+        if (!valid) continue;
+        ++perLight[which[i]];
+        if (!same(t.p.x, p[3 * i]) || !same(t.p.y, p[3 * i + 1]) || !same(t.p.z, p[3 * i + 2]) || !same(t.wi.x, wx[i]) ||
+            !same(t.wi.y, wy[i]) || !same(t.wi.z, wz[i]) || !same(t.dist, dist[i]) || !same(t.pdf, pdf[i]))
+            ++differ;
+    }
+    CHECK(perLight[0] > n / 10);
+    CHECK(perLight[1] > n / 20);
+    CHECK(differ == 0);
 }
 
-// PT's flat loops for next-event estimation at matte hits (matteNeeValues, shadowRaysTo)
+// PT's flat loops for next-event estimation at matte hits (matteNeeValuesOf, with the one
+// light's radiance and pmf or each hit's own, and shadowRaysTo)
 // must make what the per-hit code makes, bit for bit: f = matteF |cos|, the power
 // heuristic against mattePdf, L = beta f Le w / (pdf pmf), and the shadow ray from the
 // offset origin (Scene::offsetRayOrigin's formula) to the light point, in Vec3; for
 // surfaces seen from either side, lights on either side and black Kd channels.
-TEST_CASE("rect light: matteNeeValues and shadowRaysTo equal the per-hit NEE bit for bit", "[lights]") {
+TEST_CASE("rect light: matteNeeValuesOf and shadowRaysTo equal the per-hit NEE bit for bit", "[lights]") {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-4.0f, 4.0f), sgn(-1.0f, 1.0f);
     auto unit = [&] {
@@ -345,7 +371,12 @@ TEST_CASE("rect light: matteNeeValues and shadowRaysTo equal the per-hit NEE bit
     const float epsilonScale = 3e-4f;
     std::vector<float> ns(3 * n), wo(3 * n), wix(n), wiy(n), wiz(n), pdf(n), kd(3 * n), beta(3 * n), L(3 * n);
     std::vector<float> p(3 * n), ng(3 * n), lp(3 * n), origin(3 * n), dir(3 * n), tfar(n);
-    std::vector<uint32_t> send(n);
+    std::vector<uint32_t> send(n), send2(n);
+    std::vector<float> Le(3 * n), pmfs(n), L2(3 * n);  // the per-hit form: each hit's own light
+    for (size_t h = 0; h < n; ++h) {
+        for (int a = 0; a < 3; ++a) Le[3 * h + a] = h % 7 == 0 ? 0.0f : 4.0f * u01(rng);
+        pmfs[h] = 0.05f + 0.9f * u01(rng);
+    }
     for (size_t h = 0; h < n; ++h) {
         const Vec3 N = unit(), G = normalize(N + unit() * 0.2f), O = unit(), W = unit();
         const Vec3 P(pos(rng), pos(rng), pos(rng)), LP = P + W * (0.5f + 3.0f * u01(rng));
@@ -365,8 +396,10 @@ TEST_CASE("rect light: matteNeeValues and shadowRaysTo equal the per-hit NEE bit
         wiz[h] = W.z;
         pdf[h] = h % 13 == 0 ? 0.0f : 0.1f + 4.0f * u01(rng);
     }
-    matteNeeValues(c, n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(), pdf.data(), kd.data(), beta.data(),
-                   L.data(), send.data());
+    matteNeeValuesOf<false>(c, nullptr, nullptr, n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(), pdf.data(),
+                            kd.data(), beta.data(), L.data(), send.data());
+    matteNeeValuesOf<true>(c, Le.data(), pmfs.data(), n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(),
+                           pdf.data(), kd.data(), beta.data(), L2.data(), send2.data());
     shadowRaysTo(epsilonScale, n, p.data(), ng.data(), wix.data(), wiy.data(), wiz.data(), lp.data(), origin.data(),
                  dir.data(), tfar.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
@@ -388,7 +421,14 @@ TEST_CASE("rect light: matteNeeValues and shadowRaysTo equal the per-hit NEE bit
             const Vec3 v = Vec3(beta[3 * h], beta[3 * h + 1], beta[3 * h + 2]) * f * Vec3(c.Lx, c.Ly, c.Lz) * (w / lightPdf);
             for (int a = 0; a < 3; ++a)
                 if (!same(v[a], L[3 * h + a])) ++differ;
+            const float lightPdf2 = pdf[h] * pmfs[h];
+            const float w2 = powerHeuristic(lightPdf2, mattePdf(m, woL, wiL));
+            const Vec3 v2 = Vec3(beta[3 * h], beta[3 * h + 1], beta[3 * h + 2]) * f * Vec3(Le[3 * h], Le[3 * h + 1], Le[3 * h + 2]) *
+                            (w2 / lightPdf2);
+            for (int a = 0; a < 3; ++a)
+                if (!same(v2[a], L2[3 * h + a])) ++differ;
         }
+        if (black != (send2[h] == 0)) ++differ;
         const float mag = std::max(std::max(std::fabs(P.x), std::fabs(P.y)), std::fabs(P.z));
         const float eps = 2e-5f * mag + epsilonScale;
         const Vec3 o = dot(G, W) >= 0 ? P + G * eps : P - G * eps;

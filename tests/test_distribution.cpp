@@ -2,6 +2,9 @@
 // sampling: pdfs integrate to 1, samples follow the pdfs (Pearson's chi-square test at a
 // fixed seed, p > 1e-3), sample() and pdf() agree.
 #include <catch2/catch.hpp>
+
+#include <cstring>
+#include <random>
 #include <cmath>
 #include <vector>
 
@@ -104,6 +107,41 @@ TEST_CASE("Distribution1D: sampleDiscrete and its pmf", "[distribution]") {
     INFO(chi2::describe(r));
     CHECK(r.message.empty());
     CHECK(r.pValue > kMinP);
+}
+
+// The flat loops' form (PT's light choice) must choose the bins sampleDiscrete chooses, with
+// the same pmf, bit for bit: short tables (the branchless count, with zero-width bins and
+// all-zero input) and a long one (the search), at random u, on every cdf entry and at 0,
+// 1 - eps, 1, NaN, -1.
+TEST_CASE("Distribution1D: sampleDiscretes equals sampleDiscrete bit for bit", "[distribution]") {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    for (const std::vector<float>& f : std::vector<std::vector<float>>{
+             {1}, {3, 1}, {0.2f, 0, 5, 0, 1.5f}, {0, 0, 0}, std::vector<float>(32, 1), std::vector<float>(40, 0.5f)}) {
+        std::vector<float> g = f;
+        for (size_t i = 0; i < g.size(); ++i) g[i] += float(i % 3);  // uneven (the all-zero one kept below)
+        for (const std::vector<float>* in : std::initializer_list<const std::vector<float>*>{&f, &g}) {
+            const Distribution1D d(*in);
+            std::vector<float> u(4099), pmf(u.size());
+            std::vector<uint32_t> idx(u.size());
+            for (float& x : u) x = u01(rng);
+            u[0] = 0.0f;
+            u[1] = Distribution1D::kOneMinusEpsilon;
+            u[2] = 1.0f;
+            u[3] = std::nanf("");
+            u[4] = -1.0f;
+            for (size_t k = 0; k < d.cdf.size(); ++k) u[5 + k] = d.cdf[k];  // on the bins' edges
+            d.sampleDiscretes(u.data(), u.size(), idx.data(), pmf.data());
+            size_t differ = 0;
+            for (size_t h = 0; h < u.size(); ++h) {
+                float p;
+                const int i = d.sampleDiscrete(u[h], &p);
+                differ += uint32_t(i) != idx[h] || std::memcmp(&p, &pmf[h], sizeof p) != 0;
+            }
+            INFO("bins " << in->size());
+            CHECK(differ == 0);
+        }
+    }
 }
 
 TEST_CASE("Distribution1D: all-zero, negative and non-finite input", "[distribution]") {

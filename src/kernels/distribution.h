@@ -7,6 +7,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -86,6 +87,29 @@ public:
             *uRemapped = width > 0 ? std::min(std::max((u - cdf[o]) / width, 0.0f), kOneMinusEpsilon) : 0.0f;
         }
         return o;
+    }
+
+    // sampleDiscrete for u[0 .. m): the bins into idx, their probabilities into pmf. Up to
+    // 32 bins, the count of cdf entries <= u (upper_bound's index without its branches,
+    // which random u mispredict: the same bin, bit for bit); more, a search per element.
+    void sampleDiscretes(const float* __restrict u, size_t m, uint32_t* __restrict idx, float* __restrict pmf) const {
+        const int n = count();
+        if (n == 0 || n > 32) {
+            for (size_t h = 0; h < m; ++h) idx[h] = uint32_t(sampleDiscrete(u[h], &pmf[h]));
+            return;
+        }
+        const float* c = cdf.data();
+        const float uniformPmf = 1.0f / float(n);
+        for (size_t h = 0; h < m; ++h) {
+            float x = u[h];
+            if (!(x > 0)) x = 0;
+            x = std::min(x, kOneMinusEpsilon);
+            int below = 0;
+            for (int k = 0; k <= n; ++k) below += c[k] <= x ? 1 : 0;
+            const int i = std::min(std::max(below - 1, 0), n - 1);
+            idx[h] = uint32_t(i);
+            pmf[h] = uniform ? uniformPmf : c[i + 1] - c[i];
+        }
     }
 
     static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;

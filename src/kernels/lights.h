@@ -126,6 +126,18 @@ __attribute__((noinline)) inline void rectLightSamples(const RectFloats g, const
                                   p[3 * h + 2], wx[h], wy[h], wz[h], dist[h], pdf[h]);
 }
 
+// rectLightSamples with each hit's own light: rects[light[h]] (a light that is no
+// rectangle has all zeros there, which no sample passes: ok[h] = 0).
+__attribute__((noinline)) inline void rectLightSamplesOf(const RectFloats* __restrict rects, const uint32_t* __restrict light,
+                                                         const float* __restrict u1, const float* __restrict u2,
+                                                         const float* __restrict ref, size_t n, float* __restrict p,
+                                                         float* __restrict wx, float* __restrict wy, float* __restrict wz,
+                                                         float* __restrict dist, float* __restrict pdf, uint8_t* __restrict ok) {
+    for (size_t h = 0; h < n; ++h)
+        ok[h] = rectLightSampleAt(rects[light[h]], u1[h], u2[h], ref[3 * h], ref[3 * h + 1], ref[3 * h + 2], p[3 * h],
+                                  p[3 * h + 1], p[3 * h + 2], wx[h], wy[h], wz[h], dist[h], pdf[h]);
+}
+
 inline float rectLightPdf(const Light& l, Vec3 ref, Vec3 pLight) {
     Vec3 d = pLight - ref;
     float dist2 = lengthSquared(d);

@@ -1,5 +1,5 @@
-// Next-event estimation at matte hits towards a scene's one rectangle light, in floats
-// over arrays, for PT's flat loops (pt_stages.cpp, sampleLights). Per hit h, bit for bit
+// Next-event estimation at matte hits towards rectangle lights, in floats over arrays,
+// for PT's flat loops (pt_stages.cpp, sampleLights). Per hit h, bit for bit
 // what the per-hit code makes of the light sample (rectLightSamples: its point, unit
 // direction wi and solid-angle pdf): f = Kd / pi |cos theta_i| (matteF), the power
 // heuristic of the light's density against the matte pdf (Veach 1997, eq. 9.13, ratio
@@ -15,7 +15,7 @@
 
 namespace wmlt {
 
-// The light's radiance and its choice pmf: one value for all hits.
+// The light's radiance and its choice pmf: one value for all hits (a scene's one light).
 struct RectNeeConsts {
     float Lx, Ly, Lz, pmf;
 };
@@ -26,13 +26,19 @@ struct RectNeeConsts {
 // outputs), diffuse[3 h ..] the hit's Kd, beta[3 h ..] its path's throughput. Out: the
 // contribution L[3 h ..] the shadow ray carries and send[h]: f is not black (else L is
 // unspecified). Restrict parameters: the loop vectorises with 64-byte vectors.
-__attribute__((noinline)) inline void matteNeeValues(const RectNeeConsts c, size_t n, const float* __restrict ns,
-                                                    const float* __restrict wo, const float* __restrict wix,
-                                                    const float* __restrict wiy, const float* __restrict wiz,
-                                                    const float* __restrict pdf, const float* __restrict diffuse,
-                                                    const float* __restrict beta, float* __restrict L,
-                                                    uint32_t* __restrict send) {
+// PerHit: each hit's light radiance Le[3 h ..] and choice pmf pmfs[h] (a scene of several
+// lights) instead of c's (its one light; Le and pmfs are then not read).
+template <bool PerHit>
+__attribute__((noinline)) inline void matteNeeValuesOf(const RectNeeConsts c, const float* __restrict Le,
+                                                      const float* __restrict pmfs, size_t n, const float* __restrict ns,
+                                                      const float* __restrict wo, const float* __restrict wix,
+                                                      const float* __restrict wiy, const float* __restrict wiz,
+                                                      const float* __restrict pdf, const float* __restrict diffuse,
+                                                      const float* __restrict beta, float* __restrict L,
+                                                      uint32_t* __restrict send) {
     for (size_t h = 0; h < n; ++h) {
+        const float Lx = PerHit ? Le[3 * h] : c.Lx, Ly = PerHit ? Le[3 * h + 1] : c.Ly, Lz = PerHit ? Le[3 * h + 2] : c.Lz;
+        const float pmf = PerHit ? pmfs[h] : c.pmf;
         const float nx = ns[3 * h], ny = ns[3 * h + 1], nz = ns[3 * h + 2];
         // Frame::toLocal: (dot(v, s), dot(v, t), dot(v, n)); only the z's are needed.
         const float woZ = wo[3 * h] * nx + wo[3 * h + 1] * ny + wo[3 * h + 2] * nz;
@@ -44,14 +50,14 @@ __attribute__((noinline)) inline void matteNeeValues(const RectNeeConsts c, size
         const float fx = same ? kx * kInvPi * cosI : 0.0f * cosI;
         const float fy = same ? ky * kInvPi * cosI : 0.0f * cosI;
         const float fz = same ? kz * kInvPi * cosI : 0.0f * cosI;
-        const float lightPdf = pdf[h] * c.pmf;
+        const float lightPdf = pdf[h] * pmf;
         const float bsdfPdf = same ? cosI * kInvPi : 0.0f;  // mattePdf
         const float r = bsdfPdf / lightPdf;
         const float w = lightPdf <= 0 ? 0.0f : !(bsdfPdf > 0) ? 1.0f : 1.0f / (1.0f + r * r);  // powerHeuristic
         const float k = w / lightPdf;
-        L[3 * h] = beta[3 * h] * fx * c.Lx * k;
-        L[3 * h + 1] = beta[3 * h + 1] * fy * c.Ly * k;
-        L[3 * h + 2] = beta[3 * h + 2] * fz * c.Lz * k;
+        L[3 * h] = beta[3 * h] * fx * Lx * k;
+        L[3 * h + 1] = beta[3 * h + 1] * fy * Ly * k;
+        L[3 * h + 2] = beta[3 * h + 2] * fz * Lz * k;
         send[h] = fx == 0 && fy == 0 && fz == 0 ? 0u : 1u;
     }
 }

@@ -358,6 +358,11 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     s->lightDistribution = Distribution1D(power);
     // The very probabilities sampleDiscrete uses, so MIS sees what sampling did.
     for (size_t i = 0; i < power.size(); ++i) s->lightPmf.push_back(s->lightDistribution.discretePmf(int(i)));
+    for (const Light& l : s->lights) {
+        const bool rect = l.type == LightType::Rect && !isBlack(l.L);
+        s->lightRects.push_back(rect ? rectFloats(l) : RectFloats{});
+        s->anyRectLight = s->anyRectLight || rect;
+    }
     return s;
 }
 

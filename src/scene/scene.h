@@ -85,6 +85,10 @@ public:
     std::vector<Light> lights;
     std::vector<MeshLight> meshLights;  // Light::mesh indexes it
     std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)
+    // Per light: its rectangle as floats for the flat light-sample loops, zeros (which no
+    // sample passes) unless it is a Rect whose radiance is not black; anyRectLight: one is.
+    std::vector<RectFloats> lightRects;
+    bool anyRectLight = false;
     Distribution1D lightDistribution;
     int envLight = -1;              // index of the environment light, -1: none
     EnvMapSampler env;

@@ -97,25 +97,49 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
 
 namespace {
 
-// A scene whose one light is the rectangle l (soleRectLight): every hit's light sample in
-// flat loops the compiler vectorises (the light point's two numbers, then rectLightSamples),
-// and for a scene with matte surfaces (matte: the kind is in the scene) the matte hits'
-// shadow rays and contributions (matteNeeValues, shadowRaysTo: computed for every hit,
-// sampleLights reads the matte hits').
-void sampleRectLightFlat(const Scene& scene, const Light& l, PtBatch& b, int depth, bool matte) {
+// A scene of several lights: every hit's light choice (bounce dimension 0, as the per-hit
+// sampler would make it) in a flat loop (Distribution1D::sampleDiscretes, without branches).
+void chooseLights(const Scene& scene, PtBatch& b, int depth) {
     const size_t n = b.numHits;
+    const uint32_t d0 = bounceDim(depth, 0);
+    for (size_t h = 0; h < n; ++h) b.sortedU1[h] = sampleDimension(b.hitKey[h], d0);
+    scene.lightDistribution.sampleDiscretes(b.sortedU1.data(), n, b.neeLight.data(), b.neePmf.data());
+}
+
+// A scene with rectangle lights (Scene::anyRectLight): every hit's light point's two
+// numbers, then its rectangle sample, in flat loops the compiler vectorises
+// (rectLightSamples on a scene's one light, rectLightSamplesOf on each hit's own, chosen by
+// chooseLights: a hit whose light is no rectangle fails there and sampleLights gives it
+// the per-hit path); and for a scene with matte surfaces (matte) the shadow rays and
+// contributions of every hit (matteNeeValuesOf, shadowRaysTo), of which sampleLights reads
+// the matte hits' that chose a rectangle.
+void sampleRectLightsFlat(const Scene& scene, PtBatch& b, int depth, bool matte) {
+    const size_t n = b.numHits;
+    const bool one = scene.lights.size() == 1;
     const uint32_t d1 = bounceDim(depth, 1), d2 = bounceDim(depth, 2);
     for (size_t h = 0; h < n; ++h) {
         b.sortedU1[h] = sampleDimension(b.hitKey[h], d1);
         b.sortedU2[h] = sampleDimension(b.hitKey[h], d2);
     }
-    rectLightSamples(rectFloats(l), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
-                     b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(),
-                     b.neeOk.data());
+    if (one)
+        rectLightSamples(scene.lightRects[0], b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
+                         b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(), b.neeOk.data());
+    else
+        rectLightSamplesOf(scene.lightRects.data(), b.neeLight.data(), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n,
+                           &b.neeP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(),
+                           b.neePdf.data(), b.neeOk.data());
     if (!matte) return;
-    const RectNeeConsts c{l.L.x, l.L.y, l.L.z, scene.lightDistribution.discretePmf(0)};
-    matteNeeValues(c, n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
-                   b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+    const Light& l0 = scene.lights[0];
+    if (one) {
+        matteNeeValuesOf<false>(RectNeeConsts{l0.L.x, l0.L.y, l0.L.z, scene.lightDistribution.discretePmf(0)}, nullptr,
+                                nullptr, n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
+                                b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+    } else {
+        for (size_t h = 0; h < n; ++h) b.neeLe[h] = scene.lights[b.neeLight[h]].L;
+        matteNeeValuesOf<true>(RectNeeConsts{}, &b.neeLe[0].x, b.neePmf.data(), n, &b.hitNs[0].x, &b.wo[0].x,
+                               b.localX.data(), b.localY.data(), b.localZ.data(), b.neePdf.data(), &b.hitKd[0].x,
+                               &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+    }
     shadowRaysTo(scene.epsilonScale, n, &b.p[0].x, &b.ng[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
                  &b.neeP[0].x, &b.neeOrigin[0].x, &b.neeDir[0].x, b.neeTfar.data());
 }
@@ -123,18 +147,20 @@ void sampleRectLightFlat(const Scene& scene, const Light& l, PtBatch& b, int dep
 }  // namespace
 
 void sampleLights(const Scene& scene, PtBatch& b, int depth) {
-    const Light* rect = soleRectLight(scene);
-    const float rectPmf = rect ? scene.lightDistribution.discretePmf(0) : 0.0f;
-    // (A black light sends nothing: the per-hit test below.)
-    const bool matteFlat = rect && scene.features.has(MaterialKind::Matte) && !isBlack(rect->L);
-    if (rect) sampleRectLightFlat(scene, *rect, b, depth, matteFlat);
+    const bool one = scene.lights.size() == 1, flat = scene.anyRectLight;
+    const bool matteFlat = flat && scene.features.has(MaterialKind::Matte);
+    if (!one) chooseLights(scene, b, depth);
+    if (flat) sampleRectLightsFlat(scene, b, depth, matteFlat);
     size_t n = 0;
     forEachHitByKind(b, [&](auto kind, uint32_t h) {
         using B = BsdfOf<decltype(kind)::value>;
         if constexpr (!B::delta) {
             const uint32_t path = b.hitPath[h], slot = b.pathSlot[path];
+            // The light the hit chose and whether the flat loops sampled it.
+            const int chosen = one ? 0 : int(b.neeLight[h]);
+            const bool rect = flat && scene.lightRects[size_t(chosen)].area > 0;
             if constexpr (decltype(kind)::value == MaterialKind::Matte) {
-                if (matteFlat) {
+                if (matteFlat && rect) {
                     if (!b.neeOk[h] || !b.neeSend[h]) return;
                     setRay(b.shadow[n], b.neeOrigin[h], b.neeDir[h], 0.0f, b.neeTfar[h]);
                     b.shadowSlot[n] = slot;
@@ -147,17 +173,18 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
             float pmf;
             LightSample ls;
             if (rect) {
-                pmf = rectPmf;
+                pmf = one ? scene.lightDistribution.discretePmf(0) : b.neePmf[h];
                 if (!b.neeOk[h]) return;
+                const Light& l = scene.lights[size_t(chosen)];
                 ls.p = b.neeP[h];
                 ls.wi = Vec3(b.localX[h], b.localY[h], b.localZ[h]);
                 ls.dist = b.neeDist[h];
                 ls.pdf = b.neePdf[h];
-                ls.n = rect->n;
-                ls.Le = rect->L;
+                ls.n = l.n;
+                ls.Le = l.L;
             } else {
-                const int li = scene.lightDistribution.sampleDiscrete(sampleDimension(key, bounceDim(depth, 0)), &pmf);
-                if (!sampleLightFrom(scene, li, b.p[h], sampleDimension(key, bounceDim(depth, 1)),
+                pmf = one ? scene.lightDistribution.discretePmf(0) : b.neePmf[h];
+                if (!sampleLightFrom(scene, chosen, b.p[h], sampleDimension(key, bounceDim(depth, 1)),
                                      sampleDimension(key, bounceDim(depth, 2)), ls))
                     return;
             }

@@ -23,11 +23,13 @@ namespace wmlt {
 // (read by the flat loops in hit order). hitNs, hitKd, hitBeta: per hit
 // (a scene with matte surfaces), its shading normal, Kd and its path's throughput, for the
 // matte flat loops (matteScatter; matteNeeValues), scatterOk what matteScatter decided.
-// shadowL: the shadow ray's unoccluded contribution to shadowSlot. neeP, neeDist, neePdf,
-// neeOk: per hit, its light sample on a scene's one rectangle light (sampleLights' flat
-// loops; neeWi in localX/Y/Z); the matte loops (matteNeeValues, shadowRaysTo) write the
-// shadow ray (neeOrigin, neeDir, neeTfar), its contribution neeL and whether its f is not
-// black.
+// shadowL: the shadow ray's unoccluded contribution to shadowSlot. neeLight, neePmf: per
+// hit, the light it chose and that choice's probability (a scene of several lights:
+// chooseLights);
+// neeP, neeDist, neePdf, neeOk: its sample of that light when it is a rectangle
+// (sampleLights' flat loops; neeWi in localX/Y/Z); the matte loops (matteNeeValuesOf, with
+// the light's radiance neeLe, and shadowRaysTo) write the shadow ray (neeOrigin, neeDir,
+// neeTfar), its contribution neeL and whether its f is not black.
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
@@ -35,9 +37,11 @@ namespace wmlt {
     X(uint8_t, nextDelta) X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
 // Allocated only for a scene with matte surfaces.
 #define WMLT_PT_MATTE_ARRAYS(X) X(Vec3, hitNs) X(Vec3, hitKd) X(Vec3, hitBeta) X(uint32_t, scatterOk)
-// Allocated only for a scene whose one light is a rectangle (soleRectLight).
+// Allocated only for a scene of several lights.
+#define WMLT_PT_LIGHT_CHOICE_ARRAYS(X) X(uint32_t, neeLight) X(float, neePmf)
+// Allocated only for a scene with a rectangle light (Scene::anyRectLight).
 #define WMLT_PT_RECT_LIGHT_ARRAYS(X)                                                         \
-    X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
+    X(Vec3, neeLe) X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
     X(Vec3, neeOrigin) X(Vec3, neeDir) X(float, neeTfar) X(Vec3, neeL) X(uint32_t, neeSend)
 
 struct PtBatch : PathWave {
@@ -45,6 +49,7 @@ struct PtBatch : PathWave {
     size_t numShadow = 0;
     ContributionTally tally;  // per batch
 
+    WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_MATTE_ARRAYS(WMLT_SOA_ARRAY)
 
@@ -52,7 +57,8 @@ struct PtBatch : PathWave {
     void reserve(size_t n, const BatchNeeds& needs) {
         resizeWave(n);
         WMLT_PT_ARRAYS(WMLT_SOA_RESIZE)
-        if (needs.rectLight) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.severalLights) { WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.rectLights) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.matte) { WMLT_PT_MATTE_ARRAYS(WMLT_SOA_RESIZE) }
     }
 };

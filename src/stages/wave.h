@@ -38,15 +38,17 @@ namespace wmlt {
 #define WMLT_SOA_ZERO(type, name) name.assign(n, type());
 
 // What a scene needs of a batch's optional arrays, decided once per render (a batch
-// allocates only those): its one light is a rectangle (the light-sample flat loops), it has
+// allocates only those): its one light is a rectangle (BPT's light-sample flat loops), it
+// has rectangle lights (PT's) or several lights (PT's light choice in a flat loop), it has
 // matte surfaces (PT's matte flat loops), its camera is a pinhole (BPT's and MMLT's t = 1
 // camera-sample loop), it has a textured emitter (BPT's emitter vertices keep T and pdfA).
 struct BatchNeeds {
-    bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false;
+    bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false, rectLights = false,
+         severalLights = false;
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
     return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), isPinhole(scene.camera),
-            scene.features.texturedEmitters};
+            scene.features.texturedEmitters, scene.anyRectLight, scene.lights.size() > 1};
 }
 
 // A batch's work: pixels [x0, x1) x [y0, y1), sample indices [sample0, sample1).
