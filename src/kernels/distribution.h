@@ -7,7 +7,6 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -89,29 +88,6 @@ public:
         return o;
     }
 
-    // sampleDiscrete for u[0 .. m): the bins into idx, their probabilities into pmf. Up to
-    // 32 bins, the count of cdf entries <= u (upper_bound's index without its branches,
-    // which random u mispredict: the same bin, bit for bit); more, a search per element.
-    void sampleDiscretes(const float* __restrict u, size_t m, uint32_t* __restrict idx, float* __restrict pmf) const {
-        const int n = count();
-        if (n == 0 || n > 32) {
-            for (size_t h = 0; h < m; ++h) idx[h] = uint32_t(sampleDiscrete(u[h], &pmf[h]));
-            return;
-        }
-        const float* c = cdf.data();
-        const float uniformPmf = 1.0f / float(n);
-        for (size_t h = 0; h < m; ++h) {
-            float x = u[h];
-            if (!(x > 0)) x = 0;
-            x = std::min(x, kOneMinusEpsilon);
-            int below = 0;
-            for (int k = 0; k <= n; ++k) below += c[k] <= x ? 1 : 0;
-            const int i = std::min(std::max(below - 1, 0), n - 1);
-            idx[h] = uint32_t(i);
-            pmf[h] = uniform ? uniformPmf : c[i + 1] - c[i];
-        }
-    }
-
     static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
 private:
@@ -121,12 +97,20 @@ private:
         int i = x >= 0 ? int(x * float(n)) : 0;  // NaN -> 0
         return std::min(std::max(i, 0), n - 1);
     }
-    // The last i with cdf[i] <= u: a bin of positive width when u in [0, 1).
+    // The last i with cdf[i] <= u: a bin of positive width when u in [0, 1). Up to 32 bins
+    // (a scene's lights) by counting the entries <= u, upper_bound's index without the
+    // branches that random u mispredict; more (an environment map's rows) by its search.
     int find(float u) const {
         const int n = count();
         if (!(u > 0)) u = 0;
         u = std::min(u, kOneMinusEpsilon);
-        int i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
+        int i;
+        if (n <= 32) {
+            i = -1;
+            for (int k = 0; k <= n; ++k) i += cdf[size_t(k)] <= u ? 1 : 0;
+        } else {
+            i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
+        }
         return std::min(std::max(i, 0), n - 1);
     }
 };

@@ -97,13 +97,12 @@ void resolveHits(const Scene& scene, PtBatch& b, int depth, int minLength, int m
 
 namespace {
 
-// A scene of several lights: every hit's light choice (bounce dimension 0, as the per-hit
-// sampler would make it) in a flat loop (Distribution1D::sampleDiscretes, without branches).
+// A scene of several lights: every hit's light choice (bounce dimension 0) in one flat loop
+// (Distribution1D::sampleDiscrete: a scene's few lights are chosen without branches).
 void chooseLights(const Scene& scene, PtBatch& b, int depth) {
-    const size_t n = b.numHits;
     const uint32_t d0 = bounceDim(depth, 0);
-    for (size_t h = 0; h < n; ++h) b.sortedU1[h] = sampleDimension(b.hitKey[h], d0);
-    scene.lightDistribution.sampleDiscretes(b.sortedU1.data(), n, b.neeLight.data(), b.neePmf.data());
+    for (size_t h = 0; h < b.numHits; ++h)
+        b.neeLight[h] = uint32_t(scene.lightDistribution.sampleDiscrete(sampleDimension(b.hitKey[h], d0), &b.neePmf[h]));
 }
 
 // A scene with rectangle lights (Scene::anyRectLight): every hit's light point's two
