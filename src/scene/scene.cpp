@@ -187,6 +187,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         }
         b.blendWeight = m.blendWeight;
         s->materials.push_back(b);
+        s->texturedMaterial.push_back(readsTexturedColour(m) ? 1 : 0);
     }
     // Blends: their parts' constants side by side (reserved once: the extras point into it).
     size_t blends = 0;

@@ -78,6 +78,7 @@ public:
     std::atomic<int64_t> embreeBytes{0};  // Embree's memory now (its memory monitor)
     uint64_t meshBytes = 0;               // the triangle meshes' arrays (a group's once)
     std::vector<BsdfParams> materials;  // by material index, before textures
+    std::vector<uint8_t> texturedMaterial;  // by material index: it reads a texture (the texture stage)
     std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
     std::vector<BsdfParams> blendParts; // each Blend's two parts (BsdfExtra::blendParts)
     std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)

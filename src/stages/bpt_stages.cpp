@@ -224,7 +224,7 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;
-        materialAt<F>(scene, sp, -rayDir(rh), v.bsdf[cur]);
+        materialAt<F>(scene, sp, -rayDir(rh), v.bsdf[cur], b.textureJobs);
         const MaterialKind kind = v.bsdf[cur].kind;
         v.delta[cur] = isDeltaMaterial(kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
@@ -233,6 +233,7 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         ++h;
     }
     b.numHits = h;
+    if constexpr (F::textures) evaluateTextures(scene, b.textureJobs);  // every new vertex's, the walk's last too
 }
 
 }  // namespace

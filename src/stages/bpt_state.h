@@ -178,7 +178,7 @@ struct BptBatch : PathWave {
 
     // The optional arrays as the scene needs them (batchNeeds).
     void reserve(size_t n, int maxLength, const BatchNeeds& needs, bool oneStrategyPerSlot = false) {
-        resizeWave(n);
+        resizeWave(n, needs);
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
         if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }

@@ -62,7 +62,7 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
     std::vector<TileSplats> outputs(schedule.tiles.size());
     tbb::enumerable_thread_specific<LtBatch> batches([&] {
         LtBatch b;
-        b.reserve(schedule.pathsPerBatch());
+        b.reserve(schedule.pathsPerBatch(), batchNeeds(scene));
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;

@@ -109,6 +109,7 @@ void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
         recordHit<F>(scene, b, h++, i, sp, -rayDir(rh));
     }
     b.numHits = h;
+    if constexpr (F::textures) evaluateTextures(scene, b.textureJobs);
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ struct LtBatch : PathWave {
     std::vector<PointSplat> points;  // filtered scenes: contributions at film points
     ContributionTally tally;  // of the splats
 
-    void reserve(size_t n) {
-        resizeWave(n);
+    void reserve(size_t n, const BatchNeeds& needs) {
+        resizeWave(n, needs);
         WMLT_LT_ARRAYS(WMLT_SOA_RESIZE)
         splats.reserve(n);
     }

@@ -87,6 +87,11 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         ++h;
     }
     b.numHits = h;
+    if constexpr (F::textures) {
+        evaluateTextures(scene, b.textureJobs);
+        if (matte)  // the matte flat loops' Kd, textured now
+            for (size_t k = 0; k < h; ++k) b.hitKd[k] = b.bsdf[k].diffuse;
+    }
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ struct PtBatch : PathWave {
 
     // The optional arrays as the scene needs them (batchNeeds).
     void reserve(size_t n, const BatchNeeds& needs) {
-        resizeWave(n);
+        resizeWave(n, needs);
         WMLT_PT_ARRAYS(WMLT_SOA_RESIZE)
         if (needs.severalLights) { WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.rectLights) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }

@@ -56,17 +56,4 @@ void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
         sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
 }
 
-void principledTexturesAt(const Scene& scene, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out) {
-    float value[kPrincipledParams];
-    bool any = false;
-    for (int i = 0; i < kPrincipledParams; ++i) {
-        const int t = m.principledTexture[i];
-        value[i] = m.principled[i];
-        if (t < 0) continue;
-        any = true;
-        value[i] = std::clamp(value[i] * luminance(evalTexture(scene.desc.textures[size_t(t)], u, v, p)), 0.0f, 1.0f);
-    }
-    if (any) setPrincipled(out, value);
-}
-
 }  // namespace wmlt

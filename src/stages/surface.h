@@ -10,6 +10,7 @@
 #include "kernels/texture.h"
 #include "scene/scene.h"
 #include "scene/transform.h"
+#include "stages/textures.h"
 
 namespace wmlt {
 
@@ -58,10 +59,6 @@ void triangleDerivatives(const TriangleMesh& m, const uint32_t* tri, Vec3 ns, Ve
 void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv);
 void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv);
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv);
-// A principled material's textured weights at (u, v, p): each its constant times the
-// texture's luminance there (clamped to [0, 1]), the alphas again from roughness and
-// anisotropic.
-void principledTexturesAt(const Scene& scene, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out);
 
 // Called by a stage resolving hits i = 0 .. n - 1 of rays before it resolves hit i: starts
 // loading what surfaceAt will read of hit i + 8 that is not in cache after traversal, its
@@ -164,40 +161,24 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     return sp;
 }
 
-// The material of a hit with textures applied, written into out (a vertex's or hit's
-// record). wo (world, towards the previous vertex) decides the side of a one-sided
-// (Mitsuba) material: seen from below its shading normal it is black. In place, not
-// returned: a BsdfParams built in registers and stored to the stack piece by piece, then
-// copied out as one 64-byte load, stalled on store forwarding (24% of resolveBptHits on the
-// seed room).
+// The material of a hit, written into out (a vertex's or hit's record): its constants;
+// seen from below its shading normal (wo, world, towards the previous vertex) a one-sided
+// (Mitsuba) material is black. A material with textures is queued in jobs for the texture
+// stage (textures.h, evaluateTextures), which finishes the record once the round's
+// surfaces are resolved. In place, not returned: a BsdfParams built in registers and
+// stored to the stack piece by piece, then copied out as one 64-byte load, stalled on
+// store forwarding (24% of resolveBptHits on the seed room).
 template <class F>
-void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams& out) {
+void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams& out, TextureJobs& jobs) {
     out = scene.materials[sp.material];
-    if constexpr (F::oneSided || F::textures) {
-        const MaterialDesc& m = scene.desc.materials[sp.material];
-        if (F::oneSided && !m.twoSided && !(dot(wo, sp.ns) > 0)) {
+    if constexpr (F::oneSided) {
+        if (!scene.desc.materials[sp.material].twoSided && !(dot(wo, sp.ns) > 0)) {
             out = BsdfParams{};  // a black Matte: f = 0, every sample ends the path
             return;
         }
-        if constexpr (F::textures) {
-            const int* t = m.colourTexture;
-            auto at = [&](ColourParam c) { return evalTexture(scene.desc.textures[t[int(c)]], sp.u, sp.v, sp.p); };
-            if (t[int(ColourParam::Diffuse)] >= 0) out.diffuse = out.diffuse * at(ColourParam::Diffuse);
-            if (t[int(ColourParam::Specular)] >= 0) out.specular = out.specular * at(ColourParam::Specular);
-            if (t[int(ColourParam::Reflect)] >= 0) out.reflect = out.reflect * at(ColourParam::Reflect);
-            if (t[int(ColourParam::Refract)] >= 0) out.refract = out.refract * at(ColourParam::Refract);
-            if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {  // alpha = constant * luminance (as 1e-4 at least)
-                auto alpha = [&](int tex, float a) {
-                    return tex < 0 ? a : std::max(a * luminance(evalTexture(scene.desc.textures[tex], sp.u, sp.v, sp.p)), 1e-4f);
-                };
-                out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
-                out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
-            }
-            if (m.blendWeightTexture >= 0)  // blendbsdf's weight: the texture's luminance, in [0, 1]
-                out.blendWeight = std::clamp(luminance(evalTexture(scene.desc.textures[size_t(m.blendWeightTexture)], sp.u, sp.v, sp.p)), 0.0f, 1.0f);
-            if (m.kind == MaterialKind::Principled) principledTexturesAt(scene, m, sp.u, sp.v, sp.p, out);
-        }
     }
+    if constexpr (F::textures)
+        if (scene.texturedMaterial[size_t(sp.material)]) jobs.add(&out, sp.material, sp.u, sp.v, sp.p);
 }
 
 // The shading frame of a hit: Frame::fromNormal, or, for an anisotropic material, x along
@@ -223,7 +204,7 @@ inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const Su
     b.ng[h] = sp.ng;
     b.wo[h] = wo;
     b.shading[h] = shadingFrame<F>(scene, sp);
-    materialAt<F>(scene, sp, wo, b.bsdf[h]);
+    materialAt<F>(scene, sp, wo, b.bsdf[h], b.textureJobs);
 }
 
 }  // namespace wmlt

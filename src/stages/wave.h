@@ -24,6 +24,7 @@
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
 #include "stages/film.h"
+#include "stages/textures.h"
 #include "stages/trace.h"
 
 namespace wmlt {
@@ -41,14 +42,15 @@ namespace wmlt {
 // allocates only those): its one light is a rectangle (BPT's light-sample flat loops), it
 // has rectangle lights (PT's) or several lights (PT's light choice in a flat loop), it has
 // matte surfaces (PT's matte flat loops), its camera is a pinhole (BPT's and MMLT's t = 1
-// camera-sample loop), it has a textured emitter (BPT's emitter vertices keep T and pdfA).
+// camera-sample loop), it has a textured emitter (BPT's emitter vertices keep T and pdfA),
+// it has textures (the texture stage's queue, PathWave::textureJobs).
 struct BatchNeeds {
     bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false, rectLights = false,
-         severalLights = false;
+         severalLights = false, textures = false;
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
     return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), isPinhole(scene.camera),
-            scene.features.texturedEmitters, scene.anyRectLight, scene.lights.size() > 1};
+            scene.features.texturedEmitters, scene.anyRectLight, scene.lights.size() > 1, scene.features.textures};
 }
 
 // A batch's work: pixels [x0, x1) x [y0, y1), sample indices [sample0, sample1).
@@ -82,8 +84,12 @@ struct PathWave {
     WMLT_PATH_WAVE_ARRAYS(WMLT_SOA_ARRAY)
     // Hits grouped by material kind: order[kindStart[k] .. kindStart[k + 1]).
     uint32_t kindStart[kMaterialKinds + 1] = {};
+    TextureJobs textureJobs;  // the round's textured hits (textures.h); sized as needs.textures says
 
-    void resizeWave(size_t n) { WMLT_PATH_WAVE_ARRAYS(WMLT_SOA_RESIZE) }
+    void resizeWave(size_t n, const BatchNeeds& needs) {
+        WMLT_PATH_WAVE_ARRAYS(WMLT_SOA_RESIZE)
+        if (needs.textures) textureJobs.resize(n);
+    }
 };
 
 // The surface a hit h found, for tracers that keep it per hit (PT, LT; BPT keeps it in

@@ -1,0 +1,47 @@
+// The texture stage: the textured parameters of a round's hits, evaluated once the surfaces
+// are resolved, kind by kind over structure-of-arrays records (one function per material
+// kind, reading only the parameters that kind has), the way the rest of the wavefront runs.
+// The surface stage writes every hit's constants (materialAt) and queues the hits whose
+// material has a texture (Scene::texturedMaterial); evaluateTextures finishes their
+// records. Allocated only for a scene with textures (BatchNeeds::textures): a scene of
+// constants runs no part of it.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "kernels/bsdf.h"
+#include "scene/scene.h"
+
+namespace wmlt {
+
+struct TextureJobs {
+    size_t n = 0;
+    std::vector<BsdfParams*> target;  // the record to finish: a hit's or a vertex's
+    std::vector<uint32_t> material;   // its material (SceneDesc::materials)
+    std::vector<float> u, v;          // the hit's surface coordinates
+    std::vector<Vec3> p;              // and position (solid textures)
+    std::vector<uint32_t> order;      // the jobs by kind: order[kindStart[k] .. kindStart[k + 1])
+    uint32_t kindStart[kMaterialKinds + 1] = {};
+
+    void resize(size_t cap) {
+        target.resize(cap);
+        material.resize(cap);
+        u.resize(cap);
+        v.resize(cap);
+        p.resize(cap);
+        order.resize(cap);
+    }
+    void add(BsdfParams* t, int m, float su, float sv, Vec3 sp) {
+        target[n] = t;
+        material[n] = uint32_t(m);
+        u[n] = su;
+        v[n] = sv;
+        p[n] = sp;
+        ++n;
+    }
+};
+
+// Applies the queued jobs' textures, kind by kind, and empties the queue.
+void evaluateTextures(const Scene& scene, TextureJobs& jobs);
+
+}  // namespace wmlt
