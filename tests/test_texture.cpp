@@ -210,3 +210,45 @@ TEST_CASE("textureMean: checkers, images and the marble's approximation", "[text
     t.colour3 = Vec3(2.0f);
     CHECK(textureMean(t).x == 1.0f);
 }
+
+// Scale and Mix (pbrt's): operand 0 times operand 1; (1 - a) operand 0 + a operand 1 with a
+// operand 2's luminance or the constant amount; an absent operand is colour1 / colour2.
+// At points in each checker cell, against the closed forms; nested (a mix of a scale); and
+// their means.
+TEST_CASE("Scale and Mix textures combine their operands", "[texture]") {
+    std::vector<TextureDesc> all;
+    all.push_back(checker());  // 0: red / blue cells
+    TextureDesc grey = checker(2, 2);  // 1: cells of 0.2 and 0.8 (twice as many)
+    grey.colour1 = Vec3(0.2f);
+    grey.colour2 = Vec3(0.8f);
+    all.push_back(grey);
+    TextureDesc scale;  // 2: checker 0 times (0.5, 2, 1)
+    scale.kind = TextureKind::Scale;
+    scale.operand[0] = 0;
+    scale.colour2 = Vec3(0.5f, 2.0f, 1.0f);
+    all.push_back(scale);
+    TextureDesc mix;  // 3: (1 - a) scale + a (0, 1, 0), a = grey's luminance
+    mix.kind = TextureKind::Mix;
+    mix.operand[0] = 2;
+    mix.colour2 = Vec3(0, 1, 0);
+    mix.operand[2] = 1;
+    all.push_back(mix);
+    TextureDesc fixed = mix;  // 4: the same with a constant amount 0.25
+    fixed.operand[2] = -1;
+    fixed.amount = 0.25f;
+    all.push_back(fixed);
+    for (float u : {0.1f, 0.3f, 0.6f, 0.9f})
+        for (float v : {0.15f, 0.35f, 0.65f, 0.85f}) {
+            const Vec3 c = evalTexture(all[0], u, v, Vec3(0.0f)), g = evalTexture(all[1], u, v, Vec3(0.0f));
+            const Vec3 s = c * Vec3(0.5f, 2.0f, 1.0f);
+            CHECK(same(evalTextureOf(all, 2, u, v, Vec3(0.0f)), s));
+            const float a = luminance(g);
+            CHECK(same(evalTextureOf(all, 3, u, v, Vec3(0.0f)), s * (1.0f - a) + Vec3(0, 1, 0) * a));
+            CHECK(same(evalTextureOf(all, 4, u, v, Vec3(0.0f)), s * 0.75f + Vec3(0, 1, 0) * 0.25f));
+            CHECK(same(evalTextureOf(all, 0, u, v, Vec3(0.0f)), c));  // a plain texture as evalTexture
+        }
+    const Vec3 m = textureMeanOf(all, 4), s = Vec3(0.5f, 0.0f, 0.5f) * Vec3(0.5f, 2.0f, 1.0f);
+    CHECK(m.x == Approx(s.x * 0.75f));
+    CHECK(m.y == Approx(0.25f));
+    CHECK(m.z == Approx(s.z * 0.75f));
+}

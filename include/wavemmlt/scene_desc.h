@@ -148,8 +148,9 @@ inline bool isAnisotropic(const MaterialDesc& m) {
     return rough && (alphaVOf(m) != m.alpha || m.alphaTexture != m.alphaVTexture);
 }
 
-// The thesis' three textures, then Mitsuba's bitmap and checkerboard (docs/mitsuba.md).
-enum class TextureKind : uint8_t { Checker, ImageFile, Marble, Bitmap, Checkerboard };
+// The thesis' three textures, Mitsuba's bitmap and checkerboard (docs/mitsuba.md), and two
+// that combine others (pbrt's scale and mix): see TextureDesc::operand.
+enum class TextureKind : uint8_t { Checker, ImageFile, Marble, Bitmap, Checkerboard, Scale, Mix };
 enum class TextureWrap : uint8_t { Repeat, Mirror, Clamp };
 
 struct TextureDesc {
@@ -163,6 +164,13 @@ struct TextureDesc {
     float uvTransform[6] = {1, 0, 0, 0, 1, 0};
     bool nearest = false;                    // Bitmap: filter_type nearest (else bilinear)
     TextureWrap wrap = TextureWrap::Repeat;  // Bitmap: wrap_mode
+    // Scale: operand 0 times operand 1. Mix: (1 - a) operand 0 + a operand 1, a the
+    // luminance of operand 2 or, without one, `amount`. An operand is a texture (an index
+    // into SceneDesc::textures below this one's: no cycles) or, when -1, colour1 (operand 0)
+    // or colour2 (operand 1). They combine on material parameters only (the texture stage,
+    // evalTextureOf); Scene::build refuses them elsewhere (bump, normal map, opacity, emission).
+    int operand[3] = {-1, -1, -1};
+    float amount = 0.5f;
 };
 
 // How a shape maps surface points to (u, v) (scene-format.md, "UV coordinates").

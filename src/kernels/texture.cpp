@@ -68,8 +68,20 @@ Vec3 textureMean(const TextureDesc& t) {
             const double n = std::max<double>(1, double(t.image.rgb.size() / 3));
             return Vec3(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
         }
+        case TextureKind::Scale:
+        case TextureKind::Mix: break;  // textureMeanOf
     }
     return Vec3(0.0f);
+}
+
+Vec3 textureMeanOf(const std::vector<TextureDesc>& all, size_t i) {
+    const TextureDesc& t = all[i];
+    if (t.kind != TextureKind::Scale && t.kind != TextureKind::Mix) return textureMean(t);
+    auto operand = [&](int k, Vec3 c) { return t.operand[k] < 0 ? c : textureMeanOf(all, size_t(t.operand[k])); };
+    const Vec3 a = operand(0, t.colour1), b = operand(1, t.colour2);
+    if (t.kind == TextureKind::Scale) return a * b;
+    const float w = t.operand[2] < 0 ? t.amount : luminance(operand(2, Vec3(0.0f)));
+    return a * (1.0f - w) + b * w;
 }
 
 Vec3 marbleColour(const TextureDesc& t, Vec3 p) {

@@ -20,6 +20,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "wavemmlt/math.h"
 #include "wavemmlt/scene_desc.h"
@@ -196,14 +197,31 @@ inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
             const bool hu = u - std::floor(u) > 0.5f, hv = v - std::floor(v) > 0.5f;
             return hu == hv ? t.colour1 : t.colour2;
         }
+        case TextureKind::Scale:
+        case TextureKind::Mix: break;  // they need their operands: evalTextureOf
     }
     return Vec3(0.0f);
+}
+
+// Texture i of all at (u, v, p), combining Scale's and Mix's operands (their indices are
+// below i, so the recursion ends).
+inline Vec3 evalTextureOf(const std::vector<TextureDesc>& all, size_t i, float u, float v, Vec3 p) {
+    const TextureDesc& t = all[i];
+    if (t.kind != TextureKind::Scale && t.kind != TextureKind::Mix) return evalTexture(t, u, v, p);
+    auto operand = [&](int k, Vec3 c) { return t.operand[k] < 0 ? c : evalTextureOf(all, size_t(t.operand[k]), u, v, p); };
+    const Vec3 a = operand(0, t.colour1), b = operand(1, t.colour2);
+    if (t.kind == TextureKind::Scale) return a * b;
+    const float w = t.operand[2] < 0 ? t.amount : luminance(operand(2, Vec3(0.0f)));
+    return a * (1.0f - w) + b * w;
 }
 
 // The texture's mean over its domain: the checkers' two colours alike, an image's texels;
 // the marble's is approximate ((colour1 + 2 colour2 + colour3) / 4, its parameter taken as
 // uniform). For sampling weights (texture.cpp).
 Vec3 textureMean(const TextureDesc& t);
+// The same for texture i of all: a Scale's the product of its operands' means, a Mix's
+// their blend by the mean amount (approximations: for sampling weights).
+Vec3 textureMeanOf(const std::vector<TextureDesc>& all, size_t i);
 
 // Height for bump mapping: the Rec. 709 luminance of the texture.
 inline float textureHeight(const TextureDesc& t, float u, float v, Vec3 p) {

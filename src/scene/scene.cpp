@@ -152,6 +152,21 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     // builds are not promised to be deterministic (embree issue #20), medium's are.
     rtcSetSceneBuildQuality(s->rtc, RTC_BUILD_QUALITY_MEDIUM);
 
+    // Scale and Mix: their operands below them (no cycles), and only on material parameters
+    // (the texture stage combines them; bump, normal maps, masks and emission read one texture).
+    auto composite = [&](int t) {
+        return t >= 0 && (d.textures[size_t(t)].kind == TextureKind::Scale || d.textures[size_t(t)].kind == TextureKind::Mix);
+    };
+    for (size_t i = 0; i < d.textures.size(); ++i)
+        for (int o : d.textures[i].operand)
+            if (composite(int(i)) && (o < -1 || o >= int(i)))
+                throw InputError(d.path, 0, "texture " + std::to_string(i) + ": an operand must be an earlier texture");
+    for (const MaterialDesc& m : d.materials)
+        if (composite(m.bump) || composite(m.normalMap) || composite(m.opacityTexture))
+            throw InputError(d.path, 0, "a scale or mix texture as a bump map, normal map or opacity is not supported");
+    for (const LightDesc& l : d.lights)
+        if (composite(l.texture)) throw InputError(d.path, 0, "a scale or mix texture as an emitter's radiance is not supported");
+
     s->bsdfExtras.resize(d.materials.size());  // not resized again: materials point into it
     for (size_t i = 0; i < d.materials.size(); ++i) {
         const MaterialDesc& m = d.materials[i];
@@ -175,7 +190,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             // sampling choice only, so an approximate mean costs noise, never bias.
             auto withMean = [&](ColourParam c, Vec3 v) {
                 const int t = m.colourTexture[int(c)];
-                return t >= 0 ? v * textureMean(d.textures[size_t(t)]) : v;
+                return t >= 0 ? v * textureMeanOf(d.textures, size_t(t)) : v;
             };
             const Vec3 Ks = withMean(ColourParam::Reflect, m.reflect), Kd = withMean(ColourParam::Diffuse, m.diffuse);
             const float ks = (Ks.x + Ks.y + Ks.z) / 3, kd = (Kd.x + Kd.y + Kd.z) / 3;

@@ -25,7 +25,7 @@ void texturedParamsOf(const Scene& scene, const MaterialDesc& m, float u, float 
     const std::vector<TextureDesc>& tex = scene.desc.textures;
     const int* t = m.colourTexture;
     auto scale = [&](ColourParam c, Vec3& x) {
-        if (t[int(c)] >= 0) x = x * evalTexture(tex[size_t(t[int(c)])], u, v, p);
+        if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p);
     };
     if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled}))
         scale(ColourParam::Diffuse, out.diffuse);
@@ -37,7 +37,7 @@ void texturedParamsOf(const Scene& scene, const MaterialDesc& m, float u, float 
     if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric})) {
         if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {
             auto alpha = [&](int i, float a) {
-                return i < 0 ? a : std::max(a * luminance(evalTexture(tex[size_t(i)], u, v, p)), 1e-4f);
+                return i < 0 ? a : std::max(a * luminance(evalTextureOf(tex, size_t(i), u, v, p)), 1e-4f);
             };
             out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
             out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
@@ -45,7 +45,7 @@ void texturedParamsOf(const Scene& scene, const MaterialDesc& m, float u, float 
     }
     if constexpr (K == M::Blend) {
         if (m.blendWeightTexture >= 0)
-            out.blendWeight = std::clamp(luminance(evalTexture(tex[size_t(m.blendWeightTexture)], u, v, p)), 0.0f, 1.0f);
+            out.blendWeight = std::clamp(luminance(evalTextureOf(tex, size_t(m.blendWeightTexture), u, v, p)), 0.0f, 1.0f);
     }
     if constexpr (K == M::Principled) {
         float value[kPrincipledParams];
@@ -55,7 +55,7 @@ void texturedParamsOf(const Scene& scene, const MaterialDesc& m, float u, float 
             value[i] = m.principled[i];
             if (ti < 0) continue;
             any = true;
-            value[i] = std::clamp(value[i] * luminance(evalTexture(tex[size_t(ti)], u, v, p)), 0.0f, 1.0f);
+            value[i] = std::clamp(value[i] * luminance(evalTextureOf(tex, size_t(ti), u, v, p)), 0.0f, 1.0f);
         }
         if (any) setPrincipled(out, value);
     }
