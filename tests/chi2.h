@@ -15,6 +15,18 @@
 
 namespace chi2 {
 
+// Degrees to radians, and the unit direction at polar angle theta from +z and azimuth phi
+// from +x (degrees): the BSDF tests' incident directions.
+constexpr double kDeg = M_PI / 180;
+inline wmlt::Vec3 dirAt(double thetaDeg, double phiDeg) {
+    double t = thetaDeg * kDeg, p = phiDeg * kDeg;
+    return wmlt::Vec3(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)), float(std::cos(t)));
+}
+// a and b agree to rel of the larger, plus abs (for values near 0).
+inline bool close(double a, double b, double rel = 1e-4, double abs = 1e-7) {
+    return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + abs;
+}
+
 // PCG32 (O'Neill 2014), XSH-RR output.
 struct Pcg32 {
     uint64_t state = 0x853c49e6748fea9bULL, inc = 0xda3e39cb94b95bdbULL;

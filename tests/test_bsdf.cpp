@@ -14,16 +14,13 @@
 #include "kernels/scatter.h"
 
 using namespace wmlt;
+using chi2::dirAt;
+using chi2::kDeg;
 
 namespace {
 constexpr double kMinP = 1e-3;
-constexpr double kDeg = M_PI / 180;
 
 bool close(double a, double b, double rel = 1e-6) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)); }
-Vec3 dirAt(double thetaDeg, double phiDeg) {
-    double t = thetaDeg * kDeg, p = phiDeg * kDeg;
-    return Vec3(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)), float(std::cos(t)));
-}
 BsdfParams matte(Vec3 kd) { BsdfParams m; m.kind = MaterialKind::Matte; m.diffuse = kd; return m; }
 BsdfParams glossy(Vec3 kd, Vec3 ks, float n) {
     BsdfParams m; m.kind = MaterialKind::Glossy; m.diffuse = kd; m.specular = ks; m.shininess = n; return m;

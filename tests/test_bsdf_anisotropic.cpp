@@ -15,16 +15,12 @@
 #include "wavemmlt/scene_desc.h"
 
 using namespace wmlt;
+using chi2::close;
+using chi2::dirAt;
 
 namespace {
 constexpr double kMinP = 1e-3;
-constexpr double kDeg = M_PI / 180;
 
-bool close(double a, double b, double rel = 1e-4) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + 1e-7; }
-Vec3 dirAt(double thetaDeg, double phiDeg) {
-    double t = thetaDeg * kDeg, p = phiDeg * kDeg;
-    return Vec3(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)), float(std::cos(t)));
-}
 const char* typeName(MicrofacetType t) { return t == MicrofacetType::GGX ? "ggx" : "beckmann"; }
 
 // (alphaX, alphaY) pairs: strong anisotropy both ways round, and moderate.

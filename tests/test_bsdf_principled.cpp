@@ -10,15 +10,10 @@
 #include "kernels/fresnel.h"
 
 using namespace wmlt;
+using chi2::close;
+using chi2::dirAt;
 
 namespace {
-constexpr double kDeg = M_PI / 180;
-
-bool close(double a, double b, double rel = 1e-4) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)) + 1e-7; }
-Vec3 dirAt(double thetaDeg, double phiDeg) {
-    double t = thetaDeg * kDeg, p = phiDeg * kDeg;
-    return Vec3(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)), float(std::cos(t)));
-}
 
 // A principled material over its own constants (as Scene::build makes them).
 struct Principled {

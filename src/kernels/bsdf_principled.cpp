@@ -119,12 +119,14 @@ Vec3 principledF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         const Vec3 tint(std::sqrt(base.x), std::sqrt(base.y), std::sqrt(base.z));
         return tint * (w.bsdf * (1.0f - F) * DG * std::fabs(cosOH * dot(wi, h)) / denom);
     }
+    // the base colour's hue (normalised by its luminance): the spec and sheen tints'
+    const float l = lum(base);
+    const Vec3 cTint = l > 0 ? base / l : Vec3(1.0f);
     Vec3 f(0.0f);
     if (F > 0) {
         Vec3 Fp(w.bsdf * F);
         if (front) {
-            const float sw = schlickWeightAt(cosOH, m.eta), l = lum(base);
-            const Vec3 cTint = l > 0 ? base / l : Vec3(1.0f);
+            const float sw = schlickWeightAt(cosOH, m.eta);
             const float etaIt = cosOH >= 0 ? m.eta : 1.0f / m.eta, r0 = (etaIt - 1.0f) * (etaIt - 1.0f) / ((etaIt + 1.0f) * (etaIt + 1.0f));
             Fp = Vec3((1.0f - p.metallic) * (1.0f - p.specTint) * F) + schlick(base, sw) * p.metallic +
                  schlick(cTint * r0, sw) * ((1.0f - p.metallic) * p.specTint);
@@ -148,8 +150,6 @@ Vec3 principledF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         }
         f += base * (w.brdf * kInvPi * diffuse);
         if (p.sheen > 0 && p.metallic < 1) {
-            const float l = lum(base);
-            const Vec3 cTint = l > 0 ? base / l : Vec3(1.0f);
             const Vec3 cSheen = Vec3(1.0f) + (cTint - Vec3(1.0f)) * p.sheenTint;
             f += cSheen * (p.sheen * (1.0f - p.metallic) * schlickWeight(std::fabs(cosD)));
         }
@@ -199,14 +199,7 @@ bool principledSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float
     } else {
         const float u = std::min((uLobe - c.diffuse - c.clearcoat) / c.specular, 0x1.fffffep-1f);
         const Vec3 h = sampleVisibleNormal(distributionAt(m), v, u1, u2);  // h.z > 0
-        const float cosM = dot(v, h);
-        if (u < reflectProb(w, fresnelDielectric(cosM, m.eta), front)) {
-            wi = reflectAbout(v, h);
-            if (!(wi.z * v.z > 0)) return false;
-        } else {
-            if (!refractAbout(v, cosM > 0 ? h : -h, cosM > 0 ? m.eta : 1.0f / m.eta, wi)) return false;
-            if (!(wi.z * v.z < 0)) return false;
-        }
+        if (!scatterAbout(v, h, m.eta, u < reflectProb(w, fresnelDielectric(dot(v, h), m.eta), front), wi)) return false;
     }
     if (flipped) wi.z = -wi.z;
     s.wi = wi;

@@ -43,14 +43,7 @@ bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, 
     const float cosM = dot(wo, wm);
     const float F = fresnelDielectric(cosM, m.eta);
     Vec3 wi;
-    if (uLobe < F) {
-        wi = reflectAbout(wo, wm);
-        if (!(wi.z * wo.z > 0)) return false;
-    } else {
-        const Vec3 mSide = cosM > 0 ? wm : -wm;  // the facet normal on wo's side
-        if (!refractAbout(wo, mSide, cosM > 0 ? m.eta : 1.0f / m.eta, wi)) return false;
-        if (!(wi.z * wo.z < 0)) return false;
-    }
+    if (!scatterAbout(wo, wm, m.eta, uLobe < F, wi)) return false;
     s.wi = wi;
     s.f = mode == TransportMode::Radiance ? roughDielectricF(m, wo, wi) : roughDielectricF(m, wi, wo);
     s.pdf = roughDielectricPdf(m, wo, wi);

@@ -110,6 +110,20 @@ inline bool refractAbout(Vec3 w, Vec3 m, float etaRel, Vec3& wt) {
     return true;
 }
 
+// The direction leaving microfacet m (m.z > 0) for wo: its mirror (reflect) or its
+// refraction through an interface of relative index eta (inside / outside, m on either
+// side of wo); false when that leaves on the wrong side of the macro-surface or under
+// total internal reflection.
+inline bool scatterAbout(Vec3 wo, Vec3 m, float eta, bool reflect, Vec3& wi) {
+    if (reflect) {
+        wi = reflectAbout(wo, m);
+        return wi.z * wo.z > 0;
+    }
+    const float cosM = dot(wo, m);
+    if (!refractAbout(wo, cosM > 0 ? m : -m, cosM > 0 ? eta : 1.0f / eta, wi)) return false;
+    return wi.z * wo.z < 0;
+}
+
 // The generalised half vector of (wo, wi) at an interface of relative index eta (inside /
 // outside, z pointing outside; Walter 2007, eq. 16), facing +z, and eta' = n(wi side) /
 // n(wo side) (1 for reflection). False for a degenerate pair or one that sees a facet's back.

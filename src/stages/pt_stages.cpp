@@ -133,8 +133,8 @@ void sampleRectLightsFlat(const Scene& scene, PtBatch& b, int depth, bool matte)
                            &b.neeP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(),
                            b.neePdf.data(), b.neeOk.data());
     if (!matte) return;
-    const Light& l0 = scene.lights[0];
     if (one) {
+        const Light& l0 = scene.lights[0];
         matteNeeValuesOf<false>(RectNeeConsts{l0.L.x, l0.L.y, l0.L.z, scene.lightDistribution.discretePmf(0)}, nullptr,
                                 nullptr, n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
                                 b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());

@@ -11,26 +11,22 @@
 
 #include "kernels/bsdf.h"
 #include "scene/scene.h"
+#include "stages/soa.h"
 
 namespace wmlt {
 
+// Per job: the record to finish (a hit's or a vertex's), its material
+// (SceneDesc::materials), the hit's (u, v) and position (solid textures), and the jobs by
+// kind (order[kindStart[k] .. kindStart[k + 1])).
+#define WMLT_TEXTURE_JOB_ARRAYS(X) \
+    X(BsdfParams*, target) X(uint32_t, material) X(float, u) X(float, v) X(Vec3, p) X(uint32_t, order)
+
 struct TextureJobs {
     size_t n = 0;
-    std::vector<BsdfParams*> target;  // the record to finish: a hit's or a vertex's
-    std::vector<uint32_t> material;   // its material (SceneDesc::materials)
-    std::vector<float> u, v;          // the hit's surface coordinates
-    std::vector<Vec3> p;              // and position (solid textures)
-    std::vector<uint32_t> order;      // the jobs by kind: order[kindStart[k] .. kindStart[k + 1])
+    WMLT_TEXTURE_JOB_ARRAYS(WMLT_SOA_ARRAY)
     uint32_t kindStart[kMaterialKinds + 1] = {};
 
-    void resize(size_t cap) {
-        target.resize(cap);
-        material.resize(cap);
-        u.resize(cap);
-        v.resize(cap);
-        p.resize(cap);
-        order.resize(cap);
-    }
+    void resize(size_t n) { WMLT_TEXTURE_JOB_ARRAYS(WMLT_SOA_RESIZE) }
     void add(BsdfParams* t, int m, float su, float sv, Vec3 sp) {
         target[n] = t;
         material[n] = uint32_t(m);
