@@ -255,7 +255,7 @@ void Importer::emitter(Node n, int shape) {
         if (shape >= 0) p.fail(n, "a " + t + " emitter cannot be attached to a shape");
         LightDesc l;
         l.kind = k;
-        l.radiance = p.getColor(name, Vec3(1.0f));
+        l.radiance = p.getColor(name, Vec3(1.0f), Props::ColorUse::Emission);
         if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, std::string(name) + " must be >= 0");
         return l;
     };
@@ -270,7 +270,7 @@ void Importer::emitter(Node n, int shape) {
             if (sh.mesh.uvs.empty()) p.fail(tx, "a textured radiance needs a mesh with (u, v) coordinates");
             l.texture = texture(tx);
         } else {
-            l.radiance = p.getColor("radiance", Vec3(1.0f));
+            l.radiance = p.getColor("radiance", Vec3(1.0f), Props::ColorUse::Emission);
             if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
         }
         // A rectangle: the analytic rect light; any other mesh (obj, ply, serialized, cube, disk),
@@ -331,7 +331,7 @@ void Importer::emitter(Node n, int shape) {
         s_.envMap = resampleEnvMap(src, M, scale);
         s_.settings.envMap = path;
     } else if (t == "constant") {  // a uniform sky: a 2 x 2 map of one colour
-        const Vec3 L = p.getColor("radiance", Vec3(1.0f));
+        const Vec3 L = p.getColor("radiance", Vec3(1.0f), Props::ColorUse::Emission);
         if (s_.envMap.width > 0) p.fail(n, "a second environment emitter");
         s_.envMap = Image(2, 2);
         for (int y = 0; y < 2; ++y)

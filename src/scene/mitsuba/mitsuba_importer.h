@@ -35,6 +35,7 @@ private:
     Props props(Node n) {
         Props p(files_, n, camel_);
         p.setIds(&ids_);
+        p.setContext(&base_, &s_.warnings);
         return p;
     }
     std::string resolve(const std::string& f) const {

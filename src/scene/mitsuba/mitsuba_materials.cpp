@@ -19,10 +19,9 @@ const std::map<std::string, float> kIor = {
     {"pyrex", 1.47f}, {"acrylic glass", 1.49f}, {"polypropylene", 1.49f}, {"bk7", 1.5046f},
     {"sodium chloride", 1.544f}, {"amber", 1.55f}, {"pet", 1.575f}, {"diamond", 2.419f}};
 
-// Named conductors: the complex index eta + i k of each metal as RGB, the values Mitsuba
-// 0.5-0.6 scene conversions use (Tungsten's table; Bitterli's veach-mis copper and
-// veach-bidir VN are these). Mitsuba 3 projects its spectra onto RGB at load time, which
-// may differ in the third digit. Other names of Mitsuba's table are refused.
+// Named conductors: the complex index eta + i k of each metal as RGB, Mitsuba 3's own
+// projection of its spectra (against E, no D65: scene/spectrum.h; Bitterli's veach-mis
+// copper and veach-bidir VN are these). Other names of Mitsuba's table are refused.
 struct ComplexIor {
     Vec3 eta, k;
 };
@@ -164,7 +163,7 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
     const std::string t = p.type();
     // A colour parameter: a constant, or a texture that scales a constant 1 (the parameter
     // it is, `param`; -1: one that takes no texture, such as a conductor's eta and k).
-    auto colour = [&](const char* name, Vec3 def, int param = -1) {
+    auto colour = [&](const char* name, Vec3 def, int param = -1, Props::ColorUse use = Props::ColorUse::Reflectance) {
         if (Node tx = textureParam(p, name)) {
             if (param < 0)
                 p.fail(p.node().find_child_by_attribute("name", name),
@@ -174,7 +173,7 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
             m.colourTexture[param] = texture(tx);
             return Vec3(1.0f);
         }
-        Vec3 c = p.getColor(name, def);
+        Vec3 c = p.getColor(name, def, use);
         if (!(c.x >= 0 && c.y >= 0 && c.z >= 0)) p.fail(p.node(), std::string(name) + " must be >= 0");
         return c;
     };
@@ -237,8 +236,8 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
         // Mitsuba 3: eta and k, or a named material; "none" (the default) is eta 0, k 1.
         const std::string mat = p.getString("material", "none");
         if (mat == "none") {
-            m.conductorEta = colour("eta", Vec3(0.0f));
-            m.conductorK = colour("k", Vec3(1.0f));
+            m.conductorEta = colour("eta", Vec3(0.0f), -1, Props::ColorUse::Unbounded);
+            m.conductorK = colour("k", Vec3(1.0f), -1, Props::ColorUse::Unbounded);
         } else {
             if (p.has("eta") || p.has("k")) p.fail(p.node(), "give either eta and k or material, not both");
             auto it = kConductors.find(mat);
@@ -246,7 +245,7 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
                 std::string names;
                 for (const auto& c : kConductors) names += " " + c.first;
                 p.fail(p.node().find_child_by_attribute("name", "material"),
-                       "the conductor \"" + mat + "\" is not in wavemmlt's table (none" + names + "): give eta and k");
+                       "the conductor \"" + mat + "\" is not in wavemmlt's table (none" + names + "): give eta and k (numbers, rgb, or spectra such as <spectrum name=\"eta\" filename=\"" + mat + ".eta.spd\"/>)");
             }
             m.conductorEta = it->second.eta;
             m.conductorK = it->second.k;

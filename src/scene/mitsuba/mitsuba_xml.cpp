@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "scene/number.h"
+#include "scene/spectrum.h"
 #include "scene/xml_nesting.h"
 #include "wavemmlt/error.h"
 
@@ -234,16 +235,49 @@ std::string Props::getString(const std::string& name, const std::string& def) {
     expectTag(files_, it->n, {"string"});
     return value(files_, it->n);
 }
-Vec3 Props::getColor(const std::string& name, Vec3 def) {
+Vec3 Props::getColor(const std::string& name, Vec3 def, ColorUse use) {
     Item* it = find(name);
     if (!it) return def;
     expectTag(files_, it->n, {"rgb", "spectrum", "float"});
-    const std::vector<double> v = numbers(files_, it->n, value(files_, it->n));
     const std::string tag = it->n.name();
+    if (tag == "spectrum") return spectrum(it->n, use);
+    const std::vector<double> v = numbers(files_, it->n, value(files_, it->n));
     if (v.size() == 1) return Vec3(float(v[0]));
     if (v.size() == 3 && tag == "rgb") return Vec3(float(v[0]), float(v[1]), float(v[2]));
-    files_.fail(it->n, tag == "spectrum" ? "only a constant spectrum (one value) is supported"
-                                         : "expected one value or three (r, g, b)");
+    files_.fail(it->n, "expected one value or three (r, g, b)");
+}
+Vec3 Props::spectrum(Node n, ColorUse use) {
+    const bool hasFile = bool(n.attribute("filename")), hasValue = bool(n.attribute("value"));
+    if (hasFile == hasValue) files_.fail(n, "a spectrum needs either value or filename");
+    SampledSpectrum s;
+    std::string why;
+    if (hasFile) {
+        std::filesystem::path f(n.attribute("filename").value());
+        if (f.is_relative() && base_ && !base_->empty()) f = std::filesystem::path(*base_) / f;
+        why = readSpectrumFile(f.lexically_normal().string(), s);
+        if (!why.empty()) files_.fail(n, f.lexically_normal().string() + ": " + why);
+    } else {
+        const std::string text = n.attribute("value").value();
+        if (text.find(':') == std::string::npos) {  // one value: a constant spectrum
+            const std::vector<double> v = numbers(files_, n, text);
+            if (v.size() != 1) files_.fail(n, "a spectrum's value is one number or wavelength:value pairs");
+            // Mitsuba 3 RGB: an emitter's constant spectrum is E white, purple-ish in sRGB.
+            return use == ColorUse::Emission ? float(v[0]) * xyzToLinearSrgb(Vec3(1.0f)) : Vec3(float(v[0]));
+        }
+        why = parseSpectrumPairs(text, s);
+        if (!why.empty()) files_.fail(n, why);
+    }
+    bool negative = false;
+    Vec3 c = spectrumToRgb(s, use != ColorUse::Emission, &negative);
+    const bool high = use == ColorUse::Reflectance && (c.x > 1 || c.y > 1 || c.z > 1);
+    if ((negative || high) && warnings_) {
+        char rgb[96];
+        std::snprintf(rgb, sizeof rgb, "(%g, %g, %g)", c.x, c.y, c.z);
+        warnings_->push_back(files_.where(n) + ": the spectrum is outside sRGB's gamut, " + rgb +
+                             (high ? " clamped to [0, 1]" : " after negative components were clamped to 0"));
+    }
+    if (high) c = Vec3(std::min(c.x, 1.0f), std::min(c.y, 1.0f), std::min(c.z, 1.0f));
+    return c;
 }
 Vec3 Props::getPoint(const std::string& name, Vec3 def) {
     Item* it = find(name);

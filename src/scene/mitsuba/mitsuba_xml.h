@@ -65,8 +65,15 @@ public:
     int getInt(const std::string& name, int def);
     bool getBool(const std::string& name, bool def);
     std::string getString(const std::string& name, const std::string& def);
-    // A colour: <rgb value="r, g, b" | "v">, <spectrum value="v">, or <float>.
-    Vec3 getColor(const std::string& name, Vec3 def);
+    // A colour: <rgb value="r, g, b" | "v">, <float>, or <spectrum value="v" |
+    // value="lambda:v, ..." | filename="x.spd"> projected as Mitsuba 3's RGB variants do
+    // (scene/spectrum.h; docs/mitsuba.md "Spectra"): per `use`.
+    enum class ColorUse {
+        Reflectance,  // pairs under D65, clamped to [0, 1] with a warning
+        Unbounded,    // pairs under D65, only negatives clamped (a conductor's eta and k)
+        Emission      // pairs against E, a constant v as v times E white in sRGB
+    };
+    Vec3 getColor(const std::string& name, Vec3 def, ColorUse use = ColorUse::Reflectance);
     Vec3 getPoint(const std::string& name, Vec3 def);
     Matrix getTransform(const std::string& name);  // identity when absent
     // A named nested plugin or <ref name=...>: the element (the referenced one for a ref).
@@ -77,6 +84,11 @@ public:
     void finish() const;
     [[noreturn]] void fail(Node n, const std::string& msg) const { files_.fail(n, msg); }
     void setIds(const std::map<std::string, Node>* ids) { ids_ = ids; }
+    // Where relative file names (a spectrum's .spd) start, and where warnings go.
+    void setContext(const std::string* base, std::vector<std::string>* warnings) {
+        base_ = base;
+        warnings_ = warnings;
+    }
 
 private:
     const Files& files_;
@@ -86,6 +98,9 @@ private:
     struct Item { Node n; std::string name; bool used = false; };
     std::vector<Item> items_;
     const std::map<std::string, Node>* ids_ = nullptr;
+    const std::string* base_ = nullptr;
+    std::vector<std::string>* warnings_ = nullptr;
+    Vec3 spectrum(Node n, ColorUse use);
     Item* find(const std::string& name);
     Node resolve(Node n) const;  // <ref id> -> the element with that id
 };

@@ -1,0 +1,129 @@
+// Spectra to linear sRGB (spectrum.h).
+#include "scene/spectrum.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "scene/number.h"
+
+namespace wmlt {
+
+namespace cie {
+extern const double kXyz[3][95];  // generated: cie_tables.cpp
+extern const double kD65[1][107];
+}  // namespace cie
+
+namespace {
+
+// A table of n samples every 5 nm from lambda0, linear between them, zero outside.
+double tableAt(const double* t, int n, double lambda0, double lambda) {
+    const double x = (lambda - lambda0) / 5.0;
+    if (!(x >= 0) || x > n - 1) return 0;
+    const int i = std::min(int(x), n - 2);
+    const double f = x - i;
+    return t[i] * (1 - f) + t[i + 1] * f;
+}
+
+constexpr double kMin = 360, kMax = 830;
+constexpr int kSteps = 1000;
+double riemannLambda(int i) { return kMin + i / double(kSteps - 1) * (kMax - kMin); }
+
+// integral of f over 360-830 nm by the projection's own Riemann sum, so that the
+// normalisations below are exact for that sum.
+template <typename F>
+double integrate(F f) {
+    double sum = 0;
+    for (int i = 0; i < kSteps; ++i) sum += f(riemannLambda(i));
+    return sum * (kMax - kMin) / kSteps;
+}
+
+std::string parsePair(const std::string& token, double& l, double& v) {
+    const size_t colon = token.find(':');
+    if (colon == std::string::npos || !parseNumber(token.substr(0, colon), false, l) ||
+        !parseNumber(token.substr(colon + 1), false, v))
+        return "\"" + token + "\" is not a wavelength:value pair";
+    return "";
+}
+
+std::string checkIncreasing(const SampledSpectrum& s) {
+    if (s.lambda.size() < 2) return "a spectrum needs at least two wavelength-value pairs";
+    for (size_t i = 1; i < s.lambda.size(); ++i)
+        if (!(s.lambda[i] > s.lambda[i - 1])) return "the wavelengths must increase";
+    return "";
+}
+
+}  // namespace
+
+std::string parseSpectrumPairs(const std::string& text, SampledSpectrum& out) {
+    out = {};
+    std::string t = text;
+    for (char& c : t)
+        if (c == ',') c = ' ';
+    std::istringstream in(t);
+    std::string token;
+    while (in >> token) {
+        double l = 0, v = 0;
+        const std::string e = parsePair(token, l, v);
+        if (!e.empty()) return e;
+        out.lambda.push_back(l);
+        out.value.push_back(v);
+    }
+    return checkIncreasing(out);
+}
+
+std::string readSpectrumFile(const std::string& path, SampledSpectrum& out) {
+    out = {};
+    std::ifstream in(path);
+    if (!in) return "cannot open the spectrum file";
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+        const size_t b = line.find_first_not_of(" \t\r");
+        if (b == std::string::npos || line[b] == '#') continue;
+        std::istringstream fields(line);
+        std::string a, v, extra;
+        double l = 0, x = 0;
+        if (!(fields >> a >> v) || (fields >> extra) || !parseNumber(a, false, l) || !parseNumber(v, false, x))
+            return "line " + std::to_string(n) + ": expected a wavelength and a value";
+        out.lambda.push_back(l);
+        out.value.push_back(x);
+    }
+    return checkIncreasing(out);
+}
+
+Vec3 cieXyz(double lambda) {
+    return Vec3(float(tableAt(cie::kXyz[0], 95, 360, lambda)), float(tableAt(cie::kXyz[1], 95, 360, lambda)),
+                float(tableAt(cie::kXyz[2], 95, 360, lambda)));
+}
+
+double cieD65(double lambda) { return tableAt(cie::kD65[0], 107, 300, lambda); }
+
+Vec3 xyzToLinearSrgb(Vec3 c) {
+    return Vec3(3.240479f * c.x - 1.537150f * c.y - 0.498535f * c.z, -0.969256f * c.x + 1.875991f * c.y + 0.041556f * c.z,
+                0.055648f * c.x - 0.204043f * c.y + 1.057311f * c.z);
+}
+
+Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped) {
+    static const double yE = integrate([](double l) { return tableAt(cie::kXyz[1], 95, 360, l); });
+    static const double yD65 =
+        integrate([](double l) { return tableAt(cie::kXyz[1], 95, 360, l) * cieD65(l); });
+    double xyz[3] = {0, 0, 0};
+    size_t j = 0;
+    for (int i = 0; i < kSteps; ++i) {
+        const double l = riemannLambda(i);
+        if (l < s.lambda.front() || l > s.lambda.back()) continue;
+        while (j + 2 < s.lambda.size() && s.lambda[j + 1] <= l) ++j;
+        const double f = (l - s.lambda[j]) / (s.lambda[j + 1] - s.lambda[j]);
+        double v = s.value[j] * (1 - f) + s.value[j + 1] * f;  // linear between pairs
+        if (illuminantD65) v *= cieD65(l);
+        for (int k = 0; k < 3; ++k) xyz[k] += v * tableAt(cie::kXyz[k], 95, 360, l);
+    }
+    const double norm = (kMax - kMin) / kSteps / (illuminantD65 ? yD65 : yE);
+    Vec3 rgb = xyzToLinearSrgb(Vec3(float(xyz[0] * norm), float(xyz[1] * norm), float(xyz[2] * norm)));
+    const bool neg = rgb.x < 0 || rgb.y < 0 || rgb.z < 0;
+    if (clamped) *clamped = neg;
+    return Vec3(std::max(rgb.x, 0.0f), std::max(rgb.y, 0.0f), std::max(rgb.z, 0.0f));
+}
+
+}  // namespace wmlt

@@ -1,0 +1,41 @@
+// Spectra in scene files, for an RGB renderer: wavelength-value pairs (inline, or an .spd
+// file of "lambda value" lines) projected once, at load time, onto linear sRGB by
+// integration against the CIE 1931 2-degree observer (Debian colord-data's 5 nm tables,
+// cmake/embed_cie.cmake). docs/mitsuba.md "Spectra" says which parameter uses which weighting.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "wavemmlt/math.h"
+
+namespace wmlt {
+
+struct SampledSpectrum {
+    std::vector<double> lambda, value;  // nm, strictly increasing; at least two pairs
+};
+
+// "400:0.5, 500:0.7 ..." (commas or white space between pairs). Returns "" or the problem.
+std::string parseSpectrumPairs(const std::string& text, SampledSpectrum& out);
+// An .spd file: one "lambda value" pair per line, '#' comments and blank lines skipped.
+// Returns "" or the problem, naming the line ("line 7: ...").
+std::string readSpectrumFile(const std::string& path, SampledSpectrum& out);
+
+// The CIE 1931 colour matching functions (x-bar, y-bar, z-bar) at lambda nm, linearly
+// interpolated between the 5 nm samples, zero outside 360-830 nm.
+Vec3 cieXyz(double lambda);
+// The CIE D65 illuminant (1 at 560 nm), linear between its 5 nm samples, 300-830 nm.
+double cieD65(double lambda);
+// XYZ to linear sRGB (IEC 61966-2-1, D65 white).
+Vec3 xyzToLinearSrgb(Vec3 xyz);
+
+// Mitsuba 3's projection in its RGB variants (spectrum_list_to_srgb): a Riemann sum of 1000
+// samples over 360-830 nm of s(lambda) times the matching functions, s linear between its
+// pairs and zero outside them, then XYZ -> linear sRGB.
+//   illuminantD65 = false: XYZ / integral(y-bar): the spectrum of an emitter or an index
+//     of refraction (a constant 1 gives E white, (1.205, 0.948, 0.909) in sRGB);
+//   illuminantD65 = true:  XYZ of s times D65 / integral(D65 y-bar): a reflectance seen
+//     under D65 (a constant 1 gives white, (1, 1, 1) to 1e-3).
+// Negative results are clamped to 0 (out of gamut), and `clamped` says so.
+Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped = nullptr);
+
+}  // namespace wmlt
