@@ -17,6 +17,7 @@
 #include "kernels/bump.h"
 #include "kernels/camera.h"
 #include "kernels/envmap.h"
+#include "kernels/textured_params.h"
 #include "mitsuba_floor.h"
 #include "render_stats.h"
 #include "scene/scene.h"
@@ -748,11 +749,77 @@ TEST_CASE("Mitsuba blendbsdf: two diffuse parts are their weighted mean, in PT, 
                   {R"(<shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf></shape>)", "weight must be in [0, 1]"},
                   {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
                    "inside a blendbsdf"},
-                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
-                   "textured"},
+                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="bumpmap"><texture type="bitmap" name="map"><string name="filename" value="none.png"/></texture><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+                   "none.png"},
                   {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
                    "twosided and a one-sided"}},
                  ".", [](const std::string& b) { return b; });
+}
+
+// blendbsdf with textured parts: each part's textures applied at the hit (the blend keeps
+// the hit's (u, v) and point for them; BPT's vertices carry them between rounds). A floor of
+// half a checkerboard diffuse (0.2 / 1.0 in the quadrants of the floor's (u, v) square:
+// color0 where u > 1/2 is v > 1/2, i.e. x > 0 is z < 0) and half a constant 0.6 has
+// reflectance (c(p) + 0.6) / 2 under the point light, in PT, LT and BPT; and with a
+// constant-valued texture on a part it is the constant blend.
+TEST_CASE("Mitsuba blendbsdf: textured parts, in PT, LT and BPT", "[mitsuba][render][blend]") {
+    const Vec3 c(0.2f, 1.3f, -0.1f);
+    auto E = [&](Vec3 p) {
+        const Vec3 d = c - p;
+        const double r = length(d);
+        return 2.0 * double(c.y) / (r * r * r);
+    };
+    const std::string light = R"(<emitter type="point"><point name="position" x="0.2" y="1.3" z="-0.1"/><rgb name="intensity" value="2"/></emitter>)";
+    floorUnder(light, E, "blend-textured-part-constant", {},
+               R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.3"/><rgb name="color1" value="0.3"/></texture></bsdf>
+               <bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></bsdf>)");
+    floor_test::floorRadiance(
+        light, [&](Vec3 p, Vec3) { return (((p.x > 0) == (p.z < 0) ? 0.2 : 1.0) + 0.6) / 2 / M_PI * E(p); }, "blend-textured-part", {},
+        R"(<bsdf type="blendbsdf"><float name="weight" value="0.5"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.2"/><rgb name="color1" value="1.0"/></texture></bsdf>
+               <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf>)");
+}
+
+// The kernel: a blend of a textured rough conductor and a textured principled is, at each
+// point, the weighted mean of the two parts made with their textures there (f, pdf, and the
+// sample's f and pdf), and a blend of constant parts reads no texture.
+TEST_CASE("blendbsdf kernel: textured parts at the hit's point", "[mitsuba][blend]") {
+    const SceneDesc d = load(scene(R"(<shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="0.3"/>
+      <bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.2"/><float name="alpha_v" value="0.2"/>
+        <texture type="checkerboard" name="specular_reflectance"><rgb name="color0" value="0.9, 0.5, 0.2"/><rgb name="color1" value="0.1, 0.3, 0.7"/></texture></bsdf>
+      <bsdf type="principled"><texture type="checkerboard" name="base_color"><rgb name="color0" value="0.8"/><rgb name="color1" value="0.2, 0.4, 0.1"/></texture>
+        <texture type="checkerboard" name="metallic"><rgb name="color0" value="0.1"/><rgb name="color1" value="0.9"/></texture></bsdf></bsdf></shape>
+    <shape type="sphere"><bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="conductor"/></bsdf></shape>)"));
+    const auto s = Scene::build(d, 1);
+    const int blend = d.shapes[0].material;
+    REQUIRE(s->texturedMaterial[size_t(blend)] == 1);
+    CHECK(s->texturedMaterial[size_t(d.shapes[1].material)] == 0);
+    CHECK(s->materials[size_t(d.shapes[1].material)].x->blendTextures == nullptr);
+    const MaterialDesc& m = d.materials[size_t(blend)];
+    const Vec3 wo = normalize(Vec3(0.3f, -0.2f, 0.9f)), wi = normalize(Vec3(-0.4f, 0.1f, 0.8f));
+    for (const auto& [u, v] : std::vector<std::pair<float, float>>{{0.2f, 0.3f}, {0.7f, 0.3f}, {0.7f, 0.9f}}) {
+        BsdfParams b = s->materials[size_t(blend)];
+        setBlendPoint(b, u, v, Vec3(0.0f));
+        BsdfParams part[2];
+        for (int k = 0; k < 2; ++k) {
+            part[k] = s->materials[size_t(m.blendPart[k])];
+            texturedParams(d.textures, d.materials[size_t(m.blendPart[k])], u, v, Vec3(0.0f), part[k]);
+        }
+        INFO("u " << u << " v " << v);
+        const Vec3 f = blendF(b, wo, wi), want = bsdfF(part[0], wo, wi) * 0.7f + bsdfF(part[1], wo, wi) * 0.3f;
+        CHECK(f.x == Approx(want.x).epsilon(1e-6));
+        CHECK(f.z == Approx(want.z).epsilon(1e-6));
+        CHECK(blendPdf(b, wo, wi) == Approx(bsdfPdf(part[0], wo, wi) * 0.7f + bsdfPdf(part[1], wo, wi) * 0.3f).epsilon(1e-6));
+        BsdfSample smp;
+        REQUIRE(blendSample(b, wo, 0.5f, 0.3f, 0.6f, TransportMode::Radiance, smp));
+        const Vec3 fs = bsdfF(part[0], wo, smp.wi) * 0.7f + bsdfF(part[1], wo, smp.wi) * 0.3f;
+        CHECK(smp.f.y == Approx(fs.y).epsilon(1e-6));
+        CHECK(smp.pdf == Approx(bsdfPdf(part[0], wo, smp.wi) * 0.7f + bsdfPdf(part[1], wo, smp.wi) * 0.3f).epsilon(1e-6));
+    }
+    // The two corners differ: the textures are read at the point.
+    BsdfParams a = s->materials[size_t(blend)], b = a;
+    setBlendPoint(a, 0.2f, 0.3f, Vec3(0.0f));
+    setBlendPoint(b, 0.7f, 0.3f, Vec3(0.0f));
+    CHECK(std::fabs(blendF(a, wo, wi).x - blendF(b, wo, wi).x) > 0.01f);
 }
 
 // Mitsuba's orthographic sensor (a delta in direction: rays along the view direction from

@@ -15,6 +15,7 @@
 //   sample's f is the adjoint, f(wi, wo) (bsdf_microfacet.h).
 #pragma once
 #include <algorithm>
+#include <vector>
 
 #include "kernels/microfacet.h"
 #include "kernels/sampling.h"
@@ -27,6 +28,12 @@ enum class TransportMode : uint8_t { Radiance, Importance };
 // Per-material constants of the Mitsuba materials, built once with the scene (the table
 // and the internal reflectance by bsdf_plastic.cpp's preparePlastic).
 struct BsdfParams;
+// A blend whose parts read textures: each part's description (null: a constant part) and
+// the scene's textures, applied where the blend's kernel needs them (textureBlendPart).
+struct BlendTextures {
+    const std::vector<TextureDesc>* textures = nullptr;
+    const MaterialDesc* part[2] = {nullptr, nullptr};
+};
 struct BsdfExtra {
     Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)
     bool anisotropic = false;          // rough kinds: isAnisotropic (the frame follows dp/du)
@@ -37,6 +44,7 @@ struct BsdfExtra {
     static constexpr int kRes = 64;    // roughplastic: T(cos) at cos = i / (kRes - 1)
     float transmittance[kRes] = {};
     const BsdfParams* blendParts = nullptr;  // Blend: its two parts (owned by the Scene)
+    const BlendTextures* blendTextures = nullptr;  // Blend: its parts' textures (null: constant parts)
     // Principled: whether it transmits (spec_trans given: a back side of its own; else it
     // reflects only and is two-sided here, as the other reflecting kinds), and the sampling
     // rates of its diffuse, main specular and clearcoat lobes.
@@ -59,6 +67,18 @@ struct BsdfParams {
     // (0: x->dist's; materialAt writes them). Principled: always its GGX alphas here.
     float alphaX = 0, alphaY = 0;
 };
+
+// A blend with textured parts keeps its hit's (u, v) and point, for its parts' textures, in
+// slots it has no other use for (diffuse, specular). Written by the texture stage.
+inline void setBlendPoint(BsdfParams& m, float u, float v, Vec3 p) {
+    m.diffuse = Vec3(u, v, 0.0f);
+    m.specular = p;
+}
+inline void blendPoint(const BsdfParams& m, float& u, float& v, Vec3& p) {
+    u = m.diffuse.x;
+    v = m.diffuse.y;
+    p = m.specular;
+}
 
 // Principled (Mitsuba's `principled`): base_color is `diffuse`, eta `eta`, the GGX alphas
 // (from roughness and anisotropic) alphaX, alphaY; its other weights at the hit are kept in
@@ -203,33 +223,65 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
 }
 
 // The parts are never blends (the importer refuses that), so these recurse one level.
+inline Vec3 blendFOf(const BsdfParams* part, float w, Vec3 wo, Vec3 wi) {
+    return bsdfF(part[0], wo, wi) * (1.0f - w) + bsdfF(part[1], wo, wi) * w;
+}
+inline float blendPdfOf(const BsdfParams* part, float w, Vec3 wo, Vec3 wi) {
+    return bsdfPdf(part[0], wo, wi) * (1.0f - w) + bsdfPdf(part[1], wo, wi) * w;
+}
+// A blend with textured parts: its parts' constants with their textures applied at the
+// hit's point, into part[2] (textured_params.cpp).
+void textureBlendPart(const BsdfParams& blend, int k, BsdfParams& part);
+inline void texturedBlendParts(const BsdfParams& m, BsdfParams* part) {
+    for (int k = 0; k < 2; ++k) {
+        part[k] = m.x->blendParts[k];
+        textureBlendPart(m, k, part[k]);
+    }
+}
 inline Vec3 blendF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
-    const BsdfParams* part = m.x->blendParts;
-    return bsdfF(part[0], wo, wi) * (1.0f - m.blendWeight) + bsdfF(part[1], wo, wi) * m.blendWeight;
+    if (m.x->blendTextures) {
+        BsdfParams part[2];
+        texturedBlendParts(m, part);
+        return blendFOf(part, m.blendWeight, wo, wi);
+    }
+    return blendFOf(m.x->blendParts, m.blendWeight, wo, wi);
 }
 inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
-    const BsdfParams* part = m.x->blendParts;
-    return bsdfPdf(part[0], wo, wi) * (1.0f - m.blendWeight) + bsdfPdf(part[1], wo, wi) * m.blendWeight;
+    if (m.x->blendTextures) {
+        BsdfParams part[2];
+        texturedBlendParts(m, part);
+        return blendPdfOf(part, m.blendWeight, wo, wi);
+    }
+    return blendPdfOf(m.x->blendParts, m.blendWeight, wo, wi);
 }
 // Part k with probability its weight (uLobe chooses and is reused, rescaled, by the part);
 // a delta lobe of it: f and pdf times that weight (their ratio the part's); any other
 // direction: the mixture's f (its adjoint f(wi, wo) in importance mode, as every kind's
 // sample gives) and pdf, as both parts could have sampled it.
-inline bool blendSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s) {
-    const float w1 = m.blendWeight, w0 = 1.0f - w1;
+inline bool blendSampleOf(const BsdfParams* part, float w1, Vec3 wo, float uLobe, float u1, float u2,
+                          TransportMode mode, BsdfSample& s) {
+    const float w0 = 1.0f - w1;
     const int k = uLobe < w0 ? 0 : 1;
     const float wk = k ? w1 : w0;
     if (!(wk > 0)) return false;
     const float u = std::min((k ? uLobe - w0 : uLobe) / wk, 0x1.fffffep-1f);
-    if (!bsdfSample(m.x->blendParts[k], wo, u, u1, u2, mode, s)) return false;
+    if (!bsdfSample(part[k], wo, u, u1, u2, mode, s)) return false;
     if (s.delta) {
         s.f = s.f * wk;
         s.pdf *= wk;
         return true;
     }
-    s.f = mode == TransportMode::Radiance ? blendF(m, wo, s.wi) : blendF(m, s.wi, wo);
-    s.pdf = blendPdf(m, wo, s.wi);
+    s.f = mode == TransportMode::Radiance ? blendFOf(part, w1, wo, s.wi) : blendFOf(part, w1, s.wi, wo);
+    s.pdf = blendPdfOf(part, w1, wo, s.wi);
     return s.pdf > 0;
+}
+inline bool blendSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s) {
+    if (m.x->blendTextures) {
+        BsdfParams part[2];
+        texturedBlendParts(m, part);
+        return blendSampleOf(part, m.blendWeight, wo, uLobe, u1, u2, mode, s);
+    }
+    return blendSampleOf(m.x->blendParts, m.blendWeight, wo, uLobe, u1, u2, mode, s);
 }
 
 }  // namespace wmlt

@@ -32,6 +32,14 @@ bool readsTexturedColour(const MaterialDesc& m) {
     return false;
 }
 
+bool readsTexture(const SceneDesc& d, const MaterialDesc& m) {
+    if (readsTexturedColour(m)) return true;
+    if (m.kind == MaterialKind::Blend)
+        for (int part : m.blendPart)
+            if (part >= 0 && readsTexturedColour(d.materials[size_t(part)])) return true;
+    return false;
+}
+
 SceneFeatures deriveFeatures(const SceneDesc& d) {
     SceneFeatures f;
     // Only materials that some shape uses count: an unused shader costs nothing.
@@ -39,7 +47,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (s.material < 0) continue;
         const MaterialDesc& m = d.materials[s.material];
         f.material[int(m.kind)] = true;
-        if (readsTexturedColour(m)) f.textures = true;
+        if (readsTexture(d, m)) f.textures = true;
         if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;

@@ -34,5 +34,7 @@ struct SceneFeatures {
 SceneFeatures deriveFeatures(const SceneDesc& desc);
 // Whether m's kind reads one of its textured parameters (MaterialDesc::colourTexture, alphaTexture).
 bool readsTexturedColour(const MaterialDesc& m);
+// That, or a blend one of whose parts reads a texture.
+bool readsTexture(const SceneDesc& d, const MaterialDesc& m);
 
 }  // namespace wmlt

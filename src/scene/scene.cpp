@@ -202,17 +202,28 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         }
         b.blendWeight = m.blendWeight;
         s->materials.push_back(b);
-        s->texturedMaterial.push_back(readsTexturedColour(m) ? 1 : 0);
+        s->texturedMaterial.push_back(readsTexture(d, m) ? 1 : 0);
     }
     // Blends: their parts' constants side by side (reserved once: the extras point into it).
     size_t blends = 0;
     for (const MaterialDesc& m : d.materials) blends += m.kind == MaterialKind::Blend ? 1 : 0;
     s->blendParts.reserve(2 * blends);
+    s->blendTextures.reserve(blends);
     for (size_t i = 0; i < d.materials.size(); ++i) {
         const MaterialDesc& m = d.materials[i];
         if (m.kind != MaterialKind::Blend) continue;
         s->bsdfExtras[i].blendParts = s->blendParts.data() + s->blendParts.size();
         for (int part : m.blendPart) s->blendParts.push_back(s->materials[size_t(part)]);
+        BlendTextures t;  // the textured parts, read where the blend's kernel needs them
+        t.textures = &s->desc.textures;
+        for (int k = 0; k < 2; ++k) {
+            const MaterialDesc& q = s->desc.materials[size_t(m.blendPart[k])];
+            if (readsTexturedColour(q)) t.part[k] = &q;
+        }
+        if (t.part[0] || t.part[1]) {
+            s->blendTextures.push_back(t);
+            s->bsdfExtras[i].blendTextures = &s->blendTextures.back();
+        }
     }
 
     Vec3 lo(INFINITY), hi(-INFINITY);

@@ -81,6 +81,7 @@ public:
     std::vector<uint8_t> texturedMaterial;  // by material index: it reads a texture (the texture stage)
     std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
     std::vector<BsdfParams> blendParts; // each Blend's two parts (BsdfExtra::blendParts)
+    std::vector<BlendTextures> blendTextures;  // each Blend with textured parts (BsdfExtra::blendTextures)
     std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;

@@ -2,66 +2,10 @@
 
 #include <algorithm>
 
-#include "kernels/texture.h"
+#include "kernels/textured_params.h"
 #include "stages/bsdf_dispatch.h"
 
 namespace wmlt {
-namespace {
-
-constexpr bool isAny(MaterialKind k, std::initializer_list<MaterialKind> ks) {
-    for (MaterialKind x : ks)
-        if (x == k) return true;
-    return false;
-}
-
-// Kind K's textured parameters at (u, v, p) on material m, into out (which holds the
-// constants): a colour parameter's texture scales its constant (MaterialDesc::colourTexture),
-// a roughness texture's luminance scales alpha (at least 1e-4), a blend's weight is its
-// texture's luminance in [0, 1], a principled's weights each their constant times a
-// texture's luminance in [0, 1] (the alphas made again from them).
-template <MaterialKind K>
-void texturedParamsOf(const Scene& scene, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out) {
-    using M = MaterialKind;
-    const std::vector<TextureDesc>& tex = scene.desc.textures;
-    const int* t = m.colourTexture;
-    auto scale = [&](ColourParam c, Vec3& x) {
-        if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p);
-    };
-    if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled}))
-        scale(ColourParam::Diffuse, out.diffuse);
-    if constexpr (K == M::Glossy) scale(ColourParam::Specular, out.specular);
-    if constexpr (isAny(K, {M::Reflective, M::Dielectric, M::Conductor, M::RoughConductor, M::RoughDielectric,
-                            M::ThinDielectric, M::Plastic, M::RoughPlastic}))
-        scale(ColourParam::Reflect, out.reflect);
-    if constexpr (isAny(K, {M::Dielectric, M::RoughDielectric, M::ThinDielectric})) scale(ColourParam::Refract, out.refract);
-    if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric})) {
-        if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {
-            auto alpha = [&](int i, float a) {
-                return i < 0 ? a : std::max(a * luminance(evalTextureOf(tex, size_t(i), u, v, p)), 1e-4f);
-            };
-            out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
-            out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
-        }
-    }
-    if constexpr (K == M::Blend) {
-        if (m.blendWeightTexture >= 0)
-            out.blendWeight = std::clamp(luminance(evalTextureOf(tex, size_t(m.blendWeightTexture), u, v, p)), 0.0f, 1.0f);
-    }
-    if constexpr (K == M::Principled) {
-        float value[kPrincipledParams];
-        bool any = false;
-        for (int i = 0; i < kPrincipledParams; ++i) {
-            const int ti = m.principledTexture[i];
-            value[i] = m.principled[i];
-            if (ti < 0) continue;
-            any = true;
-            value[i] = std::clamp(value[i] * luminance(evalTextureOf(tex, size_t(ti), u, v, p)), 0.0f, 1.0f);
-        }
-        if (any) setPrincipled(out, value);
-    }
-}
-
-}  // namespace
 
 void evaluateTextures(const Scene& scene, TextureJobs& j) {
     if (j.n == 0) return;
@@ -70,7 +14,7 @@ void evaluateTextures(const Scene& scene, TextureJobs& j) {
         constexpr MaterialKind K = decltype(kind)::value;
         for (uint32_t r = j.kindStart[int(K)]; r < j.kindStart[int(K) + 1]; ++r) {
             const uint32_t k = j.order[r];
-            texturedParamsOf<K>(scene, scene.desc.materials[j.material[k]], j.u[k], j.v[k], j.p[k], *j.target[k]);
+            texturedParamsOf<K>(scene.desc.textures, scene.desc.materials[j.material[k]], j.u[k], j.v[k], j.p[k], *j.target[k]);
         }
     });
     j.n = 0;

@@ -329,11 +329,11 @@ int Importer::material(Node bsdf) {
             const int part = material(b[size_t(k)]);
             const MaterialDesc& q = s_.materials[size_t(part)];
             const char* why = q.kind == MaterialKind::Blend ? "a blendbsdf inside a blendbsdf"
-                              : readsTexturedColour(q) || q.bump >= 0 || q.normalMap >= 0 ? "a textured, bump- or normal-mapped BSDF"
+                              : q.bump >= 0 || q.normalMap >= 0                           ? "a bump- or normal-mapped BSDF"
                               : q.opacity < 1 || q.opacityTexture >= 0                    ? "a mask"
                               : isAnisotropic(q)                                          ? "anisotropic roughness"
                                                                                           : nullptr;
-            if (why) p.fail(b[size_t(k)], std::string(why) + " inside a blendbsdf is not supported (its parts are constant BSDFs)");
+            if (why) p.fail(b[size_t(k)], std::string(why) + " inside a blendbsdf is not supported");
             m.blendPart[k] = part;
         }
         if (s_.materials[size_t(m.blendPart[0])].twoSided != s_.materials[size_t(m.blendPart[1])].twoSided)
