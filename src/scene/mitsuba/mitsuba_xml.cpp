@@ -12,40 +12,6 @@
 
 namespace wmlt::mitsuba {
 
-// ---- Matrix ------------------------------------------------------------------------
-
-Matrix Matrix::operator*(const Matrix& b) const {
-    Matrix r;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) {
-            double s = 0;
-            for (int k = 0; k < 4; ++k) s += m[i][k] * b.m[k][j];
-            r.m[i][j] = s;
-        }
-    return r;
-}
-double Matrix::det3() const {
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-}
-Matrix Matrix::inverse() const {
-    const double d = det3();
-    Matrix r;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {  // adjugate: cofactor of (j, i)
-            const int a = (i + 1) % 3, b = (i + 2) % 3, c = (j + 1) % 3, e = (j + 2) % 3;
-            r.m[i][j] = (m[c][a] * m[e][b] - m[c][b] * m[e][a]) / d;
-        }
-    for (int i = 0; i < 3; ++i) r.m[i][3] = -(r.m[i][0] * m[0][3] + r.m[i][1] * m[1][3] + r.m[i][2] * m[2][3]);
-    return r;
-}
-Affine Matrix::affine() const {
-    Affine a;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) a.m[i][j] = float(m[i][j]);
-    return a;
-}
-
 // ---- Files -------------------------------------------------------------------------
 
 Node Files::add(const std::string& xml, const std::string& name) {
@@ -325,22 +291,15 @@ Matrix Props::getTransform(const std::string& name) {
         Matrix T;
         if (t == "translate") {
             const std::vector<double> v = xyz(op, 0);
-            for (int i = 0; i < 3; ++i) T.m[i][3] = v[i];
+            T = Matrix::translate(v[0], v[1], v[2]);
         } else if (t == "scale") {
             const std::vector<double> v = xyz(op, 1);
-            for (int i = 0; i < 3; ++i) T.m[i][i] = v[i];
+            T = Matrix::scale(v[0], v[1], v[2]);
         } else if (t == "rotate") {  // Rodrigues: right-handed about the unit axis
             std::vector<double> a = xyz(op, 0);
-            const double len = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-            if (!(len > 0)) files_.fail(op, "the rotation axis is zero");
+            if (!(a[0] * a[0] + a[1] * a[1] + a[2] * a[2] > 0)) files_.fail(op, "the rotation axis is zero");
             if (!op.attribute("angle")) files_.fail(op, "missing attribute \"angle\"");
-            const double ang = number(files_, op, op.attribute("angle").value()) * M_PI / 180;
-            const double c = std::cos(ang), s = std::sin(ang), x = a[0] / len, y = a[1] / len, z = a[2] / len;
-            const double r[3][3] = {{c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s},
-                                    {y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s},
-                                    {z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)}};
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) T.m[i][j] = r[i][j];
+            T = Matrix::rotate(number(files_, op, op.attribute("angle").value()), a[0], a[1], a[2]);
         } else if (t == "matrix") {
             const std::vector<double> v = numbers(files_, op, value(files_, op));
             if (v.size() == 16) {
@@ -355,13 +314,8 @@ Matrix Props::getTransform(const std::string& name) {
         } else if (t == "lookat") {  // columns: left = up x dir, up' = dir x left, dir, origin
             const std::vector<double> o = vec3(op, "origin"), tg = vec3(op, "target");
             std::vector<double> up = op.attribute("up") ? vec3(op, "up") : std::vector<double>{0, 1, 0};
-            double d[3] = {tg[0] - o[0], tg[1] - o[1], tg[2] - o[2]};
-            auto norm = [](double* v) { double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); if (l > 0) for (int i = 0; i < 3; ++i) v[i] /= l; return l; };
-            if (!(norm(d) > 0)) files_.fail(op, "origin equals target");
-            double l[3] = {up[1] * d[2] - up[2] * d[1], up[2] * d[0] - up[0] * d[2], up[0] * d[1] - up[1] * d[0]};
-            if (!(norm(l) > 1e-12)) files_.fail(op, "up is zero or parallel to the view direction");
-            const double u[3] = {d[1] * l[2] - d[2] * l[1], d[2] * l[0] - d[0] * l[2], d[0] * l[1] - d[1] * l[0]};
-            for (int i = 0; i < 3; ++i) { T.m[i][0] = l[i]; T.m[i][1] = u[i]; T.m[i][2] = d[i]; T.m[i][3] = o[i]; }
+            if (o == tg) files_.fail(op, "origin equals target");
+            if (!Matrix::lookAt(o.data(), tg.data(), up.data(), T)) files_.fail(op, "up is zero or parallel to the view direction");
         } else {
             files_.fail(op, "unknown transform operation (expected translate, rotate, scale, matrix, lookat)");
         }

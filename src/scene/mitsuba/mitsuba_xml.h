@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/matrix.h"
 #include "wavemmlt/math.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -17,16 +18,8 @@ namespace wmlt::mitsuba {
 
 using Node = pugi::xml_node;
 
-// 4x4 affine transform in double (the last row is 0 0 0 1).
-struct Matrix {
-    double m[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
-    Matrix operator*(const Matrix& b) const;
-    double det3() const;
-    Matrix inverse() const;  // of the affine part; the caller checks det3() != 0
-    Affine affine() const;
-    Vec3 point(Vec3 p) const { return affine().point(p); }
-    Vec3 vector(Vec3 v) const { return affine().vector(v); }
-};
+// 4x4 affine transforms in double (scene/matrix.h).
+using wmlt::Matrix;
 
 // The loaded files: the scene and every included one, kept alive for their nodes.
 class Files {
