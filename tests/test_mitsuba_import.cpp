@@ -54,6 +54,22 @@ TEST_CASE("Mitsuba import: sensor, film, camera convention (+x to the image's le
     SceneDesc mirrored = load(scene(R"(<sensor type="perspective"><float name="fov" value="40"/>
       <transform name="to_world"><scale x="-1"/><lookat origin="0, 0, 5" target="0, 0, 0"/></transform></sensor>)"));
     CHECK(mirrored.camera.flipX);
+    // ... a mirror image: the ray through (x, y) is the unmirrored camera's ray through
+    // (width - x, y) turned over in the camera's x, with the same up.
+    SceneDesc plain = mirrored;
+    plain.camera.flipX = false;
+    const Camera cm = makeCamera(mirrored.camera, 16, 12), cp = makeCamera(plain.camera, 16, 12);
+    CHECK(dot(cm.up, cp.up) == Approx(1.0f));
+    CHECK(dot(cm.right, cp.right) == Approx(-1.0f));
+    for (const auto& [x, y] : std::vector<std::pair<float, float>>{{1.5f, 2.25f}, {12.0f, 9.5f}}) {
+        Vec3 om, dm, op, dp;
+        generateCameraRay(cm, x, y, 0.5f, 0.5f, om, dm);
+        generateCameraRay(cp, 16 - x, y, 0.5f, 0.5f, op, dp);
+        CHECK(dm.x == Approx(dp.x).margin(1e-6));
+        CHECK(dm.y == Approx(dp.y).margin(1e-6));
+        CHECK(dm.z == Approx(dp.z).margin(1e-6));
+        CHECK(dot(dm, cm.up) == Approx(dot(dp, cp.up)).margin(1e-6));
+    }
 }
 
 // focal_length (Mitsuba 3): the field of view of the 36 x 24 mm film's diagonal (43.27 mm)

@@ -27,8 +27,8 @@ inline Camera makeCamera(const CameraDesc& d, int width, int height) {
     c.position = d.position;
     c.forward = normalize(d.lookAt - d.position);
     c.right = normalize(cross(c.forward, d.up));
-    if (d.flipX) c.right = -c.right;
     c.up = cross(c.right, c.forward);
+    if (d.flipX) c.right = -c.right;  // a mirror image: right turns over, up stays
     float tanHalf = std::tan(0.5f * d.fovDegrees * kPi / 180.0f);
     float shorter = float(std::min(width, height));
     c.scaleX = tanHalf * float(width) / shorter;
