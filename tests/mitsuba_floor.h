@@ -27,6 +27,8 @@ const std::string kLookingDown = R"(<sensor type="perspective"><float name="fov"
 // `exact`: tracers whose estimate has no variance here (next-event estimation of a
 // directional light on a diffuse floor): their block means equal the expected ones to
 // float rounding instead.
+inline void floorRadianceOf(const SceneDesc& d, const std::function<double(Vec3, Vec3)>& radiance, const std::string& what,
+                            const std::vector<TracerKind>& exact);
 inline void floorRadiance(const std::string& emitter, const std::function<double(Vec3, Vec3)>& radiance, const std::string& what,
                           const std::vector<TracerKind>& exact, const std::string& floorBsdf, const std::string& dir = ".",
                           const std::string& sensor = kLookingDown) {
@@ -38,6 +40,12 @@ inline void floorRadiance(const std::string& emitter, const std::function<double
     )" + floorBsdf + R"(</shape>
 )" + emitter + "\n</scene>",
                                               what + ".xml", dir);
+    floorRadianceOf(d, radiance, what, exact);
+}
+
+// The same for a scene already loaded (any format): a 16 x 16 image of the floor y = 0.
+inline void floorRadianceOf(const SceneDesc& d, const std::function<double(Vec3, Vec3)>& radiance, const std::string& what,
+                            const std::vector<TracerKind>& exact) {
     const Camera cam = makeCamera(d.camera, 16, 16);
     std::vector<double> expected(16, 0.0);
     for (int y = 0; y < 16; ++y)

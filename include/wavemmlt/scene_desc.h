@@ -227,6 +227,8 @@ struct LightDesc {
     // point light.
     Vec3 spotAxis{0, 0, 1};
     float spotCutoff = 0, spotBeam = 0;
+    bool spotSmoothstep = false;  // pbrt-v4's spot: smoothstep in the cosine from cutoff to beam
+
     Vec3 direction{0, 0, 1};  // Directional: the unit direction its light travels (world)
     // Mesh: a texture (index into SceneDesc::textures, -1: none) whose value at the point's
     // (u, v) multiplies radiance (Mitsuba's area with a textured radiance); light sampling
@@ -261,15 +263,20 @@ SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name,
 // relative file names (OBJ, images).
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
                               const std::string& baseDir);
+// Loads a pbrt-v4 scene file (.pbrt, or gzipped .pbrt.gz; docs/pbrt.md). loadScene calls
+// it for those names. Throws InputError("file:line: problem").
+SceneDesc loadPbrt(const std::string& path);
 
 // Loads a Wavefront OBJ (triangulating polygons) in its own coordinates.
 // Throws InputError("file:line: problem") on a missing file, bad data, indices out
 // of range, or no faces.
 TriangleMesh loadObj(const std::string& path, bool smoothShading);
 
-// Loads a Stanford PLY mesh (ASCII or binary, load_ply.cpp) in its own coordinates, uv as
-// stored. Throws InputError("file:line: problem" or "file: byte N: problem").
-TriangleMesh loadPly(const std::string& path, bool smoothShading);
+// Loads a Stanford PLY mesh (ASCII or binary, load_ply.cpp; gzipped when the name ends in
+// .gz) in its own coordinates, uv as stored; smoothShading without the file's normals:
+// area-weighted ones when computeMissingNormals (Mitsuba), none (pbrt). Throws
+// InputError("file:line: problem" or "file: byte N: problem").
+TriangleMesh loadPly(const std::string& path, bool smoothShading, bool computeMissingNormals = true);
 
 // Loads shape `shapeIndex` (0 the first) of a Mitsuba serialized file (zlib-compressed
 // meshes, load_serialized.cpp) in its own coordinates, uv as stored. Throws

@@ -29,6 +29,7 @@ struct Light {
     Vec3 axis{0, 0, 1};
     Frame axisFrame = Frame::fromNormal(Vec3(0, 0, 1));  // spot: about axis, made once with the scene
     float cosCutoff = -2, cosBeam = -2, cutoff = 0, invTransition = 0;
+    bool smoothstep = false;  // spot: pbrt-v4's falloff, smoothstep in the cosine
 };
 
 // Delta lights are found by next-event estimation only: a point (or spot) in position, a
@@ -40,12 +41,16 @@ inline bool isSpot(const Light& l) { return l.cosCutoff >= -1; }
 
 // A spot's intensity factor in the unit direction w from it (Mitsuba's falloff curve): 1
 // within beam_width of the axis, falling linearly in the angle to 0 at cutoff_angle, 0
-// beyond; 1 for a point light.
+// beyond (pbrt-v4's: smoothstep(cos cutoff, cos beam, cos theta)); 1 for a point light.
 inline float spotFalloff(const Light& l, Vec3 w) {
     if (!isSpot(l)) return 1.0f;
     const float c = dot(w, l.axis);
     if (!(c > l.cosCutoff)) return 0.0f;
     if (c >= l.cosBeam) return 1.0f;
+    if (l.smoothstep) {
+        const float t = (c - l.cosCutoff) / (l.cosBeam - l.cosCutoff);
+        return t * t * (3.0f - 2.0f * t);
+    }
     return std::max(0.0f, (l.cutoff - std::acos(std::min(c, 1.0f))) * l.invTransition);
 }
 

@@ -3,6 +3,7 @@
 // the elementary transforms both formats name.
 #pragma once
 #include "wavemmlt/math.h"
+#include "wavemmlt/scene_desc.h"
 
 namespace wmlt {
 
@@ -23,5 +24,9 @@ struct Matrix {
     // (M unchanged) when origin equals target or up is zero or parallel to the direction.
     static bool lookAt(const double origin[3], const double target[3], const double up[3], Matrix& M);
 };
+
+// Positions by M, vertex normals by its inverse transpose; flip reverses the winding (and
+// the vertex normals) so that the geometric normal turns over.
+void transformMesh(TriangleMesh& mesh, const Matrix& M, bool flip);
 
 }  // namespace wmlt

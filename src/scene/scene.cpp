@@ -340,6 +340,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
                 l.cosCutoff = std::cos(ld.spotCutoff);
                 l.cosBeam = std::cos(ld.spotBeam);
                 l.invTransition = ld.spotCutoff > ld.spotBeam ? 1.0f / (ld.spotCutoff - ld.spotBeam) : 0.0f;
+                l.smoothstep = ld.spotSmoothstep;
             }
             s->lights.push_back(l);
             continue;

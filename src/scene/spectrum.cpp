@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "kernels/fresnel.h"
 #include "scene/number.h"
 
 namespace wmlt {
@@ -124,6 +125,37 @@ Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped) 
     const bool neg = rgb.x < 0 || rgb.y < 0 || rgb.z < 0;
     if (clamped) *clamped = neg;
     return Vec3(std::max(rgb.x, 0.0f), std::max(rgb.y, 0.0f), std::max(rgb.z, 0.0f));
+}
+
+namespace {
+double valueAt(const SampledSpectrum& s, double l) {  // linear, constant beyond the ends
+    if (l <= s.lambda.front()) return s.value.front();
+    if (l >= s.lambda.back()) return s.value.back();
+    size_t i = 0;
+    while (i + 2 < s.lambda.size() && s.lambda[i + 1] < l) ++i;
+    const double t = (l - s.lambda[i]) / (s.lambda[i + 1] - s.lambda[i]);
+    return s.value[i] * (1 - t) + s.value[i + 1] * t;
+}
+}  // namespace
+
+Vec3 conductorAlbedoScale(const SampledSpectrum& eta, const SampledSpectrum& k, Vec3 etaRgb, Vec3 kRgb) {
+    constexpr int kAngles = 64;  // midpoints in cos theta, each weighted by cos theta
+    SampledSpectrum R;
+    for (int l = 360; l <= 830; ++l) R.lambda.push_back(l);
+    R.value.resize(R.lambda.size());
+    double spectral[3] = {0, 0, 0}, rgb[3] = {0, 0, 0};
+    for (int a = 0; a < kAngles; ++a) {
+        const float mu = (a + 0.5f) / kAngles;
+        for (size_t i = 0; i < R.lambda.size(); ++i)
+            R.value[i] = fresnelComplex(mu, float(valueAt(eta, R.lambda[i])), float(valueAt(k, R.lambda[i])));
+        const Vec3 s = spectrumToRgb(R, true), f = fresnelConductor(mu, etaRgb, kRgb);
+        for (int c = 0; c < 3; ++c) {
+            spectral[c] += mu * s[c];
+            rgb[c] += mu * f[c];
+        }
+    }
+    return Vec3(float(rgb[0] > 0 ? spectral[0] / rgb[0] : 1), float(rgb[1] > 0 ? spectral[1] / rgb[1] : 1),
+                float(rgb[2] > 0 ? spectral[2] / rgb[2] : 1));
 }
 
 }  // namespace wmlt

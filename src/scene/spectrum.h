@@ -38,4 +38,12 @@ Vec3 xyzToLinearSrgb(Vec3 xyz);
 // Negative results are clamped to 0 (out of gamut), and `clamped` says so.
 Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped = nullptr);
 
+// A conductor given as spectra eta(lambda) + i k(lambda), rendered in RGB with the
+// projected indices etaRgb, kRgb (the Fresnel term per channel): the factor per channel that
+// makes the RGB conductor's albedo -- its Fresnel reflectance averaged over the hemisphere,
+// cosine-weighted -- equal to the spectral conductor's (the spectral reflectance projected
+// under D65 at each angle). Gold's red, out of sRGB's gamut, needs 1.05: the projected
+// indices alone reflect 4.6% too little at normal incidence.
+Vec3 conductorAlbedoScale(const SampledSpectrum& eta, const SampledSpectrum& k, Vec3 etaRgb, Vec3 kRgb);
+
 }  // namespace wmlt

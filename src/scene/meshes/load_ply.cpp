@@ -24,6 +24,7 @@
 
 #include "scene/number.h"
 #include "scene/meshes/vertex_normals.h"
+#include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -74,7 +75,7 @@ enum class Format : uint8_t { Ascii, Little, Big };
 class PlyReader {
 public:
     PlyReader(const std::string& path, const std::string& data) : path_(path), d_(data) {}
-    void run(bool smooth, TriangleMesh& out);
+    void run(bool smooth, bool computeMissing, TriangleMesh& out);
 
 private:
     const std::string& path_;
@@ -223,7 +224,7 @@ void PlyReader::header() {
     ++line_;  // ASCII data starts on the next line
 }
 
-void PlyReader::run(bool smooth, TriangleMesh& out) {
+void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
     header();
     std::vector<float> pos, nrm, uv;
     std::vector<uint32_t> idx;
@@ -317,18 +318,15 @@ void PlyReader::run(bool smooth, TriangleMesh& out) {
     for (size_t i = 0; i < nVertices; ++i) out.positions[i] = {pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]};
     out.indices = std::move(idx);
     if (haveUv) out.uvs = std::move(uv);
-    if (smooth) smoothVertexNormals(out, nrm);  // (nrm is empty without the file's normals)
+    if (smooth && (!nrm.empty() || computeMissing)) smoothVertexNormals(out, nrm);  // (nrm is empty without the file's normals)
 }
 
 }  // namespace
 
-TriangleMesh loadPly(const std::string& path, bool smoothShading) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw InputError(path, 0, "cannot open the PLY file");
-    std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (f.bad()) throw InputError(path, 0, "cannot read the PLY file");
+TriangleMesh loadPly(const std::string& path, bool smoothShading, bool computeMissingNormals) {
+    const std::string data = readWholeFile(path, "the PLY file");
     TriangleMesh mesh;
-    PlyReader(path, data).run(smoothShading, mesh);
+    PlyReader(path, data).run(smoothShading, computeMissingNormals, mesh);
     return mesh;
 }
 

@@ -11,8 +11,6 @@ TriangleMesh rectangleMesh();
 TriangleMesh cubeMesh();
 TriangleMesh diskMesh(int segments);
 
-// Positions by M, vertex normals by its inverse transpose; flip reverses the winding (and
-// the vertex normals) so that the geometric normal turns over.
-void transformMesh(TriangleMesh& mesh, const Matrix& M, bool flip);
+using wmlt::transformMesh;
 
 }  // namespace wmlt::mitsuba

@@ -620,6 +620,14 @@ SceneDesc loadSceneFromString(const std::string& xml, const std::string& name, c
 }
 
 SceneDesc loadScene(const std::string& path, const Defines& defines) {
+    auto endsWith = [&](const char* e) {
+        const std::string s(e);
+        return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
+    };
+    if (endsWith(".pbrt") || endsWith(".pbrt.gz")) {
+        if (!defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
+        return loadPbrt(path);
+    }
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError(path, 0, "cannot open the scene file");
     std::string xml;

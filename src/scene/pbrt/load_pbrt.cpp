@@ -1,0 +1,327 @@
+// pbrt-v4 scene files (docs/pbrt.md): the directives, the graphics state and transforms,
+// objects and instances, and the camera, film, sampler, integrator and filter.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "scene/pbrt/pbrt_importer.h"
+#include "wavemmlt/error.h"
+
+namespace wmlt {
+
+SceneDesc loadPbrt(const std::string& path) { return pbrt::Importer(path).run(); }
+
+namespace pbrt {
+
+Importer::Importer(const std::string& path)
+    : parser_(path), path_(path), base_(std::filesystem::path(path).parent_path().string()) {}
+
+std::string Importer::resolve(const std::string& f) const {
+    std::filesystem::path p(f);
+    if (p.is_relative() && !base_.empty()) p = std::filesystem::path(base_) / p;
+    return p.lexically_normal().string();
+}
+
+void Importer::warn(const Loc& at, const std::string& msg) {
+    s_.warnings.push_back((at.file ? *at.file : path_) + ":" + std::to_string(at.line) + ": " + msg);
+}
+
+SceneDesc Importer::run() {
+    s_.path = path_;
+    namedCoords_["world"] = Matrix();
+    Directive d;
+    while (parser_.next(d)) directive(d);
+    finish();
+    return std::move(s_);
+}
+
+void Importer::transform(const Directive& d) {
+    const std::vector<double>& v = d.numbers;
+    Matrix T;
+    if (d.name == "Translate") {
+        T = Matrix::translate(v[0], v[1], v[2]);
+    } else if (d.name == "Scale") {
+        T = Matrix::scale(v[0], v[1], v[2]);
+    } else if (d.name == "Rotate") {
+        if (!(v[1] * v[1] + v[2] * v[2] + v[3] * v[3] > 0)) fail(d.at, "Rotate: the axis is zero");
+        T = Matrix::rotate(v[0], v[1], v[2], v[3]);
+    } else if (d.name == "LookAt") {  // camera from world: the inverse of the camera's frame
+        Matrix W;
+        if (!Matrix::lookAt(&v[0], &v[3], &v[6], W)) fail(d.at, "LookAt: eye equals look, or up is zero or along the view");
+        T = W.inverse();
+    } else {  // Transform, ConcatTransform: 16 numbers, column by column (pbrt's layout)
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) T.m[j][i] = v[size_t(4 * i + j)];
+        if (T.m[3][0] != 0 || T.m[3][1] != 0 || T.m[3][2] != 0 || T.m[3][3] != 1)
+            fail(d.at, d.name + ": a projective matrix (not 0 0 0 1 in the last row) is not supported");
+    }
+    if (endTimeOnly_) return;  // motion: the end transform is read and not used
+    if (d.name == "Transform") g_.ctm = T;
+    else g_.ctm = g_.ctm * T;
+    if (std::fabs(g_.ctm.det3()) < 1e-30) fail(d.at, d.name + ": the transform is singular");
+}
+
+void Importer::directive(Directive& d) {
+    const std::string& n = d.name;
+    if (n == "Translate" || n == "Scale" || n == "Rotate" || n == "LookAt" || n == "Transform" || n == "ConcatTransform") {
+        transform(d);
+    } else if (n == "Identity") {
+        if (!endTimeOnly_) g_.ctm = Matrix();
+    } else if (n == "CoordinateSystem") {
+        namedCoords_[d.strings[0]] = g_.ctm;
+    } else if (n == "CoordSysTransform") {
+        auto it = namedCoords_.find(d.strings[0]);
+        if (it == namedCoords_.end()) fail(d.at, "CoordSysTransform: no coordinate system \"" + d.strings[0] + "\"");
+        g_.ctm = it->second;
+    } else if (n == "ActiveTransform") {
+        const std::string& w = d.strings[0];
+        if (w != "StartTime" && w != "EndTime" && w != "All") fail(d.at, "ActiveTransform: \"" + w + "\" is not StartTime, EndTime or All");
+        endTimeOnly_ = w == "EndTime";
+        if (!warnedMotion_) warn(d.at, "motion (ActiveTransform): wavemmlt renders the start transform");
+        warnedMotion_ = true;
+    } else if (n == "TransformTimes") {
+        if (!warnedMotion_) warn(d.at, "motion (TransformTimes): wavemmlt renders the start transform");
+        warnedMotion_ = true;
+    } else if (n == "ReverseOrientation") {
+        g_.reverse = !g_.reverse;
+    } else if (n == "AttributeBegin" || n == "TransformBegin") {
+        stack_.push_back(g_);
+        if (stack_.size() > 10000) fail(d.at, n + " nested too deep");
+    } else if (n == "AttributeEnd" || n == "TransformEnd") {
+        if (stack_.empty()) fail(d.at, n + " without a matching begin");
+        if (n == "TransformEnd") {
+            g_.ctm = stack_.back().ctm;
+        } else {
+            g_ = stack_.back();
+        }
+        stack_.pop_back();
+    } else if (n == "WorldBegin") {
+        if (inWorld_) fail(d.at, "a second WorldBegin");
+        inWorld_ = true;
+        g_.ctm = Matrix();
+        namedCoords_["world"] = g_.ctm;
+    } else if (n == "WorldEnd") {
+        // pbrt-v3's end of the file: nothing to do
+    } else if (n == "Camera" || n == "Film" || n == "Sampler" || n == "Integrator" || n == "PixelFilter" || n == "Accelerator") {
+        if (inWorld_) fail(d.at, n + " inside the world block (it belongs before WorldBegin)");
+        if (n == "Camera") {
+            camera_ = d;
+            cameraFromWorld_ = g_.ctm;
+            namedCoords_["camera"] = g_.ctm.inverse();
+            haveCamera_ = true;
+        } else if (n == "Film") {
+            film_ = d;
+        } else if (n == "Sampler") {
+            sampler_ = d;
+        } else if (n == "Integrator") {
+            integrator_ = d;
+        } else if (n == "PixelFilter") {
+            filter_ = d;
+        }
+    } else if (n == "ColorSpace") {
+        if (d.strings[0] != "srgb") fail(d.at, "ColorSpace \"" + d.strings[0] + "\": wavemmlt renders in linear sRGB only");
+    } else if (n == "Option") {
+        for (const Param& p : d.params.list) warn(p.at, "Option \"" + p.name + "\" is ignored");
+    } else if (n == "Attribute") {
+        fail(d.at, "Attribute (default parameters for a class of objects) is not supported: give the parameters where they are used");
+    } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
+        if (n == "MediumInterface" && std::all_of(d.strings.begin(), d.strings.end(), [](const std::string& s) { return s.empty(); }))
+            return;  // "" "": no media, as without the directive
+        fail(d.at, n + ": participating media are not supported yet (docs/pbrt.md)");
+    } else if (n == "ObjectBegin") {
+        if (!inWorld_) fail(d.at, "ObjectBegin before WorldBegin");
+        if (currentObject_ >= 0) fail(d.at, "ObjectBegin inside an object (nested objects are not supported)");
+        if (objects_.count(d.strings[0])) fail(d.at, "object \"" + d.strings[0] + "\" defined twice");
+        stack_.push_back(g_);
+        currentObject_ = s_.groups++;
+        objects_[d.strings[0]] = currentObject_;
+    } else if (n == "ObjectEnd") {
+        if (currentObject_ < 0) fail(d.at, "ObjectEnd without ObjectBegin");
+        currentObject_ = -1;
+        g_ = stack_.back();
+        stack_.pop_back();
+    } else if (n == "ObjectInstance") {
+        if (currentObject_ >= 0) fail(d.at, "ObjectInstance inside an object (nested instancing is not supported)");
+        auto it = objects_.find(d.strings[0]);
+        if (it == objects_.end()) fail(d.at, "ObjectInstance of an unknown object \"" + d.strings[0] + "\"");
+        InstanceDesc in;
+        in.group = it->second;
+        in.toWorld = g_.ctm.affine();
+        in.toLocal = g_.ctm.inverse().affine();
+        in.line = d.at.line;
+        s_.instances.push_back(in);
+    } else if (n == "Material" || n == "MakeNamedMaterial" || n == "NamedMaterial") {
+        if (n == "NamedMaterial") {
+            auto it = namedMaterials_.find(d.strings[0]);
+            if (it == namedMaterials_.end()) fail(d.at, "NamedMaterial: no material named \"" + d.strings[0] + "\"");
+            g_.material = it->second;
+        } else if (n == "Material") {
+            g_.material = material(d.strings[0], d);
+            done(d);
+        } else {
+            if (namedMaterials_.count(d.strings[0])) fail(d.at, "MakeNamedMaterial: \"" + d.strings[0] + "\" defined twice");
+            const std::string type = d.params.getString("type", "");
+            if (type.empty()) fail(d.at, "MakeNamedMaterial \"" + d.strings[0] + "\" needs a \"string type\"");
+            namedMaterials_[d.strings[0]] = material(type, d);
+            done(d);
+        }
+    } else if (n == "Texture") {
+        texture(d);
+        done(d);
+    } else if (n == "LightSource") {
+        if (!inWorld_) fail(d.at, "LightSource before WorldBegin");
+        lightSource(d);
+        done(d);
+    } else if (n == "AreaLightSource") {
+        if (d.strings[0] != "diffuse") fail(d.at, "AreaLightSource \"" + d.strings[0] + "\" is not supported (diffuse is)");
+        g_.areaLight = true;
+        g_.areaLightDirective = d;
+    } else if (n == "Shape") {
+        if (!inWorld_) fail(d.at, "Shape before WorldBegin");
+        shape(d);
+        done(d);
+    }
+}
+
+// ---- Camera, film, sampler, integrator, filter -----------------------------------------
+
+void Importer::film() {
+    Directive& f = film_;
+    if (!f.name.empty() && f.strings[0] != "rgb")
+        fail(f.at, "Film \"" + f.strings[0] + "\" is not supported (rgb is)");
+    Params& p = f.params;
+    s_.settings.width = p.getInt("xresolution", 1280);
+    s_.settings.height = p.getInt("yresolution", 720);
+    if (s_.settings.width < 1 || s_.settings.height < 1 || s_.settings.width > 65536 || s_.settings.height > 65536)
+        fail(f.at, "the film's resolution must be 1 to 65536 pixels on each side");
+    const std::string out = p.getString("filename", "pbrt.exr");
+    s_.settings.output = out;
+    const std::vector<double> crop = p.getNumbers("cropwindow");
+    if (!crop.empty() && crop != std::vector<double>{0, 1, 0, 1})
+        fail(p.find("cropwindow")->at, "cropwindow is not supported (render the whole film and crop the image)");
+    if (p.has("pixelbounds")) fail(p.find("pixelbounds")->at, "pixelbounds is not supported (render the whole film)");
+    const std::string sensor = p.getString("sensor", "cie1931");
+    if (sensor != "cie1931") fail(p.find("sensor")->at, "sensor \"" + sensor + "\": only cie1931 (the default) is supported");
+    if (p.getFloat("whitebalance", 0) != 0) fail(p.find("whitebalance")->at, "whitebalance is not supported with the cie1931 sensor");
+    // pbrt-v4's PixelSensor: the imaging ratio exposure time * ISO / 100 scales the image
+    imagingRatio_ = float(p.getFloat("exposuretime", 1) * p.getFloat("iso", 100) / 100);
+    if (!(imagingRatio_ > 0)) fail(f.at, "exposuretime and iso must be > 0");
+    p.getFloat("diagonal", 35);
+    p.getFloat("maxcomponentvalue", INFINITY);
+    p.getBool("savefp16", true);
+    if (!f.name.empty()) done(f);
+}
+
+void Importer::camera() {
+    if (!haveCamera_) {  // pbrt's default: perspective, fov 90, at the origin looking along +z
+        camera_.name = "Camera";
+        camera_.strings = {"perspective"};
+    }
+    Params& p = camera_.params;
+    const std::string type = camera_.strings[0];
+    if (type != "perspective" && type != "orthographic")
+        fail(camera_.at, "Camera \"" + type + "\" is not supported (perspective and orthographic are)");
+    const Matrix W = cameraFromWorld_.inverse();  // world from camera
+    CameraDesc& c = s_.camera;
+    const Vec3 o = W.point(Vec3(0.0f)), fwd = normalize(W.vector(Vec3(0, 0, 1))), up = normalize(W.vector(Vec3(0, 1, 0)));
+    const Vec3 right = W.vector(Vec3(1, 0, 0));
+    c.position = o;
+    c.lookAt = o + fwd;
+    c.up = up;
+    c.flipX = dot(right, cross(fwd, up)) < 0;  // pbrt: image right is camera +x
+    const float aspect = float(s_.settings.width) / float(s_.settings.height);
+    if (p.has("screenwindow")) fail(p.find("screenwindow")->at, "screenwindow is not supported");
+    const double frame = p.getFloat("frameaspectratio", aspect);
+    if (std::fabs(frame - aspect) > 1e-4 * aspect) fail(p.find("frameaspectratio")->at, "frameaspectratio differs from the film's");
+    p.getFloat("shutteropen", 0);
+    p.getFloat("shutterclose", 1);
+    if (type == "perspective") {
+        c.fovDegrees = float(p.getFloat("fov", 90));
+        if (!(c.fovDegrees > 0 && c.fovDegrees < 180)) fail(camera_.at, "fov must be in (0, 180) degrees");
+    } else {  // the screen window [-1, 1] on the shorter side, in camera units
+        c.orthographic = true;
+        const float sx = length(right), sy = length(W.vector(Vec3(0, 1, 0)));
+        c.orthoHalfWidth = (aspect >= 1 ? aspect : 1.0f) * sx;
+        c.orthoHalfHeight = (aspect >= 1 ? 1.0f : 1.0f / aspect) * sy;
+    }
+    const double lens = p.getFloat("lensradius", 0), focus = p.getFloat("focaldistance", 1e6);
+    if (lens < 0 || !(focus > 0)) fail(camera_.at, "lensradius must be >= 0 and focaldistance > 0");
+    if (lens > 0) {
+        if (c.orthographic) fail(camera_.at, "a lens on the orthographic camera is not supported");
+        c.dof = true;
+        c.focalLength = float(focus);
+        c.fStop = float(focus / (2 * lens));
+    }
+    if (haveCamera_) done(camera_);
+}
+
+void Importer::options() {
+    // Sampler: pixelsamples, rounded up to a square n x n
+    Params& sp = sampler_.params;
+    const int spp = sp.getInt("pixelsamples", 16);
+    if (spp < 1) fail(sampler_.at, "pixelsamples must be >= 1");
+    int n = int(std::ceil(std::sqrt(double(spp)) - 1e-9));
+    if (n * n != spp) warn(sampler_.at, "pixelsamples " + std::to_string(spp) + " rounded up to " + std::to_string(n * n) + " (" + std::to_string(n) + " x " + std::to_string(n) + ")");
+    for (const char* k : {"seed", "randomization", "jitter", "xsamples", "ysamples"})
+        if (sp.has(k)) sp.find(k);
+    s_.settings.samples = n;
+    if (!sampler_.name.empty()) done(sampler_);
+    // Integrator: the tracer and pbrt's maxdepth (bounces) as path segments
+    Params& ip = integrator_.params;
+    const std::string type = integrator_.name.empty() ? "volpath" : integrator_.strings[0];
+    if (type == "path" || type == "volpath") s_.settings.tracer = TracerKind::PT;
+    else if (type == "bdpt") s_.settings.tracer = TracerKind::BPT;
+    else if (type == "lightpath") s_.settings.tracer = TracerKind::LT;
+    else if (type == "mlt") s_.settings.tracer = TracerKind::MMLT;
+    else fail(integrator_.at, "Integrator \"" + type + "\" is not supported (path, volpath, bdpt, lightpath, mlt are)");
+    const int maxDepth = ip.getInt("maxdepth", 5);
+    if (maxDepth < 0) fail(integrator_.at, "maxdepth must be >= 0");
+    s_.settings.maxPathLength = std::min(maxDepth + 1, 64);
+    if (maxDepth + 1 > 64) warn(integrator_.at, "maxdepth above 63 becomes 63");
+    if (ip.getBool("regularize", false)) fail(ip.find("regularize")->at, "regularize is not supported");
+    if (type == "mlt") {
+        s_.settings.probLarge = float(ip.getFloat("largestepprobability", 0.3));
+        const int mpp = ip.getInt("mutationsperpixel", 100);
+        if (mpp < 1) fail(integrator_.at, "mutationsperpixel must be >= 1");
+        s_.settings.samples = int(std::ceil(std::sqrt(double(mpp)) - 1e-9));
+        for (const char* k : {"sigma", "bootstrapsamples", "chains"})
+            if (ip.has(k)) warn(ip.find(k)->at, std::string(k) + " is read and not used (wavemmlt's MMLT chooses its own)");
+    }
+    for (const char* k : {"lightsampler", "visualizestrategies", "visualizeweights"})
+        if (ip.has(k)) warn(ip.find(k)->at, std::string(k) + " is read and not used");
+    if (!integrator_.name.empty()) done(integrator_);
+    // PixelFilter (pbrt's default: gaussian, radius 1.5, sigma 0.5)
+    FilterDesc& f = s_.filter;
+    const std::string ft = filter_.name.empty() ? "gaussian" : filter_.strings[0];
+    Params& fp = filter_.params;
+    double r = 0;
+    if (ft == "box") { f.kind = FilterKind::Box; r = 0.5; }
+    else if (ft == "gaussian") { f.kind = FilterKind::Gaussian; r = 1.5; f.stddev = float(fp.getFloat("sigma", 0.5)); }
+    else if (ft == "triangle") { f.kind = FilterKind::Tent; r = 2; }
+    else if (ft == "mitchell") { f.kind = FilterKind::Mitchell; r = 2; f.B = float(fp.getFloat("B", 1 / 3.0)); f.C = float(fp.getFloat("C", 1 / 3.0)); }
+    else if (ft == "sinc") { f.kind = FilterKind::Lanczos; r = 4; f.tau = float(fp.getFloat("tau", 3)); }
+    else fail(filter_.at, "PixelFilter \"" + ft + "\" is not supported (box, gaussian, triangle, mitchell, sinc are)");
+    const double rx = fp.getFloat("xradius", r), ry = fp.getFloat("yradius", r);
+    if (rx != ry) fail(filter_.at, "xradius and yradius differ: wavemmlt's filters have one radius");
+    if (!(rx > 0)) fail(filter_.at, "the filter radius must be > 0");
+    if (f.kind == FilterKind::Gaussian && !(f.stddev > 0)) fail(filter_.at, "sigma must be > 0");
+    f.radius = float(rx);
+    if (!filter_.name.empty()) done(filter_);
+}
+
+void Importer::finish() {
+    if (!stack_.empty()) warn(Loc{&path_, 0}, "AttributeBegin without AttributeEnd at the end of the file");
+    if (currentObject_ >= 0) fail(Loc{&path_, 0}, "ObjectBegin without ObjectEnd at the end of the file");
+    film();
+    camera();
+    options();
+    if (imagingRatio_ != 1) {
+        for (LightDesc& l : s_.lights) l.radiance = l.radiance * imagingRatio_;
+        for (float& v : s_.envMap.rgb) v *= imagingRatio_;
+    }
+    if (s_.lights.empty() && s_.envMap.width == 0) fail(Loc{&path_, 0}, "the scene has no light");
+    if (s_.shapes.empty()) fail(Loc{&path_, 0}, "the scene has no shape");
+}
+
+}  // namespace pbrt
+}  // namespace wmlt

@@ -1,0 +1,80 @@
+// The pbrt-v4 importer's state (docs/pbrt.md): load_pbrt.cpp reads the directives (the
+// graphics state, transforms, objects, camera, film, sampler, integrator, filter);
+// pbrt_shapes.cpp the shapes, pbrt_materials.cpp the materials, textures and spectra,
+// pbrt_lights.cpp the lights. They fill the scene model every importer fills (SceneDesc).
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "scene/matrix.h"
+#include "scene/pbrt/pbrt_parser.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt::pbrt {
+
+// How a spectrum parameter becomes RGB (pbrt-v4's SpectrumType).
+enum class SpectrumUse { Albedo, Unbounded, Illuminant };
+
+class Importer {
+public:
+    explicit Importer(const std::string& path);
+    SceneDesc run();
+
+private:
+    struct State {
+        Matrix ctm;  // pbrt's current transformation matrix (object to world; at Camera, camera from world)
+        bool reverse = false;
+        int material = -1;  // index into s_.materials, -1: pbrt's default diffuse
+        bool areaLight = false;
+        Directive areaLightDirective;
+    };
+    Parser parser_;
+    std::string path_, base_;
+    SceneDesc s_;
+    State g_;
+    std::vector<State> stack_;
+    std::map<std::string, Matrix> namedCoords_;
+    std::map<std::string, int> namedMaterials_;
+    std::map<std::string, int> textures_;       // spectrum and float textures by name (SceneDesc::textures)
+    std::map<std::string, Vec3> constTextures_; // "constant" textures: their value
+    std::map<std::string, bool> floatTexture_;  // whether a named texture is a float texture
+    std::map<std::string, int> objects_;        // ObjectBegin name -> group
+    int currentObject_ = -1;
+    bool inWorld_ = false, endTimeOnly_ = false, warnedMotion_ = false;
+    int defaultMaterial_ = -1;
+    float imagingRatio_ = 1;  // film: exposure time * ISO / 100, applied to every emitter
+    Directive camera_, film_, sampler_, integrator_, filter_;
+    Matrix cameraFromWorld_;
+    bool haveCamera_ = false;
+
+    void directive(Directive& d);
+    void transform(const Directive& d);
+    void finish();
+    void camera();
+    void film();
+    void options();
+    std::string resolve(const std::string& f) const;
+    void warn(const Loc& at, const std::string& msg);
+    void done(Directive& d) { d.params.warnUnused(s_.warnings); }
+
+    // pbrt_shapes.cpp
+    void shape(Directive& d);
+    // pbrt_materials.cpp
+    int material(const std::string& type, Directive& d);
+    int currentMaterial();
+    void texture(Directive& d);
+    Vec3 spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, bool* given = nullptr);
+    // A colour parameter: its constant, with `texture` set when it names a texture (the
+    // constant is then 1, as MaterialDesc's textured parameters take it).
+    Vec3 colourParam(Params& p, const std::string& name, Vec3 def, int& texture, bool floatParam = false);
+    float floatParam(Params& p, const std::string& name, float def, int& texture);
+    // pbrt_lights.cpp
+    void lightSource(Directive& d);
+    void areaLight(const Directive& d, ShapeDesc& sh);
+};
+
+// Named spectra of pbrt-v4 this importer knows, as RGB (pbrt_materials.cpp).
+bool namedSpectrumRgb(const std::string& name, Vec3& rgb);
+
+}  // namespace wmlt::pbrt

@@ -1,0 +1,110 @@
+// pbrt-v4 lights (docs/pbrt.md): diffuse area lights on shapes, point, spot, distant and a
+// constant infinite light, with pbrt-v4's scale and power / illuminance normalisations.
+// Spectra of emitters are pbrt's: an rgb value as it is, any other spectrum scaled to a
+// luminance of 1 (Importer::spectrum, SpectrumUse::Illuminant).
+#include <cmath>
+
+#include "scene/pbrt/pbrt_importer.h"
+
+namespace wmlt::pbrt {
+
+namespace {
+
+float luminanceOf(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+// The area of a shape's triangles (world space), or its sphere's.
+double areaOf(const ShapeDesc& sh) {
+    if (sh.kind == ShapeKind::Sphere) return 4 * M_PI * double(sh.radius) * sh.radius;
+    double a = 0;
+    const TriangleMesh& m = sh.mesh;
+    for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
+        a += 0.5 * double(length(cross(m.positions[m.indices[t + 1]] - m.positions[m.indices[t]],
+                                       m.positions[m.indices[t + 2]] - m.positions[m.indices[t]])));
+    return a;
+}
+
+}  // namespace
+
+void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
+    Directive d = directive;  // each shape reads the area light's parameters afresh
+    Params& p = d.params;
+    const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+    double scale = p.getFloat("scale", 1);
+    if (p.getBool("twosided", false)) fail(d.at, "a two-sided area light is not supported (wavemmlt's emitters are one-sided)");
+    if (p.has("filename")) fail(p.find("filename")->at, "an area light with an image (filename) is not supported yet");
+    const double power = p.getFloat("power", -1);
+    if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L)
+        const double ke = M_PI * areaOf(sh) * luminanceOf(L);
+        if (!(ke > 0)) fail(d.at, "power: the light has no area or no luminance");
+        scale *= power / ke;
+    }
+    LightDesc l;
+    l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere : LightKind::Mesh;
+    l.radiance = L * float(scale);
+    if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "L times scale must be >= 0");
+    l.shape = int(&sh - s_.shapes.data());
+    sh.light = int(s_.lights.size());
+    s_.lights.push_back(l);
+    d.params.warnUnused(s_.warnings);
+}
+
+void Importer::lightSource(Directive& d) {
+    Params& p = d.params;
+    const std::string& type = d.strings[0];
+    double scale = p.getFloat("scale", 1);
+    LightDesc l;
+    if (type == "point" || type == "spot") {
+        const Vec3 I = spectrum(p, "I", Vec3(1.0f), SpectrumUse::Illuminant);
+        const Vec3 from = p.getPoint3("from", Vec3(0.0f));
+        l.kind = LightKind::Point;
+        l.position = g_.ctm.point(from);
+        double ke = 4 * M_PI;
+        if (type == "spot") {  // pbrt-v4: full intensity within coneangle - conedelta, smoothstep to coneangle
+            const Vec3 to = p.getPoint3("to", Vec3(0, 0, 1));
+            const Vec3 axis = g_.ctm.vector(to - from);
+            if (!(length(axis) > 0)) fail(d.at, "spot: from equals to");
+            const double cone = p.getFloat("coneangle", 30), delta = p.getFloat("conedelta", 5);
+            if (!(cone > 0 && cone <= 180) || delta < 0 || delta > cone) fail(d.at, "spot: coneangle must be in (0, 180] and conedelta in [0, coneangle]");
+            l.spotAxis = normalize(axis);
+            l.spotCutoff = float(cone * M_PI / 180);
+            l.spotBeam = float((cone - delta) * M_PI / 180);
+            l.spotSmoothstep = true;
+            const double cosEnd = std::cos(cone * M_PI / 180), cosStart = std::cos((cone - delta) * M_PI / 180);
+            ke = 2 * M_PI * ((1 - cosStart) + (cosStart - cosEnd) / 2);
+        }
+        const double power = p.getFloat("power", -1);
+        if (power > 0) scale *= power / (ke * luminanceOf(I));
+        l.radiance = I * float(scale);
+    } else if (type == "distant") {
+        const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+        const Vec3 from = p.getPoint3("from", Vec3(0.0f)), to = p.getPoint3("to", Vec3(0, 0, 1));
+        const Vec3 dir = g_.ctm.vector(to - from);  // the light travels from `from` to `to`
+        if (!(length(dir) > 0)) fail(d.at, "distant: from equals to");
+        const double E = p.getFloat("illuminance", -1);
+        if (E > 0) scale *= E / luminanceOf(L);  // pbrt-v4: the illuminance on a facing surface
+        l.kind = LightKind::Directional;
+        l.direction = normalize(dir);
+        l.radiance = L * float(scale);
+    } else if (type == "infinite") {
+        if (p.has("filename")) fail(p.find("filename")->at, "an infinite light with an image (filename) is not supported yet");
+        if (p.has("portal")) warn(p.find("portal")->at, "portal is read and not used");
+        const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+        const double E = p.getFloat("illuminance", -1);
+        if (E > 0) scale *= E / (M_PI * luminanceOf(L));  // a constant sky: E = pi L on an upward surface
+        if (s_.envMap.width > 0) fail(d.at, "a second infinite light is not supported");
+        const Vec3 c = L * float(scale);
+        s_.envMap = Image(2, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x) s_.envMap.set(x, y, c);
+        s_.settings.envMap = "(constant)";
+        return;
+    } else if (type == "goniometric" || type == "projection") {
+        fail(d.at, "LightSource \"" + type + "\" is not supported");
+    } else {
+        fail(d.at, "unknown LightSource \"" + type + "\"");
+    }
+    if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "the light's value times scale must be >= 0");
+    s_.lights.push_back(l);
+}
+
+}  // namespace wmlt::pbrt

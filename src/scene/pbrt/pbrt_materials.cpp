@@ -1,0 +1,383 @@
+// pbrt-v4 materials, textures and spectra (docs/pbrt.md): diffuse, conductor, dielectric,
+// thindielectric and mix onto the scene model's kinds; imagemap, checkerboard, scale, mix
+// and constant textures; rgb, spectrum (pairs, a named spectrum, an .spd file) and
+// blackbody parameters as linear sRGB (scene/spectrum.h).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "scene/pbrt/pbrt_importer.h"
+#include "scene/number.h"
+#include "scene/spectrum.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
+
+namespace wmlt::pbrt {
+
+namespace {
+
+// pbrt-v4's named metal spectra (metal-X-eta, metal-X-k) projected as every other
+// unbounded spectrum is (scene/spectrum.h, under D65): computed once from the measured
+// indices pbrt-v4 and Mitsuba ship (the same data; its projection against E reproduces
+// Mitsuba's named conductors to five digits, tests/test_spectrum.cpp).
+struct NamedRgb {
+    const char* name;
+    Vec3 rgb;
+};
+const NamedRgb kNamed[] = {
+    {"metal-Ag-eta", {0.1284897f, 0.1235323f, 0.1508811f}}, {"metal-Ag-k", {4.0651789f, 3.2861540f, 2.3915668f}},
+    {"metal-Al-eta", {1.4075118f, 0.9266390f, 0.5840235f}}, {"metal-Al-k", {7.7409348f, 6.6023483f, 5.3599148f}},
+    {"metal-Au-eta", {0.0799591f, 0.4051012f, 1.5606973f}}, {"metal-Au-k", {3.3905025f, 2.5034795f, 1.7708745f}},
+    {"metal-Cu-eta", {0.1051726f, 0.9779023f, 1.2045629f}}, {"metal-Cu-k", {3.2737899f, 2.5924754f, 2.3689678f}},
+    {"stdillum-D65", {1.0f, 1.0f, 1.0f}}};
+// Each metal's conductorAlbedoScale (scene/spectrum.h) from the same data.
+const NamedRgb kAlbedoScale[] = {{"metal-Ag", {1.0004823f, 1.0007459f, 1.0007850f}},
+                                 {"metal-Al", {0.9986361f, 0.9997986f, 0.9989799f}},
+                                 {"metal-Au", {1.0395629f, 0.9782439f, 0.9715044f}},
+                                 {"metal-Cu", {0.9875440f, 1.0074508f, 0.9967776f}}};
+
+// Planck's law at lambda nm, temperature T (K), divided by its peak (Wien), as pbrt-v4's
+// BlackbodySpectrum.
+double planck(double lambdaNm, double T) {
+    const double c = 299792458, h = 6.62606957e-34, kb = 1.3806488e-23, l = lambdaNm * 1e-9;
+    return (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * T)) - 1));
+}
+
+float luminanceOf(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+}  // namespace
+
+bool namedSpectrumRgb(const std::string& name, Vec3& rgb) {
+    for (const NamedRgb& n : kNamed)
+        if (name == n.name) {
+            rgb = n.rgb;
+            return true;
+        }
+    return false;
+}
+
+Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, bool* given) {
+    const Param* q = p.find(name);
+    if (given) *given = q != nullptr;
+    if (!q) return def;
+    const std::string decl = "\"" + q->type + " " + name + "\"";
+    if (q->type == "rgb" || q->type == "color") {
+        if (q->numbers.size() != 3) fail(q->at, decl + ": expected three values");
+        const Vec3 c(float(q->numbers[0]), float(q->numbers[1]), float(q->numbers[2]));
+        if (!(c.x >= 0 && c.y >= 0 && c.z >= 0)) fail(q->at, decl + ": components must be >= 0");
+        if (use == SpectrumUse::Albedo && (c.x > 1 || c.y > 1 || c.z > 1))
+            fail(q->at, decl + ": an RGB reflectance above 1 (pbrt-v4 refuses it too)");
+        return c;
+    }
+    if (q->type == "float") {
+        if (q->numbers.size() != 1) fail(q->at, decl + ": expected one value");
+        return Vec3(float(q->numbers[0]));
+    }
+    SampledSpectrum s;
+    if (q->type == "blackbody") {
+        if (q->numbers.size() != 1 || !(q->numbers[0] > 0)) fail(q->at, decl + ": expected one temperature > 0 (kelvin)");
+        const double T = q->numbers[0], peak = planck(2.8977721e-3 / T * 1e9, T);
+        for (int l = 360; l <= 830; ++l) {
+            s.lambda.push_back(l);
+            s.value.push_back(planck(l, T) / peak);
+        }
+    } else if (q->type == "spectrum") {
+        if (!q->strings.empty()) {
+            if (q->strings.size() != 1) fail(q->at, decl + ": expected one name or file");
+            Vec3 rgb;
+            if (namedSpectrumRgb(q->strings[0], rgb)) return rgb;
+            const std::string f = q->strings[0];
+            if (f.rfind("metal-", 0) == 0 || f.rfind("glass-", 0) == 0 || f.rfind("stdillum-", 0) == 0 || f.rfind("canon_", 0) == 0)
+                fail(q->at, decl + ": the named spectrum \"" + f + "\" is not in wavemmlt's table (docs/pbrt.md): give it as an .spd file");
+            const std::string why = readSpectrumFile(resolve(f), s);
+            if (!why.empty()) fail(q->at, resolve(f) + ": " + why);
+        } else {
+            if (q->numbers.size() < 4 || q->numbers.size() % 2) fail(q->at, decl + ": expected wavelength-value pairs");
+            for (size_t i = 0; i < q->numbers.size(); i += 2) {
+                if (i > 0 && !(q->numbers[i] > s.lambda.back())) fail(q->at, decl + ": the wavelengths must increase");
+                s.lambda.push_back(q->numbers[i]);
+                s.value.push_back(q->numbers[i + 1]);
+            }
+        }
+    } else {
+        fail(q->at, decl + ": expected an rgb, spectrum or blackbody value");
+    }
+    if (use != SpectrumUse::Illuminant) return spectrumToRgb(s, true);
+    // pbrt-v4 scales an emitter's spectrum to a luminance of 1 (times its scale)
+    const Vec3 c = spectrumToRgb(s, false);
+    const float y = luminanceOf(c);
+    if (!(y > 0)) fail(q->at, decl + ": the spectrum has no luminance");
+    return c / y;
+}
+
+Vec3 Importer::colourParam(Params& p, const std::string& name, Vec3 def, int& texture, bool floatParam) {
+    const Param* q = p.find(name);
+    if (q && q->type == "texture") {
+        if (q->strings.size() != 1) fail(q->at, "\"texture " + name + "\": expected one texture name");
+        const std::string& t = q->strings[0];
+        auto c = constTextures_.find(t);
+        auto it = textures_.find(t);
+        if (c == constTextures_.end() && it == textures_.end()) fail(q->at, "\"texture " + name + "\": no texture named \"" + t + "\"");
+        if (floatTexture_[t] != floatParam)
+            fail(q->at, "\"texture " + name + "\": \"" + t + "\" is a " + (floatParam ? "spectrum" : "float") + " texture, the parameter takes a " +
+                            (floatParam ? "float" : "spectrum") + " one");
+        if (c != constTextures_.end()) return c->second;
+        texture = it->second;
+        return Vec3(1.0f);
+    }
+    return floatParam ? Vec3(float(p.getFloat(name, def.x))) : spectrum(p, name, def, SpectrumUse::Albedo);
+}
+
+float Importer::floatParam(Params& p, const std::string& name, float def, int& texture) {
+    return colourParam(p, name, Vec3(def), texture, true).x;
+}
+
+int Importer::currentMaterial() {
+    if (g_.material >= 0) return g_.material;
+    if (defaultMaterial_ < 0) {  // pbrt's default: diffuse, reflectance 0.5
+        MaterialDesc m;
+        m.kind = MaterialKind::Matte;
+        m.diffuse = Vec3(0.5f);
+        m.id = defaultMaterial_ = int(s_.materials.size());
+        s_.materials.push_back(m);
+    }
+    return defaultMaterial_;
+}
+
+int Importer::material(const std::string& type, Directive& d) {
+    Params& p = d.params;
+    MaterialDesc m;
+    m.twoSided = true;
+    // pbrt's roughness (Trowbridge-Reitz = GGX): roughness or u/vroughness, remapped to
+    // alpha = sqrt(r) unless remaproughness is false; effectively smooth below 1e-3.
+    auto rough = [&]() {
+        int tr = -1, tu = -1, tv = -1;
+        const float r = floatParam(p, "roughness", 0, tr);
+        const float ur = p.has("uroughness") ? floatParam(p, "uroughness", r, tu) : (tu = tr, r);
+        const float vr = p.has("vroughness") ? floatParam(p, "vroughness", r, tv) : (tv = tr, r);
+        const bool remap = p.getBool("remaproughness", true);
+        if ((tu >= 0 || tv >= 0) && remap)
+            fail(d.at, "a textured roughness needs \"bool remaproughness\" false (wavemmlt scales alpha by the texture)");
+        if (!(ur >= 0 && vr >= 0)) fail(d.at, "roughness must be >= 0");
+        const float au = remap ? std::sqrt(ur) : ur, av = remap ? std::sqrt(vr) : vr;
+        m.distribution = MicrofacetType::GGX;
+        m.alpha = tu >= 0 ? 1.0f : au;
+        m.alphaV = tv >= 0 ? 1.0f : av;
+        m.alphaTexture = tu;
+        m.alphaVTexture = tv;
+        return tu >= 0 || tv >= 0 || std::max(au, av) >= 1e-3f;
+    };
+    if (type == "diffuse") {
+        m.kind = MaterialKind::Matte;
+        m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
+    } else if (type == "conductor") {
+        m.kind = rough() ? MaterialKind::RoughConductor : MaterialKind::Conductor;
+        if (p.has("reflectance")) {  // pbrt-v4: eta 1, k = 2 sqrt(r) / sqrt(1 - r)
+            if (p.has("eta") || p.has("k")) fail(d.at, "give either eta and k or reflectance, not both");
+            int t = -1;
+            const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
+            if (t >= 0) fail(p.find("reflectance")->at, "a textured conductor reflectance is not supported");
+            auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(x) / std::sqrt(1 - x); };
+            m.conductorEta = Vec3(1.0f);
+            m.conductorK = Vec3(k(r.x), k(r.y), k(r.z));
+        } else {
+            Vec3 eta, kk;
+            namedSpectrumRgb("metal-Cu-eta", eta);
+            namedSpectrumRgb("metal-Cu-k", kk);
+            for (const char* n : {"eta", "k"})
+                if (const Param* q = p.find(n); q && q->type == "texture") fail(q->at, std::string("a textured conductor ") + n + " is not supported");
+            m.conductorEta = spectrum(p, "eta", eta, SpectrumUse::Unbounded);
+            m.conductorK = spectrum(p, "k", kk, SpectrumUse::Unbounded);
+        }
+        m.reflect = Vec3(1.0f);
+        // Spectral eta and k: the albedo per channel made the spectral conductor's
+        // (conductorAlbedoScale: the projected indices alone miss gold's red by 4.6%).
+        auto name = [&](const char* n, const char* def) {
+            const Param* q = p.find(n);
+            return !q ? std::string(def) : q->type == "spectrum" && q->strings.size() == 1 ? q->strings[0] : std::string();
+        };
+        const std::string ne = name("eta", "metal-Cu-eta"), nk = name("k", "metal-Cu-k");
+        SampledSpectrum se, sk;
+        if (!p.has("reflectance") && !ne.empty() && !nk.empty()) {
+            bool named = false;
+            for (const NamedRgb& a : kAlbedoScale)
+                if (ne == std::string(a.name) + "-eta" && nk == std::string(a.name) + "-k") {
+                    m.reflect = a.rgb;
+                    named = true;
+                }
+            if (!named && readSpectrumFile(resolve(ne), se).empty() && readSpectrumFile(resolve(nk), sk).empty())
+                m.reflect = conductorAlbedoScale(se, sk, m.conductorEta, m.conductorK);
+        }
+    } else if (type == "dielectric" || type == "thindielectric") {
+        double eta = 1.5;
+        if (const Param* q = p.find("eta")) {
+            if (q->type == "float") {
+                eta = p.getFloat("eta", 1.5);
+            } else if (q->type == "spectrum") {  // its value at 550 nm (wavemmlt has no dispersion)
+                if (!q->strings.empty() && q->strings[0].rfind("glass-", 0) == 0)
+                    fail(q->at, "the named spectrum \"" + q->strings[0] + "\": give the glass's index as \"float eta\"");
+                SampledSpectrum s;
+                if (!q->strings.empty()) {
+                    const std::string why = readSpectrumFile(resolve(q->strings[0]), s);
+                    if (!why.empty()) fail(q->at, resolve(q->strings[0]) + ": " + why);
+                } else {
+                    for (size_t i = 0; i + 1 < q->numbers.size(); i += 2) {
+                        s.lambda.push_back(q->numbers[i]);
+                        s.value.push_back(q->numbers[i + 1]);
+                    }
+                }
+                if (s.lambda.empty() || s.lambda.front() > 550 || s.lambda.back() < 550) fail(q->at, "\"spectrum eta\": no value at 550 nm");
+                size_t i = 0;
+                while (i + 2 < s.lambda.size() && s.lambda[i + 1] < 550) ++i;
+                const double t = s.lambda[i + 1] > s.lambda[i] ? (550 - s.lambda[i]) / (s.lambda[i + 1] - s.lambda[i]) : 0;
+                eta = s.value[i] * (1 - t) + s.value[i + 1] * t;
+                warn(q->at, "a spectral eta: wavemmlt uses its value at 550 nm, " + std::to_string(eta) + " (no dispersion)");
+            } else {
+                fail(q->at, "\"" + q->type + " eta\": expected a float or a spectrum");
+            }
+        }
+        if (!(eta > 0) || eta == 1) fail(d.at, type + ": eta must be > 0 and not 1");
+        m.iorInside = float(eta);
+        m.iorOutside = 1;
+        m.reflect = m.refract = Vec3(1.0f);
+        if (type == "thindielectric") m.kind = MaterialKind::ThinDielectric;
+        else m.kind = rough() ? MaterialKind::RoughDielectric : MaterialKind::Dielectric;
+    } else if (type == "mix") {
+        const Param* q = p.find("materials");
+        if (!q || q->type != "string" || q->strings.size() != 2) fail(d.at, "mix needs \"string materials\" with two names");
+        m.kind = MaterialKind::Blend;
+        for (int k = 0; k < 2; ++k) {
+            auto it = namedMaterials_.find(q->strings[size_t(k)]);
+            if (it == namedMaterials_.end()) fail(q->at, "mix: no material named \"" + q->strings[size_t(k)] + "\"");
+            const MaterialDesc& part = s_.materials[size_t(it->second)];
+            if (part.kind == MaterialKind::Blend) fail(q->at, "a mix inside a mix is not supported");
+            if (part.opacity < 1 || part.opacityTexture >= 0 || isAnisotropic(part))
+                fail(q->at, "mix: a masked or anisotropic part is not supported");
+            m.blendPart[k] = it->second;
+        }
+        // pbrt chooses material 1 with probability amount per hit; the mean is this blend
+        m.blendWeight = floatParam(p, "amount", 0.5f, m.blendWeightTexture);
+        if (m.blendWeightTexture >= 0) m.blendWeight = 1;
+        if (!(m.blendWeight >= 0 && m.blendWeight <= 1)) fail(d.at, "mix: amount must be in [0, 1]");
+    } else if (type == "coateddiffuse" || type == "coatedconductor" || type == "diffusetransmission" || type == "interface" ||
+               type == "measured" || type == "subsurface" || type == "hair") {
+        fail(d.at, "Material \"" + type + "\" is not supported yet (docs/pbrt.md)");
+    } else {
+        fail(d.at, "unknown Material \"" + type + "\"");
+    }
+    if (p.has("displacement")) fail(p.find("displacement")->at, "displacement is not supported yet");
+    if (p.has("normalmap")) fail(p.find("normalmap")->at, "normalmap is not supported yet");
+    m.id = int(s_.materials.size());
+    s_.materials.push_back(m);
+    return m.id;
+}
+
+void Importer::texture(Directive& d) {
+    Params& p = d.params;
+    const std::string& name = d.strings[0];
+    const std::string& kind = d.strings[1];
+    const std::string& cls = d.strings[2];
+    if (kind != "spectrum" && kind != "float") fail(d.at, "Texture \"" + name + "\": \"" + kind + "\" is not spectrum or float");
+    const bool isFloat = kind == "float";
+    if (textures_.count(name) || constTextures_.count(name)) fail(d.at, "Texture \"" + name + "\" defined twice");
+    TextureDesc t;
+    // (u, v) mapping: s = su u + du, t = sv v + dv (only "uv")
+    const std::string mapping = p.getString("mapping", "uv");
+    if (mapping != "uv") fail(p.find("mapping")->at, "mapping \"" + mapping + "\" is not supported (uv is)");
+    const float su = float(p.getFloat("uscale", 1)), sv = float(p.getFloat("vscale", 1));
+    const float du = float(p.getFloat("udelta", 0)), dv = float(p.getFloat("vdelta", 0));
+    // a texture or constant operand k of scale and mix: colour1 / colour2 hold constants
+    auto operand = [&](const char* pname, Vec3 def, int k) {
+        int tex = -1;
+        const Vec3 v = colourParam(p, pname, def, tex, isFloat);
+        t.operand[k] = tex;
+        if (k == 0) t.colour1 = tex >= 0 ? Vec3(1.0f) : v;
+        if (k == 1) t.colour2 = tex >= 0 ? Vec3(1.0f) : v;
+        return v;
+    };
+    if (cls == "constant") {
+        int tex = -1;
+        const Vec3 v = colourParam(p, "value", Vec3(1.0f), tex, isFloat);
+        constTextures_[name] = v;
+        floatTexture_[name] = isFloat;
+        return;
+    } else if (cls == "imagemap") {
+        t.kind = TextureKind::Bitmap;
+        const std::string f = p.getString("filename", "");
+        if (f.empty()) fail(d.at, "imagemap needs \"string filename\"");
+        const std::string path = resolve(f);
+        try {
+            t.image = readImage(path);
+        } catch (const InputError& e) {
+            fail(d.at, e.what());
+        }
+        const std::string filter = p.getString("filter", "bilinear");
+        if (filter == "point") t.nearest = true;
+        else if (filter == "trilinear" || filter == "ewa")
+            warn(p.find("filter")->at, "filter \"" + filter + "\" is evaluated bilinearly (no MIP maps)");
+        else if (filter != "bilinear") fail(p.find("filter")->at, "filter \"" + filter + "\" is not point, bilinear, trilinear or ewa");
+        p.getFloat("maxanisotropy", 8);
+        const std::string wrap = p.getString("wrap", "repeat");
+        if (wrap == "repeat") t.wrap = TextureWrap::Repeat;
+        else if (wrap == "clamp") t.wrap = TextureWrap::Clamp;
+        else fail(p.find("wrap")->at, "wrap \"" + wrap + "\" is not supported (repeat and clamp are)");
+        const std::string ext = std::filesystem::path(path).extension().string();
+        const bool encoded = ext == ".png" || ext == ".PNG" || ext == ".jpg" || ext == ".JPG" || ext == ".jpeg" || ext == ".tga";
+        const std::string enc = p.getString("encoding", encoded ? "sRGB" : "linear");
+        if (enc == "linear" && encoded) {
+            for (float& v : t.image.rgb) v = linearToSrgb(v);  // readImage decoded sRGB
+        } else if (enc.rfind("gamma ", 0) == 0 && encoded) {
+            double g = 0;
+            if (!parseNumber(enc.substr(6), false, g) || !(g > 0)) fail(p.find("encoding")->at, "encoding \"" + enc + "\": bad gamma");
+            for (float& v : t.image.rgb) v = float(std::pow(double(linearToSrgb(v)), g));
+        } else if (enc != "sRGB" && enc != "linear") {
+            fail(p.find("encoding")->at, "encoding \"" + enc + "\" is not sRGB, linear or gamma g");
+        }
+        if (p.getBool("invert", false)) fail(p.find("invert")->at, "invert is not supported");
+        // pbrt looks images up at (s, 1 - t), row 0 on top: wavemmlt's v = 0 is the top row
+        const float uv[6] = {su, 0, du, 0, -sv, 1 - dv};
+        std::copy(uv, uv + 6, t.uvTransform);
+        const float scale = float(p.getFloat("scale", 1));
+        if (scale != 1) {  // the image times its scale: a Scale texture over it
+            t.id = int(s_.textures.size());
+            s_.textures.push_back(std::move(t));
+            TextureDesc sc;
+            sc.kind = TextureKind::Scale;
+            sc.operand[0] = int(s_.textures.size()) - 1;
+            sc.colour2 = Vec3(scale);
+            t = std::move(sc);
+        }
+    } else if (cls == "checkerboard") {
+        if (p.getInt("dimension", 2) != 2) fail(d.at, "a 3D checkerboard is not supported");
+        t.kind = TextureKind::Checkerboard;
+        int a = -1, b = -1;
+        t.colour1 = colourParam(p, "tex1", Vec3(1.0f), a, isFloat);
+        t.colour2 = colourParam(p, "tex2", Vec3(0.0f), b, isFloat);
+        if (a >= 0 || b >= 0) fail(d.at, "checkerboard: tex1 and tex2 must be constants");
+        // pbrt: tex1 where floor(s) + floor(t) is even; Mitsuba's checkerboard on (s, t) / 2
+        const float uv[6] = {su / 2, 0, du / 2, 0, sv / 2, dv / 2};
+        std::copy(uv, uv + 6, t.uvTransform);
+    } else if (cls == "scale") {
+        t.kind = TextureKind::Scale;
+        operand("tex", Vec3(1.0f), 0);
+        int tex = -1;
+        const float s = floatParam(p, "scale", 1, tex);
+        t.operand[1] = tex;
+        t.colour2 = Vec3(tex >= 0 ? 1.0f : s);
+    } else if (cls == "mix") {
+        t.kind = TextureKind::Mix;
+        operand("tex1", Vec3(0.0f), 0);
+        operand("tex2", Vec3(1.0f), 1);
+        int tex = -1;
+        t.amount = floatParam(p, "amount", 0.5f, tex);
+        t.operand[2] = tex;
+    } else {
+        fail(d.at, "Texture class \"" + cls + "\" is not supported yet (docs/pbrt.md)");
+    }
+    t.id = int(s_.textures.size());
+    textures_[name] = t.id;
+    floatTexture_[name] = isFloat;
+    s_.textures.push_back(std::move(t));
+}
+
+}  // namespace wmlt::pbrt
