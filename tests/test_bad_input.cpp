@@ -347,6 +347,29 @@ TEST_CASE("badinput: elements nested deeper than 100 are refused before any recu
     }
 }
 
+// ---- pbrt-v4 ---------------------------------------------------------------------------------
+
+TEST_CASE("badinput: pbrt-v4 scene errors exit 2 with file and line and write nothing", "[badinput][pbrt]") {
+    TempDir dir;
+    const std::string head = "WorldBegin\nLightSource \"point\"\n";
+    struct Bad { const char* what; std::string text; const char* fragment; };
+    const std::vector<Bad> cases = {
+        {"unterminated bracket", head + "Shape \"sphere\" \"float radius\" [ 1\n", "s.pbrt:3: \"float radius\": unterminated ["},
+        {"unknown directive", head + "Frobnicate\n", "s.pbrt:3: unknown directive \"Frobnicate\""},
+        {"unknown named material", head + "NamedMaterial \"x\"\n", "s.pbrt:3: NamedMaterial: no material named \"x\""},
+        {"missing include", head + "Include \"gone.pbrt\"\n", "s.pbrt:3: "},
+        {"not gzip", "", "s.pbrt.gz: the scene file is named .gz but is not gzip"},
+    };
+    for (const Bad& b : cases) {
+        DYNAMIC_SECTION(b.what) {
+            const std::string name = std::string(b.what) == "not gzip" ? "s.pbrt.gz" : "s.pbrt";
+            const std::string path = dir.write(name, b.text.empty() ? head : b.text);
+            const std::string out = dir.file("out.exr");
+            requireBad(run({path, "-o", out, "--spp", "1"}, dir), {b.fragment}, out, dir);
+        }
+    }
+}
+
 // ---- OBJ ------------------------------------------------------------------------------------
 
 TEST_CASE("badinput: OBJ errors name the scene line and the OBJ file and line", "[badinput]") {

@@ -107,6 +107,20 @@ TEST_CASE("fuzz corpus and regressions: scene loader", "[fuzz]") {
     }
 }
 
+TEST_CASE("fuzz corpus and regressions: pbrt-v4 importer", "[fuzz][pbrt]") {
+    // The seeds are real scenes (some refused: media, coated materials, files not copied) and
+    // one that names the fuzz target's fixtures; each loads or is refused, never crashes.
+    const auto seeds = inputs("corpus", "pbrt");
+    REQUIRE(seeds.size() >= 5);
+    int loaded = 0;
+    for (const auto& kind : {"corpus", "regressions"})
+        for (const fs::path& f : inputs(kind, "pbrt")) {
+            INFO(f.string());
+            if (run(f, [&] { loadPbrt(f.string()); }) == Outcome::Loaded) ++loaded;
+        }
+    CHECK(loaded >= 3);  // the Cornell boxes
+}
+
 TEST_CASE("fuzz corpus and regressions: OBJ loader", "[fuzz]") {
     const auto seeds = inputs("corpus", "obj");
     REQUIRE(seeds.size() >= 3);

@@ -2,8 +2,7 @@
 
 #include <zlib.h>
 
-#include <fstream>
-#include <iterator>
+#include <cstdio>
 
 #include "wavemmlt/error.h"
 
@@ -48,10 +47,15 @@ std::string gunzip(const std::string& path, const std::string& in, const std::st
 }  // namespace
 
 std::string readWholeFile(const std::string& path, const std::string& what) {
-    std::ifstream f(path, std::ios::binary);
+    std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError(path, 0, "cannot open " + what);
-    std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (f.bad()) throw InputError(path, 0, "cannot read " + what);
+    std::string data;
+    char buf[1 << 16];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
+    const bool bad = std::ferror(f);  // a folder: EISDIR on the first read
+    std::fclose(f);
+    if (bad) throw InputError(path, 0, "cannot read " + what);
     return endsWith(path, ".gz") ? gunzip(path, data, what) : data;
 }
 

@@ -192,8 +192,8 @@ void Importer::film() {
     Params& p = f.params;
     s_.settings.width = p.getInt("xresolution", 1280);
     s_.settings.height = p.getInt("yresolution", 720);
-    if (s_.settings.width < 1 || s_.settings.height < 1 || s_.settings.width > 65536 || s_.settings.height > 65536)
-        fail(f.at, "the film's resolution must be 1 to 65536 pixels on each side");
+    if (s_.settings.width < 1 || s_.settings.height < 1 || s_.settings.width > 16384 || s_.settings.height > 16384)
+        fail(f.at, "the film's resolution must be 1 to 16384 pixels on each side");
     const std::string out = p.getString("filename", "pbrt.exr");
     s_.settings.output = out;
     const std::vector<double> crop = p.getNumbers("cropwindow");

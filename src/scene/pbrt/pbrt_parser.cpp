@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 
 #include "scene/number.h"
@@ -284,7 +285,8 @@ void Parser::param(Directive& d, const Token& decl) {
         } else {
             if (v.quoted) fail(v.at, "\"" + s + "\": expected a number, found \"" + v.text + "\"");
             const double x = toNumber(v.text, v.at, s);
-            if (p.type == "integer" && x != double(int64_t(x))) fail(v.at, "\"" + s + "\": " + v.text + " is not an integer");
+            if (p.type == "integer" && (x != std::floor(x) || std::fabs(x) > 2147483647.0))
+                fail(v.at, "\"" + s + "\": " + v.text + " is not an integer (of 32 bits)");
             p.numbers.push_back(x);
         }
     }
@@ -296,7 +298,10 @@ bool Parser::next(Directive& d) {
     for (;;) {
         d = Directive{};
         if (!read(t)) return false;
-        if (t.quoted || t.text == "[" || t.text == "]") fail(t.at, "expected a directive, found " + (t.quoted ? "\"" + t.text + "\"" : t.text));
+        double number = 0;
+        if (t.quoted || t.text == "[" || t.text == "]" || parseNumber(t.text, false, number))
+            fail(t.at, "expected a directive, found " + (t.quoted ? "\"" + t.text + "\"" : t.text) +
+                           (t.text == "[" || t.quoted ? "" : " (a value outside a parameter's brackets?)"));
         const Shape* shape = nullptr;
         for (const Shape& k : kDirectives)
             if (t.text == k.name) shape = &k;

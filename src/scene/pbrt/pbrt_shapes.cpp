@@ -161,6 +161,9 @@ void Importer::shape(Directive& d) {
         const int levels = p.getInt("levels", 3);
         if (P.empty() || idx.empty() || idx.size() % 3) fail(d.at, "loopsubdiv needs \"point3 P\" and \"integer indices\" (3 per triangle)");
         if (levels < 0 || levels > 8) fail(d.at, "loopsubdiv: levels must be 0 to 8");
+        if (double(idx.size() / 3) * std::pow(4.0, levels) > double(1 << 24))
+            fail(d.at, "loopsubdiv: " + std::to_string(idx.size() / 3) + " triangles at " + std::to_string(levels) +
+                           " levels would make more than 2^24 triangles");
         for (size_t i = 0; i < P.size(); i += 3) m.positions.push_back(Vec3(float(P[i]), float(P[i + 1]), float(P[i + 2])));
         for (int i : idx) {
             if (i < 0 || size_t(i) >= m.positions.size())

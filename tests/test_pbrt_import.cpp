@@ -1,0 +1,353 @@
+// The pbrt-v4 importer (docs/pbrt.md): the format (tokens, parameters, Include, gzip), the
+// directives' mapping (camera, film, sampler, integrator, filter, materials, textures,
+// shapes, lights, objects), closed forms for its lights on a diffuse floor in PT, LT and BPT,
+// instancing against the flattened scene, Loop subdivision, and bad input with file and
+// line. pbrt's own renders of real scenes: test_pbrt_scenes.cpp.
+#include <catch2/catch.hpp>
+
+#include <zlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "kernels/texture.h"
+#include "mitsuba_floor.h"
+#include "render_stats.h"
+#include "scene/meshes/loop_subdivision.h"
+#include "scene/spectrum.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+
+namespace {
+
+const std::string kData = std::string(WAVEMMLT_TEST_DATA) + "/scenes/pbrt-v4/";
+
+std::string dir() {
+    static const std::string d = rstats::tempDir("pbrt");
+    return d;
+}
+std::string write(const std::string& name, const std::string& text) {
+    const std::string path = dir() + "/" + name;
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+// A 16 x 16 camera looking down at the floor y = 0 from y = 1 (as mitsuba_floor.h's).
+const std::string kHead = R"(LookAt 0 1 0  0 0 0  0 0 1
+Camera "perspective" "float fov" [ 90 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+WorldBegin
+)";
+const std::string kFloor = R"(AttributeBegin
+Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ]
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+)";
+SceneDesc load(const std::string& body, const std::string& name = "t.pbrt") { return loadScene(write(name, kHead + body)); }
+std::string errorOf(const std::string& text, const std::string& name = "bad.pbrt") {
+    try {
+        loadScene(write(name, text));
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("pbrt import: tokens, parameters, camera, film, sampler, integrator, filter", "[pbrt][import]") {
+    const SceneDesc d = loadScene(write("all.pbrt", R"(# a comment "with quotes" [ and brackets ]
+Scale -1 1 1
+LookAt 1 2 3   1 2 4   0 1 0   # eye, look, up
+Camera "perspective" "float fov" 30 "float lensradius" [ 0.5 ] "float focaldistance" [ 4 ]
+Film "rgb" "integer xresolution" [ 40 ] "integer yresolution" [ 20 ] "string filename" "out\"put.exr" "float iso" 200
+Sampler "halton" "integer pixelsamples" 16
+Integrator "bdpt" "integer maxdepth" [ 3 ]
+PixelFilter "mitchell" "float xradius" 1.5 "float yradius" [1.5]
+WorldBegin
+LightSource "point" "rgb I" [ 1 2 3 ] "point3 from" [ 0 5 0 ]
+Shape "sphere"
+)"));
+    CHECK(d.settings.width == 40);
+    CHECK(d.settings.height == 20);
+    CHECK(d.settings.output == "out\"put.exr");
+    CHECK(d.settings.samples == 4);
+    CHECK(d.settings.tracer == TracerKind::BPT);
+    CHECK(d.settings.maxPathLength == 4);  // maxdepth 3 bounces: 4 segments
+    CHECK(d.filter.kind == FilterKind::Mitchell);
+    CHECK(d.filter.radius == 1.5f);
+    CHECK(d.camera.fovDegrees == 30.0f);
+    CHECK(d.camera.position.z == Approx(3.0f));
+    CHECK(d.camera.lookAt.z == Approx(4.0f));
+    CHECK(d.camera.dof);
+    CHECK(d.camera.focalLength == 4.0f);
+    CHECK(d.camera.focalLength / (2 * d.camera.fStop) == Approx(0.5f));
+    // pbrt's image right is camera +x; Scale -1 1 1 mirrors it back to wavemmlt's own right
+    CHECK_FALSE(d.camera.flipX);
+    CHECK(loadScene(write("plain.pbrt", "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\nWorldBegin\nLightSource \"point\"\nShape \"sphere\"\n")).camera.flipX);
+    // the film's iso 200: the imaging ratio 2 on every emitter
+    CHECK(d.lights[0].radiance.y == Approx(4.0f));
+    CHECK(d.lights[0].position.y == Approx(5.0f));
+    // defaults: volpath (PT), maxdepth 5, 16 spp, gaussian 1.5 / 0.5, 1280 x 720
+    const SceneDesc e = loadScene(write("defaults.pbrt", "WorldBegin\nLightSource \"point\"\nShape \"sphere\"\n"));
+    CHECK(e.settings.tracer == TracerKind::PT);
+    CHECK(e.settings.maxPathLength == 6);
+    CHECK(e.settings.samples == 4);
+    CHECK(e.settings.width == 1280);
+    CHECK(e.filter.kind == FilterKind::Gaussian);
+    CHECK(e.filter.radius == 1.5f);
+    CHECK(e.filter.stddev == 0.5f);
+    CHECK(e.camera.fovDegrees == 90.0f);
+}
+
+TEST_CASE("pbrt import: Include, gzip, and the same scene either way", "[pbrt][import]") {
+    write("inc-geom.pbrt", kFloor);
+    const SceneDesc a = load("Include \"inc-geom.pbrt\"\nLightSource \"point\" \"point3 from\" [0 1 0]\n", "inc.pbrt");
+    const std::string plain = kHead + kFloor + "LightSource \"point\" \"point3 from\" [0 1 0]\n";
+    gzFile gz = gzopen((dir() + "/zipped.pbrt.gz").c_str(), "wb");
+    REQUIRE(gz);
+    gzwrite(gz, plain.data(), unsigned(plain.size()));
+    gzclose(gz);
+    const SceneDesc b = loadScene(dir() + "/zipped.pbrt.gz");
+    REQUIRE(a.shapes.size() == 1);
+    REQUIRE(b.shapes.size() == 1);
+    CHECK(a.shapes[0].mesh.positions.size() == b.shapes[0].mesh.positions.size());
+    CHECK(a.shapes[0].mesh.positions[2].x == b.shapes[0].mesh.positions[2].x);
+    CHECK(a.lights[0].position.y == b.lights[0].position.y);
+}
+
+TEST_CASE("pbrt import: materials and textures", "[pbrt][import]") {
+    std::filesystem::create_directories(dir() + "/spds");
+    for (const char* f : {"Au.eta.spd", "Au.k.spd"})
+        std::filesystem::copy_file(kData + "cornell-box/spds/" + f, dir() + "/spds/" + f, std::filesystem::copy_options::overwrite_existing);
+    const SceneDesc d = load(R"(LightSource "point"
+MakeNamedMaterial "a" "string type" "conductor" "float roughness" 0.01
+MakeNamedMaterial "b" "string type" "conductor" "float uroughness" 0.04 "float vroughness" 0.09 "bool remaproughness" false
+MakeNamedMaterial "c" "string type" "conductor" "spectrum eta" "metal-Au-eta" "spectrum k" "metal-Au-k"
+MakeNamedMaterial "d" "string type" "conductor" "spectrum eta" "spds/Au.eta.spd" "spectrum k" "spds/Au.k.spd"
+MakeNamedMaterial "e" "string type" "dielectric" "float eta" 1.33
+MakeNamedMaterial "f" "string type" "diffuse"
+MakeNamedMaterial "g" "string type" "mix" "string materials" [ "f" "e" ] "float amount" 0.25
+Texture "checks" "spectrum" "checkerboard" "float uscale" 4 "float vscale" 2 "rgb tex1" [ 1 0 0 ] "rgb tex2" [ 0 0 1 ]
+Texture "half" "spectrum" "scale" "texture tex" "checks" "float scale" 0.5
+MakeNamedMaterial "h" "string type" "diffuse" "texture reflectance" "half"
+)" + std::string("NamedMaterial \"a\"\nShape \"sphere\"\nNamedMaterial \"b\"\nShape \"sphere\"\nNamedMaterial \"c\"\nShape \"sphere\"\n") +
+                             "NamedMaterial \"d\"\nShape \"sphere\"\nNamedMaterial \"e\"\nShape \"sphere\"\nNamedMaterial \"g\"\nShape \"sphere\"\nNamedMaterial \"h\"\nShape \"sphere\"\n",
+                             "materials.pbrt");
+    auto mat = [&](size_t shape) { return d.materials[size_t(d.shapes[shape].material)]; };
+    CHECK(mat(0).kind == MaterialKind::RoughConductor);
+    CHECK(mat(0).distribution == MicrofacetType::GGX);
+    CHECK(mat(0).alpha == Approx(0.1f));  // remapped: sqrt(roughness)
+    CHECK(mat(1).alpha == Approx(0.04f));
+    CHECK(mat(1).alphaV == Approx(0.09f));
+    CHECK(mat(2).kind == MaterialKind::Conductor);
+    // named gold is the D65 projection of its spectra, scaled to the spectral albedo
+    SampledSpectrum eta, k;
+    REQUIRE(readSpectrumFile(kData + "cornell-box/spds/Au.eta.spd", eta).empty());
+    REQUIRE(readSpectrumFile(kData + "cornell-box/spds/Au.k.spd", k).empty());
+    const Vec3 etaRgb = spectrumToRgb(eta, true), kRgb = spectrumToRgb(k, true);
+    CHECK(mat(2).conductorEta.x == Approx(etaRgb.x).epsilon(1e-5));
+    CHECK(mat(2).conductorK.z == Approx(kRgb.z).epsilon(1e-5));
+    const Vec3 scale = conductorAlbedoScale(eta, k, etaRgb, kRgb);
+    CHECK(mat(2).reflect.x == Approx(scale.x).epsilon(1e-5));
+    CHECK(mat(2).reflect.z == Approx(scale.z).epsilon(1e-5));
+    CHECK(scale.x > 1.03f);  // gold's red: out of gamut
+    CHECK(mat(4).kind == MaterialKind::Dielectric);
+    CHECK(mat(4).iorInside == Approx(1.33f));
+    CHECK(mat(5).kind == MaterialKind::Blend);
+    CHECK(mat(5).blendWeight == 0.25f);
+    CHECK(d.materials[size_t(mat(5).blendPart[1])].kind == MaterialKind::Dielectric);
+    // the checkerboard: tex1 where floor(4u) + floor(2v) is even, times 0.5
+    const MaterialDesc& h = mat(6);
+    REQUIRE(h.colourTexture[int(ColourParam::Diffuse)] >= 0);
+    for (const auto& [u, v] : std::vector<std::pair<float, float>>{{0.1f, 0.1f}, {0.3f, 0.1f}, {0.3f, 0.6f}, {0.9f, 0.9f}, {0.6f, 0.3f}}) {
+        const bool even = (int(std::floor(4 * u)) + int(std::floor(2 * v))) % 2 == 0;
+        const Vec3 c = evalTextureOf(d.textures, size_t(h.colourTexture[int(ColourParam::Diffuse)]), u, v, Vec3(0.0f));
+        INFO("u " << u << " v " << v);
+        CHECK(c.x == (even ? 0.5f : 0.0f));
+        CHECK(c.z == (even ? 0.0f : 0.5f));
+    }
+    // the spectra from .spd files give what the named gold gives
+    CHECK(mat(3).conductorEta.y == Approx(mat(2).conductorEta.y).epsilon(1e-5));
+    CHECK(mat(3).reflect.x == Approx(mat(2).reflect.x).epsilon(1e-5));
+    // no material: pbrt's diffuse 0.5
+    const SceneDesc e = load("LightSource \"point\"\nShape \"sphere\"\n", "default.pbrt");
+    CHECK(e.materials[size_t(e.shapes[0].material)].kind == MaterialKind::Matte);
+    CHECK(e.materials[size_t(e.shapes[0].material)].diffuse.y == 0.5f);
+}
+
+TEST_CASE("pbrt import: shapes and the side an area light emits to", "[pbrt][import]") {
+    const SceneDesc d = load(R"(AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 2 2 2 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  0 1 0 ]
+AttributeEnd
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 2 2 2 ]
+ReverseOrientation
+Shape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  0 1 0 ]
+AttributeEnd
+AttributeBegin
+Scale 1 1 -1
+AreaLightSource "diffuse" "rgb L" [ 2 2 2 ] "float power" [ 10 ]
+Shape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  0 1 0 ]
+AttributeEnd
+Translate 0 0 5
+Scale 2 2 2
+Shape "sphere" "float radius" 0.5
+Shape "sphere" "float radius" 1 "float zmin" 0
+Shape "disk" "float radius" 2
+)");
+    auto normalOf = [&](size_t i) {
+        const TriangleMesh& m = d.shapes[i].mesh;
+        return cross(m.positions[m.indices[1]] - m.positions[m.indices[0]], m.positions[m.indices[2]] - m.positions[m.indices[0]]);
+    };
+    CHECK(normalOf(0).z > 0);  // the winding's side
+    CHECK(normalOf(1).z < 0);  // turned over
+    CHECK(normalOf(2).z < 0);  // mirrored by the transform: pbrt keeps the object's side, -z in the world
+    // power 10 W from a triangle of area 1/2: L = 10 / (pi A luminance) for rgb L 2 (luminance 2)
+    CHECK(d.lights[2].radiance.x == Approx(2 * 10 / (M_PI * 0.5 * 2)).epsilon(1e-5));
+    CHECK(d.shapes[3].kind == ShapeKind::Sphere);
+    CHECK(d.shapes[3].radius == Approx(1.0f));
+    CHECK(d.shapes[3].center.z == Approx(5.0f));
+    CHECK(d.shapes[4].kind == ShapeKind::Mesh);  // half a sphere: a mesh
+    for (const Vec3& p : d.shapes[4].mesh.positions) CHECK(p.z >= 5.0f - 1e-4f);
+    double area = 0;
+    const TriangleMesh& disk = d.shapes[5].mesh;
+    for (size_t t = 0; t < disk.indices.size(); t += 3)
+        area += 0.5 * length(cross(disk.positions[disk.indices[t + 1]] - disk.positions[disk.indices[t]],
+                                   disk.positions[disk.indices[t + 2]] - disk.positions[disk.indices[t]]));
+    CHECK(area == Approx(M_PI * 16).epsilon(1e-3));
+}
+
+TEST_CASE("pbrt import: point, spot and distant lights on a diffuse floor, in PT, LT and BPT", "[pbrt][render]") {
+    using floor_test::floorRadianceOf;
+    const Vec3 c(0.2f, 1.3f, -0.1f);
+    auto r2 = [&](Vec3 p) { return double(lengthSquared(c - p)); };
+    // point: L = rho / pi I cos / r^2
+    floorRadianceOf(load(kFloor + "LightSource \"point\" \"rgb I\" [ 2 2 2 ] \"point3 from\" [ 0.2 1.3 -0.1 ]\n", "point.pbrt"),
+                    [&](Vec3 p, Vec3) { return 0.6 / M_PI * 2 * c.y / std::sqrt(r2(p)) / r2(p); }, "pbrt-point", {});
+    // spot along -y, cone 40, delta 15: pbrt's smoothstep in the cosine between 25 and 40 degrees
+    const double cosEnd = std::cos(40 * M_PI / 180), cosStart = std::cos(25 * M_PI / 180);
+    floorRadianceOf(load(kFloor + "LightSource \"spot\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0.2 1.3 -0.1 ] \"point3 to\" [ 0.2 0 -0.1 ]"
+                                  " \"float coneangle\" 40 \"float conedelta\" 15\n",
+                         "spot.pbrt"),
+                    [&](Vec3 p, Vec3) {
+                        const double cosT = c.y / std::sqrt(r2(p));
+                        double f = cosT >= cosStart ? 1 : cosT <= cosEnd ? 0 : 0;
+                        if (cosT > cosEnd && cosT < cosStart) {
+                            const double t = (cosT - cosEnd) / (cosStart - cosEnd);
+                            f = t * t * (3 - 2 * t);
+                        }
+                        return 0.6 / M_PI * 3 * f * cosT / r2(p);
+                    },
+                    "pbrt-spot", {});
+    // distant: illuminance 2 on a surface facing it, from 30 degrees off the vertical: E cos
+    floorRadianceOf(load(kFloor + "LightSource \"distant\" \"rgb L\" [ 1 1 1 ] \"point3 from\" [ 0.5 0.8660254 0 ] \"point3 to\" [ 0 0 0 ]"
+                                  " \"float illuminance\" 2\n",
+                         "distant.pbrt"),
+                    [&](Vec3, Vec3) { return 0.6 / M_PI * 2 * 0.8660254; }, "pbrt-distant", {TracerKind::PT, TracerKind::BPT});
+}
+
+TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pbrt][render][instancing]") {
+    const std::string box = R"(Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "sphere" "float radius" 0.3
+)";
+    const std::string light = "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 0.9 0 ]\n";
+    const std::string place1 = "Translate 0.3 0.2 0\nRotate 90 1 0 0\nScale 0.3 0.3 0.3\n", place2 = "Translate -0.4 0.1 0.2\nRotate 90 1 0 0\nScale 0.2 0.2 0.2\n";
+    const SceneDesc inst = load(kFloor + light + "ObjectBegin \"o\"\n" + box + "ObjectEnd\nAttributeBegin\n" + place1 +
+                                    "ObjectInstance \"o\"\nAttributeEnd\nAttributeBegin\n" + place2 + "ObjectInstance \"o\"\nAttributeEnd\n",
+                                "instanced.pbrt");
+    const SceneDesc flat = load(kFloor + light + "AttributeBegin\n" + place1 + box + "AttributeEnd\nAttributeBegin\n" + place2 + box + "AttributeEnd\n",
+                                "flattened.pbrt");
+    CHECK(inst.instances.size() == 2);
+    CHECK(inst.groups == 1);
+    CHECK(flat.instances.empty());
+    rstats::RunStats a, b;
+    for (int k = 0; k < 6; ++k) {
+        a.add(rstats::blockMeans(render(inst, rstats::renderOptions(TracerKind::PT, 64, 40 + uint64_t(k), 1, 4)).image, 4, 1));
+        b.add(rstats::blockMeans(render(flat, rstats::renderOptions(TracerKind::PT, 64, 60 + uint64_t(k), 1, 4)).image, 4, 1));
+    }
+    const rstats::ZTestResult z = rstats::compareRuns(a, b, 1e-4);
+    INFO(z.describe());
+    CHECK(z.pass);
+}
+
+TEST_CASE("Loop subdivision: pbrt's scheme", "[pbrt][loopsubdiv]") {
+    // A flat patch stays in its plane, its normals the plane's; 4^levels triangles.
+    std::vector<Vec3> P = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 0}};
+    std::vector<uint32_t> idx = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
+    std::vector<Vec3> N;
+    REQUIRE(loopSubdivide(P, idx, 2, N).empty());
+    CHECK(idx.size() == 4 * 16 * 3);
+    for (const Vec3& p : P) CHECK(p.z == 0.0f);
+    for (const Vec3& n : N) CHECK(std::fabs(n.z) == Approx(1.0f));
+    // An octahedron's limit is symmetric: its six original vertices end at one distance from
+    // the centre, their normals radial.
+    std::vector<Vec3> O = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    std::vector<uint32_t> oi = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+    REQUIRE(loopSubdivide(O, oi, 3, N).empty());
+    CHECK(oi.size() == 8 * 64 * 3);
+    for (int i = 0; i < 6; ++i) {
+        CHECK(length(O[size_t(i)]) == Approx(length(O[0])).epsilon(1e-5));
+        CHECK(std::fabs(dot(N[size_t(i)], normalize(O[size_t(i)]))) == Approx(1.0f).epsilon(1e-5));
+    }
+    CHECK(length(O[0]) < 1.0f);   // pulled in by the smoothing
+    CHECK(length(O[0]) > 0.4f);
+    // bad meshes: an edge of three faces
+    std::vector<Vec3> T = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+    std::vector<uint32_t> ti = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    CHECK_FALSE(loopSubdivide(T, ti, 1, N).empty());
+}
+
+TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-input]") {
+    const std::string head = "WorldBegin\nLightSource \"point\"\n";
+    struct Bad { std::string text; std::string want; };
+    const std::vector<Bad> cases = {
+        {head + "Shape \"sphere\" \"float radius\" [ 1\n", "bad.pbrt:3: \"float radius\": unterminated ["},
+        {head + "Shape \"sphere\" \"string name\" \"unterminated\n", "bad.pbrt:3: unterminated string"},
+        {head + "Frobnicate 1 2\n", "bad.pbrt:3: unknown directive \"Frobnicate\""},
+        {head + "Shape \"sphere\"\n  \"float radius\" [ \"one\" ]\n", "bad.pbrt:4: \"float radius\": expected a number, found \"one\""},
+        {head + "Shape \"sphere\"\n  \"float radius\" [ 1 2 ]\n", "bad.pbrt:4: \"float radius\": expected one value, found 2"},
+        {head + "Shape \"sphere\" \"integer radius\" [ 1 ]\n", "bad.pbrt:3: \"integer radius\": expected a float parameter"},
+        {head + "Shape \"sphere\" \"complex radius\" [ 1 ]\n", "bad.pbrt:3: unknown parameter type \"complex\""},
+        {head + "NamedMaterial \"nope\"\n", "bad.pbrt:3: NamedMaterial: no material named \"nope\""},
+        {head + "Material \"diffuse\" \"texture reflectance\" \"nope\"\n", "bad.pbrt:3: \"texture reflectance\": no texture named \"nope\""},
+        {head + "ObjectInstance \"nope\"\n", "bad.pbrt:3: ObjectInstance of an unknown object \"nope\""},
+        {head + "Include \"missing.pbrt\"\n", "bad.pbrt:3:"},
+        {head + "Shape \"plymesh\" \"string filename\" \"missing.ply\"\n", "missing.ply: cannot open"},
+        {head + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"missing.png\"\n", "bad.pbrt:3:"},
+        {head + "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"integer indices\" [ 0 1 3 ]\n",
+         "bad.pbrt:3: \"indices\": index 3 out of range (3 points)"},
+        {head + "Include \"bad.pbrt\"\n", "bad.pbrt:3: \"" },
+        {head + "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n", "bad.pbrt:3: MakeNamedMedium: participating media are not supported yet"},
+        {head + "Material \"coateddiffuse\"\n", "bad.pbrt:3: Material \"coateddiffuse\" is not supported yet"},
+        {head + "ObjectBegin \"a\"\nObjectBegin \"b\"\n", "bad.pbrt:4: ObjectBegin inside an object"},
+        {"Film \"rgb\" \"integer xresolution\" [ 0 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the film's resolution must be 1 to 16384"},
+        {"PixelFilter \"gaussian\" \"float xradius\" [ -1 ] \"float yradius\" [ -1 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the filter radius must be > 0"},
+        {head + "Shape \"sphere\"\nAttributeEnd\n", "bad.pbrt:4: AttributeEnd without a matching begin"},
+        {head + "Shape \"sphere\" \"float radius\" 1 2\n", "bad.pbrt:3: expected a directive, found 2"},
+    };
+    for (const Bad& b : cases) {
+        INFO(b.text);
+        const std::string e = errorOf(b.text);
+        INFO(e);
+        CHECK(e.find(b.want) != std::string::npos);
+    }
+    // a recursive Include names the including line
+    write("loop-a.pbrt", "Include \"loop-b.pbrt\"\n");
+    write("loop-b.pbrt", "\nInclude \"loop-a.pbrt\"\n");
+    CHECK(errorOf("Include \"loop-a.pbrt\"\n", "loop.pbrt").find("loop-b.pbrt:2: \"") != std::string::npos);
+    // a .gz that is not gzip; a PLY whose indices exceed its vertices
+    write("notgz.pbrt.gz", "WorldBegin\n");
+    std::string e;
+    try { loadScene(dir() + "/notgz.pbrt.gz"); } catch (const InputError& x) { e = x.what(); }
+    CHECK(e.find("notgz.pbrt.gz: the scene file is named .gz but is not gzip") != std::string::npos);
+    write("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                     "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+    CHECK(errorOf(head + "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n").find("vertex index 7 is out of range") != std::string::npos);
+}
