@@ -211,6 +211,12 @@ Shape "disk" "float radius" 2
     CHECK(normalOf(2).z < 0);  // mirrored by the transform: pbrt keeps the object's side, -z in the world
     // power 10 W from a triangle of area 1/2: L = 10 / (pi A luminance) for rgb L 2 (luminance 2)
     CHECK(d.lights[2].radiance.x == Approx(2 * 10 / (M_PI * 0.5 * 2)).epsilon(1e-5));
+    CHECK(d.lights[0].kind == LightKind::Mesh);  // a triangle
+    // a quad light (a parallelogram of two triangles) is the analytic rectangle light
+    const SceneDesc q = load("AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  2 0 0  3 1 0  1 1 0 ] \"integer indices\" [ 0 1 2 2 3 0 ]\n"
+                             "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  2 0 0  3 1 0  1 1.5 0 ] \"integer indices\" [ 0 1 2 2 3 0 ]\n", "quad.pbrt");
+    CHECK(q.lights[0].kind == LightKind::Rect);
+    CHECK(q.lights[1].kind == LightKind::Mesh);  // not a parallelogram
     CHECK(d.shapes[3].kind == ShapeKind::Sphere);
     CHECK(d.shapes[3].radius == Approx(1.0f));
     CHECK(d.shapes[3].center.z == Approx(5.0f));
@@ -275,6 +281,35 @@ Shape "sphere" "float radius" 0.3
     const rstats::ZTestResult z = rstats::compareRuns(a, b, 1e-4);
     INFO(z.describe());
     CHECK(z.pass);
+}
+
+TEST_CASE("pbrt import: the Cornell box equals the same box written in the thesis format", "[pbrt][render][stat]") {
+    // cornell-box-thesis.xml: the vertices, reflectances, light and camera written by hand.
+    // Both with a box filter at 64 x 64; pbrt's image is the thesis format's mirrored.
+    SceneDesc p = loadScene(kData + "cornell-box/cornell-box.pbrt"), t = loadScene(kData + "cornell-box/cornell-box-thesis.xml");
+    p.settings.width = p.settings.height = 64;
+    p.filter = FilterDesc{};
+    CHECK(p.settings.maxPathLength == t.settings.maxPathLength);
+    auto mirrored = [](const Image& im) {
+        Image m(im.width, im.height);
+        for (int y = 0; y < im.height; ++y)
+            for (int x = 0; x < im.width; ++x) m.set(im.width - 1 - x, y, im.at(x, y));
+        return m;
+    };
+    rstats::RunStats a[3], b[3];
+    for (int k = 0; k < 6; ++k) {
+        const Image ip = render(p, rstats::renderOptions(TracerKind::PT, 16, 70 + uint64_t(k), 1, 6)).image;
+        const Image it = mirrored(render(t, rstats::renderOptions(TracerKind::PT, 16, 90 + uint64_t(k), 1, 6)).image);
+        for (int c = 0; c < 3; ++c) {
+            a[c].add(rstats::blockMeans(ip, 8, c));
+            b[c].add(rstats::blockMeans(it, 8, c));
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        const rstats::ZTestResult z = rstats::compareRuns(a[c], b[c], 1e-4);
+        INFO("channel " << c << ": " << z.describe());
+        CHECK(z.pass);
+    }
 }
 
 TEST_CASE("Loop subdivision: pbrt's scheme", "[pbrt][loopsubdiv]") {

@@ -85,18 +85,18 @@ void check(const std::string& file, const std::string& reference, double allowan
 
 }  // namespace
 
-TEST_CASE("pbrt-v4 scenes: the Cornell boxes render what pbrt-v4 renders", "[pbrt][reference][render]") {
+TEST_CASE("pbrt-v4 scenes: the Cornell boxes render what pbrt-v4 renders", "[pbrt][reference][render][stat]") {
     check("cornell-box/cornell-box.pbrt", "cornell-box/reference/pbrt-cornell-box-256x256-1024spp.exr", 0.01);
     check("cornell-box/smallpt.pbrt", "cornell-box/reference/pbrt-smallpt-256x256-1024spp.exr", 0.01);
     check("cornell-box/cornell-box-specular.pbrt", "cornell-box/reference/pbrt-cornell-box-specular-256x256-1024spp.exr", 0.01);
     check("cornell-box/cornell-box-silver.pbrt", "cornell-box/reference/pbrt-cornell-box-silver-256x256-1024spp.exr", 0.01);
 }
 
-TEST_CASE("pbrt-v4 scenes: the gold killeroo (loopsubdiv, .spd metal, imagemap, distant light) renders what pbrt-v4 renders", "[pbrt][reference][render]") {
+TEST_CASE("pbrt-v4 scenes: the gold killeroo (loopsubdiv, .spd metal, imagemap, distant light) renders what pbrt-v4 renders", "[pbrt][reference][render][stat]") {
     check("killeroos/killeroo-gold.pbrt", "killeroos/reference/pbrt-killeroo-gold-256x192-1024spp.exr", 0.01, 256, 192);
 }
 
-TEST_CASE("pbrt-v4 scenes: maxdepth counts bounces as pbrt-v4 does", "[pbrt][reference][render]") {
+TEST_CASE("pbrt-v4 scenes: maxdepth counts bounces as pbrt-v4 does", "[pbrt][reference][render][stat]") {
     // The Cornell box's maxdepth 5 is 6 segments, camera to light; counted one off either
     // way (5 or 7), the comparison above fails.
     SceneDesc d = atSize("cornell-box/cornell-box.pbrt", 256, 256);

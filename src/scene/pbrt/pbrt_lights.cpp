@@ -2,6 +2,7 @@
 // constant infinite light, with pbrt-v4's scale and power / illuminance normalisations.
 // Spectra of emitters are pbrt's: an rgb value as it is, any other spectrum scaled to a
 // luminance of 1 (Importer::spectrum, SpectrumUse::Illuminant).
+#include <algorithm>
 #include <cmath>
 
 #include "scene/pbrt/pbrt_importer.h"
@@ -23,6 +24,31 @@ double areaOf(const ShapeDesc& sh) {
     return a;
 }
 
+// Two triangles sharing a diagonal whose four corners form a parallelogram, both wound to
+// one side: the analytic rectangle light (Scene's rectLight reads this layout), which the
+// flat light-sample loops serve, instead of a two-triangle mesh light. The same emission.
+bool isParallelogram(const TriangleMesh& m) {
+    if (m.indices.size() != 6 || m.positions.size() > 6) return false;
+    const Vec3* p = m.positions.data();
+    const uint32_t* t = m.indices.data();
+    int shared = 0, lone0 = -1;
+    for (int i = 0; i < 3; ++i) {
+        bool found = false;
+        for (int j = 3; j < 6; ++j) found = found || t[i] == t[j];
+        if (found) ++shared;
+        else lone0 = i;
+    }
+    if (shared != 2) return false;
+    int lone1 = -1;
+    for (int j = 3; j < 6; ++j)
+        if (t[j] != t[0] && t[j] != t[1] && t[j] != t[2]) lone1 = j;
+    if (lone1 < 0) return false;
+    const Vec3 c = p[t[lone0]], a = p[t[(lone0 + 1) % 3]], b = p[t[(lone0 + 2) % 3]], d = p[t[lone1]];
+    const Vec3 n0 = cross(a - c, b - c), n1 = cross(p[t[4]] - p[t[3]], p[t[5]] - p[t[3]]);
+    const float size = std::max(length(a - c), length(b - c));
+    return dot(n0, n1) > 0 && length((a + b) - (c + d)) <= 1e-5f * size && length(n0) > 0;
+}
+
 }  // namespace
 
 void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
@@ -39,7 +65,7 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
         scale *= power / ke;
     }
     LightDesc l;
-    l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere : LightKind::Mesh;
+    l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere : isParallelogram(sh.mesh) ? LightKind::Rect : LightKind::Mesh;
     l.radiance = L * float(scale);
     if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "L times scale must be >= 0");
     l.shape = int(&sh - s_.shapes.data());
