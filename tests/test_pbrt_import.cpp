@@ -14,6 +14,7 @@
 
 #include "kernels/texture.h"
 #include "mitsuba_floor.h"
+#include "power.h"
 #include "render_stats.h"
 #include "scene/meshes/loop_subdivision.h"
 #include "scene/spectrum.h"
@@ -309,6 +310,52 @@ TEST_CASE("pbrt import: the Cornell box equals the same box written in the thesi
         const rstats::ZTestResult z = rstats::compareRuns(a[c], b[c], 1e-4);
         INFO("channel " << c << ": " << z.describe());
         CHECK(z.pass);
+    }
+}
+
+TEST_CASE("pbrt import: the four tracers agree on coated materials (pbrt's layered BSDF)", "[pbrt][render][stat][coated]") {
+    // A coateddiffuse floor (rough coat, textured-free) and a coatedconductor sphere (rough
+    // coat over rough gold) under a quad light: PT, LT and MMLT against BPT, 16 runs each
+    // (power.h: brightness, blocks, their spread, p = 1e-4).
+    SceneDesc d = load(R"(AttributeBegin
+Material "coateddiffuse" "rgb reflectance" [ 0.7 0.4 0.2 ] "float roughness" [ 0.05 ]
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+AttributeBegin
+Material "coatedconductor" "float interface.roughness" [ 0.04 ] "float conductor.roughness" [ 0.02 ]
+  "spectrum conductor.eta" "metal-Au-eta" "spectrum conductor.k" "metal-Au-k"
+Translate 0.2 0.25 0.1
+Shape "sphere" "float radius" [ 0.25 ]
+AttributeEnd
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
+Shape "trianglemesh" "point3 P" [ -0.5 1.5 -0.5  -0.5 1.5 0.5  0.5 1.5 0.5  0.5 1.5 -0.5 ] "integer indices" [ 0 2 1 0 3 2 ]
+AttributeEnd
+)", "coated-tracers.pbrt");
+    d.settings.maxPathLength = 4;  // pbrt's maxdepth 3
+    auto runs = [&](TracerKind t, int spp, uint64_t seed0) {
+        power::Runs r(4);
+        RenderOptions o = rstats::renderOptions(t, spp, 0, 1, d.settings.maxPathLength);
+        if (t == TracerKind::MMLT) {
+            o.chains = 1024;
+            o.bootstrap = 1 << 14;
+        }
+        for (int k = 0; k < 16; ++k) {
+            o.seed = seed0 + uint64_t(k);
+            const RenderResult res = render(d, o);
+            REQUIRE(res.stats.samplesNonfiniteDiscarded == 0);
+            if (t == TracerKind::MMLT) REQUIRE(res.stats.mmlt.replayMismatches == 0);
+            r.add(res);
+        }
+        return r;
+    };
+    const power::Runs ref = runs(TracerKind::BPT, 64, 100);
+    for (const auto& [t, spp] : std::vector<std::pair<TracerKind, int>>{{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 64}}) {
+        const power::Runs r = runs(t, spp, 200 + 100 * uint64_t(t));
+        for (const power::Verdict& v : {power::brightness(r, ref, 1e-4), power::blocks(r, ref, 1e-4), power::scatter(r, ref, 1e-4)}) {
+            INFO("tracer " << int(t) << " vs BPT: " << v.text);
+            CHECK(v.pass);
+        }
     }
 }
 

@@ -96,6 +96,11 @@ TEST_CASE("pbrt-v4 scenes: the gold killeroo (loopsubdiv, .spd metal, imagemap, 
     check("killeroos/killeroo-gold.pbrt", "killeroos/reference/pbrt-killeroo-gold-256x192-1024spp.exr", 0.01, 256, 192);
 }
 
+TEST_CASE("pbrt-v4 scenes: a coated material (pbrt's layered BSDF) renders what pbrt-v4 renders", "[pbrt][reference][render][stat]") {
+    // veach-mis: its plates are coateddiffuse under rough coats (kernels/bsdf_coated.cpp).
+    check("veach-mis/veach-mis.pbrt", "veach-mis/reference/pbrt-veach-mis-288x216-1024spp.exr", 0.01, 288, 216);
+}
+
 TEST_CASE("pbrt-v4 scenes: maxdepth counts bounces as pbrt-v4 does", "[pbrt][reference][render][stat]") {
     // The Cornell box's maxdepth 5 is 6 segments, camera to light; counted one off either
     // way (5 or 7), the comparison above fails.

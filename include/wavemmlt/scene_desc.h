@@ -58,9 +58,9 @@ struct CameraDesc {
 // two of those (blendbsdf: f = (1 - w) f_0 + w f_1).
 enum class MaterialKind : uint8_t {
     Matte, Glossy, Reflective, Dielectric,
-    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled
+    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled, Coated
 };
-constexpr int kMaterialKinds = 12;
+constexpr int kMaterialKinds = 13;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
@@ -126,6 +126,17 @@ struct MaterialDesc {
     float principled[kPrincipledParams] = {0.5f, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     int principledTexture[kPrincipledParams] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     float samplingRate[3] = {1, 1, 1};
+    // Coated (pbrt-v4's coateddiffuse and coatedconductor, kernels/bsdf_coated.cpp): the
+    // interface's index iorInside / iorOutside and GGX alphas alpha, alphaV; the base a
+    // diffuse `diffuse` (its texture the Diffuse one) or a conductor conductorEta/K times
+    // `reflect` with its own alphas; the slab between them.
+    struct Coating {
+        bool conductorBase = false;
+        float baseAlpha = 0, baseAlphaV = 0;
+        float thickness = 0.01f, g = 0;
+        Vec3 albedo{0.0f};
+        int maxDepth = 10, nSamples = 1;
+    } coating;
 };
 
 // Whether a principled material transmits (spec_trans given: a texture or a number > 0, as
@@ -145,6 +156,7 @@ inline bool isAnisotropic(const MaterialDesc& m) {
                        m.kind == MaterialKind::RoughPlastic;
     const int a = int(PrincipledParam::Anisotropic);
     if (m.kind == MaterialKind::Principled) return m.principled[a] != 0 || m.principledTexture[a] >= 0;
+    if (m.kind == MaterialKind::Coated) return alphaVOf(m) != m.alpha || m.coating.baseAlpha != m.coating.baseAlphaV;
     return rough && (alphaVOf(m) != m.alpha || m.alphaTexture != m.alphaVTexture);
 }
 

@@ -34,6 +34,15 @@ struct BlendTextures {
     const std::vector<TextureDesc>* textures = nullptr;
     const MaterialDesc* part[2] = {nullptr, nullptr};
 };
+// Coated: the slab and the base (bsdf_coated.cpp).
+struct CoatingExtra {
+    bool conductorBase = false;
+    float baseAlphaX = 0, baseAlphaY = 0;
+    Vec3 baseScale{1.0f};  // the conductor base's Fresnel times this
+    float thickness = 0.01f, g = 0;
+    Vec3 albedo{0.0f};
+    int maxDepth = 10, nSamples = 1;
+};
 struct BsdfExtra {
     Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)
     bool anisotropic = false;          // rough kinds: isAnisotropic (the frame follows dp/du)
@@ -50,6 +59,7 @@ struct BsdfExtra {
     // rates of its diffuse, main specular and clearcoat lobes.
     bool transmits = false;
     float samplingRate[3] = {1, 1, 1};
+    CoatingExtra coating;  // Coated
 };
 
 // A material at one hit, with its texture already applied to `diffuse`.
@@ -171,6 +181,12 @@ Vec3 principledF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 float principledPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
 bool principledSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
 
+// ---- Coated (bsdf_coated.cpp): pbrt-v4's layered BSDF, estimated by random walks ----
+// The interface: eta, alphaX/alphaY; the diffuse base `diffuse`; the rest in x->coating.
+Vec3 coatedF(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);
+float coatedPdf(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);
+bool coatedSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
+
 // ---- Blend (blendbsdf): f = (1 - w) f_0 + w f_1, the parts by the switches below ----
 inline Vec3 blendF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
@@ -187,6 +203,7 @@ inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::RoughPlastic: return roughPlasticF(m, wo, wi);
         case MaterialKind::Blend: return blendF(m, wo, wi);
         case MaterialKind::Principled: return principledF(m, wo, wi);
+        case MaterialKind::Coated: return coatedF(m, wo, wi);
         default: return Vec3(0.0f);  // delta lobes
     }
 }
@@ -200,6 +217,7 @@ inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::RoughPlastic: return roughPlasticPdf(m, wo, wi);
         case MaterialKind::Blend: return blendPdf(m, wo, wi);
         case MaterialKind::Principled: return principledPdf(m, wo, wi);
+        case MaterialKind::Coated: return coatedPdf(m, wo, wi);
         default: return 0.0f;
     }
 }
@@ -218,6 +236,7 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
         case MaterialKind::RoughPlastic: return roughPlasticSample(m, wo, uLobe, u1, u2, s);
         case MaterialKind::Blend: return blendSample(m, wo, uLobe, u1, u2, mode, s);
         case MaterialKind::Principled: return principledSample(m, wo, uLobe, u1, u2, mode, s);
+        case MaterialKind::Coated: return coatedSample(m, wo, uLobe, u1, u2, mode, s);
     }
     return false;
 }

@@ -18,6 +18,7 @@ void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, 
         WMLT_TEXTURED_CASE(RoughPlastic)
         WMLT_TEXTURED_CASE(Blend)
         WMLT_TEXTURED_CASE(Principled)
+        WMLT_TEXTURED_CASE(Coated)
 #undef WMLT_TEXTURED_CASE
     }
 }

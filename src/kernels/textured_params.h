@@ -36,7 +36,7 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
     auto scale = [&](ColourParam c, Vec3& x) {
         if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p);
     };
-    if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled}))
+    if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled, M::Coated}))
         scale(ColourParam::Diffuse, out.diffuse);
     if constexpr (K == M::Glossy) scale(ColourParam::Specular, out.specular);
     if constexpr (isAny(K, {M::Reflective, M::Dielectric, M::Conductor, M::RoughConductor, M::RoughDielectric,

@@ -28,6 +28,7 @@ bool readsTexturedColour(const MaterialDesc& m) {
             for (int t : m.principledTexture)
                 if (t >= 0) return true;
             return has(ColourParam::Diffuse);
+        case MaterialKind::Coated: return has(ColourParam::Diffuse);
     }
     return false;
 }
@@ -71,13 +72,15 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
     f.filter = describeFilter(d.filter);
     f.needUv = f.textures || f.bump;
     for (int k = 0; k < kMaterialKinds; ++k)
-        if (f.material[k] && (isDeltaMaterial(MaterialKind(k)) || MaterialKind(k) == MaterialKind::Plastic)) f.delta = true;
+        if (f.material[k] && (isDeltaMaterial(MaterialKind(k)) || MaterialKind(k) == MaterialKind::Plastic ||
+                              MaterialKind(k) == MaterialKind::Coated))  // a smooth coat's mirror
+            f.delta = true;
     return f;
 }
 
 static const char* kMaterialNames[kMaterialKinds] = {
     "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
-    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled"};
+    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled", "coated"};
 
 std::string SceneFeatures::describe() const {
     std::ostringstream o;

@@ -122,6 +122,16 @@ template <> struct BsdfOf<MaterialKind::Principled> {
     }
 };
 
+template <> struct BsdfOf<MaterialKind::Coated> {
+    static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return coatedF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return coatedPdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3 wo, float ul, float u1, float u2, TransportMode mode, BsdfSample& s) {
+        return coatedSample(m, wo, ul, u1, u2, mode, s);
+    }
+};
+
 // Kind B's BSDF sample with its numbers from number(m) (m = 0: lobe, 1-2: direction), asked
 // for only those the kind reads.
 template <class B, class Number>
@@ -160,7 +170,8 @@ template <class Fn> void forEachMaterialKind(Fn&& fn) {
     fn(std::integral_constant<MaterialKind, MaterialKind::RoughPlastic>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Blend>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Principled>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::Coated>{});
 }
-static_assert(kMaterialKinds == 12, "forEachMaterialKind lists every kind");
+static_assert(kMaterialKinds == 13, "forEachMaterialKind lists every kind");
 
 }  // namespace wmlt

@@ -63,6 +63,7 @@ private:
     // pbrt_materials.cpp
     int material(const std::string& type, Directive& d);
     int currentMaterial();
+    void conductorIndices(Params& p, const std::string& prefix, MaterialDesc& m, float outside = 1);
     void texture(Directive& d);
     Vec3 spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, bool* given = nullptr);
     // A colour parameter: its constant, with `texture` set when it names a texture (the

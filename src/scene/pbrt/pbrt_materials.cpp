@@ -144,18 +144,62 @@ int Importer::currentMaterial() {
     return defaultMaterial_;
 }
 
+// A conductor's eta and k (prefix "" or "conductor."), relative to a medium of index
+// `outside` (a coated conductor's coating, as pbrt-v4 divides them): rgb, spectra, .spd files or pbrt's
+// named metals (default copper), projected under D65; spectral ones with the albedo per
+// channel made the spectral conductor's in m.reflect (conductorAlbedoScale: the projected
+// indices alone miss gold's red by 4.6%; a named metal's table value is for vacuum).
+void Importer::conductorIndices(Params& p, const std::string& prefix, MaterialDesc& m, float outside) {
+    Vec3 eta, kk;
+    namedSpectrumRgb("metal-Cu-eta", eta);
+    namedSpectrumRgb("metal-Cu-k", kk);
+    for (const std::string n : {prefix + "eta", prefix + "k"})
+        if (const Param* q = p.find(n); q && q->type == "texture") fail(q->at, "a textured conductor " + n + " is not supported");
+    m.conductorEta = spectrum(p, prefix + "eta", eta, SpectrumUse::Unbounded) / outside;
+    m.conductorK = spectrum(p, prefix + "k", kk, SpectrumUse::Unbounded) / outside;
+    m.reflect = Vec3(1.0f);
+    auto name = [&](const std::string& n, const char* def) {
+        const Param* q = p.find(n);
+        return !q ? std::string(def) : q->type == "spectrum" && q->strings.size() == 1 ? q->strings[0] : std::string();
+    };
+    const std::string ne = name(prefix + "eta", "metal-Cu-eta"), nk = name(prefix + "k", "metal-Cu-k");
+    if (ne.empty() || nk.empty()) return;
+    for (const NamedRgb& a : kAlbedoScale)
+        if (ne == std::string(a.name) + "-eta" && nk == std::string(a.name) + "-k") {
+            m.reflect = a.rgb;
+            return;
+        }
+    SampledSpectrum se, sk;
+    if (readSpectrumFile(resolve(ne), se).empty() && readSpectrumFile(resolve(nk), sk).empty()) {
+        for (double& v : se.value) v /= outside;
+        for (double& v : sk.value) v /= outside;
+        m.reflect = conductorAlbedoScale(se, sk, m.conductorEta, m.conductorK);
+    }
+}
+
 int Importer::material(const std::string& type, Directive& d) {
     Params& p = d.params;
     MaterialDesc m;
     m.twoSided = true;
     // pbrt's roughness (Trowbridge-Reitz = GGX): roughness or u/vroughness, remapped to
     // alpha = sqrt(r) unless remaproughness is false; effectively smooth below 1e-3.
+    const bool remap = p.getBool("remaproughness", true);
+    // A roughness pair (prefix "": roughness, uroughness, vroughness) as alphas, untextured.
+    auto alphas = [&](const std::string& prefix, float& au, float& av) {
+        int t = -1;
+        const float r = floatParam(p, prefix + "roughness", 0, t);
+        const float ur = p.has(prefix + "uroughness") ? floatParam(p, prefix + "uroughness", r, t) : r;
+        const float vr = p.has(prefix + "vroughness") ? floatParam(p, prefix + "vroughness", r, t) : r;
+        if (t >= 0) fail(d.at, "a textured " + prefix + "roughness on a coated material is not supported");
+        if (!(ur >= 0 && vr >= 0)) fail(d.at, "roughness must be >= 0");
+        au = remap ? std::sqrt(ur) : ur;
+        av = remap ? std::sqrt(vr) : vr;
+    };
     auto rough = [&]() {
         int tr = -1, tu = -1, tv = -1;
         const float r = floatParam(p, "roughness", 0, tr);
         const float ur = p.has("uroughness") ? floatParam(p, "uroughness", r, tu) : (tu = tr, r);
         const float vr = p.has("vroughness") ? floatParam(p, "vroughness", r, tv) : (tv = tr, r);
-        const bool remap = p.getBool("remaproughness", true);
         if ((tu >= 0 || tv >= 0) && remap)
             fail(d.at, "a textured roughness needs \"bool remaproughness\" false (wavemmlt scales alpha by the texture)");
         if (!(ur >= 0 && vr >= 0)) fail(d.at, "roughness must be >= 0");
@@ -172,6 +216,7 @@ int Importer::material(const std::string& type, Directive& d) {
         m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
     } else if (type == "conductor") {
         m.kind = rough() ? MaterialKind::RoughConductor : MaterialKind::Conductor;
+        m.reflect = Vec3(1.0f);
         if (p.has("reflectance")) {  // pbrt-v4: eta 1, k = 2 sqrt(r) / sqrt(1 - r)
             if (p.has("eta") || p.has("k")) fail(d.at, "give either eta and k or reflectance, not both");
             int t = -1;
@@ -181,32 +226,7 @@ int Importer::material(const std::string& type, Directive& d) {
             m.conductorEta = Vec3(1.0f);
             m.conductorK = Vec3(k(r.x), k(r.y), k(r.z));
         } else {
-            Vec3 eta, kk;
-            namedSpectrumRgb("metal-Cu-eta", eta);
-            namedSpectrumRgb("metal-Cu-k", kk);
-            for (const char* n : {"eta", "k"})
-                if (const Param* q = p.find(n); q && q->type == "texture") fail(q->at, std::string("a textured conductor ") + n + " is not supported");
-            m.conductorEta = spectrum(p, "eta", eta, SpectrumUse::Unbounded);
-            m.conductorK = spectrum(p, "k", kk, SpectrumUse::Unbounded);
-        }
-        m.reflect = Vec3(1.0f);
-        // Spectral eta and k: the albedo per channel made the spectral conductor's
-        // (conductorAlbedoScale: the projected indices alone miss gold's red by 4.6%).
-        auto name = [&](const char* n, const char* def) {
-            const Param* q = p.find(n);
-            return !q ? std::string(def) : q->type == "spectrum" && q->strings.size() == 1 ? q->strings[0] : std::string();
-        };
-        const std::string ne = name("eta", "metal-Cu-eta"), nk = name("k", "metal-Cu-k");
-        SampledSpectrum se, sk;
-        if (!p.has("reflectance") && !ne.empty() && !nk.empty()) {
-            bool named = false;
-            for (const NamedRgb& a : kAlbedoScale)
-                if (ne == std::string(a.name) + "-eta" && nk == std::string(a.name) + "-k") {
-                    m.reflect = a.rgb;
-                    named = true;
-                }
-            if (!named && readSpectrumFile(resolve(ne), se).empty() && readSpectrumFile(resolve(nk), sk).empty())
-                m.reflect = conductorAlbedoScale(se, sk, m.conductorEta, m.conductorK);
+            conductorIndices(p, "", m);
         }
     } else if (type == "dielectric" || type == "thindielectric") {
         double eta = 1.5;
@@ -242,6 +262,52 @@ int Importer::material(const std::string& type, Directive& d) {
         m.reflect = m.refract = Vec3(1.0f);
         if (type == "thindielectric") m.kind = MaterialKind::ThinDielectric;
         else m.kind = rough() ? MaterialKind::RoughDielectric : MaterialKind::Dielectric;
+    } else if (type == "coateddiffuse" || type == "coatedconductor") {
+        // pbrt-v4's LayeredBxDF: a dielectric interface over a diffuse or conductor base
+        m.kind = MaterialKind::Coated;
+        MaterialDesc::Coating& c = m.coating;
+        const bool conductor = type == "coatedconductor";
+        const std::string ip = conductor ? "interface." : "";
+        float au, av;
+        alphas(ip, au, av);
+        m.distribution = MicrofacetType::GGX;
+        m.alpha = au;
+        m.alphaV = av;
+        double eta = 1.5;
+        if (const Param* q = p.find(ip + "eta")) {
+            if (q->type != "float") fail(q->at, "\"" + q->type + " " + q->name + "\": give the coating's index as a float");
+            eta = p.getFloat(ip + "eta", 1.5);
+        }
+        if (!(eta > 0)) fail(d.at, type + ": eta must be > 0");
+        m.iorInside = float(eta);
+        m.iorOutside = 1;
+        c.thickness = float(p.getFloat("thickness", 0.01));
+        c.g = float(p.getFloat("g", 0));
+        c.maxDepth = p.getInt("maxdepth", 10);
+        c.nSamples = p.getInt("nsamples", 1);
+        if (!(c.thickness > 0) || !(c.g > -1 && c.g < 1) || c.maxDepth < 1 || c.maxDepth > 1000 || c.nSamples < 1 || c.nSamples > 1000)
+            fail(d.at, type + ": thickness must be > 0, g in (-1, 1), maxdepth and nsamples 1 to 1000");
+        int ta = -1;
+        c.albedo = colourParam(p, "albedo", Vec3(0.0f), ta);
+        if (ta >= 0) fail(p.find("albedo")->at, "a textured albedo is not supported");
+        m.reflect = Vec3(1.0f);
+        if (!conductor) {
+            m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
+        } else {
+            c.conductorBase = true;
+            alphas("conductor.", c.baseAlpha, c.baseAlphaV);
+            if (p.has("reflectance")) {
+                if (p.has("conductor.eta") || p.has("conductor.k")) fail(d.at, "give either conductor.eta and conductor.k or reflectance, not both");
+                int t = -1;
+                const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
+                if (t >= 0) fail(p.find("reflectance")->at, "a textured conductor reflectance is not supported");
+                auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(x) / std::sqrt(1 - x); };
+                m.conductorEta = Vec3(1.0f / m.iorInside);
+                m.conductorK = Vec3(k(r.x), k(r.y), k(r.z)) / m.iorInside;
+            } else {  // pbrt-v4: the base's index relative to the coating's
+                conductorIndices(p, "conductor.", m, m.iorInside);
+            }
+        }
     } else if (type == "mix") {
         const Param* q = p.find("materials");
         if (!q || q->type != "string" || q->strings.size() != 2) fail(d.at, "mix needs \"string materials\" with two names");
@@ -259,7 +325,7 @@ int Importer::material(const std::string& type, Directive& d) {
         m.blendWeight = floatParam(p, "amount", 0.5f, m.blendWeightTexture);
         if (m.blendWeightTexture >= 0) m.blendWeight = 1;
         if (!(m.blendWeight >= 0 && m.blendWeight <= 1)) fail(d.at, "mix: amount must be in [0, 1]");
-    } else if (type == "coateddiffuse" || type == "coatedconductor" || type == "diffusetransmission" || type == "interface" ||
+    } else if (type == "diffusetransmission" || type == "interface" ||
                type == "measured" || type == "subsurface" || type == "hair") {
         fail(d.at, "Material \"" + type + "\" is not supported yet (docs/pbrt.md)");
     } else {
