@@ -3,13 +3,16 @@
 // (the mean of f |cos| / pdf) equals the integral of f |cos| over the hemisphere (uniform
 // directions), within the estimators' measured noise; a lossless slab (a smooth coat over a
 // white base, no absorption) conserves energy; the functions are deterministic (MMLT's
-// replay) and two-sided; pbrt-v4's render of a coated scene: test_pbrt_scenes.cpp.
+// replay) and two-sided; pbrt-v4's render of a coated scene: test_pbrt_scenes.cpp. And
+// DiffuseTransmission (pbrt's diffusetransmission): its sample's density is its pdf, which
+// integrates to 1 over the sphere, and f / pdf is its weight.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <random>
 
 #include "kernels/bsdf.h"
+#include "kernels/sampling.h"
 
 using namespace wmlt;
 
@@ -116,4 +119,29 @@ TEST_CASE("Coated: deterministic, two-sided, a smooth coat's mirror is a delta s
     CHECK(m.delta);
     CHECK(m.wi.z == Approx(wo.z));
     CHECK(m.f.x * std::fabs(m.wi.z) / m.pdf == Approx(1.0f));
+}
+
+TEST_CASE("DiffuseTransmission: the sample's density, f and pdf", "[bsdf]") {
+    BsdfParams m;
+    m.kind = MaterialKind::DiffuseTransmission;
+    m.diffuse = Vec3(0.3f, 0.2f, 0.1f);
+    m.refract = Vec3(0.6f, 0.5f, 0.4f);
+    const Vec3 wo = normalize(Vec3(0.2f, 0.3f, -0.9f));
+    std::mt19937 g(5);
+    std::uniform_real_distribution<float> U(0.0f, 1.0f);
+    Mean integral, through;
+    for (int i = 0; i < 200000; ++i) {
+        const Vec3 w = sampleUniformSphere(U(g), U(g));
+        integral.add(diffuseTransmissionPdf(m, wo, w) / kUniformSpherePdf);
+        BsdfSample s;
+        const float a = U(g), b = U(g), c = U(g);
+        REQUIRE(diffuseTransmissionSample(m, wo, a, b, c, s));
+        CHECK(s.pdf == Approx(diffuseTransmissionPdf(m, wo, s.wi)));
+        CHECK(s.f.x == Approx(diffuseTransmissionF(m, wo, s.wi).x));
+        through.add(s.wi.z * wo.z < 0 ? 1.0 : 0.0);
+    }
+    CHECK(std::fabs(integral.mean() - 1.0) < 4.5 * integral.se());
+    CHECK(std::fabs(through.mean() - 0.6 / 0.9) < 4.5 * through.se());  // max(T) / (max(R) + max(T))
+    CHECK(diffuseTransmissionF(m, wo, Vec3(0, 0, 1)).y == Approx(0.5f / kPi));  // the other side: T / pi
+    CHECK(diffuseTransmissionF(m, wo, Vec3(0, 0, -1)).y == Approx(0.2f / kPi));  // wo's side: R / pi
 }

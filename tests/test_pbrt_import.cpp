@@ -260,6 +260,28 @@ TEST_CASE("pbrt import: point, spot and distant lights on a diffuse floor, in PT
                     [&](Vec3, Vec3) { return 0.6 / M_PI * 2 * 0.8660254; }, "pbrt-distant", {TracerKind::PT, TracerKind::BPT});
 }
 
+TEST_CASE("pbrt import: diffusetransmission's reflected and transmitted halves, in PT, LT and BPT", "[pbrt][render]") {
+    // A floor of reflectance 0.3 and transmittance 0.5 (scale 1): lit from above it reflects
+    // R / pi E, lit from below it transmits T / pi E to the camera above.
+    using floor_test::floorRadianceOf;
+    const std::string floor = R"(AttributeBegin
+Material "diffusetransmission" "rgb reflectance" [ 0.3 0.3 0.3 ] "rgb transmittance" [ 0.5 0.5 0.5 ]
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+)";
+    for (const float side : {1.0f, -1.0f}) {
+        const Vec3 c(0.2f, 1.3f * side, -0.1f);
+        const double rho = side > 0 ? 0.3 : 0.5;
+        floorRadianceOf(load(floor + "LightSource \"point\" \"rgb I\" [ 2 2 2 ] \"point3 from\" [ 0.2 " + std::to_string(c.y) + " -0.1 ]\n",
+                             side > 0 ? "dt-above.pbrt" : "dt-below.pbrt"),
+                        [&](Vec3 p, Vec3) {
+                            const double r2 = double(lengthSquared(c - p));
+                            return rho / M_PI * 2 * std::fabs(c.y) / std::sqrt(r2) / r2;
+                        },
+                        side > 0 ? "pbrt-diffusetransmission-reflected" : "pbrt-diffusetransmission-transmitted", {});
+    }
+}
+
 TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pbrt][render][instancing]") {
     const std::string box = R"(Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
 Shape "sphere" "float radius" 0.3
@@ -407,7 +429,7 @@ TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-inpu
          "bad.pbrt:3: \"indices\": index 3 out of range (3 points)"},
         {head + "Include \"bad.pbrt\"\n", "bad.pbrt:3: \"" },
         {head + "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n", "bad.pbrt:3: MakeNamedMedium: participating media are not supported yet"},
-        {head + "Material \"coateddiffuse\"\n", "bad.pbrt:3: Material \"coateddiffuse\" is not supported yet"},
+        {head + "Material \"hair\"\n", "bad.pbrt:3: Material \"hair\" is not supported yet"},
         {head + "ObjectBegin \"a\"\nObjectBegin \"b\"\n", "bad.pbrt:4: ObjectBegin inside an object"},
         {"Film \"rgb\" \"integer xresolution\" [ 0 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the film's resolution must be 1 to 16384"},
         {"PixelFilter \"gaussian\" \"float xradius\" [ -1 ] \"float yradius\" [ -1 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the filter radius must be > 0"},

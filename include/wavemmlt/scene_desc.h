@@ -58,9 +58,10 @@ struct CameraDesc {
 // two of those (blendbsdf: f = (1 - w) f_0 + w f_1).
 enum class MaterialKind : uint8_t {
     Matte, Glossy, Reflective, Dielectric,
-    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled, Coated
+    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled, Coated,
+    DiffuseTransmission
 };
-constexpr int kMaterialKinds = 13;
+constexpr int kMaterialKinds = 14;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
@@ -84,7 +85,7 @@ struct MaterialDesc {
     Vec3 specular{0.0f};  // Glossy
     float shininess = 0;  // Glossy exponent n
     Vec3 reflect{1.0f};   // Reflective, Dielectric
-    Vec3 refract{1.0f};   // Dielectric
+    Vec3 refract{1.0f};   // Dielectric; DiffuseTransmission: its transmittance (diffuse its reflectance)
     float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
     // A texture on a colour parameter multiplies its constant at the hit (index into
     // SceneDesc::textures by ColourParam, -1: none): the thesis' <Texture> is the Diffuse

@@ -157,6 +157,32 @@ inline bool matteSample(const BsdfParams& m, Vec3 wo, float, float u1, float u2,
     return matteSampleFrom(m, wo, sampleCosineHemisphere(u1, u2), s);
 }
 
+// ---- DiffuseTransmission (pbrt-v4's diffusetransmission) ----
+// f = R / pi on wo's side, T / pi on the other (R = diffuse, T = refract); a side chosen in
+// proportion to max(R) and max(T), then a cosine-weighted direction there. Symmetric: no
+// adjoint correction.
+inline Vec3 diffuseTransmissionF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    return (sameHemisphere(wo, wi) ? m.diffuse : m.refract) * kInvPi;
+}
+inline float diffuseTransmissionPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    const float pr = std::max(m.diffuse.x, std::max(m.diffuse.y, m.diffuse.z));
+    const float pt = std::max(m.refract.x, std::max(m.refract.y, m.refract.z));
+    if (!(pr + pt > 0)) return 0.0f;
+    return absCosTheta(wi) * kInvPi * (sameHemisphere(wo, wi) ? pr : pt) / (pr + pt);
+}
+inline bool diffuseTransmissionSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, BsdfSample& s) {
+    const float pr = std::max(m.diffuse.x, std::max(m.diffuse.y, m.diffuse.z));
+    const float pt = std::max(m.refract.x, std::max(m.refract.y, m.refract.z));
+    if (!(pr + pt > 0)) return false;
+    const bool reflect = uLobe < pr / (pr + pt);
+    s.wi = sampleCosineHemisphere(u1, u2);
+    if ((wo.z < 0) == reflect) s.wi.z = -s.wi.z;  // reflection: wo's side; transmission: the other
+    s.f = (reflect ? m.diffuse : m.refract) * kInvPi;
+    s.pdf = absCosTheta(s.wi) * kInvPi * (reflect ? pr : pt) / (pr + pt);
+    s.delta = false;
+    return s.pdf > 0;
+}
+
 // ---- Glossy, Reflective, Dielectric: bsdf_glossy.cpp, bsdf_specular.cpp -------
 Vec3 glossyF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 float glossyPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
@@ -204,6 +230,7 @@ inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::Blend: return blendF(m, wo, wi);
         case MaterialKind::Principled: return principledF(m, wo, wi);
         case MaterialKind::Coated: return coatedF(m, wo, wi);
+        case MaterialKind::DiffuseTransmission: return diffuseTransmissionF(m, wo, wi);
         default: return Vec3(0.0f);  // delta lobes
     }
 }
@@ -218,6 +245,7 @@ inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::Blend: return blendPdf(m, wo, wi);
         case MaterialKind::Principled: return principledPdf(m, wo, wi);
         case MaterialKind::Coated: return coatedPdf(m, wo, wi);
+        case MaterialKind::DiffuseTransmission: return diffuseTransmissionPdf(m, wo, wi);
         default: return 0.0f;
     }
 }
@@ -237,6 +265,7 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
         case MaterialKind::Blend: return blendSample(m, wo, uLobe, u1, u2, mode, s);
         case MaterialKind::Principled: return principledSample(m, wo, uLobe, u1, u2, mode, s);
         case MaterialKind::Coated: return coatedSample(m, wo, uLobe, u1, u2, mode, s);
+        case MaterialKind::DiffuseTransmission: return diffuseTransmissionSample(m, wo, uLobe, u1, u2, s);
     }
     return false;
 }

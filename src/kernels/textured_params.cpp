@@ -19,6 +19,7 @@ void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, 
         WMLT_TEXTURED_CASE(Blend)
         WMLT_TEXTURED_CASE(Principled)
         WMLT_TEXTURED_CASE(Coated)
+        WMLT_TEXTURED_CASE(DiffuseTransmission)
 #undef WMLT_TEXTURED_CASE
     }
 }

@@ -36,13 +36,14 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
     auto scale = [&](ColourParam c, Vec3& x) {
         if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p);
     };
-    if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled, M::Coated}))
+    if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled, M::Coated, M::DiffuseTransmission}))
         scale(ColourParam::Diffuse, out.diffuse);
     if constexpr (K == M::Glossy) scale(ColourParam::Specular, out.specular);
     if constexpr (isAny(K, {M::Reflective, M::Dielectric, M::Conductor, M::RoughConductor, M::RoughDielectric,
                             M::ThinDielectric, M::Plastic, M::RoughPlastic}))
         scale(ColourParam::Reflect, out.reflect);
-    if constexpr (isAny(K, {M::Dielectric, M::RoughDielectric, M::ThinDielectric})) scale(ColourParam::Refract, out.refract);
+    if constexpr (isAny(K, {M::Dielectric, M::RoughDielectric, M::ThinDielectric, M::DiffuseTransmission}))
+        scale(ColourParam::Refract, out.refract);
     if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric})) {
         if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {
             auto alpha = [&](int i, float a) {

@@ -29,6 +29,7 @@ bool readsTexturedColour(const MaterialDesc& m) {
                 if (t >= 0) return true;
             return has(ColourParam::Diffuse);
         case MaterialKind::Coated: return has(ColourParam::Diffuse);
+        case MaterialKind::DiffuseTransmission: return has(ColourParam::Diffuse) || has(ColourParam::Refract);
     }
     return false;
 }
@@ -80,7 +81,8 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
 
 static const char* kMaterialNames[kMaterialKinds] = {
     "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
-    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled", "coated"};
+    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled", "coated",
+    "diffuse-transmission"};
 
 std::string SceneFeatures::describe() const {
     std::ostringstream o;

@@ -132,6 +132,16 @@ template <> struct BsdfOf<MaterialKind::Coated> {
     }
 };
 
+template <> struct BsdfOf<MaterialKind::DiffuseTransmission> {
+    static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return diffuseTransmissionF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return diffuseTransmissionPdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3 wo, float ul, float u1, float u2, TransportMode, BsdfSample& s) {
+        return diffuseTransmissionSample(m, wo, ul, u1, u2, s);
+    }
+};
+
 // Kind B's BSDF sample with its numbers from number(m) (m = 0: lobe, 1-2: direction), asked
 // for only those the kind reads.
 template <class B, class Number>
@@ -171,7 +181,8 @@ template <class Fn> void forEachMaterialKind(Fn&& fn) {
     fn(std::integral_constant<MaterialKind, MaterialKind::Blend>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Principled>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Coated>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::DiffuseTransmission>{});
 }
-static_assert(kMaterialKinds == 13, "forEachMaterialKind lists every kind");
+static_assert(kMaterialKinds == 14, "forEachMaterialKind lists every kind");
 
 }  // namespace wmlt

@@ -325,7 +325,14 @@ int Importer::material(const std::string& type, Directive& d) {
         m.blendWeight = floatParam(p, "amount", 0.5f, m.blendWeightTexture);
         if (m.blendWeightTexture >= 0) m.blendWeight = 1;
         if (!(m.blendWeight >= 0 && m.blendWeight <= 1)) fail(d.at, "mix: amount must be in [0, 1]");
-    } else if (type == "diffusetransmission" || type == "interface" ||
+    } else if (type == "diffusetransmission") {  // R / pi on the side of wo, T / pi through
+        m.kind = MaterialKind::DiffuseTransmission;
+        int ts = -1;
+        const float scale = floatParam(p, "scale", 1, ts);
+        if (ts >= 0) fail(p.find("scale")->at, "a textured scale is not supported");
+        m.diffuse = colourParam(p, "reflectance", Vec3(0.25f), m.colourTexture[int(ColourParam::Diffuse)]) * scale;
+        m.refract = colourParam(p, "transmittance", Vec3(0.25f), m.colourTexture[int(ColourParam::Refract)]) * scale;
+    } else if (type == "interface" ||
                type == "measured" || type == "subsurface" || type == "hair") {
         fail(d.at, "Material \"" + type + "\" is not supported yet (docs/pbrt.md)");
     } else {
