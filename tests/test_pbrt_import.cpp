@@ -10,15 +10,19 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include "kernels/texture.h"
 #include "mitsuba_floor.h"
 #include "power.h"
 #include "render_stats.h"
+#include "kernels/envmap.h"
 #include "scene/meshes/loop_subdivision.h"
+#include "scene/pbrt/equal_area.h"
 #include "scene/spectrum.h"
 #include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -379,6 +383,62 @@ AttributeEnd
             CHECK(v.pass);
         }
     }
+}
+
+TEST_CASE("pbrt import: the equal-area octahedral environment map against the same map in latitude-longitude form", "[pbrt][import][envmap]") {
+    using namespace wmlt::pbrt;
+    // The parameterisation: its inverse, and equal areas of the square are equal solid angles.
+    std::mt19937 g(9);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    rstats::RunStats z, z2, octant;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 d = equalAreaSquareToSphere(U(g), U(g));
+        z.add({double(d.z)});
+        z2.add({double(d.z) * d.z});
+        octant.add({d.x > 0 && d.y > 0 && d.z > 0 ? 1.0 : 0.0});
+        CHECK(length(d) == Approx(1.0f).epsilon(1e-5));
+        double u, v;
+        equalAreaSphereToSquare(d, u, v);
+        const Vec3 e = equalAreaSquareToSphere(u, v);
+        CHECK(dot(d, e) > 1 - 1e-5f);
+    }
+    CHECK(std::fabs(z.mean(0)) < 4.5 * z.se(0));                // uniform on the sphere: E z = 0
+    CHECK(std::fabs(z2.mean(0) - 1.0 / 3) < 4.5 * z2.se(0));    // E z^2 = 1/3
+    CHECK(std::fabs(octant.mean(0) - 1.0 / 8) < 4.5 * octant.se(0));
+    // A map of f(d) = (1 + d) / 2 in pbrt's layout (texel centres), under Rotate -90 about x
+    // (pbrt's scenes put +z up so): the importer's latitude-longitude map is f of each
+    // direction taken into the light's frame, to the bilinear interpolation's error.
+    const int N = 64;
+    Image oct(N, N);
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            const Vec3 d = equalAreaSquareToSphere((x + 0.5) / N, (y + 0.5) / N);
+            oct.set(x, y, (d + Vec3(1.0f)) * 0.5f);
+        }
+    writeImage(dir() + "/sky.pfm", oct);
+    const SceneDesc d = load(kFloor + "AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.pfm\"\nAttributeEnd\n", "sky.pbrt");
+    REQUIRE(d.envMap.width == 2 * N);
+    double worst = 0;
+    for (int y = 0; y < d.envMap.height; ++y)
+        for (int x = 0; x < d.envMap.width; ++x) {
+            const Vec3 w = envDirection((x + 0.5f) / d.envMap.width, (y + 0.5f) / d.envMap.height);
+            const Vec3 l(w.x, -w.z, w.y);  // the light's frame: world y up is its +z
+            const Vec3 want = (l + Vec3(1.0f)) * 0.5f, got = d.envMap.at(x, y);
+            worst = std::max(worst, double(std::max(std::fabs(got.x - want.x), std::max(std::fabs(got.y - want.y), std::fabs(got.z - want.z)))));
+        }
+    CHECK(worst < 0.03);  // a 64 x 64 map of a linear function: bilinear error near the folds
+    // illuminance: the sky scaled to give E = 3 on an upward surface
+    const SceneDesc e = load(kFloor + "AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.pfm\" \"float illuminance\" 3\nAttributeEnd\n", "sky-e.pbrt");
+    double E = 0;
+    for (int y = 0; y < e.envMap.height; ++y) {
+        const double dOmega = 2 * M_PI / e.envMap.width * (std::cos(M_PI * y / e.envMap.height) - std::cos(M_PI * (y + 1) / e.envMap.height));
+        for (int x = 0; x < e.envMap.width; ++x) {
+            const Vec3 w = envDirection((x + 0.5f) / e.envMap.width, (y + 0.5f) / e.envMap.height);
+            const Vec3 c = e.envMap.at(x, y);
+            if (w.y > 0) E += (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) * w.y * dOmega;
+        }
+    }
+    CHECK(E == Approx(3.0).epsilon(1e-4));
 }
 
 TEST_CASE("Loop subdivision: pbrt's scheme", "[pbrt][loopsubdiv]") {

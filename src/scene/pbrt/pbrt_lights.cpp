@@ -1,11 +1,15 @@
-// pbrt-v4 lights (docs/pbrt.md): diffuse area lights on shapes, point, spot, distant and a
-// constant infinite light, with pbrt-v4's scale and power / illuminance normalisations.
+// pbrt-v4 lights (docs/pbrt.md): diffuse area lights on shapes, point, spot, distant and an
+// infinite light (constant, or an equal-area octahedral image), with pbrt-v4's scale and power / illuminance normalisations.
 // Spectra of emitters are pbrt's: an rgb value as it is, any other spectrum scaled to a
 // luminance of 1 (Importer::spectrum, SpectrumUse::Illuminant).
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/envmap.h"
+#include "scene/pbrt/equal_area.h"
 #include "scene/pbrt/pbrt_importer.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
 
 namespace wmlt::pbrt {
 
@@ -47,6 +51,51 @@ bool isParallelogram(const TriangleMesh& m) {
     const Vec3 n0 = cross(a - c, b - c), n1 = cross(p[t[4]] - p[t[3]], p[t[5]] - p[t[3]]);
     const float size = std::max(length(a - c), length(b - c));
     return dot(n0, n1) > 0 && length((a + b) - (c + d)) <= 1e-5f * size && length(n0) > 0;
+}
+
+// pbrt's equal-area octahedral map src (square, row 0 at v = 0, bilinear with texel centres at
+// (i + 1/2) / N, clamped at the edges), whose light frame is M, resampled onto envmap.h's
+// latitude-longitude grid of 2N x N pixels at 2 x 2 points each: each pixel the mean of the
+// map's bilinear values at those points' directions taken into the light's frame.
+Image resampleOctahedral(const Image& src, const Matrix& M) {
+    const int N = src.width;
+    const int H = std::max(2, std::min(N, 2048)), W = 2 * H;
+    const Matrix toLight = M.inverse();
+    auto texel = [&](int x, int y) { return src.at(std::clamp(x, 0, N - 1), std::clamp(y, 0, N - 1)); };
+    Image out(W, H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            Vec3 sum(0.0f);
+            for (int j = 0; j < 2; ++j)
+                for (int i = 0; i < 2; ++i) {
+                    const Vec3 dw = envDirection((float(x) + (0.25f + 0.5f * i)) / float(W), (float(y) + (0.25f + 0.5f * j)) / float(H));
+                    double u, v;
+                    equalAreaSphereToSquare(normalize(toLight.vector(dw)), u, v);
+                    const double px = u * N - 0.5, py = v * N - 0.5;
+                    const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+                    const float tx = float(px - x0), ty = float(py - y0);
+                    sum = sum + texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) +
+                          texel(x0, y0 + 1) * ((1 - tx) * ty) + texel(x0 + 1, y0 + 1) * (tx * ty);
+                }
+            out.set(x, y, sum * 0.25f);
+        }
+    return out;
+}
+
+// The illuminance on a surface facing `up` under the latitude-longitude map: sum of
+// luminance L cos over its pixels' solid angles, the upper hemisphere only.
+double upperIlluminance(const Image& map, Vec3 up) {
+    double e = 0;
+    for (int y = 0; y < map.height; ++y) {
+        const double v0 = double(y) / map.height, v1 = double(y + 1) / map.height;
+        const double dOmega = 2 * M_PI / map.width * (std::cos(M_PI * v0) - std::cos(M_PI * v1));
+        for (int x = 0; x < map.width; ++x) {
+            const Vec3 d = envDirection((float(x) + 0.5f) / float(map.width), (float(y) + 0.5f) / float(map.height));
+            const double c = dot(d, up);
+            if (c > 0) e += luminanceOf(map.at(x, y)) * c * dOmega;
+        }
+    }
+    return e;
 }
 
 }  // namespace
@@ -112,12 +161,31 @@ void Importer::lightSource(Directive& d) {
         l.direction = normalize(dir);
         l.radiance = L * float(scale);
     } else if (type == "infinite") {
-        if (p.has("filename")) fail(p.find("filename")->at, "an infinite light with an image (filename) is not supported yet");
         if (p.has("portal")) warn(p.find("portal")->at, "portal is read and not used");
-        const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
-        const double E = p.getFloat("illuminance", -1);
-        if (E > 0) scale *= E / (M_PI * luminanceOf(L));  // a constant sky: E = pi L on an upward surface
         if (s_.envMap.width > 0) fail(d.at, "a second infinite light is not supported");
+        const double E = p.getFloat("illuminance", -1);
+        if (p.has("filename")) {  // pbrt's equal-area octahedral map, resampled (envmap.h's grid)
+            if (p.has("L")) fail(d.at, "give either L or filename, not both");
+            const std::string path = resolve(p.getString("filename", ""));
+            Image src;
+            try {
+                src = readImage(path);
+            } catch (const InputError& e) {
+                fail(d.at, e.what());
+            }
+            if (src.width != src.height) fail(d.at, path + ": an infinite light's image must be square (pbrt's equal-area octahedral map)");
+            s_.envMap = resampleOctahedral(src, g_.ctm);
+            s_.settings.envMap = path;
+            if (E > 0) {  // pbrt-v4: scaled so that the upper hemisphere gives illuminance E
+                const double e = upperIlluminance(s_.envMap, normalize(g_.ctm.vector(Vec3(0, 0, 1))));
+                if (!(e > 0)) fail(d.at, "illuminance: the map is black above the horizon");
+                scale *= E / e;
+            }
+            for (float& v : s_.envMap.rgb) v *= float(scale);
+            return;
+        }
+        const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+        if (E > 0) scale *= E / (M_PI * luminanceOf(L));  // a constant sky: E = pi L on an upward surface
         const Vec3 c = L * float(scale);
         s_.envMap = Image(2, 2);
         for (int y = 0; y < 2; ++y)
