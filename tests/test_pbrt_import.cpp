@@ -69,7 +69,7 @@ TEST_CASE("pbrt import: tokens, parameters, camera, film, sampler, integrator, f
     const SceneDesc d = loadScene(write("all.pbrt", R"(# a comment "with quotes" [ and brackets ]
 Scale -1 1 1
 LookAt 1 2 3   1 2 4   0 1 0   # eye, look, up
-Camera "perspective" "float fov" 30 "float lensradius" [ 0.5 ] "float focaldistance" [ 4 ]
+Camera "perspective" "float fov" 30 "float lensradius" [ 0.5 ] "float focaldistance" [ 4 ] "float shutterclose" 0.5
 Film "rgb" "integer xresolution" [ 40 ] "integer yresolution" [ 20 ] "string filename" "out\"put.exr" "float iso" 200
 Sampler "halton" "integer pixelsamples" 16
 Integrator "bdpt" "integer maxdepth" [ 3 ]
@@ -95,8 +95,8 @@ Shape "sphere"
     // pbrt's image right is camera +x; Scale -1 1 1 mirrors it back to wavemmlt's own right
     CHECK_FALSE(d.camera.flipX);
     CHECK(loadScene(write("plain.pbrt", "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\nWorldBegin\nLightSource \"point\"\nShape \"sphere\"\n")).camera.flipX);
-    // the film's iso 200: the imaging ratio 2 on every emitter
-    CHECK(d.lights[0].radiance.y == Approx(4.0f));
+    // the film's iso 200 and the shutter open for 0.5: the imaging ratio 1 on every emitter
+    CHECK(d.lights[0].radiance.y == Approx(2.0f));
     CHECK(d.lights[0].position.y == Approx(5.0f));
     // defaults: volpath (PT), maxdepth 5, 16 spp, gaussian 1.5 / 0.5, 1280 x 720
     const SceneDesc e = loadScene(write("defaults.pbrt", "WorldBegin\nLightSource \"point\"\nShape \"sphere\"\n"));

@@ -204,8 +204,9 @@ void Importer::film() {
     if (sensor != "cie1931") fail(p.find("sensor")->at, "sensor \"" + sensor + "\": only cie1931 (the default) is supported");
     if (p.getFloat("whitebalance", 0) != 0) fail(p.find("whitebalance")->at, "whitebalance is not supported with the cie1931 sensor");
     // pbrt-v4's PixelSensor: the imaging ratio exposure time * ISO / 100 scales the image
-    imagingRatio_ = float(p.getFloat("exposuretime", 1) * p.getFloat("iso", 100) / 100);
-    if (!(imagingRatio_ > 0)) fail(f.at, "exposuretime and iso must be > 0");
+    // (the exposure time is the camera's shutter interval: camera())
+    imagingRatio_ = float(p.getFloat("iso", 100) / 100);
+    if (!(imagingRatio_ > 0)) fail(f.at, "iso must be > 0");
     p.getFloat("diagonal", 35);
     p.getFloat("maxcomponentvalue", INFINITY);
     p.getBool("savefp16", true);
@@ -233,8 +234,9 @@ void Importer::camera() {
     if (p.has("screenwindow")) fail(p.find("screenwindow")->at, "screenwindow is not supported");
     const double frame = p.getFloat("frameaspectratio", aspect);
     if (std::fabs(frame - aspect) > 1e-4 * aspect) fail(p.find("frameaspectratio")->at, "frameaspectratio differs from the film's");
-    p.getFloat("shutteropen", 0);
-    p.getFloat("shutterclose", 1);
+    const double open = p.getFloat("shutteropen", 0), close = p.getFloat("shutterclose", 1);
+    if (!(close > open)) fail(camera_.at, "shutterclose must be after shutteropen");
+    imagingRatio_ *= float(close - open);  // pbrt-v4's exposure time
     if (type == "perspective") {
         c.fovDegrees = float(p.getFloat("fov", 90));
         if (!(c.fovDegrees > 0 && c.fovDegrees < 180)) fail(camera_.at, "fov must be in (0, 180) degrees");

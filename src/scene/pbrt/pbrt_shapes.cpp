@@ -151,10 +151,7 @@ void Importer::shape(Directive& d) {
                 return Vec3(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z0 + v * (z1 - z0)));
             });
         }
-        if (!analyticSphere) {  // the parameterisation's normals give the side; the mesh is faceted
-            orient(m, false);
-            m.normals.clear();
-        }
+        if (!analyticSphere) orient(m, false);  // the parameterisation's normals: the side, and smooth shading
     } else if (type == "loopsubdiv") {
         const std::vector<double> P = p.getNumbers("P", 3);
         const std::vector<int> idx = p.getInts("indices");
