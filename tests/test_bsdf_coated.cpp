@@ -23,7 +23,7 @@ struct Coat {
     BsdfParams m;
     Coat(bool conductor, float coatAlpha, float baseAlpha, float thickness, Vec3 R = Vec3(1.0f), int maxDepth = 10) {
         x.coating.conductorBase = conductor;
-        x.coating.baseAlphaX = x.coating.baseAlphaY = baseAlpha;
+        x.coating.baseAlpha = x.coating.baseAlphaV = baseAlpha;
         x.coating.thickness = thickness;
         x.coating.maxDepth = maxDepth;
         x.etaC = Vec3(0.2f, 0.5f, 1.1f) / 1.5f;

@@ -34,14 +34,9 @@ struct BlendTextures {
     const std::vector<TextureDesc>* textures = nullptr;
     const MaterialDesc* part[2] = {nullptr, nullptr};
 };
-// Coated: the slab and the base (bsdf_coated.cpp).
-struct CoatingExtra {
-    bool conductorBase = false;
-    float baseAlphaX = 0, baseAlphaY = 0;
-    Vec3 baseScale{1.0f};  // the conductor base's Fresnel times this
-    float thickness = 0.01f, g = 0;
-    Vec3 albedo{0.0f};
-    int maxDepth = 10, nSamples = 1;
+// Coated: the slab and the base as the description gives them (bsdf_coated.cpp).
+struct CoatingExtra : MaterialDesc::Coating {
+    Vec3 baseScale{1.0f};  // the conductor base's Fresnel times this (MaterialDesc::reflect)
 };
 struct BsdfExtra {
     Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)

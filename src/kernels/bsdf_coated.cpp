@@ -176,7 +176,8 @@ struct Conductor {
     }
 };
 
-// The slab: the top interface, the base below (seen upside down: pbrt's TopOrBottomBxDF).
+// The slab: the top interface, the base below (seen upside down: pbrt's TopOrBottomBxDF),
+// and the slab's constants (from CoatingExtra).
 struct Layers {
     Dielectric top;
     Diffuse diffuse;
@@ -185,6 +186,18 @@ struct Layers {
     float thickness, g;
     Vec3 albedo;
     int maxDepth, nSamples;
+
+    explicit Layers(const BsdfParams& m)
+        : top{m.eta, Microfacet(MicrofacetType::GGX, m.alphaX, m.alphaY)},
+          diffuse{m.diffuse},
+          conductor{m.x->etaC, m.x->kC, m.x->coating.baseScale,
+                    Microfacet(MicrofacetType::GGX, m.x->coating.baseAlpha, m.x->coating.baseAlphaV)},
+          conductorBase(m.x->coating.conductorBase),
+          thickness(m.x->coating.thickness),
+          g(m.x->coating.g),
+          albedo(m.x->coating.albedo),
+          maxDepth(m.x->coating.maxDepth),
+          nSamples(m.x->coating.nSamples) {}
 
     // which = 0: the top; 1: the base (directions turned over)
     Vec3 f(int which, Vec3 wo, Vec3 wi, TransportMode mode) const {
@@ -244,25 +257,10 @@ struct Rng {
     }
 };
 
-Layers layersOf(const BsdfParams& m) {
-    const CoatingExtra& c = m.x->coating;
-    Layers L;
-    L.top = Dielectric{m.eta, Microfacet(MicrofacetType::GGX, m.alphaX, m.alphaY)};
-    L.diffuse = Diffuse{m.diffuse};
-    L.conductor = Conductor{m.x->etaC, m.x->kC, c.baseScale, Microfacet(MicrofacetType::GGX, c.baseAlphaX, c.baseAlphaY)};
-    L.conductorBase = c.conductorBase;
-    L.thickness = c.thickness;
-    L.g = c.g;
-    L.albedo = c.albedo;
-    L.maxDepth = c.maxDepth;
-    L.nSamples = c.nSamples;
-    return L;
-}
-
 }  // namespace
 
 Vec3 coatedF(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode) {
-    const Layers L = layersOf(m);
+    const Layers L(m);
     if (wo.z < 0) {  // two-sided
         wo = -wo;
         wi = -wi;
@@ -352,7 +350,7 @@ Vec3 coatedF(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode) {
 }
 
 float coatedPdf(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode) {
-    const Layers L = layersOf(m);
+    const Layers L(m);
     if (wo.z < 0) {
         wo = -wo;
         wi = -wi;
@@ -390,7 +388,7 @@ float coatedPdf(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode) {
 }
 
 bool coatedSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& out) {
-    const Layers L = layersOf(m);
+    const Layers L(m);
     const bool flip = wo.z < 0;
     if (flip) wo = -wo;
     const Sample bs = L.sample(0, wo, uLobe, u1, u2, mode);

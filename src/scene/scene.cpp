@@ -201,16 +201,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             if (m.kind == MaterialKind::Coated) {  // the interface's alphas ride in b; the slab in x
                 b.alphaX = m.alpha;
                 b.alphaY = alphaVOf(m);
-                const MaterialDesc::Coating& c = m.coating;
-                x.coating.conductorBase = c.conductorBase;
-                x.coating.baseAlphaX = c.baseAlpha;
-                x.coating.baseAlphaY = c.baseAlphaV;
+                static_cast<MaterialDesc::Coating&>(x.coating) = m.coating;
                 x.coating.baseScale = m.reflect;
-                x.coating.thickness = c.thickness;
-                x.coating.g = c.g;
-                x.coating.albedo = c.albedo;
-                x.coating.maxDepth = c.maxDepth;
-                x.coating.nSamples = c.nSamples;
             }
             b.x = &x;
         }

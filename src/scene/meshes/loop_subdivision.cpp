@@ -63,6 +63,28 @@ std::string rings(size_t nv, const std::vector<uint32_t>& idx, Rings& r) {
     return "";
 }
 
+// Each vertex moved to a weighted mean of itself and its one-ring: on a boundary
+// centre v + side (b0 + b1) (its two boundary neighbours); inside (1 - n w(n)) v + w(n) sum.
+template <typename Weight>
+std::vector<Vec3> oneRingAverages(const std::vector<Vec3>& pos, const Rings& r, float centre, float side, Weight w) {
+    std::vector<Vec3> out(pos.size());
+    for (size_t v = 0; v < pos.size(); ++v) {
+        const std::vector<uint32_t>& ring = r.ring[v];
+        if (ring.empty()) {
+            out[v] = pos[v];
+        } else if (r.boundary[v]) {
+            out[v] = pos[v] * centre + (pos[ring.front()] + pos[ring.back()]) * side;
+        } else {
+            const int n = int(ring.size());
+            const double b = w(n);
+            Vec3 sum(0.0f);
+            for (uint32_t x : ring) sum = sum + pos[x];
+            out[v] = pos[v] * float(1 - n * b) + sum * float(b);
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 std::string loopSubdivide(std::vector<Vec3>& P, std::vector<uint32_t>& idx, int levels, std::vector<Vec3>& N) {
@@ -71,21 +93,7 @@ std::string loopSubdivide(std::vector<Vec3>& P, std::vector<uint32_t>& idx, int 
     for (int level = 0; level < levels; ++level) {
         const std::string why = rings(pos.size(), idx, r);
         if (!why.empty()) return why;
-        std::vector<Vec3> next(pos.size());
-        for (size_t v = 0; v < pos.size(); ++v) {  // the old vertices
-            const std::vector<uint32_t>& ring = r.ring[v];
-            if (ring.empty()) {
-                next[v] = pos[v];
-            } else if (r.boundary[v]) {
-                next[v] = pos[v] * 0.75f + (pos[ring.front()] + pos[ring.back()]) * 0.125f;
-            } else {
-                const int n = int(ring.size());
-                const double b = beta(n);
-                Vec3 sum(0.0f);
-                for (uint32_t x : ring) sum = sum + pos[x];
-                next[v] = pos[v] * float(1 - n * b) + sum * float(b);
-            }
-        }
+        std::vector<Vec3> next = oneRingAverages(pos, r, 0.75f, 0.125f, beta);  // the old vertices
         // one new vertex per edge: 3/8 its ends + 1/8 the opposite corners; 1/2 on a boundary
         std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeVertex;
         auto edge = [&](uint32_t a, uint32_t b) {
@@ -113,21 +121,7 @@ std::string loopSubdivide(std::vector<Vec3>& P, std::vector<uint32_t>& idx, int 
     // the limit surface: positions, then the normals from tangents over the limit one-ring
     const std::string why = rings(pos.size(), idx, r);
     if (!why.empty()) return why;
-    std::vector<Vec3> limit(pos.size());
-    for (size_t v = 0; v < pos.size(); ++v) {
-        const std::vector<uint32_t>& ring = r.ring[v];
-        if (ring.empty()) {
-            limit[v] = pos[v];
-        } else if (r.boundary[v]) {
-            limit[v] = pos[v] * 0.6f + (pos[ring.front()] + pos[ring.back()]) * 0.2f;
-        } else {
-            const int n = int(ring.size());
-            const double g = gamma(n);
-            Vec3 sum(0.0f);
-            for (uint32_t x : ring) sum = sum + pos[x];
-            limit[v] = pos[v] * float(1 - n * g) + sum * float(g);
-        }
-    }
+    const std::vector<Vec3> limit = oneRingAverages(pos, r, 0.6f, 0.2f, gamma);
     N.assign(pos.size(), Vec3(0.0f));
     for (size_t v = 0; v < pos.size(); ++v) {
         const std::vector<uint32_t>& ring = r.ring[v];

@@ -9,6 +9,7 @@
 
 #include "scene/matrix.h"
 #include "scene/pbrt/pbrt_parser.h"
+#include "scene/spectrum.h"
 #include "wavemmlt/scene_desc.h"
 
 namespace wmlt::pbrt {
@@ -65,7 +66,8 @@ private:
     int currentMaterial();
     void conductorIndices(Params& p, const std::string& prefix, MaterialDesc& m, float outside = 1);
     void texture(Directive& d);
-    Vec3 spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, bool* given = nullptr);
+    // `sampled`: the spectrum itself when it is one (pairs, a file, a blackbody), else emptied.
+    Vec3 spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, SampledSpectrum* sampled = nullptr);
     // A colour parameter: its constant, with `texture` set when it names a texture (the
     // constant is then 1, as MaterialDesc's textured parameters take it).
     Vec3 colourParam(Params& p, const std::string& name, Vec3 def, int& texture, bool floatParam = false);

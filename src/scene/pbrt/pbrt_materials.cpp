@@ -56,9 +56,9 @@ bool namedSpectrumRgb(const std::string& name, Vec3& rgb) {
     return false;
 }
 
-Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, bool* given) {
+Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, SampledSpectrum* sampled) {
     const Param* q = p.find(name);
-    if (given) *given = q != nullptr;
+    if (sampled) *sampled = SampledSpectrum{};
     if (!q) return def;
     const std::string decl = "\"" + q->type + " " + name + "\"";
     if (q->type == "rgb" || q->type == "color") {
@@ -102,6 +102,7 @@ Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUs
     } else {
         fail(q->at, decl + ": expected an rgb, spectrum or blackbody value");
     }
+    if (sampled) *sampled = s;
     if (use != SpectrumUse::Illuminant) return spectrumToRgb(s, true);
     // pbrt-v4 scales an emitter's spectrum to a luminance of 1 (times its scale)
     const Vec3 c = spectrumToRgb(s, false);
@@ -155,26 +156,23 @@ void Importer::conductorIndices(Params& p, const std::string& prefix, MaterialDe
     namedSpectrumRgb("metal-Cu-k", kk);
     for (const std::string n : {prefix + "eta", prefix + "k"})
         if (const Param* q = p.find(n); q && q->type == "texture") fail(q->at, "a textured conductor " + n + " is not supported");
-    m.conductorEta = spectrum(p, prefix + "eta", eta, SpectrumUse::Unbounded) / outside;
-    m.conductorK = spectrum(p, prefix + "k", kk, SpectrumUse::Unbounded) / outside;
-    m.reflect = Vec3(1.0f);
-    auto name = [&](const std::string& n, const char* def) {
-        const Param* q = p.find(n);
-        return !q ? std::string(def) : q->type == "spectrum" && q->strings.size() == 1 ? q->strings[0] : std::string();
-    };
-    const std::string ne = name(prefix + "eta", "metal-Cu-eta"), nk = name(prefix + "k", "metal-Cu-k");
-    if (ne.empty() || nk.empty()) return;
-    for (const NamedRgb& a : kAlbedoScale)
-        if (ne == std::string(a.name) + "-eta" && nk == std::string(a.name) + "-k") {
-            m.reflect = a.rgb;
-            return;
-        }
     SampledSpectrum se, sk;
-    if (readSpectrumFile(resolve(ne), se).empty() && readSpectrumFile(resolve(nk), sk).empty()) {
+    m.conductorEta = spectrum(p, prefix + "eta", eta, SpectrumUse::Unbounded, &se) / outside;
+    m.conductorK = spectrum(p, prefix + "k", kk, SpectrumUse::Unbounded, &sk) / outside;
+    m.reflect = Vec3(1.0f);
+    if (!se.lambda.empty() && !sk.lambda.empty()) {  // both sampled (pairs, files)
         for (double& v : se.value) v /= outside;
         for (double& v : sk.value) v /= outside;
         m.reflect = conductorAlbedoScale(se, sk, m.conductorEta, m.conductorK);
+        return;
     }
+    auto named = [&](const std::string& n, const char* def) {  // the metal's name, or ""
+        const Param* q = p.find(n);
+        return !q ? std::string(def) : q->type == "spectrum" && q->strings.size() == 1 ? q->strings[0] : std::string();
+    };
+    const std::string ne = named(prefix + "eta", "metal-Cu-eta"), nk = named(prefix + "k", "metal-Cu-k");
+    for (const NamedRgb& a : kAlbedoScale)
+        if (ne == std::string(a.name) + "-eta" && nk == std::string(a.name) + "-k") m.reflect = a.rgb;
 }
 
 int Importer::material(const std::string& type, Directive& d) {
