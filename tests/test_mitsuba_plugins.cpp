@@ -798,11 +798,11 @@ TEST_CASE("blendbsdf kernel: textured parts at the hit's point", "[mitsuba][blen
     const Vec3 wo = normalize(Vec3(0.3f, -0.2f, 0.9f)), wi = normalize(Vec3(-0.4f, 0.1f, 0.8f));
     for (const auto& [u, v] : std::vector<std::pair<float, float>>{{0.2f, 0.3f}, {0.7f, 0.3f}, {0.7f, 0.9f}}) {
         BsdfParams b = s->materials[size_t(blend)];
-        setBlendPoint(b, u, v, Vec3(0.0f));
+        setBlendPoint(b, u, v, Vec3(0.0f), Vec3(0, 0, 1));
         BsdfParams part[2];
         for (int k = 0; k < 2; ++k) {
             part[k] = s->materials[size_t(m.blendPart[k])];
-            texturedParams(d.textures, d.materials[size_t(m.blendPart[k])], u, v, Vec3(0.0f), part[k]);
+            texturedParams(d.textures, d.materials[size_t(m.blendPart[k])], u, v, Vec3(0.0f), Vec3(0, 0, 1), part[k]);
         }
         INFO("u " << u << " v " << v);
         const Vec3 f = blendF(b, wo, wi), want = bsdfF(part[0], wo, wi) * 0.7f + bsdfF(part[1], wo, wi) * 0.3f;
@@ -817,8 +817,8 @@ TEST_CASE("blendbsdf kernel: textured parts at the hit's point", "[mitsuba][blen
     }
     // The two corners differ: the textures are read at the point.
     BsdfParams a = s->materials[size_t(blend)], b = a;
-    setBlendPoint(a, 0.2f, 0.3f, Vec3(0.0f));
-    setBlendPoint(b, 0.7f, 0.3f, Vec3(0.0f));
+    setBlendPoint(a, 0.2f, 0.3f, Vec3(0.0f), Vec3(0, 0, 1));
+    setBlendPoint(b, 0.7f, 0.3f, Vec3(0.0f), Vec3(0, 0, 1));
     CHECK(std::fabs(blendF(a, wo, wi).x - blendF(b, wo, wi).x) > 0.01f);
 }
 

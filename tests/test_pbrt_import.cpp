@@ -172,7 +172,7 @@ MakeNamedMaterial "h" "string type" "diffuse" "texture reflectance" "half"
     REQUIRE(h.colourTexture[int(ColourParam::Diffuse)] >= 0);
     for (const auto& [u, v] : std::vector<std::pair<float, float>>{{0.1f, 0.1f}, {0.3f, 0.1f}, {0.3f, 0.6f}, {0.9f, 0.9f}, {0.6f, 0.3f}}) {
         const bool even = (int(std::floor(4 * u)) + int(std::floor(2 * v))) % 2 == 0;
-        const Vec3 c = evalTextureOf(d.textures, size_t(h.colourTexture[int(ColourParam::Diffuse)]), u, v, Vec3(0.0f));
+        const Vec3 c = evalTextureOf(d.textures, size_t(h.colourTexture[int(ColourParam::Diffuse)]), u, v, Vec3(0.0f), Vec3(0, 0, 1));
         INFO("u " << u << " v " << v);
         CHECK(c.x == (even ? 0.5f : 0.0f));
         CHECK(c.z == (even ? 0.0f : 0.5f));

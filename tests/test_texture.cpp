@@ -241,11 +241,11 @@ TEST_CASE("Scale and Mix textures combine their operands", "[texture]") {
         for (float v : {0.15f, 0.35f, 0.65f, 0.85f}) {
             const Vec3 c = evalTexture(all[0], u, v, Vec3(0.0f)), g = evalTexture(all[1], u, v, Vec3(0.0f));
             const Vec3 s = c * Vec3(0.5f, 2.0f, 1.0f);
-            CHECK(same(evalTextureOf(all, 2, u, v, Vec3(0.0f)), s));
+            CHECK(same(evalTextureOf(all, 2, u, v, Vec3(0.0f), Vec3(0, 0, 1)), s));
             const float a = luminance(g);
-            CHECK(same(evalTextureOf(all, 3, u, v, Vec3(0.0f)), s * (1.0f - a) + Vec3(0, 1, 0) * a));
-            CHECK(same(evalTextureOf(all, 4, u, v, Vec3(0.0f)), s * 0.75f + Vec3(0, 1, 0) * 0.25f));
-            CHECK(same(evalTextureOf(all, 0, u, v, Vec3(0.0f)), c));  // a plain texture as evalTexture
+            CHECK(same(evalTextureOf(all, 3, u, v, Vec3(0.0f), Vec3(0, 0, 1)), s * (1.0f - a) + Vec3(0, 1, 0) * a));
+            CHECK(same(evalTextureOf(all, 4, u, v, Vec3(0.0f), Vec3(0, 0, 1)), s * 0.75f + Vec3(0, 1, 0) * 0.25f));
+            CHECK(same(evalTextureOf(all, 0, u, v, Vec3(0.0f), Vec3(0, 0, 1)), c));  // a plain texture as evalTexture
         }
     const Vec3 m = textureMeanOf(all, 4), s = Vec3(0.5f, 0.0f, 0.5f) * Vec3(0.5f, 2.0f, 1.0f);
     CHECK(m.x == Approx(s.x * 0.75f));

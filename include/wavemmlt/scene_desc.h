@@ -163,8 +163,20 @@ inline bool isAnisotropic(const MaterialDesc& m) {
 
 // The thesis' three textures, Mitsuba's bitmap and checkerboard (docs/mitsuba.md), and two
 // that combine others (pbrt's scale and mix): see TextureDesc::operand.
-enum class TextureKind : uint8_t { Checker, ImageFile, Marble, Bitmap, Checkerboard, Scale, Mix };
+// pbrt-v4's procedural textures (docs/pbrt.md): Dots (operand 0 inside a dot, operand 1
+// outside, as Scale's and Mix's), DirectionMix (a |n . direction| operand 0 + (1 - a)
+// operand 1, n the hit's geometric normal), Bilerp (colour1..4 = v00, v01, v10, v11 over (s, t)), the
+// float noises Fbm, Wrinkled and Windy, and PbrtMarble (pbrt's marble, colour from its
+// spline); the noises and PbrtMarble are solid textures of the point textureFromWorld p.
+enum class TextureKind : uint8_t {
+    Checker, ImageFile, Marble, Bitmap, Checkerboard, Scale, Mix, Dots, DirectionMix, Bilerp, Fbm, Wrinkled, Windy, PbrtMarble
+};
 enum class TextureWrap : uint8_t { Repeat, Mirror, Clamp };
+// How a texture turns a hit into its (s, t) before uvTransform (pbrt-v4's mappings): UV the
+// shape's (u, v); the others a function of q = textureFromWorld p: Spherical (theta / pi,
+// phi / 2 pi) of q's direction, Cylindrical ((pi + atan2(q.y, q.x)) / 2 pi, q.z), Planar
+// (q . planarS, q . planarT).
+enum class TextureMapping : uint8_t { UV, Spherical, Cylindrical, Planar };
 
 struct TextureDesc {
     int id = 0;
@@ -184,6 +196,17 @@ struct TextureDesc {
     // evalTextureOf); Scene::build refuses them elsewhere (bump, normal map, opacity, emission).
     int operand[3] = {-1, -1, -1};
     float amount = 0.5f;
+    TextureMapping mapping = TextureMapping::UV;
+    // The texture's space (a 3 x 4 row-major affine map from world space): for the mappings
+    // other than UV and for the solid kinds.
+    float textureFromWorld[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    Vec3 planarS{1, 0, 0}, planarT{0, 1, 0};
+    Vec3 colour4{1.0f};  // Bilerp: v11
+    Vec3 direction{0, 0, 1};  // DirectionMix: unit, world space
+    // Fbm, Wrinkled, PbrtMarble: octaves and roughness (omega, each octave's weight relative
+    // to the one before); PbrtMarble's scale and variation.
+    int octaves = 8;
+    float roughness = 0.5f, noiseScale = 1, variation = 0.2f;
 };
 
 // How a shape maps surface points to (u, v) (scene-format.md, "UV coordinates").

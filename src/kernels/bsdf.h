@@ -73,16 +73,19 @@ struct BsdfParams {
     float alphaX = 0, alphaY = 0;
 };
 
-// A blend with textured parts keeps its hit's (u, v) and point, for its parts' textures, in
-// slots it has no other use for (diffuse, specular). Written by the texture stage.
-inline void setBlendPoint(BsdfParams& m, float u, float v, Vec3 p) {
+// A blend with textured parts keeps its hit's (u, v), point and geometric normal, for its
+// parts' textures, in slots it has no other use for (diffuse, specular, reflect). Written by
+// the texture stage.
+inline void setBlendPoint(BsdfParams& m, float u, float v, Vec3 p, Vec3 n) {
     m.diffuse = Vec3(u, v, 0.0f);
     m.specular = p;
+    m.reflect = n;
 }
-inline void blendPoint(const BsdfParams& m, float& u, float& v, Vec3& p) {
+inline void blendPoint(const BsdfParams& m, float& u, float& v, Vec3& p, Vec3& n) {
     u = m.diffuse.x;
     v = m.diffuse.y;
     p = m.specular;
+    n = m.reflect;
 }
 
 // Principled (Mitsuba's `principled`): base_color is `diffuse`, eta `eta`, the GGX alphas

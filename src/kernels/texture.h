@@ -15,6 +15,14 @@
 //    t = 0.5 + 0.5 sin(kMarbleStripes * p.x + kMarbleTurbulence * turbulence(kMarbleFrequency * p)),
 //    colour1 -> colour2 over t in [0, 0.5], colour2 -> colour3 over [0.5, 1]
 //    (Shirley and Morley 2000, "Realistic Ray Tracing", 2nd ed.).
+//  - pbrt-v4's (texture.cpp; docs/pbrt.md): a mapping first turns the hit into (s, t)
+//    (TextureMapping: uv, or spherical, cylindrical, planar of the point in the texture's
+//    space), then Dots (a dot of radius 0.35 in the cells of (s, t) where noise says so),
+//    Bilerp, and the solid Fbm, Wrinkled (turbulence), Windy and PbrtMarble of
+//    q = textureFromWorld p, with pbrt's sums of octaves (frequency x 1.99 per octave). There
+//    are no ray differentials here: every octave is summed (pbrt's limit of a zero footprint),
+//    and the noise is the marble's (its own permutation: pbrt's patterns, not its exact dots
+//    and veins).
 #pragma once
 #include <algorithm>
 #include <array>
@@ -71,6 +79,52 @@ float turbulence(Vec3 p, int octaves = kMarbleOctaves);
 float marbleParameter(Vec3 p);
 // colour1 -> colour2 -> colour3, piecewise linearly in marbleParameter(p).
 Vec3 marbleColour(const TextureDesc& t, Vec3 p);
+
+// pbrt-v4's fractional Brownian motion and turbulence at a zero footprint:
+// FBm = sum_{i < octaves} omega^i noise(1.99^i q); Turbulence = sum omega^i |noise(1.99^i q)|
+// + 0.2 omega^octaves (pbrt's allowance for the octaves beyond the footprint, all of it here).
+float fbm(Vec3 q, float omega, int octaves);
+float turbulencePbrt(Vec3 q, float omega, int octaves);
+// pbrt's polka dots: in the cell round(s), round(t), a dot of radius 0.35 when the noise at
+// the cell's centre is positive, its centre shifted by up to 0.15 by two more noises.
+bool insidePolkaDot(float s, float t);
+// pbrt's marble: t = 0.5 + 0.5 sin(q'.y + variation FBm(q')), q' = scale q, through its
+// cubic Bezier spline of nine greys and blues, times 1.5.
+Vec3 pbrtMarbleColour(const TextureDesc& t, Vec3 q);
+
+// The point p in the texture's space (TextureDesc::textureFromWorld).
+inline Vec3 textureSpacePoint(const TextureDesc& t, Vec3 p) {
+    const float* m = t.textureFromWorld;
+    return Vec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3], m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+                m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+// The texture's (s, t) at a hit where its mapping is not UV (TextureMapping), into u, v.
+inline void mapTexturePoint(const TextureDesc& t, Vec3 p, float& u, float& v) {
+    const Vec3 q = textureSpacePoint(t, p);
+    switch (t.mapping) {
+        case TextureMapping::UV: return;
+        case TextureMapping::Spherical: {
+            const float r = length(q);
+            const float z = r > 0 ? std::clamp(q.z / r, -1.0f, 1.0f) : 1.0f;
+            float phi = std::atan2(q.y, q.x);
+            if (phi < 0) phi += 2.0f * kPi;
+            u = std::acos(z) * kInvPi;
+            v = phi * kInv2Pi;
+            break;
+        }
+        case TextureMapping::Cylindrical:
+            u = (kPi + std::atan2(q.y, q.x)) * kInv2Pi;
+            v = q.z;
+            break;
+        case TextureMapping::Planar:
+            u = dot(q, t.planarS);
+            v = dot(q, t.planarT);
+            break;
+    }
+    if (!std::isfinite(u)) u = 0;
+    if (!std::isfinite(v)) v = 0;
+}
 
 // Bilinear lookup with wrapping in both directions; v = 0 is the bottom row.
 inline Vec3 lookupBilinearWrap(const Image& img, float u, float v) {
@@ -180,6 +234,7 @@ inline void bitmapLuminanceGradient(const TextureDesc& t, float u, float v, floa
 }
 
 inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
+    if (t.mapping != TextureMapping::UV) mapTexturePoint(t, p, u, v);
     switch (t.kind) {
         case TextureKind::Checker: {
             const float cu = std::floor(2.0f * u * t.repeatU), cv = std::floor(2.0f * v * t.repeatV);
@@ -197,18 +252,51 @@ inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
             const bool hu = u - std::floor(u) > 0.5f, hv = v - std::floor(v) > 0.5f;
             return hu == hv ? t.colour1 : t.colour2;
         }
+        case TextureKind::Dots:  // colour1 inside, colour2 outside (operands: evalTextureOf)
+            mitsubaUv(t, u, v);
+            return insidePolkaDot(u, v) ? t.colour1 : t.colour2;
+        case TextureKind::Bilerp:
+            mitsubaUv(t, u, v);
+            return t.colour1 * ((1 - u) * (1 - v)) + t.colour3 * (u * (1 - v)) + t.colour2 * ((1 - u) * v) +
+                   t.colour4 * (u * v);
+        case TextureKind::Fbm: return Vec3(fbm(textureSpacePoint(t, p), t.roughness, t.octaves));
+        case TextureKind::Wrinkled: return Vec3(turbulencePbrt(textureSpacePoint(t, p), t.roughness, t.octaves));
+        case TextureKind::Windy: {  // pbrt: |FBm(0.1 q, 0.5, 3)| FBm(q, 0.5, 6)
+            const Vec3 q = textureSpacePoint(t, p);
+            return Vec3(std::fabs(fbm(q * 0.1f, 0.5f, 3)) * fbm(q, 0.5f, 6));
+        }
+        case TextureKind::PbrtMarble: return pbrtMarbleColour(t, textureSpacePoint(t, p));
         case TextureKind::Scale:
-        case TextureKind::Mix: break;  // they need their operands: evalTextureOf
+        case TextureKind::Mix:
+        case TextureKind::DirectionMix: break;  // they need their operands: evalTextureOf
     }
     return Vec3(0.0f);
 }
 
-// Texture i of all at (u, v, p), combining Scale's and Mix's operands (their indices are
-// below i, so the recursion ends).
-inline Vec3 evalTextureOf(const std::vector<TextureDesc>& all, size_t i, float u, float v, Vec3 p) {
+// Whether texture t combines others (operands): Scale, Mix, DirectionMix, and Dots with a
+// textured side.
+inline bool combinesTextures(const TextureDesc& t) {
+    return t.kind == TextureKind::Scale || t.kind == TextureKind::Mix || t.kind == TextureKind::DirectionMix ||
+           (t.kind == TextureKind::Dots && (t.operand[0] >= 0 || t.operand[1] >= 0));
+}
+
+// Texture i of all at (u, v, p) with geometric normal n, combining the operands of Scale,
+// Mix, DirectionMix and Dots (their indices are below i, so the recursion ends).
+inline Vec3 evalTextureOf(const std::vector<TextureDesc>& all, size_t i, float u, float v, Vec3 p, Vec3 n) {
     const TextureDesc& t = all[i];
-    if (t.kind != TextureKind::Scale && t.kind != TextureKind::Mix) return evalTexture(t, u, v, p);
-    auto operand = [&](int k, Vec3 c) { return t.operand[k] < 0 ? c : evalTextureOf(all, size_t(t.operand[k]), u, v, p); };
+    if (!combinesTextures(t)) return evalTexture(t, u, v, p);
+    auto operand = [&](int k, Vec3 c) { return t.operand[k] < 0 ? c : evalTextureOf(all, size_t(t.operand[k]), u, v, p, n); };
+    if (t.kind == TextureKind::DirectionMix) {  // pbrt: |n . dir| tex1 + (1 - |n . dir|) tex2
+        const float l = length(n);
+        const float a = l > 0 ? std::min(1.0f, std::fabs(dot(n, t.direction)) / l) : 0.0f;
+        return operand(0, t.colour1) * a + operand(1, t.colour2) * (1.0f - a);
+    }
+    if (t.kind == TextureKind::Dots) {  // the operands see the hit, not the dots' (s, t)
+        float s = u, tt = v;
+        if (t.mapping != TextureMapping::UV) mapTexturePoint(t, p, s, tt);
+        mitsubaUv(t, s, tt);
+        return insidePolkaDot(s, tt) ? operand(0, t.colour1) : operand(1, t.colour2);
+    }
     const Vec3 a = operand(0, t.colour1), b = operand(1, t.colour2);
     if (t.kind == TextureKind::Scale) return a * b;
     const float w = t.operand[2] < 0 ? t.amount : luminance(operand(2, Vec3(0.0f)));

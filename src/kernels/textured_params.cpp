@@ -2,10 +2,10 @@
 
 namespace wmlt {
 
-void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out) {
+void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out) {
     switch (m.kind) {
 #define WMLT_TEXTURED_CASE(K) \
-    case MaterialKind::K: texturedParamsOf<MaterialKind::K>(tex, m, u, v, p, out); break;
+    case MaterialKind::K: texturedParamsOf<MaterialKind::K>(tex, m, u, v, p, n, out); break;
         WMLT_TEXTURED_CASE(Matte)
         WMLT_TEXTURED_CASE(Glossy)
         WMLT_TEXTURED_CASE(Reflective)
@@ -29,9 +29,9 @@ void textureBlendPart(const BsdfParams& blend, int k, BsdfParams& part) {
     const MaterialDesc* m = x.blendTextures->part[k];
     if (!m) return;  // a constant part
     float u, v;
-    Vec3 p;
-    blendPoint(blend, u, v, p);
-    texturedParams(*x.blendTextures->textures, *m, u, v, p, part);
+    Vec3 p, n;
+    blendPoint(blend, u, v, p, n);
+    texturedParams(*x.blendTextures->textures, *m, u, v, p, n, part);
 }
 
 }  // namespace wmlt

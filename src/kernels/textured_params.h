@@ -21,7 +21,7 @@ constexpr bool isAny(MaterialKind k, std::initializer_list<MaterialKind> ks) {
 
 }  // namespace textured_detail
 
-// Kind K's textured parameters at (u, v, p) on material m, into out (which holds the
+// Kind K's textured parameters at (u, v, p, n) on material m, into out (which holds the
 // constants): a colour parameter's texture scales its constant (MaterialDesc::colourTexture),
 // a roughness texture's luminance scales alpha (at least 1e-4), a blend's weight is its
 // texture's luminance in [0, 1] (and a blend with textured parts keeps (u, v) and p for
@@ -29,12 +29,12 @@ constexpr bool isAny(MaterialKind k, std::initializer_list<MaterialKind> ks) {
 // texture's luminance in [0, 1] (the alphas made again from them).
 
 template <MaterialKind K>
-void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out) {
+void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out) {
     using M = MaterialKind;
     using textured_detail::isAny;
     const int* t = m.colourTexture;
     auto scale = [&](ColourParam c, Vec3& x) {
-        if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p);
+        if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p, n);
     };
     if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled, M::Coated, M::DiffuseTransmission}))
         scale(ColourParam::Diffuse, out.diffuse);
@@ -47,7 +47,7 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
     if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric})) {
         if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {
             auto alpha = [&](int i, float a) {
-                return i < 0 ? a : std::max(a * luminance(evalTextureOf(tex, size_t(i), u, v, p)), 1e-4f);
+                return i < 0 ? a : std::max(a * luminance(evalTextureOf(tex, size_t(i), u, v, p, n)), 1e-4f);
             };
             out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
             out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
@@ -55,8 +55,8 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
     }
     if constexpr (K == M::Blend) {
         if (m.blendWeightTexture >= 0)
-            out.blendWeight = std::clamp(luminance(evalTextureOf(tex, size_t(m.blendWeightTexture), u, v, p)), 0.0f, 1.0f);
-        if (out.x->blendTextures) setBlendPoint(out, u, v, p);
+            out.blendWeight = std::clamp(luminance(evalTextureOf(tex, size_t(m.blendWeightTexture), u, v, p, n)), 0.0f, 1.0f);
+        if (out.x->blendTextures) setBlendPoint(out, u, v, p, n);
     }
     if constexpr (K == M::Principled) {
         float value[kPrincipledParams];
@@ -66,7 +66,7 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
             value[i] = m.principled[i];
             if (ti < 0) continue;
             any = true;
-            value[i] = std::clamp(value[i] * luminance(evalTextureOf(tex, size_t(ti), u, v, p)), 0.0f, 1.0f);
+            value[i] = std::clamp(value[i] * luminance(evalTextureOf(tex, size_t(ti), u, v, p, n)), 0.0f, 1.0f);
         }
         if (any) setPrincipled(out, value);
     }
@@ -74,6 +74,6 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
 
 
 // The same for any kind (a switch: for a blend's parts, not for a stage's loop).
-void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, BsdfParams& out);
+void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out);
 
 }  // namespace wmlt

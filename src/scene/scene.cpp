@@ -46,6 +46,9 @@ RTCGeometry buildSphere(RTCDevice device, Vec3 c, float r) {
 float maskAlpha(const MaskRecord& m, RTCRayN* ray, RTCHitN* hit, unsigned N, unsigned i) {
     if (!m.texture) return m.opacity;
     float u = 0, v = 0;
+    const Vec3 p(RTCRayN_org_x(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_x(ray, N, i),
+                 RTCRayN_org_y(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_y(ray, N, i),
+                 RTCRayN_org_z(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_z(ray, N, i));
     if (m.mesh) {
         if (!m.mesh->uvs.empty()) {
             const uint32_t* tri = &m.mesh->indices[size_t(RTCHitN_primID(hit, N, i)) * 3];
@@ -55,15 +58,12 @@ float maskAlpha(const MaskRecord& m, RTCRayN* ray, RTCHitN* hit, unsigned N, uns
             v = uv[2 * tri[0] + 1] * b0 + uv[2 * tri[1] + 1] * b1 + uv[2 * tri[2] + 1] * b2;
         }
     } else {  // a sphere: Mitsuba's (u, v) of the hit point's local direction
-        const Vec3 p(RTCRayN_org_x(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_x(ray, N, i),
-                     RTCRayN_org_y(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_y(ray, N, i),
-                     RTCRayN_org_z(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_z(ray, N, i));
         const Vec3 l = normalize(m.toLocal.vector(p - m.center));
         u = std::atan2(l.y, l.x) * kInv2Pi;
         if (u < 0) u += 1;
         v = std::acos(std::clamp(l.z, -1.0f, 1.0f)) * kInvPi;
     }
-    return luminance(evalTexture(*m.texture, u, v, Vec3(0.0f)));
+    return luminance(evalTexture(*m.texture, u, v, p));
 }
 
 void maskFilter(const RTCFilterFunctionNArguments* args) {
@@ -154,18 +154,16 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
 
     // Scale and Mix: their operands below them (no cycles), and only on material parameters
     // (the texture stage combines them; bump, normal maps, masks and emission read one texture).
-    auto composite = [&](int t) {
-        return t >= 0 && (d.textures[size_t(t)].kind == TextureKind::Scale || d.textures[size_t(t)].kind == TextureKind::Mix);
-    };
+    auto composite = [&](int t) { return t >= 0 && combinesTextures(d.textures[size_t(t)]); };
     for (size_t i = 0; i < d.textures.size(); ++i)
         for (int o : d.textures[i].operand)
             if (composite(int(i)) && (o < -1 || o >= int(i)))
                 throw InputError(d.path, 0, "texture " + std::to_string(i) + ": an operand must be an earlier texture");
     for (const MaterialDesc& m : d.materials)
         if (composite(m.bump) || composite(m.normalMap) || composite(m.opacityTexture))
-            throw InputError(d.path, 0, "a scale or mix texture as a bump map, normal map or opacity is not supported");
+            throw InputError(d.path, 0, "a scale, mix or textured dots texture as a bump map, normal map or opacity is not supported");
     for (const LightDesc& l : d.lights)
-        if (composite(l.texture)) throw InputError(d.path, 0, "a scale or mix texture as an emitter's radiance is not supported");
+        if (composite(l.texture)) throw InputError(d.path, 0, "a scale, mix or textured dots texture as an emitter's radiance is not supported");
 
     s->bsdfExtras.resize(d.materials.size());  // not resized again: materials point into it
     for (size_t i = 0; i < d.materials.size(); ++i) {

@@ -178,7 +178,7 @@ void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams&
         }
     }
     if constexpr (F::textures)
-        if (scene.texturedMaterial[size_t(sp.material)]) jobs.add(&out, sp.material, sp.u, sp.v, sp.p);
+        if (scene.texturedMaterial[size_t(sp.material)]) jobs.add(&out, sp.material, sp.u, sp.v, sp.p, sp.ng);
 }
 
 // The shading frame of a hit: Frame::fromNormal, or, for an anisotropic material, x along

@@ -14,7 +14,7 @@ void evaluateTextures(const Scene& scene, TextureJobs& j) {
         constexpr MaterialKind K = decltype(kind)::value;
         for (uint32_t r = j.kindStart[int(K)]; r < j.kindStart[int(K) + 1]; ++r) {
             const uint32_t k = j.order[r];
-            texturedParamsOf<K>(scene.desc.textures, scene.desc.materials[j.material[k]], j.u[k], j.v[k], j.p[k], *j.target[k]);
+            texturedParamsOf<K>(scene.desc.textures, scene.desc.materials[j.material[k]], j.u[k], j.v[k], j.p[k], j.ng[k], *j.target[k]);
         }
     });
     j.n = 0;

@@ -16,10 +16,11 @@
 namespace wmlt {
 
 // Per job: the record to finish (a hit's or a vertex's), its material
-// (SceneDesc::materials), the hit's (u, v) and position (solid textures), and the jobs by
+// (SceneDesc::materials), the hit's (u, v), position (solid textures) and geometric normal
+// (pbrt's directionmix), and the jobs by
 // kind (order[kindStart[k] .. kindStart[k + 1])).
 #define WMLT_TEXTURE_JOB_ARRAYS(X) \
-    X(BsdfParams*, target) X(uint32_t, material) X(float, u) X(float, v) X(Vec3, p) X(uint32_t, order)
+    X(BsdfParams*, target) X(uint32_t, material) X(float, u) X(float, v) X(Vec3, p) X(Vec3, ng) X(uint32_t, order)
 
 struct TextureJobs {
     size_t n = 0;
@@ -27,12 +28,13 @@ struct TextureJobs {
     uint32_t kindStart[kMaterialKinds + 1] = {};
 
     void resize(size_t n) { WMLT_TEXTURE_JOB_ARRAYS(WMLT_SOA_RESIZE) }
-    void add(BsdfParams* t, int m, float su, float sv, Vec3 sp) {
+    void add(BsdfParams* t, int m, float su, float sv, Vec3 sp, Vec3 sn) {
         target[n] = t;
         material[n] = uint32_t(m);
         u[n] = su;
         v[n] = sv;
         p[n] = sp;
+        ng[n] = sn;
         ++n;
     }
 };

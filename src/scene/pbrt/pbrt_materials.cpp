@@ -154,7 +154,7 @@ void Importer::conductorIndices(Params& p, const std::string& prefix, MaterialDe
     Vec3 eta, kk;
     namedSpectrumRgb("metal-Cu-eta", eta);
     namedSpectrumRgb("metal-Cu-k", kk);
-    for (const std::string n : {prefix + "eta", prefix + "k"})
+    for (const std::string& n : {prefix + "eta", prefix + "k"})
         if (const Param* q = p.find(n); q && q->type == "texture") fail(q->at, "a textured conductor " + n + " is not supported");
     SampledSpectrum se, sk;
     m.conductorEta = spectrum(p, prefix + "eta", eta, SpectrumUse::Unbounded, &se) / outside;
@@ -352,11 +352,32 @@ void Importer::texture(Directive& d) {
     const bool isFloat = kind == "float";
     if (textures_.count(name) || constTextures_.count(name)) fail(d.at, "Texture \"" + name + "\" defined twice");
     TextureDesc t;
-    // (u, v) mapping: s = su u + du, t = sv v + dv (only "uv")
+    // The texture's space: the CTM here, inverted (pbrt's textureFromRender), for the
+    // mappings other than uv and for the solid textures.
+    if (g_.ctm.det3() == 0) fail(d.at, "Texture \"" + name + "\": the current transformation is singular");
+    const Matrix fromWorld = g_.ctm.inverse();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t.textureFromWorld[4 * r + c] = float(fromWorld.m[r][c]);
+    // The 2D mapping (s, t): uv's (su u + du, sv v + dv), or spherical, cylindrical, planar
+    // (TextureMapping), planar's offsets udelta, vdelta; su, sv, du, dv go to uvTransform.
     const std::string mapping = p.getString("mapping", "uv");
-    if (mapping != "uv") fail(p.find("mapping")->at, "mapping \"" + mapping + "\" is not supported (uv is)");
-    const float su = float(p.getFloat("uscale", 1)), sv = float(p.getFloat("vscale", 1));
-    const float du = float(p.getFloat("udelta", 0)), dv = float(p.getFloat("vdelta", 0));
+    float su = 1, sv = 1, du = 0, dv = 0;
+    if (mapping == "uv") {
+        su = float(p.getFloat("uscale", 1)), sv = float(p.getFloat("vscale", 1));
+        du = float(p.getFloat("udelta", 0)), dv = float(p.getFloat("vdelta", 0));
+    } else if (mapping == "spherical") {
+        t.mapping = TextureMapping::Spherical;
+    } else if (mapping == "cylindrical") {
+        t.mapping = TextureMapping::Cylindrical;
+    } else if (mapping == "planar") {
+        t.mapping = TextureMapping::Planar;
+        t.planarS = p.getPoint3("v1", Vec3(1, 0, 0));
+        t.planarT = p.getPoint3("v2", Vec3(0, 1, 0));
+        du = float(p.getFloat("udelta", 0)), dv = float(p.getFloat("vdelta", 0));
+    } else {
+        fail(p.find("mapping")->at, "mapping \"" + mapping + "\" is not uv, spherical, cylindrical or planar");
+    }
+    const float uvScale[6] = {su, 0, du, 0, sv, dv};  // (s, t) as pbrt maps them
     // a texture or constant operand k of scale and mix: colour1 / colour2 hold constants
     auto operand = [&](const char* pname, Vec3 def, int k) {
         int tex = -1;
@@ -404,12 +425,13 @@ void Importer::texture(Directive& d) {
         } else if (enc != "sRGB" && enc != "linear") {
             fail(p.find("encoding")->at, "encoding \"" + enc + "\" is not sRGB, linear or gamma g");
         }
-        if (p.getBool("invert", false)) fail(p.find("invert")->at, "invert is not supported");
         // pbrt looks images up at (s, 1 - t), row 0 on top: wavemmlt's v = 0 is the top row
         const float uv[6] = {su, 0, du, 0, -sv, 1 - dv};
         std::copy(uv, uv + 6, t.uvTransform);
         const float scale = float(p.getFloat("scale", 1));
-        if (scale != 1) {  // the image times its scale: a Scale texture over it
+        if (p.getBool("invert", false)) {  // pbrt: max(0, 1 - scale texel), made here once
+            for (float& v : t.image.rgb) v = std::max(0.0f, 1.0f - scale * v);
+        } else if (scale != 1) {  // the image times its scale: a Scale texture over it
             t.id = int(s_.textures.size());
             s_.textures.push_back(std::move(t));
             TextureDesc sc;
@@ -428,6 +450,45 @@ void Importer::texture(Directive& d) {
         // pbrt: tex1 where floor(s) + floor(t) is even; Mitsuba's checkerboard on (s, t) / 2
         const float uv[6] = {su / 2, 0, du / 2, 0, sv / 2, dv / 2};
         std::copy(uv, uv + 6, t.uvTransform);
+    } else if (cls == "dots") {
+        t.kind = TextureKind::Dots;
+        operand("inside", Vec3(1.0f), 0);
+        operand("outside", Vec3(0.0f), 1);
+        std::copy(uvScale, uvScale + 6, t.uvTransform);
+    } else if (cls == "directionmix") {
+        t.kind = TextureKind::DirectionMix;
+        operand("tex1", Vec3(0.0f), 0);
+        operand("tex2", Vec3(1.0f), 1);
+        // pbrt: dir in the texture's space, normalised in world space
+        const Vec3 dir = g_.ctm.vector(p.getPoint3("dir", Vec3(0, 1, 0)));
+        if (!(length(dir) > 0) || !isFinite(dir)) fail(p.find("dir")->at, "directionmix: dir must be a nonzero vector");
+        t.direction = normalize(dir);
+    } else if (cls == "bilerp") {
+        t.kind = TextureKind::Bilerp;
+        auto corner = [&](const char* n, Vec3 def) {
+            const Param* q = p.find(n);
+            if (q && q->type == "texture") fail(q->at, std::string("bilerp: ") + n + " must be a constant");
+            return isFloat ? Vec3(float(p.getFloat(n, def.x))) : spectrum(p, n, def, SpectrumUse::Albedo);
+        };
+        t.colour1 = corner("v00", Vec3(0.0f));
+        t.colour2 = corner("v01", Vec3(1.0f));
+        t.colour3 = corner("v10", Vec3(0.0f));
+        t.colour4 = corner("v11", Vec3(1.0f));
+        std::copy(uvScale, uvScale + 6, t.uvTransform);
+    } else if (cls == "fbm" || cls == "wrinkled" || cls == "windy" || cls == "marble") {
+        if (cls == "marble" ? isFloat : !isFloat) fail(d.at, "\"" + cls + "\" is a " + (isFloat ? "spectrum" : "float") + " texture in pbrt-v4");
+        t.kind = cls == "fbm" ? TextureKind::Fbm : cls == "wrinkled" ? TextureKind::Wrinkled : cls == "windy" ? TextureKind::Windy : TextureKind::PbrtMarble;
+        if (cls != "windy") {
+            t.octaves = p.getInt("octaves", 8);
+            t.roughness = float(p.getFloat("roughness", 0.5));
+            if (t.octaves < 0 || t.octaves > 32) fail(p.find("octaves")->at, "octaves must be in [0, 32]");
+            if (!std::isfinite(t.roughness)) fail(p.find("roughness")->at, "roughness must be finite");
+        }
+        if (cls == "marble") {
+            t.noiseScale = float(p.getFloat("scale", 1));
+            t.variation = float(p.getFloat("variation", 0.2));
+            if (!std::isfinite(t.noiseScale) || !std::isfinite(t.variation)) fail(d.at, "marble: scale and variation must be finite");
+        }
     } else if (cls == "scale") {
         t.kind = TextureKind::Scale;
         operand("tex", Vec3(1.0f), 0);
