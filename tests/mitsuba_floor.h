@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -69,6 +70,20 @@ inline void floorRadianceOf(const SceneDesc& d, const std::function<double(Vec3,
         INFO(what << ", tracer " << int(t) << ": " << z.describe());
         CHECK(z.pass);
     }
+}
+
+// The irradiance at p on the floor from a uniform rectangle [x1, x2] x [z1, z2] of unit
+// radiance facing it at height h: with G(a, b) = (1 / 2) (A atan(b / sqrt(a^2 + h^2)) +
+// B atan(a / sqrt(b^2 + h^2))), A = a / sqrt(a^2 + h^2), B = b / sqrt(b^2 + h^2), the
+// irradiance below the corner of an a x b rectangle (odd in a and in b), the rectangle's
+// is G(x2, z2) - G(x1, z2) - G(x2, z1) + G(x1, z1) in coordinates relative to p.
+inline double rectangleIrradiance(Vec3 p, double h, double x1, double x2, double z1, double z2) {
+    auto G = [&](double a, double b) {
+        const double ra = std::sqrt(a * a + h * h), rb = std::sqrt(b * b + h * h);
+        return 0.5 * (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb));
+    };
+    x1 -= p.x, x2 -= p.x, z1 -= p.z, z2 -= p.z;
+    return G(x2, z2) - G(x1, z2) - G(x2, z1) + G(x1, z1);
 }
 
 // A diffuse floor (reflectance rho = 0.6 unless floorBsdf says otherwise): rho / pi E(p),

@@ -629,21 +629,10 @@ TEST_CASE("Mitsuba area light on a mesh (a disk): the floor's irradiance, in PT,
 // A textured area emitter (LightDesc::texture, scene/mesh_light.h): a 1.2 x 1.2 rectangle
 // facing down at height h = 1.2 over (0.3, 0), its radiance a checkerboard: L0 = 3 on the
 // squares where (x > 0.3) == (z > 0) (u, v > 1/2 or both not), L1 = 0.5 on the others. Each
-// square is a uniform parallel rectangle, whose irradiance at a point below the corner of a
-// a x b rectangle is (L / 2) (A atan(b / sqrt(a^2 + h^2)) + B atan(a / sqrt(b^2 + h^2))),
-// A = a / sqrt(a^2 + h^2), B = b / sqrt(b^2 + h^2): G(a, b), odd in a and in b, so that a
-// rectangle [x1, x2] x [z1, z2] gets G(x2, z2) - G(x1, z2) - G(x2, z1) + G(x1, z1).
-// The same with both colours 3 (a constant texture) is the constant emitter's closed form.
+// square is a uniform parallel rectangle (floor_test::rectangleIrradiance). The same with
+// both colours 3 (a constant texture) is the constant emitter's closed form.
 TEST_CASE("Mitsuba area light with a textured radiance: the floor's irradiance, in PT, LT and BPT", "[mitsuba][render][meshlight][texture]") {
-    const double h = 1.2;
-    auto G = [&](double a, double b) {
-        const double ra = std::sqrt(a * a + h * h), rb = std::sqrt(b * b + h * h);
-        return 0.5 * (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb));
-    };
-    auto rect = [&](Vec3 p, double x1, double x2, double z1, double z2) {
-        x1 -= p.x, x2 -= p.x, z1 -= p.z, z2 -= p.z;
-        return G(x2, z2) - G(x1, z2) - G(x2, z1) + G(x1, z1);
-    };
+    auto rect = [&](Vec3 p, double x1, double x2, double z1, double z2) { return floor_test::rectangleIrradiance(p, 1.2, x1, x2, z1, z2); };
     for (double L1 : {0.5, 3.0}) {
         const std::string emitter = R"(<shape type="rectangle"><transform name="to_world"><scale value="0.6"/><rotate x="1" angle="90"/><translate x="0.3" y="1.2"/></transform>
     <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><texture type="checkerboard" name="radiance">

@@ -286,6 +286,49 @@ AttributeEnd
     }
 }
 
+TEST_CASE("pbrt import: a two-sided area light lights the floor from its back face, in PT, LT and BPT", "[pbrt][render][twosided]") {
+    // A 1.2 x 1.2 quad at height 1.2 over (0.3, 0), its front face up, away from the floor:
+    // one-sided it leaves the floor black, two-sided its back face gives the floor
+    // L rectangleIrradiance; `power` counts both faces (pbrt: k_e = 2 pi A L).
+    const std::string quad = R"(Shape "trianglemesh" "point3 P" [ -0.3 1.2 -0.6  -0.3 1.2 0.6  0.9 1.2 0.6  0.9 1.2 -0.6 ] "integer indices" [ 0 1 2 0 2 3 ]
+)";
+    const SceneDesc d = load(kFloor + "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] \"bool twosided\" true \"float power\" 9.0478\n" + quad, "two-sided.pbrt");
+    REQUIRE(d.lights.size() == 1);
+    CHECK(d.lights[0].kind == LightKind::Mesh);  // not the one-sided rectangle light
+    CHECK(d.lights[0].twoSided);
+    const double L = 9.0478 / (2 * M_PI * 1.44);  // 1.0000 to 4e-5
+    CHECK(d.lights[0].radiance.y == Approx(L).epsilon(1e-5));
+    floor_test::floorRadianceOf(d, [&](Vec3 p, Vec3) { return 0.6 / M_PI * L * floor_test::rectangleIrradiance(p, 1.2, -0.3, 0.9, -0.6, 0.6); },
+                                "pbrt-two-sided", {});
+    const SceneDesc one = load(kFloor + "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n" + quad, "one-sided-up.pbrt");
+    for (TracerKind t : {TracerKind::PT, TracerKind::LT, TracerKind::BPT}) {
+        const Image img = render(one, rstats::renderOptions(t, 4, 5, 1, 2)).image;
+        double sum = 0;
+        for (float v : img.rgb) sum += v;
+        CHECK(sum == 0);
+    }
+}
+
+TEST_CASE("pbrt import: a two-sided area light seen from behind is L, in every tracer", "[pbrt][render][twosided]") {
+    // The camera looks at the back of a two-sided quad that fills its view: every pixel is
+    // L (0.7) in expectation (PT's camera rays find it: exactly); MIS weights that did not sum
+    // to one (a density of the wrong face) would show. No other surface: nothing else
+    // contributes.
+    const SceneDesc d = load(R"(AreaLightSource "diffuse" "rgb L" [ 0.7 0.7 0.7 ] "bool twosided" true
+Shape "trianglemesh" "point3 P" [ -5 -0.5 -5  5 -0.5 -5  5 -0.5 5  -5 -0.5 5 ] "integer indices" [ 0 1 2 0 2 3 ]
+)",
+                             "two-sided-back.pbrt");
+    REQUIRE(d.lights.size() == 1);
+    for (float v : render(d, rstats::renderOptions(TracerKind::PT, 4, 40, 1, 2)).image.rgb) CHECK(v == Approx(0.7f));  // PT: L, no variance
+    for (TracerKind t : {TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(t, 16, 40 + uint64_t(k), 1, 2)).image, 4, 1));
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 0.7));
+        INFO("tracer " << int(t) << ": " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
 TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pbrt][render][instancing]") {
     const std::string box = R"(Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
 Shape "sphere" "float radius" 0.3

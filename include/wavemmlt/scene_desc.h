@@ -270,6 +270,9 @@ struct LightDesc {
     // (u, v) multiplies radiance (Mitsuba's area with a textured radiance); light sampling
     // then follows its luminance (scene/mesh_light.h).
     int texture = -1;
+    // Mesh: emits alike from both faces (pbrt-v4's `twosided` area light), each face as a
+    // one-sided emitter would; else from the front face only.
+    bool twoSided = false;
 };
 
 struct SceneDesc {

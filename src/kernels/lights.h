@@ -30,6 +30,7 @@ struct Light {
     Frame axisFrame = Frame::fromNormal(Vec3(0, 0, 1));  // spot: about axis, made once with the scene
     float cosCutoff = -2, cosBeam = -2, cutoff = 0, invTransition = 0;
     bool smoothstep = false;  // spot: pbrt-v4's falloff, smoothstep in the cosine
+    bool twoSided = false;    // Mesh: emits from both faces (LightDesc::twoSided)
 };
 
 // Delta lights are found by next-event estimation only: a point (or spot) in position, a
@@ -213,12 +214,13 @@ inline bool samplePointLight(const Light& l, Vec3 ref, LightSample& s) {
 }
 
 // Power (flux) of a light, used to choose lights in proportion to it: pi A L for area
-// lights (one-sided, cosine-weighted), 4 pi I for a point light.
+// lights (cosine-weighted; twice that from both faces), 4 pi I for a point light.
 inline float lightPower(const Light& l) {
     if (l.type == LightType::Directional) return l.area * luminance(l.L);  // E through the disc pi R^2
     if (l.type == LightType::Point && isSpot(l))  // the cone to mid-falloff (pbrt-v4's SpotLight::Phi)
         return 2.0f * kPi * (1.0f - 0.5f * (l.cosCutoff + l.cosBeam)) * luminance(l.L);
-    return l.type == LightType::Point ? 4.0f * kPi * luminance(l.L) : kPi * l.area * luminance(l.L);
+    if (l.type == LightType::Point) return 4.0f * kPi * luminance(l.L);
+    return (l.twoSided ? 2.0f : 1.0f) * kPi * l.area * luminance(l.L);
 }
 
 // ---- Emission sampling: the start of a light subpath (scene-format.md, "Lights") ----
@@ -303,7 +305,13 @@ inline bool samplePointEmission(const Light& l, float u2, float u3, LightEmissio
     return true;
 }
 
+// Whether an area light's surface with normal n emits towards w (its front face's side; a
+// two-sided one either side).
+inline bool emitsTowards(const Light& l, Vec3 n, Vec3 w) {
+    const float c = dot(w, n);
+    return c > 0 || (l.twoSided && c < 0);
+}
 // Radiance an area light's surface point with outward normal n emits in direction w.
-inline Vec3 areaLe(const Light& l, Vec3 n, Vec3 w) { return dot(w, n) > 0 ? l.L : Vec3(0.0f); }
+inline Vec3 areaLe(const Light& l, Vec3 n, Vec3 w) { return emitsTowards(l, n, w) ? l.L : Vec3(0.0f); }
 
 }  // namespace wmlt

@@ -350,6 +350,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             continue;
         }
         const ShapeDesc& sh = d.shapes[ld.shape];
+        if (ld.twoSided && ld.kind != LightKind::Mesh) throw InputError(d.path, sh.line, "only a mesh emitter can be two-sided");
         if (ld.kind == LightKind::Rect) {
             l = rectLight(sh.mesh, ld.radiance);
         } else if (ld.kind == LightKind::Mesh) {
@@ -359,6 +360,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             if (!(ml.area > 0)) throw InputError(d.path, sh.line, "an emitting mesh of zero area");
             l.type = LightType::Mesh;
             l.L = ld.radiance;
+            l.twoSided = ld.twoSided;
             l.area = float(ml.area);
             l.mesh = int(s->meshLights.size());
             s->meshLights.push_back(std::move(ml));

@@ -25,7 +25,11 @@ inline bool sampleMeshLight(const Scene& s, const Light& l, Vec3 ref, float u1, 
     if (!(dist2 > 0)) return false;
     ls.dist = std::sqrt(dist2);
     ls.wi = d / ls.dist;
-    const float cosL = -dot(ls.wi, ls.n);
+    float cosL = -dot(ls.wi, ls.n);
+    if (l.twoSided && cosL < 0) {  // the back face, towards ref
+        ls.n = -ls.n;
+        cosL = -cosL;
+    }
     if (!(cosL > 0)) return false;  // the back of a one-sided emitter
     if (m.texture) {
         ls.Le = l.L * tex;
@@ -120,6 +124,7 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
         case LightType::Sphere: return sampleSphereEmission(l, u0, u1, u2, u3, e);
         case LightType::Point: return samplePointEmission(l, u2, u3, e);
         case LightType::Mesh: {  // area-uniform point (textured: by T), cosine-weighted direction about its normal
+            // (two-sided: a face each with probability 1/2, u2's halves, e.n that face's normal)
             const MeshLight& m = s.meshLights[size_t(l.mesh)];
             if (m.texture) {
                 sampleTexturedMeshPoint(m, u0, u1, e.p, e.n, e.tex, e.pdfPos);
@@ -129,7 +134,13 @@ inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, floa
                 e.pdfPos = 1.0f / l.area;
                 e.Le = l.L;
             }
+            if (l.twoSided) {
+                const bool back = u2 >= 0.5f;
+                u2 = back ? 2.0f * u2 - 1.0f : 2.0f * u2;
+                if (back) e.n = -e.n;
+            }
             sampleCosineAbout(e.n, u2, u3, e);
+            if (l.twoSided) e.pdfDir *= 0.5f;
             return e.pdfDir > 0;
         }
         case LightType::Env:

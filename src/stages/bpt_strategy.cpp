@@ -61,6 +61,10 @@ inline float emissionPdfAt(const Scene& scene, int li, const PathPoint& x0, cons
         const float pdf = isSpot(l) ? pointEmissionPdf(l, dirTo(x0.p, x1.p)) : kUniformSpherePdf;
         return solidAngleToArea(pdf, x0.p, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
     }
+    if (scene.lights[li].twoSided) {  // either face with probability 1/2: the one facing x1
+        const Vec3 n = dot(x0.ng, x1.p - x0.p) < 0 ? -x0.ng : x0.ng;
+        return 0.5f * lightDirPdfArea(x0.p, n, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+    }
     return lightDirPdfArea(x0.p, x0.ng, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
 }
 

@@ -65,7 +65,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         }
         SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.light >= 0) {  // an emitter: without a material it absorbs and the path ends
-            if (countEmission && dot(d, sp.ng) < 0) {
+            if (countEmission && emitsTowards(scene.lights[sp.light], sp.ng, -d)) {
                 Vec3 tex;
                 float pdfA = -1;
                 const bool textured = scene.features.texturedEmitters && texturedEmitterHit(scene, sp.light, rh, sp.p, tex, pdfA);

@@ -105,16 +105,20 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
     Params& p = d.params;
     const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
     double scale = p.getFloat("scale", 1);
-    if (p.getBool("twosided", false)) fail(d.at, "a two-sided area light is not supported (wavemmlt's emitters are one-sided)");
+    const bool twoSided = p.getBool("twosided", false);
+    if (twoSided && sh.kind == ShapeKind::Sphere)
+        fail(p.find("twosided")->at, "a two-sided sphere light is not supported (its inside is never seen from outside)");
     if (p.has("filename")) fail(p.find("filename")->at, "an area light with an image (filename) is not supported yet");
     const double power = p.getFloat("power", -1);
-    if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L)
-        const double ke = M_PI * areaOf(sh) * luminanceOf(L);
+    if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L, twice from two faces)
+        const double ke = (twoSided ? 2 : 1) * M_PI * areaOf(sh) * luminanceOf(L);
         if (!(ke > 0)) fail(d.at, "power: the light has no area or no luminance");
         scale *= power / ke;
     }
     LightDesc l;
-    l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere : isParallelogram(sh.mesh) ? LightKind::Rect : LightKind::Mesh;
+    l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere
+             : isParallelogram(sh.mesh) && !twoSided ? LightKind::Rect : LightKind::Mesh;
+    l.twoSided = twoSided;
     l.radiance = L * float(scale);
     if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "L times scale must be >= 0");
     l.shape = int(&sh - s_.shapes.data());
