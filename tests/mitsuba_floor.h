@@ -44,19 +44,23 @@ inline void floorRadiance(const std::string& emitter, const std::function<double
     floorRadianceOf(d, radiance, what, exact);
 }
 
-// The same for a scene already loaded (any format): a 16 x 16 image of the floor y = 0.
+// The same for a scene already loaded (any format): an image of the floor y = 0 (16 x 16,
+// or the scene's size when a multiple of 4 in both directions: its 4 x 4 blocks).
 inline void floorRadianceOf(const SceneDesc& d, const std::function<double(Vec3, Vec3)>& radiance, const std::string& what,
                             const std::vector<TracerKind>& exact) {
-    const Camera cam = makeCamera(d.camera, 16, 16);
-    std::vector<double> expected(16, 0.0);
-    for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x)
+    const int W = d.settings.width, H = d.settings.height;
+    REQUIRE(W % 4 == 0);
+    REQUIRE(H % 4 == 0);
+    const Camera cam = makeCamera(d.camera, W, H);
+    std::vector<double> expected(size_t(W / 4) * size_t(H / 4), 0.0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
             for (int j = 0; j < 8; ++j)
                 for (int i = 0; i < 8; ++i) {
                     Vec3 o, dir;
                     generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 8, float(y) + (float(j) + 0.5f) / 8, 0.5f, 0.5f, o, dir);
                     const Vec3 p = o + dir * (-o.y / dir.y);
-                    expected[size_t(y / 4) * 4 + size_t(x / 4)] += radiance(p, o) / (16 * 64);
+                    expected[size_t(y / 4) * size_t(W / 4) + size_t(x / 4)] += radiance(p, o) / (16 * 64);
                 }
     for (TracerKind t : {TracerKind::PT, TracerKind::LT, TracerKind::BPT}) {
         if (std::find(exact.begin(), exact.end(), t) != exact.end()) {

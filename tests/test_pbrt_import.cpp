@@ -329,6 +329,102 @@ Shape "trianglemesh" "point3 P" [ -5 -0.5 -5  5 -0.5 -5  5 -0.5 5  -5 -0.5 5 ] "
     }
 }
 
+TEST_CASE("pbrt import: an area light with an image, looked up at (u, 1 - v), and its power", "[pbrt][render][meshlight]") {
+    // A 1 x 2 image (row 0, the top: A; row 1: B): pbrt reads v = 0 at the bottom row.
+    {
+        std::ofstream f(dir() + "/ab.pfm", std::ios::binary);
+        f << "PF\n1 2\n-1.0\n";
+        const float px[6] = {0.2f, 0.4f, 0.6f, 1.0f, 2.0f, 3.0f};  // PFM: bottom row (B) first, then A
+        f.write(reinterpret_cast<const char*>(px), sizeof px);
+    }
+    {
+        std::ofstream f(dir() + "/one.pfm", std::ios::binary);
+        f << "PF\n1 1\n-1.0\n";
+        const float px[3] = {0.5f, 1.0f, 2.0f};
+        f.write(reinterpret_cast<const char*>(px), sizeof px);
+    }
+    // a 1.2 x 1.2 quad at height 1.2 over (0.3, 0), facing down, with (u, v)
+    const std::string quad = R"(Shape "trianglemesh" "point3 P" [ -0.3 1.2 -0.6  -0.3 1.2 0.6  0.9 1.2 0.6  0.9 1.2 -0.6 ] "integer indices" [ 0 2 1 0 3 2 ]
+  "point2 uv" [ 0 0  0 1  1 1  1 0 ]
+)";
+    const SceneDesc ab = load(kFloor + "AreaLightSource \"diffuse\" \"string filename\" \"ab.pfm\"\n" + quad, "image-light.pbrt");
+    REQUIRE(ab.lights.size() == 1);
+    REQUIRE(ab.lights[0].texture >= 0);
+    CHECK(ab.lights[0].kind == LightKind::Mesh);
+    const TextureDesc& t = ab.textures[size_t(ab.lights[0].texture)];
+    CHECK(evalTexture(t, 0.5f, 0.0f, Vec3(0.0f)).x == Approx(0.2f));  // v = 0: the bottom row, B
+    CHECK(evalTexture(t, 0.5f, 1.0f, Vec3(0.0f)).x == Approx(1.0f));  // v = 1: the top row, A
+    CHECK(evalTexture(t, 0.5f, 0.5f, Vec3(0.0f)).x == Approx(0.6f));  // bilinear between the rows' centres
+    // One texel: uniform radiance (0.5, 1, 2) times power / (pi A mean luminance), on the floor
+    // as the rectangle's closed form, in PT, LT and BPT.
+    const SceneDesc one = load(kFloor + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\" \"float power\" 5\n" + quad, "image-light-1.pbrt");
+    const double lum = 0.2126 * 0.5 + 0.7152 * 1.0 + 0.0722 * 2.0, scale = 5 / (M_PI * 1.44 * lum);
+    CHECK(one.lights[0].radiance.y == Approx(scale).epsilon(1e-5));
+    floor_test::floorRadianceOf(one, [&](Vec3 p, Vec3) { return 0.6 / M_PI * scale * floor_test::rectangleIrradiance(p, 1.2, -0.3, 0.9, -0.6, 0.6); },
+                                "pbrt-image-light", {});
+    CHECK_THAT(errorOf(kHead + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n"),
+               Catch::Contains("bad.pbrt:6") && Catch::Contains("(u, v)"));
+    CHECK_THAT(errorOf(kHead + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\" \"rgb L\" [ 1 1 1 ]\n" + quad),
+               Catch::Contains("bad.pbrt:6") && Catch::Contains("not both"));
+}
+
+TEST_CASE("pbrt import: cropwindow and pixelbounds render that part of the film", "[pbrt][render][crop]") {
+    // 16 x 16 film, cropwindow [0.25 0.75] x [0.5 1]: pixels [4, 12) x [8, 16), an 8 x 8 image
+    // whose pixel (x, y) is the film's (x + 4, y + 8): the same rays, and back (the light
+    // tracer's inverse) to the same raster point.
+    const std::string film = R"(LookAt 0 1 0  0 0 0  0 0 1
+Camera "perspective" "float fov" [ 90 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] )";
+    const std::string rest = "\nPixelFilter \"box\"\nWorldBegin\n" + kFloor +
+                             "LightSource \"point\" \"rgb I\" [ 2 2 2 ] \"point3 from\" [ 0.2 1.3 -0.1 ]\n";
+    const SceneDesc full = loadScene(write("full.pbrt", film + rest));
+    for (const std::string& crop : {std::string("\"float cropwindow\" [ 0.25 0.75 1 0.5 ]"), std::string("\"integer pixelbounds\" [ 4 12 8 16 ]")}) {
+        const SceneDesc d = loadScene(write("crop.pbrt", film + crop + rest));
+        REQUIRE(d.settings.width == 8);
+        REQUIRE(d.settings.height == 8);
+        for (bool ortho : {false, true}) {
+            CameraDesc cf = full.camera, cc = d.camera;
+            cf.orthographic = cc.orthographic = ortho;
+            const Camera a = makeCamera(cf, 16, 16), b = makeCamera(cc, 8, 8);
+            for (float px : {0.0f, 0.3f, 4.5f, 7.99f})
+                for (float py : {0.0f, 2.25f, 7.5f}) {
+                    Vec3 oa, da, ob, db;
+                    generateCameraRay(a, px + 4, py + 8, 0.5f, 0.5f, oa, da);
+                    generateCameraRay(b, px, py, 0.5f, 0.5f, ob, db);
+                    CHECK(length(oa - ob) < 1e-5f);
+                    CHECK(length(da - db) < 1e-5f);
+                    if (ortho) continue;
+                    float rx, ry;
+                    REQUIRE(cameraRasterOf(b, db, rx, ry));
+                    CHECK(rx == Approx(px).margin(1e-4));
+                    CHECK(ry == Approx(py).margin(1e-4));
+                }
+        }
+        const Vec3 c(0.2f, 1.3f, -0.1f);
+        floor_test::floorRadianceOf(d, [&](Vec3 p, Vec3) {
+            const double r2 = double(lengthSquared(c - p));
+            return 0.6 / M_PI * 2 * c.y / std::sqrt(r2) / r2;
+        }, "pbrt-crop", {});
+    }
+    // Mitsuba's hdrfilm crop: the same window
+    auto mitsuba = [&](const std::string& crop) {
+        return loadMitsubaFromString(R"(<scene version="3.0.0">)" + floor_test::kLookingDown +
+                                         R"(<film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>)" + crop +
+                                         R"(</film></sensor><emitter type="point"><point name="position" x="0" y="1" z="0"/></emitter></scene>)",
+                                     "crop.xml", dir());
+    };
+    const SceneDesc mf = mitsuba(""), mc = mitsuba(R"(<integer name="crop_offset_x" value="4"/><integer name="crop_offset_y" value="8"/>
+        <integer name="crop_width" value="8"/><integer name="crop_height" value="8"/>)");
+    REQUIRE(mc.settings.width == 8);
+    REQUIRE(mc.settings.height == 8);
+    Vec3 oa, da, ob, db;
+    generateCameraRay(makeCamera(mf.camera, 16, 16), 5.5f, 9.25f, 0.5f, 0.5f, oa, da);
+    generateCameraRay(makeCamera(mc.camera, 8, 8), 1.5f, 1.25f, 0.5f, 0.5f, ob, db);
+    CHECK(length(da - db) < 1e-5f);
+    CHECK_THAT(errorOf(film + "\"float cropwindow\" [ 0.5 0.5 0 1 ]" + rest), Catch::Contains("bad.pbrt:3") && Catch::Contains("no pixel"));
+    CHECK_THAT(errorOf(film + "\"integer pixelbounds\" [ 0 17 0 16 ]" + rest), Catch::Contains("bad.pbrt:3") && Catch::Contains("pixelbounds"));
+}
+
 TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pbrt][render][instancing]") {
     const std::string box = R"(Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
 Shape "sphere" "float radius" 0.3

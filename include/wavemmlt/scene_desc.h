@@ -51,6 +51,10 @@ struct CameraDesc {
     // nearClip in front of it.
     bool orthographic = false;
     float orthoHalfWidth = 1, orthoHalfHeight = 1, nearClip = 0;
+    // The part of the whole film this image is (pbrt's cropwindow): x0, x1, y0, y1 as
+    // fractions of the film's width and height, y from the top. The image's pixels span
+    // only that window; fovDegrees (and the orthographic half extents) are the whole film's.
+    float window[4] = {0, 1, 0, 1};
 };
 
 // The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and

@@ -13,6 +13,7 @@ namespace wmlt {
 struct Camera {
     Vec3 position, forward, right, up;  // orthonormal basis
     float scaleX = 1, scaleY = 1;       // half extent of the image plane at distance 1
+    float shiftX = 0, shiftY = 0;       // its centre's offset along right and up (a crop window)
     int width = 1, height = 1;
     bool thinLens = false;
     float lensRadius = 0, focusDistance = 1;
@@ -30,9 +31,15 @@ inline Camera makeCamera(const CameraDesc& d, int width, int height) {
     c.up = cross(c.right, c.forward);
     if (d.flipX) c.right = -c.right;  // a mirror image: right turns over, up stays
     float tanHalf = std::tan(0.5f * d.fovDegrees * kPi / 180.0f);
-    float shorter = float(std::min(width, height));
-    c.scaleX = tanHalf * float(width) / shorter;
-    c.scaleY = tanHalf * float(height) / shorter;
+    // The whole film (this image its window [x0, x1] x [y0, y1]): its half extents S, then
+    // the window's: sx = (2 px / width - 1) S (x1 - x0) + S (x0 + x1 - 1), and in y (down)
+    // sy = (1 - 2 py / height) S (y1 - y0) + S (1 - y0 - y1). No window: S and 0 exactly.
+    const float* win = d.window;
+    const float wx = win[1] - win[0], wy = win[3] - win[2];
+    const float fullW = float(width) / wx, fullH = float(height) / wy;
+    float shorter = std::min(fullW, fullH);
+    c.scaleX = tanHalf * fullW / shorter;
+    c.scaleY = tanHalf * fullH / shorter;
     c.width = width;
     c.height = height;
     c.thinLens = d.dof;
@@ -46,6 +53,10 @@ inline Camera makeCamera(const CameraDesc& d, int width, int height) {
         c.scaleY = d.orthoHalfHeight;
         c.nearClip = d.nearClip;
     }
+    c.shiftX = c.scaleX * (win[0] + win[1] - 1.0f);
+    c.shiftY = c.scaleY * (1.0f - win[2] - win[3]);
+    c.scaleX *= wx;
+    c.scaleY *= wy;
     return c;
 }
 
@@ -58,6 +69,7 @@ inline bool isPinhole(const Camera& c) { return !c.thinLens && !c.ortho; }
 struct CameraFloats {
     float fx, fy, fz, rx, ry, rz, ux, uy, uz, width, height, scaleX, scaleY;
     float ox, oy, oz, focusDistance, planeArea, lensArea;  // position; cameraPlaneArea, cameraLensArea
+    float shiftX, shiftY;
 };
 inline float cameraPlaneArea(const Camera& c);
 inline float cameraLensArea(const Camera& c);
@@ -65,14 +77,14 @@ inline CameraFloats cameraFloats(const Camera& c) {
     return {c.forward.x,     c.forward.y,    c.forward.z,      c.right.x,    c.right.y,          c.right.z,
             c.up.x,          c.up.y,         c.up.z,           float(c.width), float(c.height),  c.scaleX,
             c.scaleY,        c.position.x,   c.position.y,     c.position.z, c.focusDistance,    cameraPlaneArea(c),
-            cameraLensArea(c)};
+            cameraLensArea(c), c.shiftX,     c.shiftY};
 }
 
 // Direction (unnormalised, forward component 1) through the raster point (px, py),
 // raster y pointing down, (0, 0) the image's top-left corner.
 inline void cameraPlaneDirectionAt(const CameraFloats c, float px, float py, float& dx, float& dy, float& dz) {
-    const float sx = (2.0f * px / c.width - 1.0f) * c.scaleX;
-    const float sy = (1.0f - 2.0f * py / c.height) * c.scaleY;
+    const float sx = (2.0f * px / c.width - 1.0f) * c.scaleX + c.shiftX;  // + 0: the same bits
+    const float sy = (1.0f - 2.0f * py / c.height) * c.scaleY + c.shiftY;
     dx = (c.fx + c.rx * sx) + c.ux * sy;
     dy = (c.fy + c.ry * sx) + c.uy * sy;
     dz = (c.fz + c.rz * sx) + c.uz * sy;
@@ -154,7 +166,7 @@ inline void generateCameraRay(const Camera& c, float px, float py, float u1, flo
 inline bool cameraRasterOf(const Camera& c, Vec3 w, float& px, float& py) {
     float z = dot(w, c.forward);
     if (z <= 0) return false;
-    float sx = dot(w, c.right) / z / c.scaleX, sy = dot(w, c.up) / z / c.scaleY;
+    float sx = (dot(w, c.right) / z - c.shiftX) / c.scaleX, sy = (dot(w, c.up) / z - c.shiftY) / c.scaleY;
     px = (sx + 1.0f) * 0.5f * float(c.width);
     py = (1.0f - sy) * 0.5f * float(c.height);
     return px >= 0 && px < float(c.width) && py >= 0 && py < float(c.height);
@@ -222,8 +234,8 @@ inline bool cameraSampleAt(const CameraFloats c, float lx, float ly, float lz, f
         qz = (lz + uz * t) - c.oz;
     }
     const float z = qx * c.fx + qy * c.fy + qz * c.fz;
-    const float sx = (qx * c.rx + qy * c.ry + qz * c.rz) / z / c.scaleX;
-    const float sy = (qx * c.ux + qy * c.uy + qz * c.uz) / z / c.scaleY;
+    const float sx = ((qx * c.rx + qy * c.ry + qz * c.rz) / z - c.shiftX) / c.scaleX;
+    const float sy = ((qx * c.ux + qy * c.uy + qz * c.uz) / z - c.shiftY) / c.scaleY;
     px = (sx + 1.0f) * 0.5f * c.width;
     py = (1.0f - sy) * 0.5f * c.height;
     const float cos2 = cosTheta * cosTheta;
@@ -257,7 +269,7 @@ inline CameraSample sampleOrthographicFrom(const Camera& c, Vec3 ref) {
     CameraSample s;
     const Vec3 q = ref - c.position;
     const float depth = dot(q, c.forward);
-    const float sx = dot(q, c.right) / c.scaleX, sy = dot(q, c.up) / c.scaleY;
+    const float sx = (dot(q, c.right) - c.shiftX) / c.scaleX, sy = (dot(q, c.up) - c.shiftY) / c.scaleY;
     s.px = (sx + 1.0f) * 0.5f * float(c.width);
     s.py = (1.0f - sy) * 0.5f * float(c.height);
     s.dist = depth - c.nearClip;

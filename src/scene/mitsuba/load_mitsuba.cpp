@@ -392,6 +392,7 @@ void Importer::sensor(Node n) {
         c.fStop = f / (2 * r);
     }
     int w = 768, h = 576;
+    int crop[4] = {0, 0, 0, 0};  // crop_offset_x, _y, crop_width, _height (0 x 0: none)
     namedFilter("gaussian", s_.filter);  // Mitsuba's default rfilter
     for (Node film : p.nested("film")) {
         Props fp = props(film);
@@ -399,6 +400,10 @@ void Importer::sensor(Node n) {
         w = fp.getInt("width", 768);
         h = fp.getInt("height", 576);
         if (w < 1 || h < 1 || w > 16384 || h > 16384) fp.fail(film, "width and height must be 1 to 16384");
+        crop[0] = fp.getInt("crop_offset_x", 0), crop[1] = fp.getInt("crop_offset_y", 0);
+        crop[2] = fp.getInt("crop_width", w - crop[0]), crop[3] = fp.getInt("crop_height", h - crop[1]);
+        if (crop[0] < 0 || crop[1] < 0 || crop[2] < 1 || crop[3] < 1 || crop[0] + crop[2] > w || crop[1] + crop[3] > h)
+            fp.fail(film, "the crop window (crop_offset_x, crop_offset_y, crop_width, crop_height) must be a nonempty part of the film");
         for (const char* ignored : {"file_format", "pixel_format", "component_format", "banner"}) fp.getString(ignored, "");
         for (Node rf : fp.nested("rfilter")) s_.filter = reconstructionFilter(rf);
         fp.finish();
@@ -415,6 +420,13 @@ void Importer::sensor(Node n) {
     }
     s_.settings.width = w;
     s_.settings.height = h;
+    if (crop[2] > 0 && (crop[2] != w || crop[3] != h)) {  // the image is that window of the film
+        s_.settings.width = crop[2];
+        s_.settings.height = crop[3];
+        float* win = c.window;
+        win[0] = float(crop[0]) / float(w), win[1] = float(crop[0] + crop[2]) / float(w);
+        win[2] = float(crop[1]) / float(h), win[3] = float(crop[1] + crop[3]) / float(h);
+    }
     // FOV: wavemmlt's is across the shorter side.
     const double tx = std::tan(0.5 * fov * M_PI / 180), shorter = std::min(w, h), diag = std::sqrt(double(w) * w + double(h) * h);
     double ts;

@@ -196,10 +196,39 @@ void Importer::film() {
         fail(f.at, "the film's resolution must be 1 to 16384 pixels on each side");
     const std::string out = p.getString("filename", "pbrt.exr");
     s_.settings.output = out;
-    const std::vector<double> crop = p.getNumbers("cropwindow");
-    if (!crop.empty() && crop != std::vector<double>{0, 1, 0, 1})
-        fail(p.find("cropwindow")->at, "cropwindow is not supported (render the whole film and crop the image)");
-    if (p.has("pixelbounds")) fail(p.find("pixelbounds")->at, "pixelbounds is not supported (render the whole film)");
+    // pbrt-v4's pixel bounds [x0, x1) x [y0, y1) (y down): `pixelbounds`, or `cropwindow`'s
+    // fractions (clamped to [0, 1], each pair in either order) rounded up to pixels. The image
+    // is that part of the film (CameraDesc::window).
+    const int W = s_.settings.width, H = s_.settings.height;
+    int b[4] = {0, W, 0, H};
+    if (p.has("pixelbounds")) {
+        if (p.has("cropwindow")) fail(p.find("cropwindow")->at, "give cropwindow or pixelbounds, not both");
+        const Param& q = *p.find("pixelbounds");
+        const std::vector<int> pb = p.getInts("pixelbounds");
+        if (pb.size() != 4) fail(q.at, "pixelbounds: expected four integers");
+        std::copy(pb.begin(), pb.end(), b);
+        if (b[0] < 0 || b[2] < 0 || b[1] > W || b[3] > H || b[0] >= b[1] || b[2] >= b[3])
+            fail(q.at, "pixelbounds must be a nonempty part of the film (x0 < x1 <= xresolution, y0 < y1 <= yresolution)");
+    } else if (p.has("cropwindow")) {
+        const Param& q = *p.find("cropwindow");
+        const std::vector<double> c = p.getNumbers("cropwindow");
+        if (c.size() != 4) fail(q.at, "cropwindow: expected four numbers");
+        for (double v : c)
+            if (!std::isfinite(v)) fail(q.at, "cropwindow: the numbers must be finite");
+        auto clamp01 = [](double v) { return std::clamp(v, 0.0, 1.0); };
+        b[0] = int(std::ceil(W * clamp01(std::min(c[0], c[1]))));
+        b[1] = int(std::ceil(W * clamp01(std::max(c[0], c[1]))));
+        b[2] = int(std::ceil(H * clamp01(std::min(c[2], c[3]))));
+        b[3] = int(std::ceil(H * clamp01(std::max(c[2], c[3]))));
+        if (b[0] >= b[1] || b[2] >= b[3]) fail(q.at, "cropwindow: no pixel inside it");
+    }
+    if (b[0] != 0 || b[1] != W || b[2] != 0 || b[3] != H) {
+        s_.settings.width = b[1] - b[0];
+        s_.settings.height = b[3] - b[2];
+        float* win = s_.camera.window;
+        win[0] = float(b[0]) / float(W), win[1] = float(b[1]) / float(W);
+        win[2] = float(b[2]) / float(H), win[3] = float(b[3]) / float(H);
+    }
     const std::string sensor = p.getString("sensor", "cie1931");
     if (sensor != "cie1931") fail(p.find("sensor")->at, "sensor \"" + sensor + "\": only cie1931 (the default) is supported");
     if (p.getFloat("whitebalance", 0) != 0) fail(p.find("whitebalance")->at, "whitebalance is not supported with the cie1931 sensor");
@@ -230,7 +259,8 @@ void Importer::camera() {
     c.lookAt = o + fwd;
     c.up = up;
     c.flipX = dot(right, cross(fwd, up)) < 0;  // pbrt: image right is camera +x
-    const float aspect = float(s_.settings.width) / float(s_.settings.height);
+    const float* win = c.window;  // the whole film's aspect, not a crop window's
+    const float aspect = (float(s_.settings.width) / (win[1] - win[0])) / (float(s_.settings.height) / (win[3] - win[2]));
     if (p.has("screenwindow")) fail(p.find("screenwindow")->at, "screenwindow is not supported");
     const double frame = p.getFloat("frameaspectratio", aspect);
     if (std::fabs(frame - aspect) > 1e-4 * aspect) fail(p.find("frameaspectratio")->at, "frameaspectratio differs from the film's");

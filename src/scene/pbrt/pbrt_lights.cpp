@@ -103,22 +103,53 @@ double upperIlluminance(const Image& map, Vec3 up) {
 void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
     Directive d = directive;  // each shape reads the area light's parameters afresh
     Params& p = d.params;
-    const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+    // An image instead of L (pbrt-v4): radiance scale image(u, 1 - v), bilinear, clamped at
+    // the edges: a textured mesh light (LightDesc::texture), L 1.
+    int image = -1;
+    if (const Param* f = p.find("filename")) {
+        if (p.has("L")) fail(f->at, "an area light takes L or filename, not both");
+        if (sh.kind == ShapeKind::Sphere) fail(f->at, "an area light with an image on a sphere is not supported (give it as a mesh)");
+        if (sh.mesh.uvs.empty())
+            fail(f->at, "an area light with an image needs the shape's (u, v) (pbrt's default per-triangle (u, v) is not reproduced)");
+        TextureDesc t;
+        t.kind = TextureKind::Bitmap;
+        try {
+            t.image = readImage(resolve(p.getString("filename", "")));
+        } catch (const InputError& e) {
+            fail(f->at, e.what());
+        }
+        for (float& v : t.image.rgb) v = std::max(0.0f, v);  // pbrt: ClampZero
+        t.wrap = TextureWrap::Clamp;
+        const float flip[6] = {1, 0, 0, 0, -1, 1};
+        std::copy(flip, flip + 6, t.uvTransform);
+        t.id = image = int(s_.textures.size());
+        s_.textures.push_back(std::move(t));
+    }
+    const Vec3 L = image >= 0 ? Vec3(1.0f) : spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
     double scale = p.getFloat("scale", 1);
     const bool twoSided = p.getBool("twosided", false);
     if (twoSided && sh.kind == ShapeKind::Sphere)
         fail(p.find("twosided")->at, "a two-sided sphere light is not supported (its inside is never seen from outside)");
-    if (p.has("filename")) fail(p.find("filename")->at, "an area light with an image (filename) is not supported yet");
     const double power = p.getFloat("power", -1);
-    if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L, twice from two faces)
-        const double ke = (twoSided ? 2 : 1) * M_PI * areaOf(sh) * luminanceOf(L);
+    if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L, twice from two faces;
+                      // an image's: its pixels' mean luminance for L)
+        double lum = luminanceOf(L);
+        if (image >= 0) {
+            const Image& im = s_.textures[size_t(image)].image;
+            lum = 0;
+            for (int y = 0; y < im.height; ++y)
+                for (int x = 0; x < im.width; ++x) lum += luminanceOf(im.at(x, y));
+            lum /= std::max(1, im.width * im.height);
+        }
+        const double ke = (twoSided ? 2 : 1) * M_PI * areaOf(sh) * lum;
         if (!(ke > 0)) fail(d.at, "power: the light has no area or no luminance");
         scale *= power / ke;
     }
     LightDesc l;
     l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere
-             : isParallelogram(sh.mesh) && !twoSided ? LightKind::Rect : LightKind::Mesh;
+             : isParallelogram(sh.mesh) && !twoSided && image < 0 ? LightKind::Rect : LightKind::Mesh;
     l.twoSided = twoSided;
+    l.texture = image;
     l.radiance = L * float(scale);
     if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "L times scale must be >= 0");
     l.shape = int(&sh - s_.shapes.data());
