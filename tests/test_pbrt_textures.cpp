@@ -9,10 +9,12 @@
 #include <fstream>
 #include <string>
 
+#include "kernels/bump.h"
 #include "kernels/texture.h"
 #include "mitsuba_floor.h"
 #include "render_stats.h"
 #include "wavemmlt/error.h"
+#include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -239,6 +241,59 @@ LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.2 1.3 -0.1 ]
             return rho / M_PI * 2 * c.y / std::sqrt(r2) / r2;
         },
         "pbrt-textured-floor", {});
+}
+
+TEST_CASE("pbrt textures: normalmap tilts a floor's shading normal, in PT, LT and BPT", "[pbrt][texture][render][bump]") {
+    // A 1 x 1 normal map (0.8, 0.5, 0.9) = (n + 1) / 2 for n = (0.6, 0, 0.8) in the tangent
+    // frame (x along dp/du = world +x, z the normal +y): the floor's shading normal is
+    // (0.6, 0.8, 0) and a distant light from l gives rho / pi E (n . l).
+    {
+        std::ofstream f(dir() + "/n.pfm", std::ios::binary);
+        f << "PF\n1 1\n-1.0\n";
+        const float px[3] = {0.8f, 0.5f, 0.9f};
+        f.write(reinterpret_cast<const char*>(px), sizeof px);
+    }
+    for (const double lx : {0.5, -0.5}) {
+        const double ly = std::sqrt(1 - lx * lx);
+        const SceneDesc d = loadText(lx > 0 ? "nmap-a.pbrt" : "nmap-b.pbrt", R"(Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ] "string normalmap" "n.pfm"
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ] "point2 uv" [ 0 0  1 0  1 1  0 1 ]
+LightSource "distant" "rgb L" [ 1 1 1 ] "point3 from" [ )" + std::to_string(lx) + " " + std::to_string(ly) + R"( 0 ] "point3 to" [ 0 0 0 ] "float illuminance" 2
+)");
+        REQUIRE(d.materials.back().normalMap >= 0);
+        const double cosN = 0.6 * lx + 0.8 * ly;
+        floor_test::floorRadianceOf(d, [&](Vec3, Vec3) { return 0.6 / M_PI * 2 * cosN; }, "pbrt-normalmap", {TracerKind::PT, TracerKind::BPT});
+    }
+    // An 8-bit normal map is read linearly (its bytes / 255), as pbrt reads normal maps.
+    Image png(1, 1);
+    png.rgb = {0.6f, 0.2f, 0.9f};  // written sRGB-encoded: bytes round(255 srgb(v))
+    writeImage(dir() + "/n.png", png);
+    const SceneDesc d = loadText("nmap-png.pbrt", R"(Material "diffuse" "string normalmap" "n.png"
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ] "point2 uv" [ 0 0  1 0  1 1  0 1 ]
+LightSource "point" "rgb I" [ 1 1 1 ] "point3 from" [ 0 1 0 ]
+)");
+    const Vec3 c = evalTexture(d.textures[size_t(d.materials.back().normalMap)], 0.5f, 0.5f, Vec3(0.0f));
+    CHECK(c.x == Approx(linearToSrgb(0.6f)).margin(1.0 / 255));  // not 0.6: the decoded value
+    CHECK(c.y == Approx(linearToSrgb(0.2f)).margin(1.0 / 255));
+    CHECK(c.z == Approx(linearToSrgb(0.9f)).margin(1.0 / 255));
+}
+
+TEST_CASE("pbrt textures: displacement bumps by the texture's slope in world units", "[pbrt][texture][bump]") {
+    // displacement k u (a float bilerp): dp/du' = dp/du + k ns, so on a patch with dp/du =
+    // (2, 0, 0), dp/dv = (0, 0, -3), ns = ng = +y the normal is (-3 k, 6, 0) normalised.
+    const SceneDesc d = loadText("disp.pbrt", R"(Texture "h" "float" "bilerp" "float v00" 0 "float v01" 0 "float v10" 0.5 "float v11" 0.5
+Material "diffuse" "texture displacement" "h"
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ] "point2 uv" [ 0 0  1 0  1 1  0 1 ]
+LightSource "point" "rgb I" [ 1 1 1 ] "point3 from" [ 0 1 0 ]
+)");
+    const MaterialDesc& m = d.materials.back();
+    REQUIRE(m.bump >= 0);
+    CHECK(m.bumpPbrt);
+    const Vec3 n = bumpedNormalPbrt(d.textures[size_t(m.bump)], Vec3(0.1f, 0, 0.2f), 0.3f, 0.6f, Vec3(0, 1, 0), Vec3(0, 1, 0),
+                                    Vec3(2, 0, 0), Vec3(0, 0, -3));
+    const Vec3 want = normalize(Vec3(-1.5f, 6, 0));
+    CHECK(n.x == Approx(want.x).margin(1e-3));
+    CHECK(n.y == Approx(want.y).margin(1e-3));
+    CHECK(std::fabs(n.z) < 1e-3f);
 }
 
 TEST_CASE("pbrt textures: bad parameters name file and line", "[pbrt][texture][bad-input]") {

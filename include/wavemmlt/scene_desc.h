@@ -109,6 +109,7 @@ struct MaterialDesc {
     bool nonlinear = false;                  // Plastic, RoughPlastic
     bool twoSided = true;                    // false: black seen from below the shading normal
     bool bumpMitsuba = false;                // bump is Mitsuba's bumpmap: height = bumpScale * luminance
+    bool bumpPbrt = false;                   // bump is pbrt-v4's displacement: height = luminance, world units
     // Mitsuba's normalmap: a texture whose RGB at the hit is the shading normal in the
     // tangent frame (x along dp/du, z the interpolated normal) as (n + 1) / 2 (index into
     // SceneDesc::textures, -1: none; kernels/bump.h, normalMapped).

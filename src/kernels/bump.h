@@ -44,6 +44,23 @@ inline Vec3 bumpedNormalMitsuba(const TextureDesc& tex, float scale, float u, fl
     return dot(n, ng) < 0 ? -n : n;
 }
 
+// pbrt-v4's displacement (BumpMap): the height d = the texture's luminance in world units
+// along ns, by forward differences of step 0.0005 in u and v (pbrt's without ray
+// differentials), dp/du' = dp/du + ns (d(u + du) - d) / du (pbrt adds d dn/du: left out,
+// second order for small displacements), the normal theirs, on ng's side.
+constexpr float kPbrtBumpDelta = 0.0005f;
+inline Vec3 bumpedNormalPbrt(const TextureDesc& tex, Vec3 p, float u, float v, Vec3 ns, Vec3 ng, Vec3 dpdu, Vec3 dpdv) {
+    const float d = kPbrtBumpDelta;
+    const float h0 = textureHeight(tex, u, v, p);
+    const float hu = textureHeight(tex, u + d, v, p + dpdu * d);
+    const float hv = textureHeight(tex, u, v + d, p + dpdv * d);
+    Vec3 n = cross(dpdu + ns * ((hu - h0) / d), dpdv + ns * ((hv - h0) / d));
+    const float len = length(n);
+    if (!(len > 0) || !std::isfinite(len)) return ns;
+    n = n / len;
+    return dot(n, ng) < 0 ? -n : n;
+}
+
 // Mitsuba's normalmap: n = 2 rgb - 1 in the frame (s, t, ns), s = dp/du made orthogonal to
 // ns and t = ns x s (Mitsuba 3's shading frame); the normal is n normalised, on ng's side.
 // Without a usable dp/du (degenerate uv), ns is kept.

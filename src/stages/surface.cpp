@@ -52,6 +52,8 @@ void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
     if (m.bump < 0) return;
     if (m.bumpMitsuba)
         sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+    else if (m.bumpPbrt)
+        sp.ns = bumpedNormalPbrt(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
     else
         sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
 }

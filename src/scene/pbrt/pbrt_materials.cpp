@@ -1,11 +1,14 @@
-// pbrt-v4 materials, textures and spectra (docs/pbrt.md): diffuse, conductor, dielectric,
-// thindielectric and mix onto the scene model's kinds; imagemap, checkerboard, scale, mix
-// and constant textures; rgb, spectrum (pairs, a named spectrum, an .spd file) and
-// blackbody parameters as linear sRGB (scene/spectrum.h).
+// pbrt-v4 materials, textures and spectra (docs/pbrt.md): the materials onto the scene
+// model's kinds, with their normal maps and displacement; the textures (imagemap,
+// checkerboard, scale, mix, directionmix, constant, bilerp, dots, the noises, marble) with
+// their mappings; rgb, spectrum (pairs, a named spectrum, an .spd file) and blackbody
+// parameters as linear sRGB (scene/spectrum.h).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 
+#include "kernels/texture.h"
 #include "scene/pbrt/pbrt_importer.h"
 #include "scene/number.h"
 #include "scene/spectrum.h"
@@ -15,6 +18,14 @@
 namespace wmlt::pbrt {
 
 namespace {
+// Whether readImage decodes the file's values from sRGB (its 8- and 16-bit formats), so
+// that a texture pbrt reads linearly must be encoded back.
+bool decodedAsSrgb(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga";
+}
+
 
 // pbrt-v4's named metal spectra (metal-X-eta, metal-X-k) projected as every other
 // unbounded spectrum is (scene/spectrum.h, under D65): computed once from the measured
@@ -336,8 +347,35 @@ int Importer::material(const std::string& type, Directive& d) {
     } else {
         fail(d.at, "unknown Material \"" + type + "\"");
     }
-    if (p.has("displacement")) fail(p.find("displacement")->at, "displacement is not supported yet");
-    if (p.has("normalmap")) fail(p.find("normalmap")->at, "normalmap is not supported yet");
+    // pbrt-v4's normal map (a tangent-space image, read linearly, at (u, 1 - v), repeating)
+    // before its bump map (a float texture `displacement`): MaterialDesc::normalMap, bump.
+    if (const Param* q = p.find("normalmap")) {
+        TextureDesc t;
+        t.kind = TextureKind::Bitmap;
+        const std::string path = resolve(p.getString("normalmap", ""));
+        try {
+            t.image = readImage(path);
+        } catch (const InputError& e) {
+            fail(q->at, e.what());
+        }
+        if (decodedAsSrgb(path))
+            for (float& v : t.image.rgb) v = linearToSrgb(v);  // readImage decoded sRGB: pbrt reads normal maps linearly
+        const float flip[6] = {1, 0, 0, 0, -1, 1};
+        std::copy(flip, flip + 6, t.uvTransform);
+        t.id = m.normalMap = int(s_.textures.size());
+        s_.textures.push_back(std::move(t));
+    }
+    if (const Param* q = p.find("displacement")) {
+        int tex = -1;
+        const float d = floatParam(p, "displacement", 0, tex);
+        if (tex >= 0 && combinesTextures(s_.textures[size_t(tex)]))
+            fail(q->at, "displacement: a scale, mix or directionmix texture is not supported (give an image or a noise)");
+        if (tex < 0 && d != 0) warn(q->at, "a constant displacement does not bump the surface: ignored");
+        if (tex >= 0 && m.normalMap < 0) {
+            m.bump = tex;
+            m.bumpPbrt = true;
+        }
+    }
     m.id = int(s_.materials.size());
     s_.materials.push_back(m);
     return m.id;
@@ -413,8 +451,7 @@ void Importer::texture(Directive& d) {
         if (wrap == "repeat") t.wrap = TextureWrap::Repeat;
         else if (wrap == "clamp") t.wrap = TextureWrap::Clamp;
         else fail(p.find("wrap")->at, "wrap \"" + wrap + "\" is not supported (repeat and clamp are)");
-        const std::string ext = std::filesystem::path(path).extension().string();
-        const bool encoded = ext == ".png" || ext == ".PNG" || ext == ".jpg" || ext == ".JPG" || ext == ".jpeg" || ext == ".tga";
+        const bool encoded = decodedAsSrgb(path);
         const std::string enc = p.getString("encoding", encoded ? "sRGB" : "linear");
         if (enc == "linear" && encoded) {
             for (float& v : t.image.rgb) v = linearToSrgb(v);  // readImage decoded sRGB
