@@ -425,6 +425,36 @@ Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] )";
     CHECK_THAT(errorOf(film + "\"integer pixelbounds\" [ 0 17 0 16 ]" + rest), Catch::Contains("bad.pbrt:3") && Catch::Contains("pixelbounds"));
 }
 
+TEST_CASE("pbrt import: Attribute gives default parameters to a class of directives", "[pbrt][import]") {
+    const SceneDesc d = load(R"(AttributeBegin
+Attribute "shape" "float radius" 2 "float uscale" 5
+Attribute "material" "rgb reflectance" [ 0.2 0.3 0.4 ]
+Attribute "light" "float scale" 3
+Attribute "texture" "float uscale" 4
+Material "diffuse"
+Shape "sphere"
+Shape "sphere" "float radius" 0.5
+LightSource "point" "rgb I" [ 1 1 1 ]
+Texture "t" "spectrum" "bilerp"
+Material "diffuse" "texture reflectance" "t"
+Shape "sphere"
+AttributeEnd
+Shape "sphere"
+LightSource "point" "rgb I" [ 1 1 1 ]
+)",
+                             "attribute.pbrt");
+    REQUIRE(d.shapes.size() == 4);
+    CHECK(d.shapes[0].radius == Approx(2.0f));  // the default
+    CHECK(d.shapes[1].radius == Approx(0.5f));  // its own wins
+    CHECK(d.shapes[3].radius == Approx(1.0f));  // AttributeEnd restores pbrt's default
+    CHECK(d.materials[size_t(d.shapes[0].material)].diffuse.z == Approx(0.4f));
+    CHECK(d.lights[0].radiance.x == Approx(3.0f));
+    CHECK(d.lights[1].radiance.x == Approx(1.0f));
+    const TextureDesc& t = d.textures[size_t(d.materials[size_t(d.shapes[2].material)].colourTexture[0])];
+    CHECK(t.uvTransform[0] == Approx(4.0f));  // uscale
+    CHECK(d.warnings.empty());  // defaults a directive does not read (the texture's uscale on a sphere) are no mistake
+}
+
 TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pbrt][render][instancing]") {
     const std::string box = R"(Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
 Shape "sphere" "float radius" 0.3
@@ -633,6 +663,7 @@ TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-inpu
         {"Film \"rgb\" \"integer xresolution\" [ 0 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the film's resolution must be 1 to 16384"},
         {"PixelFilter \"gaussian\" \"float xradius\" [ -1 ] \"float yradius\" [ -1 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the filter radius must be > 0"},
         {head + "Shape \"sphere\"\nAttributeEnd\n", "bad.pbrt:4: AttributeEnd without a matching begin"},
+        {head + "Attribute \"camera\" \"float fov\" 30\n", "bad.pbrt:3: Attribute \"camera\" is not"},
         {head + "Shape \"sphere\" \"float radius\" 1 2\n", "bad.pbrt:3: expected a directive, found 2"},
     };
     for (const Bad& b : cases) {

@@ -61,6 +61,13 @@ void Importer::transform(const Directive& d) {
     if (std::fabs(g_.ctm.det3()) < 1e-30) fail(d.at, d.name + ": the transform is singular");
 }
 
+void Importer::withAttributes(Directive& d, const std::string& target) const {
+    auto it = g_.attributes.find(target);
+    if (it == g_.attributes.end()) return;
+    for (const Param& p : it->second)
+        if (!d.params.has(p.name)) d.params.list.push_back(p);
+}
+
 void Importer::directive(Directive& d) {
     const std::string& n = d.name;
     if (n == "Translate" || n == "Scale" || n == "Rotate" || n == "LookAt" || n == "Transform" || n == "ConcatTransform") {
@@ -123,7 +130,16 @@ void Importer::directive(Directive& d) {
     } else if (n == "Option") {
         for (const Param& p : d.params.list) warn(p.at, "Option \"" + p.name + "\" is ignored");
     } else if (n == "Attribute") {
-        fail(d.at, "Attribute (default parameters for a class of objects) is not supported: give the parameters where they are used");
+        const std::string& target = d.strings[0];
+        if (target != "shape" && target != "light" && target != "material" && target != "medium" && target != "texture")
+            fail(d.at, "Attribute \"" + target + "\" is not shape, light, material, medium or texture");
+        std::vector<Param>& defaults = g_.attributes[target];
+        for (Param& p : d.params.list) {
+            p.used = true;  // a default no directive reads is no mistake
+            auto same = std::find_if(defaults.begin(), defaults.end(), [&](const Param& q) { return q.name == p.name; });
+            if (same != defaults.end()) *same = p;
+            else defaults.push_back(p);
+        }
     } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
         if (n == "MediumInterface" && std::all_of(d.strings.begin(), d.strings.end(), [](const std::string& s) { return s.empty(); }))
             return;  // "" "": no media, as without the directive
@@ -151,6 +167,7 @@ void Importer::directive(Directive& d) {
         in.line = d.at.line;
         s_.instances.push_back(in);
     } else if (n == "Material" || n == "MakeNamedMaterial" || n == "NamedMaterial") {
+        withAttributes(d, "material");
         if (n == "NamedMaterial") {
             auto it = namedMaterials_.find(d.strings[0]);
             if (it == namedMaterials_.end()) fail(d.at, "NamedMaterial: no material named \"" + d.strings[0] + "\"");
@@ -166,18 +183,22 @@ void Importer::directive(Directive& d) {
             done(d);
         }
     } else if (n == "Texture") {
+        withAttributes(d, "texture");
         texture(d);
         done(d);
     } else if (n == "LightSource") {
         if (!inWorld_) fail(d.at, "LightSource before WorldBegin");
+        withAttributes(d, "light");
         lightSource(d);
         done(d);
     } else if (n == "AreaLightSource") {
         if (d.strings[0] != "diffuse") fail(d.at, "AreaLightSource \"" + d.strings[0] + "\" is not supported (diffuse is)");
+        withAttributes(d, "light");
         g_.areaLight = true;
         g_.areaLightDirective = d;
     } else if (n == "Shape") {
         if (!inWorld_) fail(d.at, "Shape before WorldBegin");
+        withAttributes(d, "shape");
         shape(d);
         done(d);
     }

@@ -29,6 +29,9 @@ private:
         int material = -1;  // index into s_.materials, -1: pbrt's default diffuse
         bool areaLight = false;
         Directive areaLightDirective;
+        // Attribute "shape" | "light" | "material" | "medium" | "texture": default parameters
+        // for the directives of that class (those they do not give themselves)
+        std::map<std::string, std::vector<Param>> attributes;
     };
     Parser parser_;
     std::string path_, base_;
@@ -58,6 +61,8 @@ private:
     std::string resolve(const std::string& f) const;
     void warn(const Loc& at, const std::string& msg);
     void done(Directive& d) { d.params.warnUnused(s_.warnings); }
+    // Adds the Attribute defaults of class `target` that d does not give itself.
+    void withAttributes(Directive& d, const std::string& target) const;
 
     // pbrt_shapes.cpp
     void shape(Directive& d);
