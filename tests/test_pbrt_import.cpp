@@ -657,7 +657,7 @@ TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-inpu
         {head + "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"integer indices\" [ 0 1 3 ]\n",
          "bad.pbrt:3: \"indices\": index 3 out of range (3 points)"},
         {head + "Include \"bad.pbrt\"\n", "bad.pbrt:3: \"" },
-        {head + "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n", "bad.pbrt:3: MakeNamedMedium: participating media are not supported yet"},
+        {head + "MakeNamedMedium \"fog\" \"string type\" \"cloud\"\n", "bad.pbrt:3: MakeNamedMedium type \"cloud\" is not supported yet"},
         {head + "Material \"hair\"\n", "bad.pbrt:3: Material \"hair\" is not supported yet"},
         {head + "ObjectBegin \"a\"\nObjectBegin \"b\"\n", "bad.pbrt:4: ObjectBegin inside an object"},
         {"Film \"rgb\" \"integer xresolution\" [ 0 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the film's resolution must be 1 to 16384"},

@@ -63,9 +63,12 @@ struct CameraDesc {
 enum class MaterialKind : uint8_t {
     Matte, Glossy, Reflective, Dielectric,
     Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled, Coated,
-    DiffuseTransmission
+    DiffuseTransmission,
+    // Not a material of any file: the phase function of a scattering event in a medium, run
+    // by the stages as the BSDF of a medium vertex (kernels/medium.h).
+    Phase
 };
-constexpr int kMaterialKinds = 14;
+constexpr int kMaterialKinds = 15;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
@@ -244,6 +247,24 @@ struct ShapeDesc {
     // only by the instances of the group (SceneDesc::instances); a triangle mesh without
     // emitter or mask.
     int group = -1;
+    // Media (docs/media.md): a boundary between the medium inside (the side its geometric
+    // normal points away from) and outside (indices into SceneDesc::media, -1: vacuum); a
+    // shape that is no boundary leaves a ray in the medium it travels in. `passThrough`: an
+    // index-matched boundary (pbrt's interface material, Mitsuba's null BSDF): rays cross
+    // it without scattering, and it takes no material.
+    bool mediumBoundary = false;
+    int mediumInside = -1, mediumOutside = -1;
+    bool passThrough = false;
+};
+
+// A homogeneous participating medium (docs/media.md): absorption and scattering
+// coefficients per unit length (RGB, >= 0) and the Henyey-Greenstein phase function's mean
+// cosine g in (-1, 1) (0: isotropic).
+struct MediumDesc {
+    std::string name;
+    int line = 0;
+    Vec3 sigmaA{0.0f}, sigmaS{0.0f};
+    float g = 0;
 };
 
 // One placement of a group of shapes (Mitsuba's instance of a shapegroup): stored once,
@@ -291,6 +312,8 @@ struct SceneDesc {
     std::vector<LightDesc> lights;
     int groups = 0;                       // shape groups (ShapeDesc::group)
     std::vector<InstanceDesc> instances;  // their placements
+    std::vector<MediumDesc> media;
+    int cameraMedium = -1;  // the medium the camera is in (index into media, -1: vacuum)
     Image envMap;  // empty (0 x 0) when none
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "kernels/medium.h"
 #include "kernels/microfacet.h"
 #include "kernels/sampling.h"
 #include "wavemmlt/scene_desc.h"
@@ -133,6 +134,26 @@ inline bool isDeltaMaterial(MaterialKind k) {
 }
 
 inline float absCosTheta(Vec3 w) { return std::fabs(w.z); }
+
+// ---- Phase: a medium vertex's Henyey-Greenstein phase function (kernels/medium.h) ----
+// In the frame whose z is wo, so cos(wo, wi) = wi.z; g in `eta`. As a BSDF the stages
+// multiply f by |cos wi| (the frame's z has no meaning here): f = p / |wi.z| makes that
+// product p (0 on the measure-zero circle wi.z = 0); pdf = p.
+inline float phaseG(const BsdfParams& m) { return m.eta; }
+inline Vec3 phaseF(const BsdfParams& m, Vec3, Vec3 wi) {
+    const float c = std::fabs(wi.z);
+    return c > 0 ? Vec3(henyeyGreenstein(wi.z, phaseG(m)) / c) : Vec3(0.0f);
+}
+inline float phasePdf(const BsdfParams& m, Vec3, Vec3 wi) { return henyeyGreenstein(wi.z, phaseG(m)); }
+inline bool phaseSample(const BsdfParams& m, float u1, float u2, BsdfSample& s) {
+    const float c = sampleHenyeyGreensteinCos(phaseG(m), u1);
+    const float sn = std::sqrt(std::max(0.0f, 1.0f - c * c)), phi = 2.0f * kPi * u2;
+    s.wi = Vec3(sn * std::cos(phi), sn * std::sin(phi), c);
+    s.pdf = henyeyGreenstein(c, phaseG(m));
+    s.f = c != 0 ? Vec3(s.pdf / std::fabs(c)) : Vec3(0.0f);
+    s.delta = false;
+    return c != 0 && s.pdf > 0;
+}
 inline bool sameHemisphere(Vec3 a, Vec3 b) { return a.z * b.z > 0; }
 
 // ---- Matte: f = Kd / pi --------------------------------------------------------
@@ -229,6 +250,7 @@ inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::Principled: return principledF(m, wo, wi);
         case MaterialKind::Coated: return coatedF(m, wo, wi);
         case MaterialKind::DiffuseTransmission: return diffuseTransmissionF(m, wo, wi);
+        case MaterialKind::Phase: return phaseF(m, wo, wi);
         default: return Vec3(0.0f);  // delta lobes
     }
 }
@@ -244,6 +266,7 @@ inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         case MaterialKind::Principled: return principledPdf(m, wo, wi);
         case MaterialKind::Coated: return coatedPdf(m, wo, wi);
         case MaterialKind::DiffuseTransmission: return diffuseTransmissionPdf(m, wo, wi);
+        case MaterialKind::Phase: return phasePdf(m, wo, wi);
         default: return 0.0f;
     }
 }
@@ -264,6 +287,7 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
         case MaterialKind::Principled: return principledSample(m, wo, uLobe, u1, u2, mode, s);
         case MaterialKind::Coated: return coatedSample(m, wo, uLobe, u1, u2, mode, s);
         case MaterialKind::DiffuseTransmission: return diffuseTransmissionSample(m, wo, uLobe, u1, u2, s);
+        case MaterialKind::Phase: return phaseSample(m, u1, u2, s);
     }
     return false;
 }

@@ -20,6 +20,7 @@ void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, 
         WMLT_TEXTURED_CASE(Principled)
         WMLT_TEXTURED_CASE(Coated)
         WMLT_TEXTURED_CASE(DiffuseTransmission)
+        WMLT_TEXTURED_CASE(Phase)
 #undef WMLT_TEXTURED_CASE
     }
 }

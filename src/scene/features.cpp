@@ -30,6 +30,7 @@ bool readsTexturedColour(const MaterialDesc& m) {
             return has(ColourParam::Diffuse);
         case MaterialKind::Coated: return has(ColourParam::Diffuse);
         case MaterialKind::DiffuseTransmission: return has(ColourParam::Diffuse) || has(ColourParam::Refract);
+        case MaterialKind::Phase: return false;
     }
     return false;
 }
@@ -69,6 +70,9 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
     for (const LightDesc& l : d.lights)
         if (l.texture >= 0) f.texturedEmitters = true;
     f.envMap = d.envMap.width > 0;
+    f.media = !d.media.empty();
+    for (const ShapeDesc& s : d.shapes)
+        if (s.passThrough || s.mediumBoundary) f.media = true;
     f.depthOfField = d.camera.dof;
     f.filter = describeFilter(d.filter);
     f.needUv = f.textures || f.bump;
@@ -82,7 +86,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
 static const char* kMaterialNames[kMaterialKinds] = {
     "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
     "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled", "coated",
-    "diffuse-transmission"};
+    "diffuse-transmission", "phase"};
 
 std::string SceneFeatures::describe() const {
     std::ostringstream o;
@@ -100,6 +104,7 @@ std::string SceneFeatures::describe() const {
     o << "delta lobes: " << (delta ? "yes" : "no") << "\n";
     o << "one-sided materials: " << (oneSided ? "yes" : "no") << "\n";
     o << "masks (opacity): " << (masks ? "yes" : "no") << "\n";
+    o << "participating media: " << (media ? "yes" : "no") << "\n";
     o << "anisotropic roughness: " << (anisotropic ? "yes" : "no") << "\n";
     o << "pixel filter: " << filter << "\n";
     return o.str();
@@ -116,7 +121,7 @@ std::string SceneFeatures::json() const {
       << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights)
       << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures) << ", \"textured_emitters\": " << b(texturedEmitters)
       << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
-      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << ", \"pixel_filter\": \"" << filter << "\"}";
+      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << ", \"media\": " << b(media) << ", \"pixel_filter\": \"" << filter << "\"}";
     return o.str();
 }
 

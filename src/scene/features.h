@@ -22,6 +22,7 @@ struct SceneFeatures {
     bool masks = false;         // some shape is partly transparent (Mitsuba's mask: Embree filters)
     bool anisotropic = false;   // some rough material has alpha_u != alpha_v: frames follow dp/du
     bool texturedEmitters = false;  // some mesh light's radiance is a texture (LightDesc::texture)
+    bool media = false;         // participating media or pass-through boundaries (the media stages run)
     std::string filter = "box (radius 0.5)";  // the pixel filter (describeFilter)
 
     bool has(MaterialKind k) const { return material[int(k)]; }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 
 #include "kernels/rng.h"
 #include "kernels/texture.h"
@@ -125,11 +126,52 @@ void principledConstants(const MaterialDesc& m, BsdfParams& b, BsdfExtra& x) {
 
 }  // namespace
 
+namespace {
+
+// Whether every edge of the mesh is shared by exactly two of its triangles (it has an
+// inside, as a medium boundary needs).
+bool closedMesh(const TriangleMesh& m) {
+    std::unordered_map<uint64_t, int> edges;
+    edges.reserve(m.indices.size());
+    for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            const uint64_t a = m.indices[t + size_t(e)], b = m.indices[t + size_t((e + 1) % 3)];
+            ++edges[a < b ? a << 32 | b : b << 32 | a];
+        }
+    for (const auto& kv : edges)
+        if (kv.second != 2) return false;
+    return !edges.empty();
+}
+
+// The media as the stages read them, and the checks the importers leave to the model.
+void buildMedia(const SceneDesc& d, Scene& s) {
+    for (const MediumDesc& m : d.media) {
+        auto bad = [&](Vec3 v) { return !isFinite(v) || v.x < 0 || v.y < 0 || v.z < 0; };
+        if (bad(m.sigmaA) || bad(m.sigmaS))
+            throw InputError(d.path, m.line, "medium \"" + m.name + "\": sigma_a and sigma_s must be finite and >= 0");
+        if (!(m.g > -1 && m.g < 1)) throw InputError(d.path, m.line, "medium \"" + m.name + "\": g must be in (-1, 1)");
+        s.media.push_back({m.sigmaA + m.sigmaS, m.sigmaS, m.g});
+    }
+    auto valid = [&](int i) { return i >= -1 && i < int(d.media.size()); };
+    if (!valid(d.cameraMedium)) throw InputError(d.path, 0, "the camera's medium is not one of the scene's");
+    s.cameraMedium = d.cameraMedium;
+    for (const ShapeDesc& sh : d.shapes) {
+        if (!valid(sh.mediumInside) || !valid(sh.mediumOutside)) throw InputError(d.path, sh.line, "a shape names an unknown medium");
+        if (sh.passThrough && (sh.material >= 0 || sh.light >= 0))
+            throw InputError(d.path, sh.line, "a pass-through (index-matched) boundary takes no material and emits no light");
+        if (sh.mediumBoundary && sh.mediumInside != sh.mediumOutside && sh.kind == ShapeKind::Mesh && !closedMesh(sh.mesh))
+            throw InputError(d.path, sh.line, "a medium boundary on an open mesh (it has no inside): close it, or give it no medium");
+    }
+}
+
+}  // namespace
+
 std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     std::unique_ptr<Scene> s(new Scene());
     s->desc = std::move(desc);
     const SceneDesc& d = s->desc;
     s->features = deriveFeatures(d);
+    buildMedia(d, *s);
     s->camera = makeCamera(d.camera, d.settings.width, d.settings.height);
     s->filter = makePixelFilter(d.filter);
     for (int x = 0; x < d.settings.width; ++x) s->filterNormX.push_back(float(filterNorm(s->filter, x, d.settings.width)));
@@ -247,6 +289,10 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         r.light = sh.light;
         r.toLocal = sh.toLocal;
         r.toWorld = sh.toWorld;
+        r.mediumBoundary = sh.mediumBoundary;
+        r.passThrough = sh.passThrough;
+        r.mediumInside = sh.mediumInside;
+        r.mediumOutside = sh.mediumOutside;
         RTCGeometry g;
         if (sh.kind == ShapeKind::Mesh) {
             r.mesh = &sh.mesh;

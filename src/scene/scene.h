@@ -33,6 +33,9 @@ struct GeomRecord {
     Vec3 center;
     float radius = 0;
     Affine toLocal, toWorld;
+    // Media (ShapeDesc): a boundary's inside and outside medium; passThrough: rays cross it.
+    bool mediumBoundary = false, passThrough = false;
+    int mediumInside = -1, mediumOutside = -1;
 };
 
 
@@ -94,6 +97,9 @@ public:
     Distribution1D lightDistribution;
     int envLight = -1;              // index of the environment light, -1: none
     EnvMapSampler env;
+    // Participating media (kernels/medium.h), by SceneDesc::media index; the camera's.
+    std::vector<Medium> media;
+    int cameraMedium = -1;
     Vec3 boundsMin, boundsMax, center;
     float radius = 1;               // bounding sphere of the scene's geometry
     float epsilonScale = 1e-4f;     // ray offsets scale with the scene's size

@@ -142,6 +142,16 @@ template <> struct BsdfOf<MaterialKind::DiffuseTransmission> {
     }
 };
 
+template <> struct BsdfOf<MaterialKind::Phase> {
+    static constexpr uint8_t reads = kReadsDirection;
+    static constexpr bool delta = false;
+    static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return phaseF(m, wo, wi); }
+    static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return phasePdf(m, wo, wi); }
+    static bool sample(const BsdfParams& m, Vec3, float, float u1, float u2, TransportMode, BsdfSample& s) {
+        return phaseSample(m, u1, u2, s);
+    }
+};
+
 // Kind B's BSDF sample with its numbers from number(m) (m = 0: lobe, 1-2: direction), asked
 // for only those the kind reads.
 template <class B, class Number>
@@ -182,7 +192,8 @@ template <class Fn> void forEachMaterialKind(Fn&& fn) {
     fn(std::integral_constant<MaterialKind, MaterialKind::Principled>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::Coated>{});
     fn(std::integral_constant<MaterialKind, MaterialKind::DiffuseTransmission>{});
+    fn(std::integral_constant<MaterialKind, MaterialKind::Phase>{});
 }
-static_assert(kMaterialKinds == 14, "forEachMaterialKind lists every kind");
+static_assert(kMaterialKinds == 15, "forEachMaterialKind lists every kind");
 
 }  // namespace wmlt

@@ -18,14 +18,17 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
     b.tally = ContributionTally();
     generateCameraRays(scene, b, tile, opt.strataPerAxis, opt.seed);
     const size_t numSlots = b.numPaths;
+    const bool media = scene.features.media;  // the media stages (pt_media.cpp)
     for (int depth = 1; depth <= opt.maxPathLength && b.numPaths > 0; ++depth) {
         intersect(scene, b, depth == 1, counters);
+        if (media) traverseMedia(scene, b, depth, counters);
         resolveHits(scene, b, depth, opt.minPathLength, opt.maxPathLength);
         if (b.numHits == 0) break;
         groupByMaterial(b, b.bsdf.data());
         if (depth + 1 >= opt.minPathLength) {
             sampleLights(scene, b, depth);
-            traceShadows(scene, b, depth + 1, counters);
+            if (media) traceShadowsThroughMedia(scene, b, depth + 1, counters);
+            else traceShadows(scene, b, depth + 1, counters);
         }
         sampleBsdfs(scene, b, depth);
         advancePaths(scene, b);

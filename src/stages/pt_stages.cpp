@@ -15,10 +15,6 @@ namespace wmlt {
 namespace {
 
 inline Vec3 rayOrigin(const RTCRayHit& r) { return {r.ray.org_x, r.ray.org_y, r.ray.org_z}; }
-// A contribution of path length `length` to slot's radiance (film.h, ContributionTally).
-inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
-    if (b.tally.take(c, length)) b.L[slot] += c;
-}
 
 inline bool inRange(int length, int minLength, int maxLength) {
     return length >= minLength && length <= maxLength;
@@ -27,6 +23,7 @@ inline bool inRange(int length, int minLength, int maxLength) {
 }  // namespace
 
 void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, uint64_t seed) {
+    const bool media = scene.features.media;
     const CameraDims dims{0, 1, 2, 3};
     b.numPaths = forEachCameraRay(
         scene, b, t, n, seed, dims, [&](uint32_t pixel, uint32_t s) { return sampleKey(seed, pixel, s); },
@@ -38,22 +35,55 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, ui
             b.beta[i] = Vec3(1.0f);
             b.prevPdf[i] = 0;
             b.prevDelta[i] = 1;  // the camera vertex: what it sees directly has weight 1
+            if (media) {
+                b.medium[i] = scene.cameraMedium;
+                b.vertexP[i] = o;
+            }
         });
 }
 
 namespace {
+
+// Hit h: path i's scattering event in its medium (traverseMedia), at mediumT along its
+// ray: a Phase vertex (kernels/bsdf.h) with no normal (rays leave it without offset), its
+// frame's z towards the previous vertex.
+void recordMediumVertex(const Scene& scene, PtBatch& b, size_t h, size_t i, Vec3 d, bool matte) {
+    const RTCRayHit& rh = b.ray[i];
+    const int m = b.medium[i];
+    b.hitPath[h] = uint32_t(i);
+    b.p[h] = rayOrigin(rh) + d * b.mediumT[i];
+    b.ng[h] = Vec3(0.0f);
+    b.wo[h] = -d;
+    b.shading[h] = Frame::fromNormal(-d);
+    BsdfParams& bp = b.bsdf[h];
+    bp = BsdfParams{};
+    bp.kind = MaterialKind::Phase;
+    bp.eta = scene.media[size_t(m)].g;  // phaseG
+    b.hitMediumIn[h] = b.hitMediumOut[h] = m;
+    b.hitKey[h] = b.key[b.pathSlot[i]];
+    if (matte) {  // the matte flat loops run over every hit: harmless values
+        b.hitNs[h] = -d;
+        b.hitKd[h] = Vec3(0.0f);
+        b.hitBeta[h] = b.beta[i];
+    }
+}
 
 // The stage for the scene's surface features F (surface.h, withSurfaceFeatures).
 template <class F>
 void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength) {
     const bool countEmission = inRange(depth, minLength, maxLength);
     const bool matte = scene.features.has(MaterialKind::Matte);  // the matte flat loops' inputs
+    const bool media = scene.features.media;
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
         prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
         const uint32_t slot = b.pathSlot[i];
         const Vec3 d = rayDir(rh);
+        if (media && b.mediumEvent[i]) {
+            if (depth < maxLength) recordMediumVertex(scene, b, h++, i, d, matte);
+            continue;
+        }
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             if (countEmission && scene.envLight >= 0) {
                 Vec3 Le = scene.env.Le(d);
@@ -69,8 +99,11 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
                 Vec3 tex;
                 float pdfA = -1;
                 const bool textured = scene.features.texturedEmitters && texturedEmitterHit(scene, sp.light, rh, sp.p, tex, pdfA);
+                // (after pass-through boundaries the ray starts at the last one: the
+                // density is the vertex's)
+                const Vec3 ref = media ? b.vertexP[i] : rayOrigin(rh);
                 float w = b.prevDelta[i] ? 1.0f
-                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, rayOrigin(rh), sp.p, d, sp.ng, pdfA));
+                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, ref, sp.p, d, sp.ng, pdfA));
                 const Vec3 Le = textured ? scene.lights[sp.light].L * tex : scene.lights[sp.light].L;
                 addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
@@ -79,6 +112,11 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         if (depth >= maxLength) continue;  // no longer path can count
         recordHit<F>(scene, b, h, i, sp, -d);
         b.hitKey[h] = b.key[slot];
+        if (media) {
+            const GeomRecord& g = scene.geoms[rh.hit.geomID];
+            b.hitMediumIn[h] = g.mediumBoundary ? g.mediumInside : b.medium[i];
+            b.hitMediumOut[h] = g.mediumBoundary ? g.mediumOutside : b.medium[i];
+        }
         if (matte) {
             b.hitNs[h] = sp.ns;
             b.hitKd[h] = b.bsdf[h].diffuse;
@@ -151,7 +189,7 @@ void sampleRectLightsFlat(const Scene& scene, PtBatch& b, int depth, bool matte)
 }  // namespace
 
 void sampleLights(const Scene& scene, PtBatch& b, int depth) {
-    const bool one = scene.lights.size() == 1, flat = scene.anyRectLight;
+    const bool one = scene.lights.size() == 1, flat = scene.anyRectLight, media = scene.features.media;
     const bool matteFlat = flat && scene.features.has(MaterialKind::Matte);
     if (!one) chooseLights(scene, b, depth);
     if (flat) sampleRectLightsFlat(scene, b, depth, matteFlat);
@@ -167,6 +205,7 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
                 if (matteFlat && rect) {
                     if (!b.neeOk[h] || !b.neeSend[h]) return;
                     setRay(b.shadow[n], b.neeOrigin[h], b.neeDir[h], 0.0f, b.neeTfar[h]);
+                    if (media) b.shadowMedium[n] = dot(b.neeDir[h], b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
                     b.shadowSlot[n] = slot;
                     b.shadowL[n] = b.neeL[h];
                     ++n;
@@ -210,6 +249,7 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
                 tfar = dist * (1.0f - 1e-4f);
             }
             setRay(b.shadow[n], origin, dir, 0.0f, tfar);
+            if (media) b.shadowMedium[n] = dot(dir, b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
             b.shadowSlot[n] = slot;
             b.shadowL[n] = b.beta[path] * f * ls.Le * (w / lightPdf);
             ++n;
@@ -270,12 +310,17 @@ void sampleBsdfs(const Scene& scene, PtBatch& b, int depth) {
 }
 
 void advancePaths(const Scene& scene, PtBatch& b) {
+    const bool media = scene.features.media;
     compact(
         scene, b, [&](size_t h, Vec3& p, Vec3& ng) { p = b.p[h]; ng = b.ng[h]; },
         [&](size_t n, uint32_t path, size_t h) {
             b.beta[n] = b.nextBeta[h];
             b.prevPdf[n] = b.nextPdf[h];
             b.prevDelta[n] = b.nextDelta[h];
+            if (media) {  // the side the next ray leaves into (a medium vertex: its own medium)
+                b.medium[n] = dot(b.nextDir[h], b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
+                b.vertexP[n] = b.p[h];
+            }
         });
 }
 

@@ -18,5 +18,11 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth);
 void traceShadows(const Scene& scene, PtBatch& b, int length, RayCounters& c);
 void sampleBsdfs(const Scene& scene, PtBatch& b, int depth);
 void advancePaths(const Scene& scene, PtBatch& b);
+// Media (pt_media.cpp; a scene with SceneFeatures::media): after intersect, each path's
+// free-path sample in its medium up to its hit, crossing pass-through boundaries (a
+// scattering event then resolves as a Phase hit); the shadow rays with their transmittance
+// through media and pass-through boundaries, instead of traceShadows.
+void traverseMedia(const Scene& scene, PtBatch& b, int depth, RayCounters& c);
+void traceShadowsThroughMedia(const Scene& scene, PtBatch& b, int length, RayCounters& c);
 
 }  // namespace wmlt

@@ -44,6 +44,15 @@ namespace wmlt {
     X(Vec3, neeLe) X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
     X(Vec3, neeOrigin) X(Vec3, neeDir) X(float, neeTfar) X(Vec3, neeL) X(uint32_t, neeSend)
 
+// Allocated only for a scene with media (SceneFeatures::media; docs/media.md): per path its
+// medium (-1: vacuum), whether its ray scattered in it this round and where (mediumT), and
+// its last scattering vertex (vertexP: the reference of its emitter hits' MIS after
+// crossing boundaries); per hit the media on either side (for a medium vertex or a surface
+// that is no boundary, both the path's); per shadow ray the medium it starts in.
+#define WMLT_PT_MEDIA_ARRAYS(X)                                                              \
+    X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(Vec3, vertexP)          \
+    X(int32_t, hitMediumIn) X(int32_t, hitMediumOut) X(int32_t, shadowMedium)
+
 struct PtBatch : PathWave {
     WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numShadow = 0;
@@ -52,6 +61,7 @@ struct PtBatch : PathWave {
     WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_MATTE_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_PT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
 
     // The optional arrays as the scene needs them (batchNeeds).
     void reserve(size_t n, const BatchNeeds& needs) {
@@ -60,8 +70,14 @@ struct PtBatch : PathWave {
         if (needs.severalLights) { WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.rectLights) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.matte) { WMLT_PT_MATTE_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.media) { WMLT_PT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
     }
 };
+
+// A contribution of path length `length` to slot's radiance (film.h, ContributionTally).
+inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
+    if (b.tally.take(c, length)) b.L[slot] += c;
+}
 
 // Primary sample layout of a path-tracing sample (see rng.h): dimensions 0-1 jitter the
 // pixel position within its stratum, 2-3 pick the lens point, and bounce d >= 1 reads
@@ -70,5 +86,10 @@ struct PtBatch : PathWave {
 constexpr uint32_t kBounceBase = 4;
 constexpr uint32_t kBounceStride = 7;
 inline uint32_t bounceDim(int depth, uint32_t j) { return kBounceBase + uint32_t(depth - 1) * kBounceStride + j; }
+// Media: bounce d's free-path sample on its k-th segment (k counts the pass-through
+// boundaries crossed, below kMediumStride) reads its own range of dimensions, apart from
+// the bounces' (a scene without media reads the same numbers as before media existed).
+constexpr uint32_t kMediumBase = 1u << 24, kMediumStride = 256;
+inline uint32_t mediumDim(int depth, uint32_t k) { return kMediumBase + uint32_t(depth - 1) * kMediumStride + k; }
 
 }  // namespace wmlt

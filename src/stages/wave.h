@@ -35,14 +35,15 @@ namespace wmlt {
 // has rectangle lights (PT's) or several lights (PT's light choice in a flat loop), it has
 // matte surfaces (PT's matte flat loops), its camera is a pinhole (BPT's and MMLT's t = 1
 // camera-sample loop), it has a textured emitter (BPT's emitter vertices keep T and pdfA),
-// it has textures (the texture stage's queue, PathWave::textureJobs).
+// it has textures (the texture stage's queue, PathWave::textureJobs), it has media (PT's media arrays).
 struct BatchNeeds {
     bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false, rectLights = false,
-         severalLights = false, textures = false;
+         severalLights = false, textures = false, media = false;
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
     return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), isPinhole(scene.camera),
-            scene.features.texturedEmitters, scene.anyRectLight, scene.lights.size() > 1, scene.features.textures};
+            scene.features.texturedEmitters, scene.anyRectLight, scene.lights.size() > 1, scene.features.textures,
+            scene.features.media};
 }
 
 // A batch's work: pixels [x0, x1) x [y0, y1), sample indices [sample0, sample1).

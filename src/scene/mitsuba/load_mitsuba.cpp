@@ -88,7 +88,7 @@ void Importer::topLevel(Node scene) {
     for (Node c : scene.children()) {
         if (c.type() != pugi::node_element) continue;
         const std::string tag = c.name();
-        if (tag == "default" || tag == "include" || tag == "bsdf" || tag == "texture") continue;  // bsdfs when used
+        if (tag == "default" || tag == "include" || tag == "bsdf" || tag == "texture" || tag == "medium") continue;  // when used
         if (tag == "shape") shape(c);
         else if (tag == "sensor") sensor(c);
         else if (tag == "integrator") integrator(c);
@@ -215,6 +215,18 @@ void Importer::shape(Node n) {
     if (bsdfs.size() > 1) p.fail(bsdfs[1], "a shape has one BSDF");
     std::vector<Node> emitters = p.nested("emitter");
     if (emitters.size() > 1) p.fail(emitters[1], "a shape has one emitter");
+    shapeMedia(p, sh);
+    const bool null = !bsdfs.empty() && std::string(bsdfs[0].attribute("type").value()) == "null";
+    if (null) {  // Mitsuba's null BSDF: an index-matched boundary, rays pass
+        if (!emitters.empty()) p.fail(emitters[0], "an emitter on a shape with the null BSDF (it has no surface)");
+        if (sh.group >= 0) p.fail(bsdfs[0], "a null BSDF inside a shapegroup is not supported");
+        props(bsdfs[0]).finish();
+        sh.passThrough = true;
+        sh.material = -1;
+        p.finish();
+        s_.shapes.push_back(std::move(sh));
+        return;
+    }
     if (bsdfs.empty()) {  // Mitsuba's default, emitters included: a diffuse 0.5 (one-sided)
         MaterialDesc m;
         m.id = int(s_.materials.size());
@@ -351,6 +363,14 @@ void Importer::sensor(Node n) {
     if (t != "perspective" && t != "thinlens" && t != "orthographic")
         p.fail(n, "sensor not supported (perspective, thinlens and orthographic are)");
     const bool ortho = t == "orthographic";
+    // The medium the sensor is in (docs/media.md): <ref name="medium" id=...> or a nested one
+    if (Node med = p.getNested("medium", "medium")) {
+        s_.cameraMedium = medium(med);
+    } else {
+        const std::vector<Node> ms = p.nested("medium");
+        if (ms.size() > 1) p.fail(ms[1], "a sensor is in one medium");
+        if (!ms.empty()) s_.cameraMedium = medium(ms[0]);
+    }
     // fov (about fov_axis), or focal_length (Mitsuba 3: "<x>mm" of a 36 x 24 mm film, the
     // diagonal's field of view; the default, 50mm, when neither is given).
     if (!ortho && p.has("fov") && p.has("focal_length")) p.fail(n, "give either fov or focal_length, not both");

@@ -26,6 +26,7 @@ private:
     std::map<const void*, int> materialOf_;  // bsdf element -> material index
     std::map<const void*, int> textureOf_;   // texture element -> texture index
     std::map<const void*, int> groupOf_;     // shapegroup element -> group index
+    std::map<const void*, int> mediumOf_;    // medium element -> SceneDesc::media index
     int currentGroup_ = -1;                  // the shapegroup whose shapes are being read
     bool camel_ = false;
     SceneDesc s_;
@@ -59,6 +60,9 @@ private:
     void sensor(Node n);
     FilterDesc reconstructionFilter(Node rf);
     void integrator(Node n);
+    // mitsuba_media.cpp
+    int medium(Node n);
+    void shapeMedia(Props& p, ShapeDesc& sh);
 };
 
 }  // namespace wmlt::mitsuba

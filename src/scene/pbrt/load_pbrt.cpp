@@ -113,6 +113,8 @@ void Importer::directive(Directive& d) {
         if (inWorld_) fail(d.at, n + " inside the world block (it belongs before WorldBegin)");
         if (n == "Camera") {
             camera_ = d;
+            cameraMedium_ = g_.outsideMedium;  // pbrt-v4: the camera is in the outside medium
+            cameraAt_ = d.at;
             cameraFromWorld_ = g_.ctm;
             namedCoords_["camera"] = g_.ctm.inverse();
             haveCamera_ = true;
@@ -140,10 +142,13 @@ void Importer::directive(Directive& d) {
             if (same != defaults.end()) *same = p;
             else defaults.push_back(p);
         }
-    } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
-        if (n == "MediumInterface" && std::all_of(d.strings.begin(), d.strings.end(), [](const std::string& s) { return s.empty(); }))
-            return;  // "" "": no media, as without the directive
-        fail(d.at, n + ": participating media are not supported yet (docs/pbrt.md)");
+    } else if (n == "MakeNamedMedium") {
+        withAttributes(d, "medium");
+        medium(d);
+        done(d);
+    } else if (n == "MediumInterface") {  // "inside" "outside", or one name for both
+        g_.insideMedium = d.strings[0];
+        g_.outsideMedium = d.strings.size() > 1 ? d.strings[1] : d.strings[0];
     } else if (n == "ObjectBegin") {
         if (!inWorld_) fail(d.at, "ObjectBegin before WorldBegin");
         if (currentObject_ >= 0) fail(d.at, "ObjectBegin inside an object (nested objects are not supported)");
@@ -368,6 +373,7 @@ void Importer::finish() {
     film();
     camera();
     options();
+    resolveMedia();
     if (imagingRatio_ != 1) {
         for (LightDesc& l : s_.lights) l.radiance = l.radiance * imagingRatio_;
         for (float& v : s_.envMap.rgb) v *= imagingRatio_;

@@ -14,6 +14,9 @@
 
 namespace wmlt::pbrt {
 
+// The material index of pbrt's `interface` (no material: ShapeDesc::passThrough).
+constexpr int kInterfaceMaterial = -2;
+
 // How a spectrum parameter becomes RGB (pbrt-v4's SpectrumType).
 enum class SpectrumUse { Albedo, Unbounded, Illuminant };
 
@@ -32,6 +35,14 @@ private:
         // Attribute "shape" | "light" | "material" | "medium" | "texture": default parameters
         // for the directives of that class (those they do not give themselves)
         std::map<std::string, std::vector<Param>> attributes;
+        std::string insideMedium, outsideMedium;  // MediumInterface ("": vacuum)
+    };
+    // A shape's medium names, resolved when the file has been read (media may be defined
+    // after their use, as pbrt-v4 allows).
+    struct PendingMedia {
+        int shape;
+        std::string inside, outside;
+        Loc at;
     };
     Parser parser_;
     std::string path_, base_;
@@ -44,6 +55,10 @@ private:
     std::map<std::string, Vec3> constTextures_; // "constant" textures: their value
     std::map<std::string, bool> floatTexture_;  // whether a named texture is a float texture
     std::map<std::string, int> objects_;        // ObjectBegin name -> group
+    std::map<std::string, int> namedMedia_;     // MakeNamedMedium name -> SceneDesc::media
+    std::vector<PendingMedia> pendingMedia_;
+    std::string cameraMedium_;
+    Loc cameraAt_;
     int currentObject_ = -1;
     bool inWorld_ = false, endTimeOnly_ = false, warnedMotion_ = false;
     int defaultMaterial_ = -1;
@@ -77,6 +92,9 @@ private:
     // constant is then 1, as MaterialDesc's textured parameters take it).
     Vec3 colourParam(Params& p, const std::string& name, Vec3 def, int& texture, bool floatParam = false);
     float floatParam(Params& p, const std::string& name, float def, int& texture);
+    // MakeNamedMedium (pbrt_media.cpp); names to indices at the end (resolveMedia).
+    void medium(Directive& d);
+    void resolveMedia();
     // pbrt_lights.cpp
     void lightSource(Directive& d);
     void areaLight(const Directive& d, ShapeDesc& sh);

@@ -145,7 +145,7 @@ float Importer::floatParam(Params& p, const std::string& name, float def, int& t
 }
 
 int Importer::currentMaterial() {
-    if (g_.material >= 0) return g_.material;
+    if (g_.material >= 0 || g_.material == kInterfaceMaterial) return g_.material;
     if (defaultMaterial_ < 0) {  // pbrt's default: diffuse, reflectance 0.5
         MaterialDesc m;
         m.kind = MaterialKind::Matte;
@@ -324,6 +324,7 @@ int Importer::material(const std::string& type, Directive& d) {
         for (int k = 0; k < 2; ++k) {
             auto it = namedMaterials_.find(q->strings[size_t(k)]);
             if (it == namedMaterials_.end()) fail(q->at, "mix: no material named \"" + q->strings[size_t(k)] + "\"");
+            if (it->second == kInterfaceMaterial) fail(q->at, "mix: the interface material cannot be a part");
             const MaterialDesc& part = s_.materials[size_t(it->second)];
             if (part.kind == MaterialKind::Blend) fail(q->at, "a mix inside a mix is not supported");
             if (part.opacity < 1 || part.opacityTexture >= 0 || isAnisotropic(part))
@@ -341,8 +342,9 @@ int Importer::material(const std::string& type, Directive& d) {
         if (ts >= 0) fail(p.find("scale")->at, "a textured scale is not supported");
         m.diffuse = colourParam(p, "reflectance", Vec3(0.25f), m.colourTexture[int(ColourParam::Diffuse)]) * scale;
         m.refract = colourParam(p, "transmittance", Vec3(0.25f), m.colourTexture[int(ColourParam::Refract)]) * scale;
-    } else if (type == "interface" ||
-               type == "measured" || type == "subsurface" || type == "hair") {
+    } else if (type == "interface") {  // no surface: rays cross it (ShapeDesc::passThrough)
+        return kInterfaceMaterial;
+    } else if (type == "measured" || type == "subsurface" || type == "hair") {
         fail(d.at, "Material \"" + type + "\" is not supported yet (docs/pbrt.md)");
     } else {
         fail(d.at, "unknown Material \"" + type + "\"");

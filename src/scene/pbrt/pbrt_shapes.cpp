@@ -60,6 +60,13 @@ void Importer::shape(Directive& d) {
     sh.kind = ShapeKind::Mesh;
     sh.uv = UvKind::Mesh;
     sh.material = currentMaterial();
+    if (sh.material == kInterfaceMaterial) {  // pbrt's interface: an index-matched boundary
+        sh.material = -1;
+        sh.passThrough = true;
+        if (g_.areaLight) fail(d.at, "an area light on a shape with the interface material (it has no surface)");
+    }
+    if (g_.insideMedium != g_.outsideMedium)
+        pendingMedia_.push_back({int(s_.shapes.size()), g_.insideMedium, g_.outsideMedium, d.at});
     sh.toWorld = g_.ctm.affine();
     sh.toLocal = g_.ctm.inverse().affine();
     TriangleMesh& m = sh.mesh;
@@ -121,7 +128,7 @@ void Importer::shape(Directive& d) {
             const bool whole = zmin <= -r && zmax >= r && phiMax >= 2 * M_PI;
             const double thMin = std::acos(zmin / r), thMax = std::acos(zmax / r);
             if (whole && similar && currentObject_ < 0 && !(g_.areaLight && reverse) &&
-                !readsTexture(s_, s_.materials[size_t(sh.material)])) {
+                (sh.material < 0 || !readsTexture(s_, s_.materials[size_t(sh.material)]))) {
                 analyticSphere = true;
                 sh.kind = ShapeKind::Sphere;
                 sh.uv = UvKind::SphereMitsuba;
@@ -195,6 +202,7 @@ void Importer::shape(Directive& d) {
     const float alpha = floatParam(p, "alpha", 1, alphaTex);
     if (alphaTex >= 0 || alpha < 1) {
         if (!(alpha >= 0 && alpha <= 1)) fail(p.find("alpha")->at, "alpha must be in [0, 1]");
+        if (sh.material < 0) fail(p.find("alpha")->at, "alpha on a shape with the interface material");
         MaterialDesc mat = s_.materials[size_t(sh.material)];
         mat.opacity = alphaTex >= 0 ? 1 : alpha;
         mat.opacityTexture = alphaTex;

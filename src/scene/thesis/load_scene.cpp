@@ -22,6 +22,9 @@
 namespace wmlt {
 namespace {
 
+// The shader index a Shader of Type Interface stands for (ShapeDesc::passThrough).
+constexpr int kPassThroughShader = -2;
+
 using Node = pugi::xml_node;
 using Names = std::vector<const char*>;
 
@@ -69,7 +72,8 @@ private:
     std::vector<size_t> lineStarts_;
     Node root_;
     SceneDesc s_;
-    std::map<int, int> shaderIndex_, textureIndex_, shaderLine_, textureLine_;
+    std::map<int, int> shaderIndex_, textureIndex_, shaderLine_, textureLine_, mediumIndex_, mediumLine_;
+    int interfaceShader_ = -1;  // a Shader of Type Interface: its ID (kPassThrough as its index)
     std::map<std::string, int> geometryLine_, lightLine_;
 
     int lineOfOffset(ptrdiff_t off) const {
@@ -259,6 +263,8 @@ private:
     void camera(Node n);
     void texture(Node n);
     void shader(Node n);
+    void medium(Node n);
+    int mediumRef(Node n, const char* attribute);
     void textureRef(Node n, int& slot) const;
     void transform(const Kids& k, ShapeDesc& sh, Vec3& scale) const;
     void geometry(Node n);
@@ -291,7 +297,7 @@ void Loader::rect(const Kids& k, Node n, ShapeDesc& sh) const {
 void Loader::settings(Node n) {
     attrs(n, {});
     Kids k = kids(n, {"Width", "Height", "Sample", "Thread", "Tracer", "MaxPathLength",
-                      "MinPathLength", "ProbLarge", "Output", "EnvMap", "Filter"});
+                      "MinPathLength", "ProbLarge", "Output", "EnvMap", "Filter", "Medium"});
     Settings& st = s_.settings;
     if (Node c = k["Width"]) st.width = integer(c, 1, 16384);
     if (Node c = k["Height"]) st.height = integer(c, 1, 16384);
@@ -325,6 +331,10 @@ void Loader::settings(Node n) {
         st.output = o;
     }
     if (Node c = k["Filter"]) filter(c);
+    if (Node c = k["Medium"]) {  // (choice, docs/media.md) the medium around everything: the camera's
+        leaf(c, {"value"});
+        s_.cameraMedium = mediumRef(c, "value");
+    }
     if (Node c = k["EnvMap"]) {
         // (choice) any format readImage reads; the spec names .exr and .hdr.
         st.envMap = resolve(name(c));
@@ -417,12 +427,56 @@ void Loader::textureRef(Node n, int& slot) const {
     slot = it->second;
 }
 
+// (choice, docs/media.md) <Medium Type="Homogeneous" ID="n"> with <SigmaA r g b/> and
+// <SigmaS r g b/> (per unit length, >= 0, default 0) and <G value/> (Henyey-Greenstein, in
+// (-1, 1), default 0).
+void Loader::medium(Node n) {
+    attrs(n, {"Type", "ID"});
+    type(n, {"Homogeneous"});
+    MediumDesc m;
+    const int id = uniqueId(n, mediumLine_, 0, "Medium");
+    m.name = std::to_string(id);
+    m.line = line(n);
+    Kids k = kids(n, {"SigmaA", "SigmaS", "G"});
+    auto coefficients = [&](Node c) {
+        leaf(c, {"r", "g", "b"});
+        Vec3 v;
+        const char* names[3] = {"r", "g", "b"};
+        for (int i = 0; i < 3; ++i) {
+            const double x = number(c, names[i]);
+            v[i] = float(ranged(c, names[i], x, x >= 0 && x < 1e30, ">= 0 (per unit length)"));
+        }
+        return v;
+    };
+    if (Node c = k["SigmaA"]) m.sigmaA = coefficients(c);
+    if (Node c = k["SigmaS"]) m.sigmaS = coefficients(c);
+    if (Node c = k["G"]) {
+        const double g = value(c);
+        m.g = float(ranged(c, "value", g, g > -1 && g < 1, "-1 < g < 1"));
+    }
+    mediumIndex_[id] = int(s_.media.size());
+    s_.media.push_back(m);
+}
+
+int Loader::mediumRef(Node n, const char* attribute) {
+    const double id = number(n, attribute);
+    auto it = mediumIndex_.find(int(id));
+    if (id != std::floor(id) || it == mediumIndex_.end())
+        fail(n, std::string(attribute) + "=\"" + n.attribute(attribute).value() + "\": no Medium with that ID");
+    return it->second;
+}
+
 void Loader::shader(Node n) {
     attrs(n, {"Type", "ID"});
-    std::string t = type(n, {"Matte", "Glossy", "Reflective", "Dielectric"});
+    std::string t = type(n, {"Matte", "Glossy", "Reflective", "Dielectric", "Interface"});
     MaterialDesc m;
     m.id = uniqueId(n, shaderLine_, 0, "Shader");  // (choice) integers >= 0
     Kids k;
+    if (t == "Interface") {  // (choice, docs/media.md) an index-matched boundary: no surface
+        kids(n, {});
+        shaderIndex_[m.id] = kPassThroughShader;
+        return;
+    }
     if (t == "Matte") {
         m.kind = MaterialKind::Matte;
         k = kids(n, {"Diffuse", "Ambient", "Texture", "Bump"});
@@ -489,7 +543,7 @@ void Loader::transform(const Kids& k, ShapeDesc& sh, Vec3& scale) const {
 }
 
 void Loader::geometry(Node n) {
-    attrs(n, {"Type", "ID"});
+    attrs(n, {"Type", "ID", "Medium", "Outside"});
     std::string t = type(n, {"Plane", "Sphere", "ObjFile"});
     ShapeDesc sh;
     sh.id = attr(n, "ID");
@@ -509,6 +563,17 @@ void Loader::geometry(Node n) {
     auto it = shaderIndex_.find(sid);
     if (it == shaderIndex_.end()) fail(sref, "Shader " + std::to_string(sid) + " is not defined");
     sh.material = it->second;
+    if (sh.material == kPassThroughShader) {
+        sh.material = -1;
+        sh.passThrough = true;
+    }
+    // (choice, docs/media.md) Medium="n": the medium inside the shape; Outside="n" the one
+    // outside (default: the Settings' Medium, else vacuum)
+    if (n.attribute("Medium") || n.attribute("Outside")) {
+        sh.mediumBoundary = true;
+        sh.mediumInside = n.attribute("Medium") ? mediumRef(n, "Medium") : s_.cameraMedium;
+        sh.mediumOutside = n.attribute("Outside") ? mediumRef(n, "Outside") : s_.cameraMedium;
+    }
     if (t == "Plane") {
         rect(k, n, sh);
     } else if (t == "Sphere") {
@@ -588,8 +653,8 @@ SceneDesc Loader::run() {
     if (!root_) throw InputError(file_, 0, "no <Scene> element");
     attrs(root_, {});
     noText(root_);
-    const Names top = {"Settings", "Camera", "Geometry", "Light", "Shader", "Texture"};
-    std::vector<Node> settings, cameras, textures, shaders, objects;
+    const Names top = {"Settings", "Camera", "Geometry", "Light", "Shader", "Texture", "Medium"};
+    std::vector<Node> settings, cameras, textures, shaders, objects, media;
     for (Node c : root_.children()) {
         if (c.type() != pugi::node_element) continue;
         const std::string nm = c.name();
@@ -598,12 +663,14 @@ SceneDesc Loader::run() {
         else if (nm == "Camera") cameras.push_back(c);
         else if (nm == "Texture") textures.push_back(c);
         else if (nm == "Shader") shaders.push_back(c);
+        else if (nm == "Medium") media.push_back(c);
         else objects.push_back(c);  // Geometry and Light, in file order
     }
     if (settings.size() > 1) fail(settings[1], "given twice (first on line " + std::to_string(line(settings[0])) + ")");
     if (cameras.size() > 1) fail(cameras[1], "a second camera (the first is on line " + std::to_string(line(cameras[0])) + ")");
     if (cameras.empty()) fail(root_, "missing required element <Camera>");
     // Referenced elements first, so references may point forward in the file.
+    for (Node m : media) medium(m);
     if (!settings.empty()) this->settings(settings[0]);
     for (Node t : textures) texture(t);
     for (Node s : shaders) shader(s);

@@ -1,0 +1,365 @@
+// Participating media (docs/media.md): the kernels (free-path sampling's weights, the
+// Henyey-Greenstein phase function), then the path tracer against closed forms on scenes
+// read from pbrt-v4 files: transmittance through an absorbing slab behind pass-through
+// boundaries, single scattering of a point light in an infinite medium, and white furnaces
+// (an albedo-1 medium in a uniformly emitting enclosure: radiance L everywhere), with the
+// camera in the medium and with the medium in a box of pass-through boundaries.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kernels/camera.h"
+#include "kernels/medium.h"
+#include "render_stats.h"
+#include "wavemmlt/error.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+
+namespace {
+
+std::string dir() {
+    static const std::string d = rstats::tempDir("media");
+    return d;
+}
+SceneDesc loadText(const std::string& name, const std::string& text) {
+    const std::string path = dir() + "/" + name;
+    std::ofstream(path, std::ios::binary) << text;
+    return loadScene(path);
+}
+std::string errorOf(const std::string& name, const std::string& text) {
+    try {
+        loadText(name, text);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+// A cube [-h, h]^3 about c as a pbrt trianglemesh, its winding's normals outward (or inward).
+std::string cube(Vec3 c, float h, bool inward) {
+    std::string P, idx;
+    for (int i = 0; i < 8; ++i)
+        P += std::to_string(c.x + ((i & 1) ? h : -h)) + " " + std::to_string(c.y + ((i & 2) ? h : -h)) + " " +
+             std::to_string(c.z + ((i & 4) ? h : -h)) + "  ";
+    const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    auto corner = [&](int i) { return Vec3((i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h); };
+    auto triangle = [&](int a, int b, int d) {  // wound so that its normal points as asked
+        const Vec3 n = cross(corner(b) - corner(a), corner(d) - corner(a));
+        const bool out = dot(n, corner(a) + corner(b) + corner(d)) > 0;
+        if (out == inward) std::swap(b, d);
+        idx += std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + " ";
+    };
+    for (const auto& q : quads) {
+        triangle(q[0], q[1], q[2]);
+        triangle(q[0], q[2], q[3]);
+    }
+    return "Shape \"trianglemesh\" \"point3 P\" [ " + P + "] \"integer indices\" [ " + idx + "]\n";
+}
+
+double blockMean(const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return s / double(v.size());
+}
+
+}  // namespace
+
+TEST_CASE("media kernels: free-path weights and the Henyey-Greenstein phase function", "[media][kernel]") {
+    // E[weight] over u: past tMax the weight's mean is T(tMax), and sigma_s T(t) / p(t)
+    // integrates to sigma_s int_0^tMax T dt = sigma_s (1 - T(tMax)) / sigma_t per channel.
+    Medium m;
+    m.sigmaS = Vec3(0.5f, 0.3f, 0.1f);
+    m.sigmaT = m.sigmaS + Vec3(0.1f, 0.2f, 0.4f);
+    const float tMax = 1.7f;
+    const int n = 200000;
+    double pass[3] = {0, 0, 0}, scatter[3] = {0, 0, 0};
+    for (int i = 0; i < n; ++i) {
+        const FreePath fp = sampleFreePath(m, tMax, (float(i) + 0.5f) / float(n));
+        for (int c = 0; c < 3; ++c) (fp.scattered ? scatter : pass)[c] += double(fp.weight[c]) / n;
+        if (fp.scattered) CHECK_FALSE(fp.t >= tMax);
+    }
+    const Vec3 T = transmittance(m, tMax);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(pass[c] == Approx(T[c]).epsilon(1e-4));
+        CHECK(scatter[c] == Approx(m.sigmaS[c] * (1 - T[c]) / m.sigmaT[c]).epsilon(2e-3));
+    }
+    // a channel with sigma_t = 0 never scatters and always passes with weight T / P
+    Medium clear;
+    clear.sigmaT = clear.sigmaS = Vec3(0.0f, 1.0f, 0.0f);
+    const FreePath fp = sampleFreePath(clear, INFINITY, 0.1f);  // channel 0: t = infinity
+    CHECK_FALSE(fp.scattered);
+    CHECK(fp.weight.x == Approx(1.5f));  // T = (1, 0, 1), P = 2/3
+    CHECK(fp.weight.y == 0.0f);
+    // HG: normalised, its sampling's density is itself, and g is its mean cosine with -wo
+    for (float g : {0.0f, 0.5f, -0.7f, 0.95f}) {
+        double norm = 0, meanCos = 0;
+        const int k = 200000;
+        for (int i = 0; i < k; ++i) {
+            const float c = -1.0f + 2.0f * (float(i) + 0.5f) / float(k);
+            norm += 2 * M_PI * henyeyGreenstein(c, g) * 2.0 / k;
+        }
+        CHECK(norm == Approx(1.0).epsilon(2e-3));
+        for (int i = 0; i < k; ++i) meanCos += -sampleHenyeyGreensteinCos(g, (float(i) + 0.5f) / float(k)) / k;
+        CHECK(meanCos == Approx(g).margin(2e-3));
+    }
+}
+
+TEST_CASE("media in PT: transmittance through an absorbing slab behind pass-through boundaries", "[media][render]") {
+    // An orthographic camera looks along +z through a box of absorbing medium 1 deep
+    // (sigma_a (0.5, 1, 2), no scattering; interface material) at an emitter of L = 1:
+    // every pixel is exp(-sigma_a) per channel.
+    const std::string text = R"(LookAt 0 0 -3  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+PixelFilter "box"
+Integrator "volpath" "integer maxdepth" [ 5 ]
+MakeNamedMedium "ink" "string type" "homogeneous" "rgb sigma_a" [ 0.5 1 2 ] "rgb sigma_s" [ 0 0 0 ]
+WorldBegin
+AttributeBegin
+Material "interface"
+MediumInterface "ink" ""
+Scale 10 10 1
+)" + cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+Shape "trianglemesh" "point3 P" [ -20 -20 5  20 -20 5  20 20 5  -20 20 5 ] "integer indices" [ 0 2 1 0 3 2 ]
+AttributeEnd
+)";
+    const SceneDesc d = loadText("slab.pbrt", text);
+    REQUIRE(d.media.size() == 1);
+    REQUIRE(d.shapes[0].passThrough);
+    REQUIRE(d.shapes[0].mediumBoundary);
+    CHECK(d.shapes[0].mediumInside == 0);
+    CHECK(d.shapes[0].mediumOutside == -1);
+    for (int c = 0; c < 3; ++c) {
+        const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k) {
+            const Image img = render(d, rstats::renderOptions(TracerKind::PT, 16, 10 + uint64_t(k), 1, 6)).image;
+            runs.add(rstats::blockMeans(img, 2, c));
+        }
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma)));
+        INFO("channel " << c << ": " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
+TEST_CASE("media in PT: single scattering of a point light in an infinite medium", "[media][render]") {
+    // The camera and a point light (I = 2) in one medium everywhere (the camera's), a black
+    // ball far away the only surface; paths of two segments (camera, medium vertex, light)
+    // are single scattering:
+    //   L = int_0^inf T(t) sigma_s p(cos) I T(r) / r^2 dt,  r = |x(t) - light|,
+    // per channel (sigma_s (0.5, 0.3, 0.1), sigma_a (0.1, 0.2, 0.4), g 0.4), integrated over
+    // phi with t = t0 + b tan(phi) (b the ray's distance to the light): smooth.
+    const std::string text = R"(LookAt 0 0 0  0 0 1  0 1 0
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.2 0.4 ] "rgb sigma_s" [ 0.5 0.3 0.1 ] "float g" 0.4
+MediumInterface "" "fog"
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+WorldBegin
+LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.3 0.2 2 ]
+Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+Translate 0 0 1000
+Shape "sphere" "float radius" 1
+)";
+    const SceneDesc d = loadText("single.pbrt", text);
+    REQUIRE(d.cameraMedium == 0);
+    const Vec3 light(0.3f, 0.2f, 2.0f);
+    const double sigS[3] = {0.5, 0.3, 0.1}, sigT[3] = {0.6, 0.5, 0.5}, g = 0.4, I = 2;
+    auto radiance = [&](Vec3 o, Vec3 w, int c) {
+        const Vec3 q = light - o;
+        const double t0 = dot(q, w), b = std::sqrt(std::max(1e-12, double(lengthSquared(q)) - t0 * t0));
+        const double lo = std::atan2(-t0, b), hi = M_PI / 2;
+        const int n = 4000;
+        double sum = 0;
+        for (int i = 0; i < n; ++i) {  // midpoint rule in phi
+            const double phi = lo + (hi - lo) * (i + 0.5) / n, t = t0 + b * std::tan(phi);
+            const Vec3 x = o + w * float(t);
+            const double r = std::sqrt(b * b + (t - t0) * (t - t0));
+            const Vec3 toLight = normalize(light - x);
+            const double cosT = dot(-w, toLight);  // wo = -w, wi towards the light
+            const double hg = (1 - g * g) / (4 * M_PI * std::pow(1 + g * g + 2 * g * cosT, 1.5));
+            // dt = b / cos^2(phi) dphi, 1 / r^2 = cos^2(phi) / b^2: the integrand times 1 / b
+            sum += std::exp(-sigT[c] * t) * sigS[c] * hg * I * std::exp(-sigT[c] * r) / b;
+        }
+        return sum * (hi - lo) / n;
+    };
+    const Camera cam = makeCamera(d.camera, 16, 16);
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> expected(16, 0.0);
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x)
+                for (int j = 0; j < 4; ++j)
+                    for (int i = 0; i < 4; ++i) {
+                        Vec3 o, w;
+                        generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 4, float(y) + (float(j) + 0.5f) / 4, 0.5f, 0.5f, o, w);
+                        expected[size_t(y / 4) * 4 + size_t(x / 4)] += radiance(o, w, c) / (16 * 16);
+                    }
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k)
+            runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 64, 20 + uint64_t(k), 2, 2)).image, 4, c));
+        const rstats::ZTestResult z = rstats::zTest(runs, expected);
+        INFO("channel " << c << ": " << z.describe() << "; mean expected " << blockMean(expected));
+        CHECK(z.pass);
+    }
+}
+
+TEST_CASE("media in PT: white furnaces, the camera in the medium and the medium behind boundaries", "[media][render]") {
+    // A closed box emitting L = 1 inwards from black walls, filled with a medium of albedo 1
+    // (sigma_s 1.3, g 0.5): every ray ends on a wall, so the radiance is 1 everywhere. First
+    // the camera in the medium (the walls are no boundaries); then a smaller box of it
+    // inside, bounded by the interface material, the camera outside it in vacuum (paths
+    // leave the medium through boundaries, and light reaches it through them).
+    const std::string head = R"(LookAt 0 0 -1.5  0 0 0  0 1 0
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 1.3 1.3 1.3 ] "float g" 0.5
+)";
+    const std::string walls = "AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n" +
+                              cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
+    const std::string film = R"(Camera "perspective" "float fov" [ 60 ]
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+PixelFilter "box"
+)";
+    const SceneDesc inMedium = loadText("furnace-a.pbrt", head + "MediumInterface \"\" \"fog\"\n" + film + "WorldBegin\nMediumInterface \"\" \"\"\n" + walls);
+    const SceneDesc boxed = loadText("furnace-b.pbrt", head + film + "WorldBegin\n" + walls +
+                                                        "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"fog\" \"\"\n" +
+                                                        cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
+    REQUIRE(inMedium.cameraMedium == 0);
+    REQUIRE(boxed.cameraMedium == -1);
+    for (const SceneDesc* d : {&inMedium, &boxed}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k)
+            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 30 + uint64_t(k), 1, 100)).image, 2, 1));
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+        INFO((d == &inMedium ? "camera in the medium" : "medium in a box") << ": " << z.describe());
+        CHECK(z.pass);
+    }
+}
+
+TEST_CASE("media in the thesis format: the furnace with a sphere of fog behind an interface", "[media][render][thesis]") {
+    // An emitting closed box (six Planes facing in, L = 1, black) around a sphere of
+    // albedo-1 fog behind an Interface shader: radiance 1 everywhere, as the pbrt furnace.
+    std::string planes;
+    const char* faces[6][2] = {{"0 -2 0", "0 0 0"},   {"0 2 0", "180 0 0"}, {"-2 0 0", "0 0 -90"},
+                               {"2 0 0", "0 0 90"}, {"0 0 -2", "90 0 0"}, {"0 0 2", "-90 0 0"}};
+    for (int i = 0; i < 6; ++i) {
+        std::string p = faces[i][0], r = faces[i][1];
+        auto xyz = [](const std::string& v, const char* a, const char* b, const char* c) {
+            std::istringstream in(v);
+            std::string x, y, z;
+            in >> x >> y >> z;
+            return std::string(" ") + a + "=\"" + x + "\" " + b + "=\"" + y + "\" " + c + "=\"" + z + "\"";
+        };
+        planes += "<Light Type=\"Area\" ID=\"w" + std::to_string(i) + "\"><Position" + xyz(p, "x", "y", "z") + "/><Rotation" + xyz(r, "x", "y", "z") +
+                  "/><Width value=\"4\"/><Depth value=\"4\"/><Intensity value=\"1\"/><Colour r=\"1\" g=\"1\" b=\"1\"/></Light>\n";
+    }
+    const std::string xml = R"(<Scene>
+  <Settings><Width value="8"/><Height value="8"/></Settings>
+  <Camera><Position x="0" y="0" z="-1.5"/><LookAt x="0" y="0" z="0"/><FOV value="60"/></Camera>
+  <Medium Type="Homogeneous" ID="3"><SigmaS r="1.3" g="1.3" b="1.3"/><G value="0.5"/></Medium>
+  <Shader Type="Interface" ID="0"/>
+  <Geometry Type="Sphere" ID="fog" Medium="3"><Position x="0.1" y="0" z="0.3"/><Radius value="0.8"/><Shader value="0"/></Geometry>
+)" + planes + "</Scene>";
+    const SceneDesc d = loadText("furnace.xml", xml);
+    REQUIRE(d.media.size() == 1);
+    REQUIRE(d.shapes[0].passThrough);
+    CHECK(d.shapes[0].mediumInside == 0);
+    CHECK(d.shapes[0].mediumOutside == -1);
+    CHECK(d.media[0].sigmaS.x == Approx(1.3f));
+    CHECK(d.media[0].g == Approx(0.5f));
+    rstats::RunStats runs;
+    for (int k = 0; k < 6; ++k)
+        runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 50 + uint64_t(k), 1, 100)).image, 2, 1));
+    const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+    INFO(z.describe());
+    CHECK(z.pass);
+    // bad input: an unknown medium, a coefficient below 0, g out of range
+    const std::string base = R"(<Scene><Camera><Position x="0" y="0" z="-1"/><LookAt x="0" y="0" z="0"/><FOV value="60"/></Camera>
+<Shader Type="Matte" ID="0"><Diffuse r="0.5" g="0.5" b="0.5"/></Shader>
+)";
+    CHECK_THAT(errorOf("bad1.xml", base + "<Geometry Type=\"Sphere\" ID=\"s\" Medium=\"7\"><Position x=\"0\" y=\"0\" z=\"0\"/><Radius value=\"1\"/><Shader value=\"0\"/></Geometry></Scene>"),
+               Catch::Contains("bad1.xml:3") && Catch::Contains("no Medium"));
+    CHECK_THAT(errorOf("bad2.xml", base + "<Medium Type=\"Homogeneous\" ID=\"1\"><SigmaA r=\"-1\" g=\"0\" b=\"0\"/></Medium></Scene>"),
+               Catch::Contains("bad2.xml:3") && Catch::Contains(">= 0"));
+    CHECK_THAT(errorOf("bad3.xml", base + "<Medium Type=\"Homogeneous\" ID=\"1\"><G value=\"-1\"/></Medium></Scene>"),
+               Catch::Contains("bad3.xml:3") && Catch::Contains("-1 < g < 1"));
+}
+
+TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a null-bounded sphere", "[media][render][mitsuba]") {
+    // Mitsuba's homogeneous medium (sigma_t 1.3, albedo 1, hg 0.5) in an emitting cube
+    // (flip_normals: it emits inwards, black): radiance 1 everywhere, as the pbrt furnaces.
+    auto scene = [&](const std::string& sensorMedium, const std::string& body) {
+        return R"(<scene version="3.0.0">
+<medium type="homogeneous" id="fog"><rgb name="albedo" value="1"/><float name="sigma_t" value="1.3"/>
+  <phase type="hg"><float name="g" value="0.5"/></phase></medium>
+<sensor type="perspective"><float name="fov" value="60"/>
+  <transform name="to_world"><lookat origin="0, 0, -1.5" target="0, 0, 0" up="0, 1, 0"/></transform>
+  <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film>)" +
+               sensorMedium + R"(</sensor>
+<shape type="cube"><transform name="to_world"><scale value="2"/></transform><boolean name="flip_normals" value="true"/>
+  <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+)" + body + "</scene>";
+    };
+    const SceneDesc inMedium = loadMitsubaFromString(scene(R"(<ref name="medium" id="fog"/>)", ""), "a.xml", dir());
+    const SceneDesc sphere = loadMitsubaFromString(
+        scene("", R"(<shape type="sphere"><point name="center" x="0.1" y="0" z="0.3"/><float name="radius" value="0.8"/>
+  <bsdf type="null"/><ref name="interior" id="fog"/></shape>
+)"),
+        "b.xml", dir());
+    REQUIRE(inMedium.cameraMedium == 0);
+    REQUIRE(sphere.cameraMedium == -1);
+    REQUIRE(sphere.shapes[1].passThrough);
+    CHECK(sphere.shapes[1].mediumInside == 0);
+    CHECK(sphere.media[0].sigmaS.y == Approx(1.3f));
+    CHECK(sphere.media[0].sigmaA.y == Approx(0.0f).margin(1e-6));
+    for (const SceneDesc* d : {&inMedium, &sphere}) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k)
+            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 60 + uint64_t(k), 1, 100)).image, 2, 1));
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+        INFO((d == &inMedium ? "sensor in the medium" : "null sphere") << ": " << z.describe());
+        CHECK(z.pass);
+    }
+    auto mitsubaError = [&](const std::string& xml) {
+        try {
+            loadMitsubaFromString(xml, "bad.xml", dir());
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK_THAT(mitsubaError(scene("", "<medium type=\"heterogeneous\" id=\"h\"/><shape type=\"sphere\"><ref name=\"interior\" id=\"h\"/></shape>\n")),
+               Catch::Contains("bad.xml:9") && Catch::Contains("heterogeneous"));
+    CHECK_THAT(mitsubaError(scene("", "<shape type=\"sphere\"><medium type=\"homogeneous\" name=\"interior\"><float name=\"sigma_t\" value=\"-1\"/></medium></shape>\n")),
+               Catch::Contains("bad.xml:9") && Catch::Contains(">= 0"));
+}
+
+TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
+    const std::string head = "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n";
+    CHECK_THAT(errorOf("m1.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [ -1 0 0 ]\nShape \"sphere\"\n"),
+               Catch::Contains("m1.pbrt:4") && Catch::Contains(">= 0"));
+    CHECK_THAT(errorOf("m2.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\" \"float g\" 1\nShape \"sphere\"\n"),
+               Catch::Contains("m2.pbrt:4") && Catch::Contains("(-1, 1)"));
+    CHECK_THAT(errorOf("m3.pbrt", head + "MediumInterface \"nope\" \"\"\nShape \"sphere\"\n"),
+               Catch::Contains("m3.pbrt:5") && Catch::Contains("no medium named \"nope\""));
+    CHECK_THAT(errorOf("m4.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"uniformgrid\"\nShape \"sphere\"\n"),
+               Catch::Contains("m4.pbrt:4") && Catch::Contains("uniformgrid"));
+    // an open mesh as a boundary: it has no inside (checked when the scene is built)
+    const SceneDesc open = loadText("m5.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nMediumInterface \"f\" \"\"\n"
+                                                      "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n");
+    try {
+        render(open, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2));
+        FAIL("rendered an open boundary");
+    } catch (const InputError& e) {
+        CHECK_THAT(std::string(e.what()), Catch::Contains("m5.pbrt:6") && Catch::Contains("open mesh"));
+    }
+    // the other tracers refuse media for now
+    const SceneDesc fog = loadText("m6.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nShape \"sphere\"\n");
+    CHECK_THROWS_WITH(render(fog, rstats::renderOptions(TracerKind::BPT, 1, 1, 1, 2)), Catch::Contains("path tracer only"));
+}
