@@ -340,6 +340,31 @@ TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a 
                Catch::Contains("bad.xml:9") && Catch::Contains(">= 0"));
 }
 
+TEST_CASE("media in pbrt files: the path integrator ignores them, as pbrt-v4's does", "[media][import]") {
+    const std::string text = R"(MakeNamedMedium "fog" "string type" "homogeneous"
+MediumInterface "" "fog"
+Camera "perspective"
+Integrator "INTEGRATOR"
+WorldBegin
+LightSource "point"
+Shape "sphere"
+)";
+    auto with = [&](const std::string& integrator) {
+        std::string t = text;
+        t.replace(t.find("INTEGRATOR"), 10, integrator);
+        return loadText(integrator + ".pbrt", t);
+    };
+    const SceneDesc volpath = with("volpath"), path = with("path");
+    CHECK(volpath.media.size() == 1);
+    CHECK(volpath.cameraMedium == 0);
+    CHECK(volpath.shapes[0].mediumBoundary);
+    CHECK(path.media.empty());
+    CHECK(path.cameraMedium == -1);
+    CHECK_FALSE(path.shapes[0].mediumBoundary);
+    REQUIRE(path.warnings.size() == 1);
+    CHECK_THAT(path.warnings[0], Catch::Contains("path.pbrt:4") && Catch::Contains("volpath"));
+}
+
 TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
     const std::string head = "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n";
     CHECK_THAT(errorOf("m1.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [ -1 0 0 ]\nShape \"sphere\"\n"),
@@ -350,14 +375,14 @@ TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
                Catch::Contains("m3.pbrt:5") && Catch::Contains("no medium named \"nope\""));
     CHECK_THAT(errorOf("m4.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"uniformgrid\"\nShape \"sphere\"\n"),
                Catch::Contains("m4.pbrt:4") && Catch::Contains("uniformgrid"));
-    // an open mesh as a boundary: it has no inside (checked when the scene is built)
+    // an open mesh as a pass-through boundary: it has no inside (checked when the scene is built)
     const SceneDesc open = loadText("m5.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nMediumInterface \"f\" \"\"\n"
-                                                      "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n");
+                                                      "Material \"interface\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n");
     try {
         render(open, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2));
         FAIL("rendered an open boundary");
     } catch (const InputError& e) {
-        CHECK_THAT(std::string(e.what()), Catch::Contains("m5.pbrt:6") && Catch::Contains("open mesh"));
+        CHECK_THAT(std::string(e.what()), Catch::Contains("m5.pbrt:7") && Catch::Contains("open mesh"));
     }
     // the other tracers refuse media for now
     const SceneDesc fog = loadText("m6.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nShape \"sphere\"\n");

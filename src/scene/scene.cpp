@@ -159,8 +159,12 @@ void buildMedia(const SceneDesc& d, Scene& s) {
         if (!valid(sh.mediumInside) || !valid(sh.mediumOutside)) throw InputError(d.path, sh.line, "a shape names an unknown medium");
         if (sh.passThrough && (sh.material >= 0 || sh.light >= 0))
             throw InputError(d.path, sh.line, "a pass-through (index-matched) boundary takes no material and emits no light");
-        if (sh.mediumBoundary && sh.mediumInside != sh.mediumOutside && sh.kind == ShapeKind::Mesh && !closedMesh(sh.mesh))
-            throw InputError(d.path, sh.line, "a medium boundary on an open mesh (it has no inside): close it, or give it no medium");
+        // A surface that scatters decides a ray's medium by the side the ray leaves on, open or
+        // not (pbrt-v4's walls between "" and fog); a ray crossing an open pass-through
+        // boundary could end up "inside" something with no inside.
+        if (sh.passThrough && sh.mediumBoundary && sh.mediumInside != sh.mediumOutside && sh.kind == ShapeKind::Mesh &&
+            !closedMesh(sh.mesh))
+            throw InputError(d.path, sh.line, "a pass-through medium boundary on an open mesh (it has no inside): close it");
     }
 }
 

@@ -348,6 +348,19 @@ void Importer::options() {
     for (const char* k : {"lightsampler", "visualizestrategies", "visualizeweights"})
         if (ip.has(k)) warn(ip.find(k)->at, std::string(k) + " is read and not used");
     if (!integrator_.name.empty()) done(integrator_);
+    // pbrt-v4's path and lightpath integrators do not scatter in media: it renders such a
+    // scene as if they were not there (pass-through boundaries still pass), and so does
+    // wavemmlt, to render what pbrt renders (docs/media.md)
+    if ((type == "path" || type == "lightpath") && (!s_.media.empty() || s_.cameraMedium >= 0)) {
+        warn(integrator_.at, "the \"" + type + "\" integrator does not render participating media (pbrt-v4 ignores them "
+                             "too): rendered without them; use \"volpath\" (or bdpt, mlt) to render them");
+        s_.media.clear();
+        s_.cameraMedium = -1;
+        for (ShapeDesc& sh : s_.shapes) {
+            sh.mediumBoundary = false;
+            sh.mediumInside = sh.mediumOutside = -1;
+        }
+    }
     // PixelFilter (pbrt's default: gaussian, radius 1.5, sigma 0.5)
     FilterDesc& f = s_.filter;
     const std::string ft = filter_.name.empty() ? "gaussian" : filter_.strings[0];
@@ -372,8 +385,8 @@ void Importer::finish() {
     if (currentObject_ >= 0) fail(Loc{&path_, 0}, "ObjectBegin without ObjectEnd at the end of the file");
     film();
     camera();
-    options();
     resolveMedia();
+    options();
     if (imagingRatio_ != 1) {
         for (LightDesc& l : s_.lights) l.radiance = l.radiance * imagingRatio_;
         for (float& v : s_.envMap.rgb) v *= imagingRatio_;
