@@ -46,6 +46,8 @@ std::vector<std::pair<std::string, uint64_t>> filmBuffers(const RenderOptions& o
 }  // namespace
 
 RenderResult render(SceneDesc desc, const RenderOptions& opt) {
+    if (opt.maxPathLength < 1 || opt.maxPathLength > kMaxPathLength || opt.minPathLength < 1 || opt.minPathLength > opt.maxPathLength)
+        throw InputError("path lengths must satisfy 1 <= min <= max <= " + std::to_string(kMaxPathLength));
     if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT)
         throw InputError("strategy images need the BPT tracer");
     if (opt.tracer == TracerKind::MMLT && !(opt.probLarge > 0 && opt.probLarge <= 1))
