@@ -235,7 +235,7 @@ PixelFilter "box"
     for (const SceneDesc* d : {&inMedium, &boxed}) {
         rstats::RunStats runs;
         for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 30 + uint64_t(k), 1, 100)).image, 2, 1));
+            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 30 + uint64_t(k), 1, kMaxPathLength)).image, 2, 1));
         const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
         INFO((d == &inMedium ? "camera in the medium" : "medium in a box") << ": " << z.describe());
         CHECK(z.pass);
@@ -275,7 +275,7 @@ TEST_CASE("media in the thesis format: the furnace with a sphere of fog behind a
     CHECK(d.media[0].g == Approx(0.5f));
     rstats::RunStats runs;
     for (int k = 0; k < 6; ++k)
-        runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 50 + uint64_t(k), 1, 100)).image, 2, 1));
+        runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 50 + uint64_t(k), 1, kMaxPathLength)).image, 2, 1));
     const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
     INFO(z.describe());
     CHECK(z.pass);
@@ -321,7 +321,7 @@ TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a 
     for (const SceneDesc* d : {&inMedium, &sphere}) {
         rstats::RunStats runs;
         for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 60 + uint64_t(k), 1, 100)).image, 2, 1));
+            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 60 + uint64_t(k), 1, kMaxPathLength)).image, 2, 1));
         const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
         INFO((d == &inMedium ? "sensor in the medium" : "null sphere") << ": " << z.describe());
         CHECK(z.pass);
@@ -334,10 +334,141 @@ TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a 
         }
         return std::string("no error");
     };
-    CHECK_THAT(mitsubaError(scene("", "<medium type=\"heterogeneous\" id=\"h\"/><shape type=\"sphere\"><ref name=\"interior\" id=\"h\"/></shape>\n")),
-               Catch::Contains("bad.xml:9") && Catch::Contains("heterogeneous"));
+    CHECK_THAT(mitsubaError(scene("", "<medium type=\"vdb\" id=\"h\"/><shape type=\"sphere\"><ref name=\"interior\" id=\"h\"/></shape>\n")),
+               Catch::Contains("bad.xml:9") && Catch::Contains("medium \"vdb\" is not supported"));
     CHECK_THAT(mitsubaError(scene("", "<shape type=\"sphere\"><medium type=\"homogeneous\" name=\"interior\"><float name=\"sigma_t\" value=\"-1\"/></medium></shape>\n")),
                Catch::Contains("bad.xml:9") && Catch::Contains(">= 0"));
+}
+
+TEST_CASE("media in PT: a heterogeneous grid, unbiased (a furnace of random densities, a ramp's transmittance)", "[media][render][grid]") {
+    // 1. The furnace with a 4 x 4 x 4 grid of random densities in [0, 2] over [-2.5, 2.5]^3
+    //    (pbrt's uniformgrid; the enclosure [-2, 2]^3), sigma_s (0.25, 0.5, 1), no absorption:
+    //    albedo 1 in every channel, so the radiance is 1 everywhere whatever the densities
+    //    (spectral tracking's weights with channels apart).
+    std::string dens;
+    uint64_t h = 12345;
+    for (int i = 0; i < 64; ++i) {
+        h = h * 6364136223846793005ull + 1442695040888963407ull;
+        dens += std::to_string(2.0 * double(h >> 40) / double(1ull << 24)) + " ";
+    }
+    const std::string furnace = R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.25 0.5 1 ] "float g" -0.3
+  "integer nx" 4 "integer ny" 4 "integer nz" 4 "point3 p0" [ -2.5 -2.5 -2.5 ] "point3 p1" [ 2.5 2.5 2.5 ] "float density" [ )" +
+                                dens + R"(]
+LookAt 0 0 -1.5  0 0 0  0 1 0
+MediumInterface "" "smoke"
+Camera "perspective" "float fov" [ 60 ]
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+PixelFilter "box"
+WorldBegin
+MediumInterface "" ""
+AttributeBegin
+Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+)" + cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
+    const SceneDesc d = loadText("grid-furnace.pbrt", furnace);
+    REQUIRE(d.media.size() == 1);
+    REQUIRE(d.media[0].density.size() == 64);
+    for (int c = 0; c < 3; ++c) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k)
+            runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 70 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+        INFO("channel " << c << ": " << z.describe());
+        CHECK(z.pass);
+    }
+    // 2. An absorbing slab z in [0, 1] whose density ramps along z (nz = 2: a, b at the voxel
+    //    centres z = 1/4, 3/4, 0 outside, trilinear): the optical depth along z is
+    //    sigma_a 0.4375 (a + b); x and y constant over the view (the grid four voxels wide, the
+    //    view its middle half). An orthographic camera through it at an emitter of L = 1.
+    // (A medium made before WorldBegin is in the space of the transform then in force, as in
+    // pbrt: here the identity, before LookAt.)
+    const SceneDesc slab = loadText("grid-slab.pbrt", R"(MakeNamedMedium "ramp" "string type" "uniformgrid" "rgb sigma_a" [ 0.5 1 2 ] "rgb sigma_s" [ 0 0 0 ]
+  "integer nx" 4 "integer ny" 4 "integer nz" 2 "point3 p0" [ -4 -4 0 ] "point3 p1" [ 4 4 1 ]
+  "float density" [ 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4  1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 ]
+LookAt 0 0 -3  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+PixelFilter "box"
+WorldBegin
+AttributeBegin
+Material "interface"
+MediumInterface "ramp" ""
+Scale 10 10 1
+)" + cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+Shape "trianglemesh" "point3 P" [ -20 -20 5  20 -20 5  20 20 5  -20 20 5 ] "integer indices" [ 0 2 1 0 3 2 ]
+AttributeEnd
+)");
+    for (int c = 0; c < 3; ++c) {
+        const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k)
+            runs.add(rstats::blockMeans(render(slab, rstats::renderOptions(TracerKind::PT, 16, 80 + uint64_t(k), 1, 6)).image, 2, c));
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma * 0.4375 * 2.0)));
+        INFO("slab channel " << c << ": " << z.describe());
+        CHECK(z.pass);
+    }
+    // bad input: a grid whose size disagrees with its values
+    CHECK_THAT(errorOf("grid-bad.pbrt", "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
+                                        "\"integer nx\" 2 \"float density\" [ 1 ]\nShape \"sphere\"\n"),
+               Catch::Contains("grid-bad.pbrt:4") && Catch::Contains("1 density values for a 2 x 1 x 1 grid"));
+}
+
+TEST_CASE("media in Mitsuba files: a heterogeneous gridvolume, the furnace, and bad .vol files", "[media][render][grid][mitsuba]") {
+    // A 3 x 3 x 3 grid of random sigma_t in [0, 2] (a .vol file) over the cube [-2.5, 2.5]^3
+    // (to_world), albedo 1: in the emitting enclosure the radiance is 1 everywhere.
+    auto writeVol = [&](const std::string& name, int n, int channels, size_t values, uint64_t seed) {
+        std::ofstream f(dir() + "/" + name, std::ios::binary);
+        f.write("VOL\3", 4);
+        const int32_t head[5] = {1, n, n, n, channels};
+        f.write(reinterpret_cast<const char*>(head), sizeof head);
+        const float box[6] = {0, 0, 0, 1, 1, 1};
+        f.write(reinterpret_cast<const char*>(box), sizeof box);
+        for (size_t i = 0; i < values; ++i) {
+            seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+            const float v = 2.0f * float(seed >> 40) / float(1u << 24);
+            f.write(reinterpret_cast<const char*>(&v), 4);
+        }
+    };
+    writeVol("smoke.vol", 3, 1, 27, 99);
+    writeVol("short.vol", 3, 1, 20, 99);
+    writeVol("rgb.vol", 2, 3, 24, 99);
+    auto scene = [&](const std::string& file) {
+        return R"(<scene version="3.0.0">
+<medium type="heterogeneous" id="smoke"><rgb name="albedo" value="1"/>
+  <volume type="gridvolume" name="sigma_t"><string name="filename" value=")" + file + R"("/>
+    <transform name="to_world"><scale value="5"/><translate value="-2.5, -2.5, -2.5"/></transform></volume>
+  <phase type="hg"><float name="g" value="0.3"/></phase></medium>
+<sensor type="perspective"><float name="fov" value="60"/>
+  <transform name="to_world"><lookat origin="0, 0, -1.5" target="0, 0, 0" up="0, 1, 0"/></transform>
+  <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film>
+  <ref name="medium" id="smoke"/></sensor>
+<shape type="cube"><transform name="to_world"><scale value="2"/></transform><boolean name="flip_normals" value="true"/>
+  <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)";
+    };
+    const SceneDesc d = loadMitsubaFromString(scene("smoke.vol"), "grid.xml", dir());
+    REQUIRE(d.media.size() == 1);
+    REQUIRE(d.media[0].density.size() == 27);
+    CHECK(d.media[0].clampEdges);
+    rstats::RunStats runs;
+    for (int k = 0; k < 6; ++k)
+        runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 90 + uint64_t(k), 1, kMaxPathLength)).image, 2, 1));
+    const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+    INFO(z.describe());
+    CHECK(z.pass);
+    auto mitsubaError = [&](const std::string& xml) {
+        try {
+            loadMitsubaFromString(xml, "bad.xml", dir());
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK_THAT(mitsubaError(scene("short.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("truncated: 20 values for 27"));
+    CHECK_THAT(mitsubaError(scene("rgb.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("3 channels"));
+    CHECK_THAT(mitsubaError(scene("missing.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("missing.vol"));
 }
 
 TEST_CASE("media in pbrt files: the path integrator ignores them, as pbrt-v4's does", "[media][import]") {

@@ -257,14 +257,21 @@ struct ShapeDesc {
     bool passThrough = false;
 };
 
-// A homogeneous participating medium (docs/media.md): absorption and scattering
-// coefficients per unit length (RGB, >= 0) and the Henyey-Greenstein phase function's mean
-// cosine g in (-1, 1) (0: isotropic).
+// A participating medium (docs/media.md): absorption and scattering coefficients per unit
+// length (RGB, >= 0) and the Henyey-Greenstein phase function's mean cosine g in (-1, 1)
+// (0: isotropic). Homogeneous, or (density non-empty) heterogeneous: the coefficients times
+// a density grid of nx x ny x nz values (x fastest, >= 0) over the unit cube of grid space
+// (worldToGrid), interpolated trilinearly between voxel centres, outside the cube 0 (pbrt's
+// grids) or the nearest voxel (clampEdges: Mitsuba's).
 struct MediumDesc {
     std::string name;
     int line = 0;
     Vec3 sigmaA{0.0f}, sigmaS{0.0f};
     float g = 0;
+    int nx = 0, ny = 0, nz = 0;
+    std::vector<float> density;
+    Affine worldToGrid;
+    bool clampEdges = false;
 };
 
 // One placement of a group of shapes (Mitsuba's instance of a shapegroup): stored once,

@@ -11,17 +11,25 @@
 // unbiased for every channel (each channel's estimator is a one-sample MIS of the three
 // channels' samplers), and without the colour noise of sampling one channel alone.
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "wavemmlt/math.h"
 
 namespace wmlt {
 
 // A medium as the stages read it: extinction and scattering coefficients per unit length,
-// and the phase function's g.
+// and the phase function's g; a heterogeneous one (density non-null) times the density grid
+// at the point (MediumDesc), its majorant the largest density times the largest sigma_t.
 struct Medium {
     Vec3 sigmaT{0.0f}, sigmaS{0.0f};
     float g = 0;
+    const float* density = nullptr;
+    int nx = 0, ny = 0, nz = 0;
+    Affine worldToGrid;
+    bool clampEdges = false;
+    float majorant = 0;
 };
 
 inline Vec3 expNeg(Vec3 v) { return Vec3(std::exp(-v.x), std::exp(-v.y), std::exp(-v.z)); }
@@ -59,6 +67,138 @@ inline FreePath sampleFreePath(const Medium& m, float tMax, float u) {
     r.t = tMax;
     r.weight = P > 0 ? T / P : Vec3(0.0f);
     return r;
+}
+
+// ---- Heterogeneous media: a density grid, tracked against its majorant ----
+// (Woodcock's delta tracking as spectral tracking, Kutz et al. 2017; ratio tracking for
+// transmittance, Novak et al. 2014.) Their random numbers come from a stream seeded by the
+// caller (a hash of the sample's key, the bounce and the segment), as many as the tracking
+// takes.
+
+// SplitMix64 (Steele et al. 2014) from a seed.
+struct MediumRng {
+    uint64_t s;
+    explicit MediumRng(uint64_t seed) : s(seed) {}
+    float operator()() {
+        s += 0x9e3779b97f4a7c15ULL;
+        uint64_t z = s;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        z ^= z >> 31;
+        return float(z >> 40) * 0x1p-24f;  // [0, 1)
+    }
+};
+
+// The density at q in grid space (the unit cube): trilinear between voxel centres.
+inline float gridDensity(const Medium& m, Vec3 q) {
+    const float fx = q.x * float(m.nx) - 0.5f, fy = q.y * float(m.ny) - 0.5f, fz = q.z * float(m.nz) - 0.5f;
+    const float x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
+    const float tx = fx - x0, ty = fy - y0, tz = fz - z0;
+    auto at = [&](int x, int y, int z) {
+        if (m.clampEdges) {
+            x = std::clamp(x, 0, m.nx - 1), y = std::clamp(y, 0, m.ny - 1), z = std::clamp(z, 0, m.nz - 1);
+        } else if (x < 0 || y < 0 || z < 0 || x >= m.nx || y >= m.ny || z >= m.nz) {
+            return 0.0f;
+        }
+        return m.density[(size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)];
+    };
+    const int ix = int(x0), iy = int(y0), iz = int(z0);
+    auto lerp = [](float t, float a, float b) { return a + t * (b - a); };
+    const float c00 = lerp(tx, at(ix, iy, iz), at(ix + 1, iy, iz)), c10 = lerp(tx, at(ix, iy + 1, iz), at(ix + 1, iy + 1, iz));
+    const float c01 = lerp(tx, at(ix, iy, iz + 1), at(ix + 1, iy, iz + 1));
+    const float c11 = lerp(tx, at(ix, iy + 1, iz + 1), at(ix + 1, iy + 1, iz + 1));
+    return lerp(tz, lerp(ty, c00, c10), lerp(ty, c01, c11));
+}
+
+// The ray o + t d (world) in grid space, clipped to the unit cube and to [0, tMax]: its
+// origin and direction there and [t0, t1]; false when it misses the cube.
+inline bool gridSpan(const Medium& m, Vec3 o, Vec3 d, float tMax, Vec3& go, Vec3& gd, float& t0, float& t1) {
+    go = m.worldToGrid.point(o);
+    gd = m.worldToGrid.vector(d);
+    t0 = 0;
+    t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+        const float inv = 1.0f / gd[a];
+        float tn = (0.0f - go[a]) * inv, tf = (1.0f - go[a]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        if (std::isnan(tn)) tn = -INFINITY;  // parallel to the slab: inside or not by go
+        if (std::isnan(tf)) tf = INFINITY;
+        if (gd[a] == 0 && (go[a] < 0 || go[a] > 1)) return false;
+        t0 = std::max(t0, tn);
+        t1 = std::min(t1, tf);
+    }
+    return t0 < t1;
+}
+
+constexpr int kMaxNullCollisions = 1 << 20;  // past it a path is taken as absorbed
+
+// A free-path sample in a grid medium along [0, tMax]: tentative collisions at the majorant's
+// rate; at each, scatter with probability P_s = mean(sigma_s w) / mean((sigma_s + sigma_n) w)
+// (w the segment's weight so far, sigma_n = majorant - sigma_t per channel), the weight
+// taking sigma_s / (majorant P_s), else go on with sigma_n / (majorant (1 - P_s)): unbiased
+// per channel, absorption in the weights.
+inline FreePath sampleGridFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng& rng) {
+    FreePath r;
+    r.t = tMax;
+    r.weight = Vec3(1.0f);
+    Vec3 go, gd;
+    float t0, t1;
+    if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return r;
+    const float inv = 1.0f / m.majorant;
+    float t = t0;
+    Vec3 w(1.0f);
+    for (int i = 0; i < kMaxNullCollisions; ++i) {
+        t -= std::log1p(-rng()) * inv;
+        if (!(t < t1)) {
+            r.weight = w;
+            return r;
+        }
+        const float dens = gridDensity(m, go + gd * t);
+        const Vec3 sS = m.sigmaS * dens, sN = Vec3(m.majorant) - m.sigmaT * dens;
+        const float ps = sS.x * w.x + sS.y * w.y + sS.z * w.z, pn = sN.x * w.x + sN.y * w.y + sN.z * w.z;
+        if (!(ps + pn > 0)) break;  // only absorption here: the path ends
+        const float Ps = ps / (ps + pn);
+        if (rng() < Ps) {
+            r.t = t;
+            r.scattered = true;
+            r.weight = w * sS * (inv / Ps);
+            return r;
+        }
+        w = w * sN * (inv / (1.0f - Ps));
+    }
+    r.weight = Vec3(0.0f);
+    return r;
+}
+
+// Transmittance through a grid medium along [0, tMax] by ratio tracking: the product of
+// (1 - sigma_t / majorant) at tentative collisions of the majorant's rate (unbiased).
+inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng& rng) {
+    Vec3 go, gd;
+    float t0, t1;
+    if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return Vec3(1.0f);
+    const float inv = 1.0f / m.majorant;
+    Vec3 T(1.0f);
+    float t = t0;
+    for (int i = 0; i < kMaxNullCollisions; ++i) {
+        t -= std::log1p(-rng()) * inv;
+        if (!(t < t1)) return T;
+        T = T * (Vec3(1.0f) - m.sigmaT * (gridDensity(m, go + gd * t) * inv));
+        if (isBlack(T)) return Vec3(0.0f);
+    }
+    return Vec3(0.0f);
+}
+
+// Either kind: the free-path sample (homogeneous: from u; a grid: from the stream seeded
+// by seed) and the transmittance.
+inline FreePath sampleMediumFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, float u, uint64_t seed) {
+    if (!m.density) return sampleFreePath(m, tMax, u);
+    MediumRng rng(seed);
+    return sampleGridFreePath(m, o, d, tMax, rng);
+}
+inline Vec3 mediumTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, uint64_t seed) {
+    if (!m.density) return transmittance(m, tMax);
+    MediumRng rng(seed);
+    return gridTransmittance(m, o, d, tMax, rng);
 }
 
 // Henyey-Greenstein (pbrt-v4's convention): cosTheta = dot(wo, wi), wo pointing back along

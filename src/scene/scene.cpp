@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -150,7 +151,26 @@ void buildMedia(const SceneDesc& d, Scene& s) {
         if (bad(m.sigmaA) || bad(m.sigmaS))
             throw InputError(d.path, m.line, "medium \"" + m.name + "\": sigma_a and sigma_s must be finite and >= 0");
         if (!(m.g > -1 && m.g < 1)) throw InputError(d.path, m.line, "medium \"" + m.name + "\": g must be in (-1, 1)");
-        s.media.push_back({m.sigmaA + m.sigmaS, m.sigmaS, m.g});
+        Medium r;
+        r.sigmaT = m.sigmaA + m.sigmaS;
+        r.sigmaS = m.sigmaS;
+        r.g = m.g;
+        if (!m.density.empty()) {
+            if (m.nx < 1 || m.ny < 1 || m.nz < 1 || m.density.size() != size_t(m.nx) * size_t(m.ny) * size_t(m.nz))
+                throw InputError(d.path, m.line, "medium \"" + m.name + "\": the density grid's size disagrees with its values");
+            float maxDensity = 0;
+            for (float v : m.density) {
+                if (!(v >= 0) || !std::isfinite(v))
+                    throw InputError(d.path, m.line, "medium \"" + m.name + "\": densities must be finite and >= 0");
+                maxDensity = std::max(maxDensity, v);
+            }
+            r.density = m.density.data();
+            r.nx = m.nx, r.ny = m.ny, r.nz = m.nz;
+            r.worldToGrid = m.worldToGrid;
+            r.clampEdges = m.clampEdges;
+            r.majorant = maxDensity * std::max(r.sigmaT.x, std::max(r.sigmaT.y, r.sigmaT.z));
+        }
+        s.media.push_back(r);
     }
     auto valid = [&](int i) { return i >= -1 && i < int(d.media.size()); };
     if (!valid(d.cameraMedium)) throw InputError(d.path, 0, "the camera's medium is not one of the scene's");

@@ -51,8 +51,10 @@ void traverseMedia(const Scene& scene, PtBatch& b, int depth, RayCounters& c) {
         for (uint32_t k = 0;; ++k) {
             const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             if (m >= 0) {
-                const FreePath fp = sampleFreePath(scene.media[size_t(m)], hit ? rh.ray.tfar : INFINITY,
-                                                   sampleDimension(key, mediumDim(depth, k)));
+                const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+                const uint32_t dim = mediumDim(depth, k);  // a grid's stream is seeded from it too
+                const FreePath fp = sampleMediumFreePath(scene.media[size_t(m)], o, d, hit ? rh.ray.tfar : INFINITY,
+                                                         sampleDimension(key, dim), mix64(key ^ (uint64_t(dim) << 32)));
                 b.beta[i] = b.beta[i] * fp.weight;
                 if (fp.scattered) {
                     b.mediumEvent[i] = 1;
@@ -78,6 +80,8 @@ void traverseMedia(const Scene& scene, PtBatch& b, int depth, RayCounters& c) {
 void traceShadowsThroughMedia(const Scene& scene, PtBatch& b, int length, RayCounters& c) {
     for (size_t i = 0; i < b.numShadow; ++i) {
         const RTCRay& r = b.shadow[i];
+        // a grid's ratio tracking: a stream per shadow ray and segment, apart from the paths'
+        const uint64_t seed = mix64(b.key[b.shadowSlot[i]] ^ 0x5348414430ull ^ (uint64_t(length) << 40));
         const Vec3 d(r.dir_x, r.dir_y, r.dir_z);
         RTCRayHit rh;
         setRayHit(rh, Vec3(r.org_x, r.org_y, r.org_z), d);
@@ -90,13 +94,14 @@ void traceShadowsThroughMedia(const Scene& scene, PtBatch& b, int length, RayCou
         for (uint32_t k = 0; k < kMediumStride; ++k) {
             traceClosest(scene.rtc, &rh, 1, false);
             ++c.raysOccluded;
+            const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
             if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-                if (m >= 0) T = T * transmittance(scene.media[size_t(m)], remaining);
+                if (m >= 0) T = T * mediumTransmittance(scene.media[size_t(m)], o, d, remaining, mix64(seed + k));
                 reached = true;
                 break;
             }
             if (!scene.geoms[rh.hit.geomID].passThrough) break;  // occluded
-            if (m >= 0) T = T * transmittance(scene.media[size_t(m)], rh.ray.tfar);
+            if (m >= 0) T = T * mediumTransmittance(scene.media[size_t(m)], o, d, rh.ray.tfar, mix64(seed + k));
             remaining -= rh.ray.tfar;
             m = mediumAcross(scene, rh, d, m);
             continuePast(scene, rh, remaining);

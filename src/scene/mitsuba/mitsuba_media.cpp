@@ -2,22 +2,97 @@
 // albedo, scale) with an `isotropic` or `hg` phase, referenced as a shape's `interior` and
 // `exterior` and as the sensor's medium; the `null` BSDF makes a shape an index-matched
 // boundary (ShapeDesc::passThrough).
+#include <cstring>
+
 #include "scene/mitsuba/mitsuba_importer.h"
+#include "scene/read_file.h"
+#include "wavemmlt/error.h"
 
 namespace wmlt::mitsuba {
+
+namespace {
+
+// A Mitsuba .vol grid (version 3, float32): "VOL", 3, encoding 1, x, y, z resolutions, the
+// channels, a bounding box (6 floats), then the values, x fastest, channels innermost.
+struct VolFile {
+    int nx = 0, ny = 0, nz = 0, channels = 0;
+    float bbox[6] = {0, 0, 0, 1, 1, 1};
+    std::vector<float> values;
+};
+VolFile readVol(const std::string& path) {
+    const std::string data = readWholeFile(path, "grid volume");
+    auto fail = [&](const std::string& msg) { throw InputError(path, 0, msg); };
+    if (data.size() < 48 || data.compare(0, 3, "VOL") != 0) fail("not a Mitsuba .vol file (no \"VOL\" header)");
+    if (data[3] != 3) fail("a .vol file of version " + std::to_string(int(data[3])) + " (version 3 is read)");
+    int32_t head[5];
+    std::memcpy(head, data.data() + 4, sizeof head);
+    if (head[0] != 1) fail("a .vol file with encoding " + std::to_string(head[0]) + " (float32, 1, is read)");
+    VolFile v;
+    v.nx = head[1], v.ny = head[2], v.nz = head[3], v.channels = head[4];
+    if (v.nx < 1 || v.ny < 1 || v.nz < 1 || v.channels < 1 || double(v.nx) * v.ny * v.nz * v.channels > 2e9)
+        fail("a .vol file with a bad size " + std::to_string(v.nx) + " x " + std::to_string(v.ny) + " x " +
+             std::to_string(v.nz) + " x " + std::to_string(v.channels));
+    std::memcpy(v.bbox, data.data() + 24, sizeof v.bbox);
+    const size_t n = size_t(v.nx) * size_t(v.ny) * size_t(v.nz) * size_t(v.channels);
+    if (data.size() - 48 < n * 4)
+        fail("the .vol file is truncated: " + std::to_string((data.size() - 48) / 4) + " values for " + std::to_string(n));
+    v.values.resize(n);
+    std::memcpy(v.values.data(), data.data() + 48, n * 4);
+    return v;
+}
+
+}  // namespace
 
 int Importer::medium(Node n) {
     auto it = mediumOf_.find(n.internal_object());
     if (it != mediumOf_.end()) return it->second;
     Props p = props(n);
-    if (p.type() != "homogeneous")
-        p.fail(n, "medium \"" + p.type() + "\" is not supported yet (homogeneous is; docs/mitsuba.md)");
+    if (p.type() != "homogeneous" && p.type() != "heterogeneous")
+        p.fail(n, "medium \"" + p.type() + "\" is not supported (homogeneous and heterogeneous are; docs/mitsuba.md)");
     MediumDesc m;
     m.name = n.attribute("id").value();
     m.line = files_.line(n);
-    // Mitsuba 3: sigma_s = albedo sigma_t, sigma_a = sigma_t - sigma_s, both times scale
-    const Vec3 sigmaT = p.getColor("sigma_t", Vec3(1.0f), Props::ColorUse::Unbounded);
-    const Vec3 albedo = p.getColor("albedo", Vec3(0.75f));
+    // Mitsuba 3: sigma_s = albedo sigma_t, sigma_a = sigma_t - sigma_s, both times scale;
+    // heterogeneous: sigma_t a one-channel gridvolume (its values the density) or a
+    // constvolume, albedo a constant or constvolume
+    auto constant = [&](const char* name, Vec3 def, Props::ColorUse use, bool gridAllowed) {
+        if (!p.isNested("volume", name)) return p.getColor(name, def, use);
+        const Node v = p.getNested("volume", name);
+        Props vp = props(v);
+        Vec3 c(1.0f);
+        if (vp.type() == "constvolume") {
+            c = vp.getColor("value", Vec3(1.0f), use);
+        } else if (vp.type() == "gridvolume" && gridAllowed) {
+            const VolFile vol = [&] {
+                try {
+                    return readVol(resolve(vp.getString("filename", "")));
+                } catch (const InputError& e) {
+                    vp.fail(v, e.what());
+                }
+            }();
+            if (vol.channels != 1) vp.fail(v, "a sigma_t grid of " + std::to_string(vol.channels) + " channels (one is supported)");
+            m.nx = vol.nx, m.ny = vol.ny, m.nz = vol.nz;
+            m.density = vol.values;
+            m.clampEdges = vp.getString("wrap_mode", "clamp") == "clamp";
+            if (!m.clampEdges) vp.fail(v, "wrap_mode other than clamp is not supported");
+            vp.getString("filter_type", "trilinear");
+            vp.getBool("raw", false);
+            Matrix M = vp.getTransform("to_world");
+            if (M.det3() == 0) vp.fail(v, "to_world is singular");
+            if (vp.getBool("use_grid_bbox", false)) {  // the file's box, in the volume's space
+                const float* b = vol.bbox;
+                if (!(b[3] > b[0] && b[4] > b[1] && b[5] > b[2])) vp.fail(v, "use_grid_bbox: the file's box is empty");
+                M = M * Matrix::translate(b[0], b[1], b[2]) * Matrix::scale(b[3] - b[0], b[4] - b[1], b[5] - b[2]);
+            }
+            m.worldToGrid = M.inverse().affine();
+        } else {
+            vp.fail(v, "volume \"" + vp.type() + "\" is not supported here (" + (gridAllowed ? "gridvolume, " : "") + "constvolume)");
+        }
+        vp.finish();
+        return c;
+    };
+    const Vec3 sigmaT = constant("sigma_t", Vec3(1.0f), Props::ColorUse::Unbounded, p.type() == "heterogeneous");
+    const Vec3 albedo = constant("albedo", Vec3(0.75f), Props::ColorUse::Reflectance, false);
     const float scale = p.getFloat("scale", 1.0f);
     p.getBool("sample_emitted", true);
     m.sigmaS = albedo * sigmaT * scale;

@@ -337,6 +337,11 @@ Node Props::getNested(const std::string& tag, const std::string& name) {
     if (std::string(n.name()) != tag) files_.fail(it->n, "expected a <" + tag + ">");
     return n;
 }
+bool Props::isNested(const std::string& tag, const std::string& name) const {
+    for (const Item& it : items_)
+        if (it.name == name) return std::string(resolve(it.n).name()) == tag;
+    return false;
+}
 std::vector<Node> Props::nested(const std::string& tag) {
     std::vector<Node> out;
     for (Item& it : items_) {

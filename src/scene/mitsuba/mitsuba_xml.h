@@ -71,6 +71,8 @@ public:
     Matrix getTransform(const std::string& name);  // identity when absent
     // A named nested plugin or <ref name=...>: the element (the referenced one for a ref).
     Node getNested(const std::string& tag, const std::string& name);
+    // Whether the named property is a nested <tag> (a ref to one included); reads nothing.
+    bool isNested(const std::string& tag, const std::string& name) const;
     // Unnamed nested plugins of this tag, in file order (refs resolved).
     std::vector<Node> nested(const std::string& tag);
     // Every property and nested plugin must have been read: else "not supported".

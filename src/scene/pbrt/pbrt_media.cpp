@@ -1,6 +1,8 @@
 // pbrt-v4's participating media (docs/pbrt.md, docs/media.md): MakeNamedMedium's
-// homogeneous medium onto the scene model's MediumDesc, and the medium names of shapes
+// homogeneous and uniformgrid media onto the scene model's MediumDesc, and the medium names of shapes
 // (MediumInterface) and of the camera resolved once the whole file is read.
+#include <cmath>
+
 #include "scene/pbrt/pbrt_importer.h"
 
 namespace wmlt::pbrt {
@@ -12,8 +14,8 @@ void Importer::medium(Directive& d) {
     if (namedMedia_.count(name)) fail(d.at, "MakeNamedMedium \"" + name + "\" defined twice");
     const std::string type = p.getString("type", "");
     if (type.empty()) fail(d.at, "MakeNamedMedium \"" + name + "\" needs a \"string type\"");
-    if (type != "homogeneous")
-        fail(d.at, "MakeNamedMedium type \"" + type + "\" is not supported yet (homogeneous is; docs/pbrt.md)");
+    if (type != "homogeneous" && type != "uniformgrid")
+        fail(d.at, "MakeNamedMedium type \"" + type + "\" is not supported yet (homogeneous and uniformgrid are; docs/pbrt.md)");
     if (const Param* q = p.find("preset")) fail(q->at, "medium presets (measured media) are not supported: give sigma_a and sigma_s");
     MediumDesc m;
     m.name = name;
@@ -28,6 +30,30 @@ void Importer::medium(Directive& d) {
     auto bad = [](Vec3 v) { return !isFinite(v) || v.x < 0 || v.y < 0 || v.z < 0; };
     if (bad(m.sigmaA) || bad(m.sigmaS)) fail(d.at, "medium \"" + name + "\": sigma_a and sigma_s (times scale) must be finite and >= 0");
     if (!(m.g > -1 && m.g < 1)) fail(p.has("g") ? p.find("g")->at : d.at, "medium \"" + name + "\": g must be in (-1, 1)");
+    if (type == "uniformgrid") {  // pbrt-v4: density (nx ny nz, x fastest) over [p0, p1] in the medium's space
+        m.nx = p.getInt("nx", 1), m.ny = p.getInt("ny", 1), m.nz = p.getInt("nz", 1);
+        if (m.nx < 1 || m.ny < 1 || m.nz < 1 || double(m.nx) * m.ny * m.nz > 1e9)
+            fail(d.at, "uniformgrid: nx, ny, nz must be >= 1 (and their product at most 1e9)");
+        const Param* q = p.find("density");
+        if (!q) fail(d.at, "uniformgrid needs \"float density\"");
+        const std::vector<double> v = p.getNumbers("density");
+        if (v.size() != size_t(m.nx) * size_t(m.ny) * size_t(m.nz))
+            fail(q->at, "uniformgrid: " + std::to_string(v.size()) + " density values for a " + std::to_string(m.nx) + " x " +
+                            std::to_string(m.ny) + " x " + std::to_string(m.nz) + " grid");
+        m.density.reserve(v.size());
+        for (double x : v) {
+            if (!(x >= 0) || !std::isfinite(x)) fail(q->at, "uniformgrid: densities must be finite and >= 0");
+            m.density.push_back(float(x));
+        }
+        const Vec3 p0 = p.getPoint3("p0", Vec3(0.0f)), p1 = p.getPoint3("p1", Vec3(1.0f));
+        const Vec3 e = p1 - p0;
+        if (!(e.x > 0 && e.y > 0 && e.z > 0)) fail(d.at, "uniformgrid: p1 must exceed p0 in x, y and z");
+        if (g_.ctm.det3() == 0) fail(d.at, "uniformgrid: the current transformation is singular");
+        const Matrix toGrid = Matrix::scale(1 / e.x, 1 / e.y, 1 / e.z) * Matrix::translate(-p0.x, -p0.y, -p0.z) * g_.ctm.inverse();
+        m.worldToGrid = toGrid.affine();
+        for (const char* k : {"temperature", "temperaturescale", "temperatureoffset"})
+            if (p.has(k)) fail(p.find(k)->at, std::string(k) + ": an emitting medium is not supported yet");
+    }
     namedMedia_[name] = int(s_.media.size());
     s_.media.push_back(m);
 }
