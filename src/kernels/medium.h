@@ -29,8 +29,46 @@ struct Medium {
     int nx = 0, ny = 0, nz = 0;
     Affine worldToGrid;
     bool clampEdges = false;
-    float majorant = 0;
+    float majorant = 0;  // over the whole grid
+    // The majorant grid: mx x my x mz cells over the unit cube (x fastest), each the largest
+    // sigma_t of any point in it (made with the scene: scene.cpp, buildMajorants); the
+    // tracking walks it cell by cell.
+    const float* majorants = nullptr;
+    int mx = 0, my = 0, mz = 0;
 };
+
+// Calls f(ta, tb, majorant) for the majorant grid's cells along the ray go + t gd (grid
+// space) over [t0, t1], in order; f returns false to stop (3D DDA, Amanatides and Woo 1987).
+template <class F>
+inline void walkMajorants(const Medium& m, Vec3 go, Vec3 gd, float t0, float t1, F&& f) {
+    const int res[3] = {m.mx, m.my, m.mz};
+    const Vec3 p0 = go + gd * t0;
+    int cell[3], step[3];
+    float tNext[3], tDelta[3];
+    for (int a = 0; a < 3; ++a) {
+        cell[a] = std::clamp(int(p0[a] * float(res[a])), 0, res[a] - 1);
+        if (gd[a] == 0) {
+            step[a] = 0, tNext[a] = INFINITY, tDelta[a] = INFINITY;
+            continue;
+        }
+        step[a] = gd[a] > 0 ? 1 : -1;
+        const float edge = float(cell[a] + (step[a] > 0 ? 1 : 0)) / float(res[a]);
+        tNext[a] = t0 + (edge - p0[a]) / gd[a];
+        tDelta[a] = 1.0f / (float(res[a]) * std::fabs(gd[a]));
+    }
+    float t = t0;
+    for (;;) {
+        const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+        const float tEnd = std::min(tNext[a], t1);
+        const float maj = m.majorants[(size_t(cell[2]) * size_t(m.my) + size_t(cell[1])) * size_t(m.mx) + size_t(cell[0])];
+        if (tEnd > t && !f(t, tEnd, maj)) return;
+        if (!(tEnd < t1)) return;
+        t = tEnd;
+        cell[a] += step[a];
+        if (cell[a] < 0 || cell[a] >= res[a]) return;
+        tNext[a] += tDelta[a];
+    }
+}
 
 inline Vec3 expNeg(Vec3 v) { return Vec3(std::exp(-v.x), std::exp(-v.y), std::exp(-v.z)); }
 
@@ -71,7 +109,7 @@ inline FreePath sampleFreePath(const Medium& m, float tMax, float u) {
 
 // ---- Heterogeneous media: a density grid, tracked against its majorant ----
 // (Woodcock's delta tracking as spectral tracking, Kutz et al. 2017; ratio tracking for
-// transmittance, Novak et al. 2014.) Their random numbers come from a stream seeded by the
+// transmittance, Novak et al. 2014; both walk the majorant grid cell by cell.) Their random numbers come from a stream seeded by the
 // caller (a hash of the sample's key, the bounce and the segment), as many as the tracking
 // takes.
 
@@ -144,29 +182,38 @@ inline FreePath sampleGridFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, 
     Vec3 go, gd;
     float t0, t1;
     if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return r;
-    const float inv = 1.0f / m.majorant;
-    float t = t0;
     Vec3 w(1.0f);
-    for (int i = 0; i < kMaxNullCollisions; ++i) {
-        t -= std::log1p(-rng()) * inv;
-        if (!(t < t1)) {
-            r.weight = w;
-            return r;
+    int collisions = 0;
+    bool absorbed = false;
+    // each cell with its own majorant (free paths are memoryless: a new start at each cell)
+    walkMajorants(m, go, gd, t0, t1, [&](float ta, float tb, float maj) {
+        if (!(maj > 0)) return true;
+        const float inv = 1.0f / maj;
+        for (float t = ta;;) {
+            t -= std::log1p(-rng()) * inv;
+            if (!(t < tb)) return true;
+            if (++collisions > kMaxNullCollisions) {
+                absorbed = true;
+                return false;
+            }
+            const float dens = gridDensity(m, go + gd * t);
+            const Vec3 sS = m.sigmaS * dens, sN = vmax(Vec3(maj) - m.sigmaT * dens, Vec3(0.0f));
+            const float ps = sS.x * w.x + sS.y * w.y + sS.z * w.z, pn = sN.x * w.x + sN.y * w.y + sN.z * w.z;
+            if (!(ps + pn > 0)) {  // only absorption here: the path ends
+                absorbed = true;
+                return false;
+            }
+            const float Ps = ps / (ps + pn);
+            if (rng() < Ps) {
+                r.t = t;
+                r.scattered = true;
+                w = w * sS * (inv / Ps);
+                return false;
+            }
+            w = w * sN * (inv / (1.0f - Ps));
         }
-        const float dens = gridDensity(m, go + gd * t);
-        const Vec3 sS = m.sigmaS * dens, sN = Vec3(m.majorant) - m.sigmaT * dens;
-        const float ps = sS.x * w.x + sS.y * w.y + sS.z * w.z, pn = sN.x * w.x + sN.y * w.y + sN.z * w.z;
-        if (!(ps + pn > 0)) break;  // only absorption here: the path ends
-        const float Ps = ps / (ps + pn);
-        if (rng() < Ps) {
-            r.t = t;
-            r.scattered = true;
-            r.weight = w * sS * (inv / Ps);
-            return r;
-        }
-        w = w * sN * (inv / (1.0f - Ps));
-    }
-    r.weight = Vec3(0.0f);
+    });
+    r.weight = absorbed ? Vec3(0.0f) : w;
     return r;
 }
 
@@ -176,16 +223,22 @@ inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, Mediu
     Vec3 go, gd;
     float t0, t1;
     if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return Vec3(1.0f);
-    const float inv = 1.0f / m.majorant;
     Vec3 T(1.0f);
-    float t = t0;
-    for (int i = 0; i < kMaxNullCollisions; ++i) {
-        t -= std::log1p(-rng()) * inv;
-        if (!(t < t1)) return T;
-        T = T * (Vec3(1.0f) - m.sigmaT * (gridDensity(m, go + gd * t) * inv));
-        if (isBlack(T)) return Vec3(0.0f);
-    }
-    return Vec3(0.0f);
+    int collisions = 0;
+    walkMajorants(m, go, gd, t0, t1, [&](float ta, float tb, float maj) {
+        if (!(maj > 0)) return true;
+        const float inv = 1.0f / maj;
+        for (float t = ta;;) {
+            t -= std::log1p(-rng()) * inv;
+            if (!(t < tb)) return true;
+            T = T * vmax(Vec3(1.0f) - m.sigmaT * (gridDensity(m, go + gd * t) * inv), Vec3(0.0f));
+            if (isBlack(T) || ++collisions > kMaxNullCollisions) {
+                T = Vec3(0.0f);
+                return false;
+            }
+        }
+    });
+    return T;
 }
 
 // Either kind: the free-path sample (homogeneous: from u; a grid: from the stream seeded

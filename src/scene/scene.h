@@ -99,6 +99,7 @@ public:
     EnvMapSampler env;
     // Participating media (kernels/medium.h), by SceneDesc::media index; the camera's.
     std::vector<Medium> media;
+    std::vector<std::vector<float>> majorantGrids;  // the grid media's, in their order (Medium::majorants)
     int cameraMedium = -1;
     Vec3 boundsMin, boundsMax, center;
     float radius = 1;               // bounding sphere of the scene's geometry
