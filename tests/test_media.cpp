@@ -409,7 +409,34 @@ AttributeEnd
         INFO("slab channel " << c << ": " << z.describe());
         CHECK(z.pass);
     }
+    // 3. pbrt's rgbgrid: sigma_s per voxel and channel (random in [0, 1.5]), no absorption:
+    //    the furnace again, channel by channel.
+    std::string sigS, sigA;
+    for (int i = 0; i < 3 * 27; ++i) {
+        h = h * 6364136223846793005ull + 1442695040888963407ull;
+        sigS += std::to_string(1.5 * double(h >> 40) / double(1ull << 24)) + " ";
+        sigA += "0 ";
+    }
+    std::string rgbFurnace = furnace;
+    const size_t from = rgbFurnace.find("MakeNamedMedium"), to = rgbFurnace.find("LookAt");
+    rgbFurnace.replace(from, to - from, "MakeNamedMedium \"smoke\" \"string type\" \"rgbgrid\" \"float g\" 0.2 \"integer nx\" 3 \"integer ny\" 3 "
+                                        "\"integer nz\" 3 \"point3 p0\" [ -2.5 -2.5 -2.5 ] \"point3 p1\" [ 2.5 2.5 2.5 ]\n  \"rgb sigma_a\" [ " + sigA +
+                                        "]\n  \"rgb sigma_s\" [ " + sigS + "]\n");
+    const SceneDesc rgb = loadText("rgb-furnace.pbrt", rgbFurnace);
+    REQUIRE(rgb.media.size() == 1);
+    REQUIRE(rgb.media[0].sigmaSGrid.size() == 27);
+    for (int c = 0; c < 3; ++c) {
+        rstats::RunStats runs;
+        for (int k = 0; k < 6; ++k)
+            runs.add(rstats::blockMeans(render(rgb, rstats::renderOptions(TracerKind::PT, 16, 75 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+        INFO("rgbgrid channel " << c << ": " << z.describe());
+        CHECK(z.pass);
+    }
     // bad input: a grid whose size disagrees with its values
+    CHECK_THAT(errorOf("grid-bad2.pbrt", "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"rgbgrid\" "
+                                         "\"integer nx\" 2 \"rgb sigma_a\" [ 1 1 1 ] \"rgb sigma_s\" [ 1 1 1 1 1 1 ]\nShape \"sphere\"\n"),
+               Catch::Contains("grid-bad2.pbrt:4") && Catch::Contains("1 sigma_a values for a 2 x 1 x 1 grid"));
     CHECK_THAT(errorOf("grid-bad.pbrt", "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
                                         "\"integer nx\" 2 \"float density\" [ 1 ]\nShape \"sphere\"\n"),
                Catch::Contains("grid-bad.pbrt:4") && Catch::Contains("1 density values for a 2 x 1 x 1 grid"));

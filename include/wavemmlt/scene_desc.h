@@ -259,7 +259,7 @@ struct ShapeDesc {
 
 // A participating medium (docs/media.md): absorption and scattering coefficients per unit
 // length (RGB, >= 0) and the Henyey-Greenstein phase function's mean cosine g in (-1, 1)
-// (0: isotropic). Homogeneous, or (density non-empty) heterogeneous: the coefficients times
+// (0: isotropic). Homogeneous, or (density or the RGB grids non-empty) heterogeneous: the coefficients times
 // a density grid of nx x ny x nz values (x fastest, >= 0) over the unit cube of grid space
 // (worldToGrid), interpolated trilinearly between voxel centres, outside the cube 0 (pbrt's
 // grids) or the nearest voxel (clampEdges: Mitsuba's).
@@ -270,6 +270,9 @@ struct MediumDesc {
     float g = 0;
     int nx = 0, ny = 0, nz = 0;
     std::vector<float> density;
+    // Or RGB grids of the coefficients themselves (pbrt's rgbgrid; sigmaA and sigmaS then
+    // unused), the same size and interpolation.
+    std::vector<Vec3> sigmaAGrid, sigmaSGrid;
     Affine worldToGrid;
     bool clampEdges = false;
 };

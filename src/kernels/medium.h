@@ -25,8 +25,9 @@ namespace wmlt {
 struct Medium {
     Vec3 sigmaT{0.0f}, sigmaS{0.0f};
     float g = 0;
-    const float* density = nullptr;
-    int nx = 0, ny = 0, nz = 0;
+    const float* density = nullptr;                                // a density grid, or
+    const Vec3 *gridSigmaA = nullptr, *gridSigmaS = nullptr;       // RGB coefficient grids
+    int nx = 0, ny = 0, nz = 0;                                    // > 0: heterogeneous
     Affine worldToGrid;
     bool clampEdges = false;
     float majorant = 0;  // over the whole grid
@@ -127,8 +128,10 @@ struct MediumRng {
     }
 };
 
-// The density at q in grid space (the unit cube): trilinear between voxel centres.
-inline float gridDensity(const Medium& m, Vec3 q) {
+// A grid's value at q in grid space (the unit cube): trilinear between voxel centres, T
+// float or Vec3, values[i] for voxel i (0 outside the cube unless m.clampEdges).
+template <class T>
+inline T gridLookup(const Medium& m, const T* values, Vec3 q) {
     const float fx = q.x * float(m.nx) - 0.5f, fy = q.y * float(m.ny) - 0.5f, fz = q.z * float(m.nz) - 0.5f;
     const float x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
     const float tx = fx - x0, ty = fy - y0, tz = fz - z0;
@@ -136,16 +139,29 @@ inline float gridDensity(const Medium& m, Vec3 q) {
         if (m.clampEdges) {
             x = std::clamp(x, 0, m.nx - 1), y = std::clamp(y, 0, m.ny - 1), z = std::clamp(z, 0, m.nz - 1);
         } else if (x < 0 || y < 0 || z < 0 || x >= m.nx || y >= m.ny || z >= m.nz) {
-            return 0.0f;
+            return T(0.0f);
         }
-        return m.density[(size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)];
+        return values[(size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)];
     };
     const int ix = int(x0), iy = int(y0), iz = int(z0);
-    auto lerp = [](float t, float a, float b) { return a + t * (b - a); };
-    const float c00 = lerp(tx, at(ix, iy, iz), at(ix + 1, iy, iz)), c10 = lerp(tx, at(ix, iy + 1, iz), at(ix + 1, iy + 1, iz));
-    const float c01 = lerp(tx, at(ix, iy, iz + 1), at(ix + 1, iy, iz + 1));
-    const float c11 = lerp(tx, at(ix, iy + 1, iz + 1), at(ix + 1, iy + 1, iz + 1));
+    auto lerp = [](float t, T a, T b) { return a + (b - a) * t; };
+    const T c00 = lerp(tx, at(ix, iy, iz), at(ix + 1, iy, iz)), c10 = lerp(tx, at(ix, iy + 1, iz), at(ix + 1, iy + 1, iz));
+    const T c01 = lerp(tx, at(ix, iy, iz + 1), at(ix + 1, iy, iz + 1));
+    const T c11 = lerp(tx, at(ix, iy + 1, iz + 1), at(ix + 1, iy + 1, iz + 1));
     return lerp(tz, lerp(ty, c00, c10), lerp(ty, c01, c11));
+}
+inline float gridDensity(const Medium& m, Vec3 q) { return gridLookup(m, m.density, q); }
+
+// A heterogeneous medium's sigma_t and sigma_s at q in grid space.
+inline void gridCoefficients(const Medium& m, Vec3 q, Vec3& sigmaT, Vec3& sigmaS) {
+    if (m.density) {
+        const float d = gridDensity(m, q);
+        sigmaT = m.sigmaT * d;
+        sigmaS = m.sigmaS * d;
+        return;
+    }
+    sigmaS = gridLookup(m, m.gridSigmaS, q);
+    sigmaT = gridLookup(m, m.gridSigmaA, q) + sigmaS;
 }
 
 // The ray o + t d (world) in grid space, clipped to the unit cube and to [0, tMax]: its
@@ -196,8 +212,9 @@ inline FreePath sampleGridFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, 
                 absorbed = true;
                 return false;
             }
-            const float dens = gridDensity(m, go + gd * t);
-            const Vec3 sS = m.sigmaS * dens, sN = vmax(Vec3(maj) - m.sigmaT * dens, Vec3(0.0f));
+            Vec3 sT, sS;
+            gridCoefficients(m, go + gd * t, sT, sS);
+            const Vec3 sN = vmax(Vec3(maj) - sT, Vec3(0.0f));
             const float ps = sS.x * w.x + sS.y * w.y + sS.z * w.z, pn = sN.x * w.x + sN.y * w.y + sN.z * w.z;
             if (!(ps + pn > 0)) {  // only absorption here: the path ends
                 absorbed = true;
@@ -231,7 +248,9 @@ inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, Mediu
         for (float t = ta;;) {
             t -= std::log1p(-rng()) * inv;
             if (!(t < tb)) return true;
-            T = T * vmax(Vec3(1.0f) - m.sigmaT * (gridDensity(m, go + gd * t) * inv), Vec3(0.0f));
+            Vec3 sT, sS;
+            gridCoefficients(m, go + gd * t, sT, sS);
+            T = T * vmax(Vec3(1.0f) - sT * inv, Vec3(0.0f));
             if (isBlack(T) || ++collisions > kMaxNullCollisions) {
                 T = Vec3(0.0f);
                 return false;
@@ -244,12 +263,12 @@ inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, Mediu
 // Either kind: the free-path sample (homogeneous: from u; a grid: from the stream seeded
 // by seed) and the transmittance.
 inline FreePath sampleMediumFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, float u, uint64_t seed) {
-    if (!m.density) return sampleFreePath(m, tMax, u);
+    if (m.nx == 0) return sampleFreePath(m, tMax, u);
     MediumRng rng(seed);
     return sampleGridFreePath(m, o, d, tMax, rng);
 }
 inline Vec3 mediumTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, uint64_t seed) {
-    if (!m.density) return transmittance(m, tMax);
+    if (m.nx == 0) return transmittance(m, tMax);
     MediumRng rng(seed);
     return gridTransmittance(m, o, d, tMax, rng);
 }

@@ -167,9 +167,11 @@ inline void buildMajorants(Medium& m, std::vector<float>& cells) {
                 float d = 0;
                 for (int z = z0; z <= z1; ++z)
                     for (int y = y0; y <= y1; ++y)
-                        for (int x = x0; x <= x1; ++x)
-                            d = std::max(d, m.density[(size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)]);
-                cells[(size_t(cz) * size_t(m.my) + size_t(cy)) * size_t(m.mx) + size_t(cx)] = d * sMax;
+                        for (int x = x0; x <= x1; ++x) {
+                            const size_t i = (size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x);
+                            d = std::max(d, m.density ? m.density[i] * sMax : maxComponent(m.gridSigmaA[i] + m.gridSigmaS[i]));
+                        }
+                cells[(size_t(cz) * size_t(m.my) + size_t(cy)) * size_t(m.mx) + size_t(cx)] = d;
             }
 }
 
@@ -184,20 +186,27 @@ void buildMedia(const SceneDesc& d, Scene& s) {
         r.sigmaT = m.sigmaA + m.sigmaS;
         r.sigmaS = m.sigmaS;
         r.g = m.g;
-        if (!m.density.empty()) {
-            if (m.nx < 1 || m.ny < 1 || m.nz < 1 || m.density.size() != size_t(m.nx) * size_t(m.ny) * size_t(m.nz))
-                throw InputError(d.path, m.line, "medium \"" + m.name + "\": the density grid's size disagrees with its values");
-            float maxDensity = 0;
-            for (float v : m.density) {
-                if (!(v >= 0) || !std::isfinite(v))
-                    throw InputError(d.path, m.line, "medium \"" + m.name + "\": densities must be finite and >= 0");
-                maxDensity = std::max(maxDensity, v);
+        const bool rgb = !m.sigmaAGrid.empty() || !m.sigmaSGrid.empty();
+        if (!m.density.empty() || rgb) {
+            const size_t n = size_t(std::max(m.nx, 0)) * size_t(std::max(m.ny, 0)) * size_t(std::max(m.nz, 0));
+            if (m.nx < 1 || m.ny < 1 || m.nz < 1 || (rgb ? m.sigmaAGrid.size() != n || m.sigmaSGrid.size() != n : m.density.size() != n))
+                throw InputError(d.path, m.line, "medium \"" + m.name + "\": the grid's size disagrees with its values");
+            float maxValue = 0;  // of the density, or of sigma_t
+            for (size_t i = 0; i < n; ++i) {
+                const bool ok = rgb ? !bad(m.sigmaAGrid[i]) && !bad(m.sigmaSGrid[i]) : m.density[i] >= 0 && std::isfinite(m.density[i]);
+                if (!ok) throw InputError(d.path, m.line, "medium \"" + m.name + "\": grid values must be finite and >= 0");
+                maxValue = std::max(maxValue, rgb ? maxComponent(m.sigmaAGrid[i] + m.sigmaSGrid[i]) : m.density[i]);
             }
-            r.density = m.density.data();
+            if (rgb) {
+                r.gridSigmaA = m.sigmaAGrid.data();
+                r.gridSigmaS = m.sigmaSGrid.data();
+            } else {
+                r.density = m.density.data();
+            }
             r.nx = m.nx, r.ny = m.ny, r.nz = m.nz;
             r.worldToGrid = m.worldToGrid;
             r.clampEdges = m.clampEdges;
-            r.majorant = maxDensity * std::max(r.sigmaT.x, std::max(r.sigmaT.y, r.sigmaT.z));
+            r.majorant = rgb ? maxValue : maxValue * std::max(r.sigmaT.x, std::max(r.sigmaT.y, r.sigmaT.z));
             s.majorantGrids.emplace_back();
             buildMajorants(r, s.majorantGrids.back());
         }
@@ -206,7 +215,7 @@ void buildMedia(const SceneDesc& d, Scene& s) {
     // the majorant grids have stopped moving: point the media at them
     size_t g = 0;
     for (Medium& r : s.media)
-        if (r.density) r.majorants = s.majorantGrids[g++].data();
+        if (r.nx > 0) r.majorants = s.majorantGrids[g++].data();
     auto valid = [&](int i) { return i >= -1 && i < int(d.media.size()); };
     if (!valid(d.cameraMedium)) throw InputError(d.path, 0, "the camera's medium is not one of the scene's");
     s.cameraMedium = d.cameraMedium;

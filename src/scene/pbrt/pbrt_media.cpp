@@ -14,41 +14,55 @@ void Importer::medium(Directive& d) {
     if (namedMedia_.count(name)) fail(d.at, "MakeNamedMedium \"" + name + "\" defined twice");
     const std::string type = p.getString("type", "");
     if (type.empty()) fail(d.at, "MakeNamedMedium \"" + name + "\" needs a \"string type\"");
-    if (type != "homogeneous" && type != "uniformgrid")
-        fail(d.at, "MakeNamedMedium type \"" + type + "\" is not supported yet (homogeneous and uniformgrid are; docs/pbrt.md)");
+    if (type != "homogeneous" && type != "uniformgrid" && type != "rgbgrid")
+        fail(d.at, "MakeNamedMedium type \"" + type + "\" is not supported yet (homogeneous, uniformgrid and rgbgrid are; docs/pbrt.md)");
     if (const Param* q = p.find("preset")) fail(q->at, "medium presets (measured media) are not supported: give sigma_a and sigma_s");
     MediumDesc m;
     m.name = name;
     m.line = d.at.line;
     // pbrt-v4's defaults: sigma_a = sigma_s = 1 per unit, times scale; g 0
     const float scale = float(p.getFloat("scale", 1));
-    m.sigmaA = spectrum(p, "sigma_a", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
-    m.sigmaS = spectrum(p, "sigma_s", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
+    if (type != "rgbgrid") {  // (an rgbgrid's sigma_a and sigma_s are its grids, below)
+        m.sigmaA = spectrum(p, "sigma_a", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
+        m.sigmaS = spectrum(p, "sigma_s", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
+    }
     m.g = float(p.getFloat("g", 0));
     const Vec3 Le = spectrum(p, "Le", Vec3(0.0f), SpectrumUse::Illuminant) * float(p.getFloat("Lescale", 1));
     if (Le.x != 0 || Le.y != 0 || Le.z != 0) fail(p.find("Le")->at, "an emitting medium (Le) is not supported yet");
     auto bad = [](Vec3 v) { return !isFinite(v) || v.x < 0 || v.y < 0 || v.z < 0; };
     if (bad(m.sigmaA) || bad(m.sigmaS)) fail(d.at, "medium \"" + name + "\": sigma_a and sigma_s (times scale) must be finite and >= 0");
     if (!(m.g > -1 && m.g < 1)) fail(p.has("g") ? p.find("g")->at : d.at, "medium \"" + name + "\": g must be in (-1, 1)");
-    if (type == "uniformgrid") {  // pbrt-v4: density (nx ny nz, x fastest) over [p0, p1] in the medium's space
+    if (type == "uniformgrid" || type == "rgbgrid") {  // pbrt-v4: grids (nx ny nz, x fastest) over [p0, p1] in the medium's space
         m.nx = p.getInt("nx", 1), m.ny = p.getInt("ny", 1), m.nz = p.getInt("nz", 1);
         if (m.nx < 1 || m.ny < 1 || m.nz < 1 || double(m.nx) * m.ny * m.nz > 1e9)
-            fail(d.at, "uniformgrid: nx, ny, nz must be >= 1 (and their product at most 1e9)");
-        const Param* q = p.find("density");
-        if (!q) fail(d.at, "uniformgrid needs \"float density\"");
-        const std::vector<double> v = p.getNumbers("density");
-        if (v.size() != size_t(m.nx) * size_t(m.ny) * size_t(m.nz))
-            fail(q->at, "uniformgrid: " + std::to_string(v.size()) + " density values for a " + std::to_string(m.nx) + " x " +
-                            std::to_string(m.ny) + " x " + std::to_string(m.nz) + " grid");
-        m.density.reserve(v.size());
-        for (double x : v) {
-            if (!(x >= 0) || !std::isfinite(x)) fail(q->at, "uniformgrid: densities must be finite and >= 0");
-            m.density.push_back(float(x));
+            fail(d.at, type + ": nx, ny, nz must be >= 1 (and their product at most 1e9)");
+        const size_t n = size_t(m.nx) * size_t(m.ny) * size_t(m.nz);
+        // a grid parameter: `per` numbers per voxel, finite and >= 0
+        auto grid = [&](const char* name, int per) {
+            const Param* q = p.find(name);
+            if (!q) fail(d.at, type + " needs \"" + name + "\"");
+            const std::vector<double> v = p.getNumbers(name);
+            if (v.size() != n * size_t(per))
+                fail(q->at, type + ": " + std::to_string(v.size() / size_t(per)) + " " + name + " values for a " + std::to_string(m.nx) +
+                                " x " + std::to_string(m.ny) + " x " + std::to_string(m.nz) + " grid");
+            for (double x : v)
+                if (!(x >= 0) || !std::isfinite(x)) fail(q->at, type + ": " + name + " values must be finite and >= 0");
+            return v;
+        };
+        if (type == "uniformgrid") {
+            const std::vector<double> v = grid("density", 1);
+            m.density.assign(v.begin(), v.end());
+        } else {  // rgbgrid: the coefficients themselves, times scale
+            const std::vector<double> a = grid("sigma_a", 3), s = grid("sigma_s", 3);
+            for (size_t i = 0; i < n; ++i) {
+                m.sigmaAGrid.push_back(Vec3(float(a[3 * i]), float(a[3 * i + 1]), float(a[3 * i + 2])) * scale);
+                m.sigmaSGrid.push_back(Vec3(float(s[3 * i]), float(s[3 * i + 1]), float(s[3 * i + 2])) * scale);
+            }
         }
         const Vec3 p0 = p.getPoint3("p0", Vec3(0.0f)), p1 = p.getPoint3("p1", Vec3(1.0f));
         const Vec3 e = p1 - p0;
-        if (!(e.x > 0 && e.y > 0 && e.z > 0)) fail(d.at, "uniformgrid: p1 must exceed p0 in x, y and z");
-        if (g_.ctm.det3() == 0) fail(d.at, "uniformgrid: the current transformation is singular");
+        if (!(e.x > 0 && e.y > 0 && e.z > 0)) fail(d.at, type + ": p1 must exceed p0 in x, y and z");
+        if (g_.ctm.det3() == 0) fail(d.at, type + ": the current transformation is singular");
         const Matrix toGrid = Matrix::scale(1 / e.x, 1 / e.y, 1 / e.z) * Matrix::translate(-p0.x, -p0.y, -p0.z) * g_.ctm.inverse();
         m.worldToGrid = toGrid.affine();
         for (const char* k : {"temperature", "temperaturescale", "temperatureoffset"})
