@@ -86,10 +86,6 @@ inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
 constexpr uint32_t kBounceBase = 4;
 constexpr uint32_t kBounceStride = 7;
 inline uint32_t bounceDim(int depth, uint32_t j) { return kBounceBase + uint32_t(depth - 1) * kBounceStride + j; }
-// Media: bounce d's free-path sample on its k-th segment (k counts the pass-through
-// boundaries crossed, below kMediumStride) reads its own range of dimensions, apart from
-// the bounces' (a scene without media reads the same numbers as before media existed).
-constexpr uint32_t kMediumBase = 1u << 24, kMediumStride = 256;
-inline uint32_t mediumDim(int depth, uint32_t k) { return kMediumBase + uint32_t(depth - 1) * kMediumStride + k; }
+
 
 }  // namespace wmlt
