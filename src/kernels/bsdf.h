@@ -136,15 +136,17 @@ inline bool isDeltaMaterial(MaterialKind k) {
 inline float absCosTheta(Vec3 w) { return std::fabs(w.z); }
 
 // ---- Phase: a medium vertex's Henyey-Greenstein phase function (kernels/medium.h) ----
-// In the frame whose z is wo, so cos(wo, wi) = wi.z; g in `eta`. As a BSDF the stages
-// multiply f by |cos wi| (the frame's z has no meaning here): f = p / |wi.z| makes that
-// product p (0 on the measure-zero circle wi.z = 0); pdf = p.
+// In a frame whose z is the vertex's wo (towards the previous vertex), so one of the two
+// directions is the frame's z and the other's z is c = dot(wo, wi); g in `eta`. As a BSDF
+// the stages multiply f by |cos| of that other direction (PT: f(wo, wi) |wi.z|; the light
+// tracer: f(wi, wo) |wi.z| with wo its z): f = p(c) / |c| makes that product p (0 on the
+// measure-zero circle c = 0); pdf = p(c). Both symmetric in their arguments.
 inline float phaseG(const BsdfParams& m) { return m.eta; }
-inline Vec3 phaseF(const BsdfParams& m, Vec3, Vec3 wi) {
-    const float c = std::fabs(wi.z);
-    return c > 0 ? Vec3(henyeyGreenstein(wi.z, phaseG(m)) / c) : Vec3(0.0f);
+inline Vec3 phaseF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
+    const float c = dot(wo, wi);
+    return c != 0 ? Vec3(henyeyGreenstein(c, phaseG(m)) / std::fabs(c)) : Vec3(0.0f);
 }
-inline float phasePdf(const BsdfParams& m, Vec3, Vec3 wi) { return henyeyGreenstein(wi.z, phaseG(m)); }
+inline float phasePdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return henyeyGreenstein(dot(wo, wi), phaseG(m)); }
 inline bool phaseSample(const BsdfParams& m, float u1, float u2, BsdfSample& s) {
     const float c = sampleHenyeyGreensteinCos(phaseG(m), u1);
     const float sn = std::sqrt(std::max(0.0f, 1.0f - c * c)), phi = 2.0f * kPi * u2;
@@ -217,6 +219,7 @@ namespace wmlt {
 // Shading-normal correction of the adjoint BSDF (Veach 1997, eq. 5.19; pbrt-v3 16.1):
 // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|), wo towards the light side, wi onwards.
 inline float shadingCorrection(Vec3 wo, Vec3 wi, Vec3 ns, Vec3 ng) {
+    if (ng.x == 0 && ng.y == 0 && ng.z == 0) return 1.0f;  // a medium vertex: no surface to correct for
     float den = std::fabs(dot(wo, ng)) * std::fabs(dot(wi, ns));
     return den > 0 ? std::fabs(dot(wo, ns)) * std::fabs(dot(wi, ng)) / den : 0.0f;
 }
