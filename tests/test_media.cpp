@@ -128,7 +128,7 @@ Scale 10 10 1
 )" + cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
-Shape "trianglemesh" "point3 P" [ -20 -20 5  20 -20 5  20 20 5  -20 20 5 ] "integer indices" [ 0 2 1 0 3 2 ]
+Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
 AttributeEnd
 )";
     const SceneDesc d = loadText("slab.pbrt", text);
@@ -137,17 +137,18 @@ AttributeEnd
     REQUIRE(d.shapes[0].mediumBoundary);
     CHECK(d.shapes[0].mediumInside == 0);
     CHECK(d.shapes[0].mediumOutside == -1);
-    for (int c = 0; c < 3; ++c) {
-        const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
-        rstats::RunStats runs;
-        for (int k = 0; k < 6; ++k) {
-            const Image img = render(d, rstats::renderOptions(TracerKind::PT, 16, 10 + uint64_t(k), 1, 6)).image;
-            runs.add(rstats::blockMeans(img, 2, c));
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT})
+        for (int c = 0; c < 3; ++c) {
+            const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
+            rstats::RunStats runs;
+            for (int k = 0; k < 6; ++k) {
+                const Image img = render(d, rstats::renderOptions(tr, 16, 10 + uint64_t(k), 1, 6)).image;
+                runs.add(rstats::blockMeans(img, 2, c));
+            }
+            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma)));
+            INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe());
+            CHECK(z.pass);
         }
-        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma)));
-        INFO("channel " << c << ": " << z.describe());
-        CHECK(z.pass);
-    }
 }
 
 TEST_CASE("media in PT: single scattering of a point light in an infinite medium", "[media][render]") {
@@ -202,12 +203,17 @@ Shape "sphere" "float radius" 1
                         generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 4, float(y) + (float(j) + 0.5f) / 4, 0.5f, 0.5f, o, w);
                         expected[size_t(y / 4) * 4 + size_t(x / 4)] += radiance(o, w, c) / (16 * 16);
                     }
-        rstats::RunStats runs;
-        for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 64, 20 + uint64_t(k), 2, 2)).image, 4, c));
-        const rstats::ZTestResult z = rstats::zTest(runs, expected);
-        INFO("channel " << c << ": " << z.describe() << "; mean expected " << blockMean(expected));
-        CHECK(z.pass);
+        // (PT only: with the camera in a scattering medium the light tracer's connections from
+        // vertices near the lens weigh 1 / r^2, an estimator of infinite variance, which a
+        // test from measured variance cannot judge; its media tests keep the camera outside)
+        for (TracerKind tr : {TracerKind::PT}) {
+            rstats::RunStats runs;
+            for (int k = 0; k < 6; ++k)
+                runs.add(rstats::blockMeans(render(d, rstats::renderOptions(tr, 64, 20 + uint64_t(k), 2, 2)).image, 4, c));
+            const rstats::ZTestResult z = rstats::zTest(runs, expected);
+            INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe() << "; mean expected " << blockMean(expected));
+            CHECK(z.pass);
+        }
     }
 }
 
@@ -232,14 +238,16 @@ PixelFilter "box"
                                                         cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
     REQUIRE(inMedium.cameraMedium == 0);
     REQUIRE(boxed.cameraMedium == -1);
-    for (const SceneDesc* d : {&inMedium, &boxed}) {
-        rstats::RunStats runs;
-        for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(TracerKind::PT, 16, 30 + uint64_t(k), 1, kMaxPathLength)).image, 2, 1));
-        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
-        INFO((d == &inMedium ? "camera in the medium" : "medium in a box") << ": " << z.describe());
-        CHECK(z.pass);
-    }
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT})
+        for (const SceneDesc* d : {&inMedium, &boxed}) {
+            if (tr == TracerKind::LT && d == &inMedium) continue;  // (infinite variance: see the single-scattering test)
+            rstats::RunStats runs;
+            for (int k = 0; k < 6; ++k)
+                runs.add(rstats::blockMeans(render(*d, rstats::renderOptions(tr, 16, 30 + uint64_t(k), 1, kMaxPathLength)).image, 2, 1));
+            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+            INFO("tracer " << int(tr) << ", " << (d == &inMedium ? "camera in the medium" : "medium in a box") << ": " << z.describe());
+            CHECK(z.pass);
+        }
 }
 
 TEST_CASE("media in the thesis format: the furnace with a sphere of fog behind an interface", "[media][render][thesis]") {
@@ -368,14 +376,15 @@ AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
     const SceneDesc d = loadText("grid-furnace.pbrt", furnace);
     REQUIRE(d.media.size() == 1);
     REQUIRE(d.media[0].density.size() == 64);
-    for (int c = 0; c < 3; ++c) {
-        rstats::RunStats runs;
-        for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 70 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
-        const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
-        INFO("channel " << c << ": " << z.describe());
-        CHECK(z.pass);
-    }
+    for (TracerKind tr : {TracerKind::PT})  // (the camera is in the medium: PT only)
+        for (int c = 0; c < 3; ++c) {
+            rstats::RunStats runs;
+            for (int k = 0; k < 6; ++k)
+                runs.add(rstats::blockMeans(render(d, rstats::renderOptions(tr, 16, 70 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+            INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe());
+            CHECK(z.pass);
+        }
     // 2. An absorbing slab z in [0, 1] whose density ramps along z (nz = 2: a, b at the voxel
     //    centres z = 1/4, 3/4, 0 outside, trilinear): the optical depth along z is
     //    sigma_a 0.4375 (a + b); x and y constant over the view (the grid four voxels wide, the
@@ -397,14 +406,15 @@ Scale 10 10 1
 )" + cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
-Shape "trianglemesh" "point3 P" [ -20 -20 5  20 -20 5  20 20 5  -20 20 5 ] "integer indices" [ 0 2 1 0 3 2 ]
+Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
 AttributeEnd
 )");
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT})
     for (int c = 0; c < 3; ++c) {
         const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
         rstats::RunStats runs;
         for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(slab, rstats::renderOptions(TracerKind::PT, 16, 80 + uint64_t(k), 1, 6)).image, 2, c));
+            runs.add(rstats::blockMeans(render(slab, rstats::renderOptions(tr, 16, 80 + uint64_t(k), 1, 6)).image, 2, c));
         const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma * 0.4375 * 2.0)));
         INFO("slab channel " << c << ": " << z.describe());
         CHECK(z.pass);
@@ -544,5 +554,5 @@ TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
     }
     // the other tracers refuse media for now
     const SceneDesc fog = loadText("m6.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nShape \"sphere\"\n");
-    CHECK_THROWS_WITH(render(fog, rstats::renderOptions(TracerKind::BPT, 1, 1, 1, 2)), Catch::Contains("path tracer only"));
+    CHECK_THROWS_WITH(render(fog, rstats::renderOptions(TracerKind::BPT, 1, 1, 1, 2)), Catch::Contains("path and light tracers only"));
 }

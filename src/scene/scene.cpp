@@ -487,6 +487,12 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         }
         s->lights.push_back(l);
     }
+    for (const LightDesc& ld : d.lights) {  // (the environment, appended below, too)
+        const ShapeDesc* sh = ld.shape >= 0 ? &d.shapes[size_t(ld.shape)] : nullptr;
+        const bool boundary = sh && sh->mediumBoundary;
+        s->lightMediumFront.push_back(boundary ? sh->mediumOutside : s->cameraMedium);
+        s->lightMediumBack.push_back(boundary ? sh->mediumInside : s->cameraMedium);
+    }
     std::vector<float> power;
     for (const Light& l : s->lights)  // a textured emitter's: times its texture's mean luminance
         power.push_back(lightPower(l) * (l.type == LightType::Mesh ? s->meshLights[size_t(l.mesh)].meanLuminance : 1.0f));
@@ -496,6 +502,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         l.type = LightType::Env;
         s->envLight = int(s->lights.size());
         s->lights.push_back(l);
+        s->lightMediumFront.push_back(s->cameraMedium);
+        s->lightMediumBack.push_back(s->cameraMedium);
         // Flux through the scene's bounding sphere: pi * L_avg * 4 pi R^2.
         power.push_back(kPi * s->env.meanLuminance * 4.0f * kPi * s->radius * s->radius);
     }

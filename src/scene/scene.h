@@ -99,6 +99,10 @@ public:
     EnvMapSampler env;
     // Participating media (kernels/medium.h), by SceneDesc::media index; the camera's.
     std::vector<Medium> media;
+    // The medium each light emits into from its front face (the outside of a boundary
+    // shape) and its back face (the inside); else, and for point, directional and
+    // environment lights, the camera's (docs/media.md). By light index.
+    std::vector<int> lightMediumFront, lightMediumBack;
     std::vector<std::vector<float>> majorantGrids;  // the grid media's, in their order (Medium::majorants)
     int cameraMedium = -1;
     Vec3 boundsMin, boundsMax, center;

@@ -12,6 +12,7 @@
 #include "stages/film.h"
 #include "stages/passes.h"
 #include "stages/lt_stages.h"
+#include "stages/media.h"
 #include "stages/splat_passes.h"
 
 namespace wmlt {
@@ -37,6 +38,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
         // camera at path length k = d + 1.
         for (int d = 1; d + 1 <= opt.maxPathLength && b.numPaths > 0; ++d) {
             intersect(scene, b, false, counters);
+            if (scene.features.media) traverseMediaOf(scene, b, d, counters);  // (media.h)
             resolveLightHits(scene, b);
             if (b.numHits == 0) break;
             groupByMaterial(b, b.bsdf.data());

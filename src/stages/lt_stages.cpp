@@ -4,6 +4,7 @@
 #include "kernels/sampling.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
+#include "stages/media.h"
 #include "stages/surface.h"
 #include "stages/trace.h"
 #include "stages/wave.h"
@@ -38,15 +39,20 @@ constexpr CameraDims kLtEnvCameraDims{7, 8, 9, 10};
 void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n, uint64_t seed) {
     b.numConn = forEachCameraRay(
         scene, b, t, n, seed, kLtEnvCameraDims, [&](uint32_t pixel, uint32_t s) { return ltSampleKey(seed, pixel, s); },
-        [&](size_t i, uint32_t pixel, uint64_t, Vec3 o, Vec3 d) {
+        [&](size_t i, uint32_t pixel, uint64_t key, Vec3 o, Vec3 d) {
             setRay(b.conn[i], o, d, 0.0f, INFINITY);
             b.connPixel[i] = pixel;
             b.connValue[i] = scene.env.Le(d) * b.filmWeight[i];
+            if (scene.features.media) {
+                b.connMedium[i] = scene.cameraMedium;
+                b.connKey[i] = key;
+            }
         });
 }
 
 void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t seed, bool connectLength1) {
     const Camera& cam = scene.camera;
+    const bool media = scene.features.media;
     size_t n = 0;
     b.numConn = 0;
     forEachTileSample(t, cam.width, [&](size_t i, int, int, uint32_t pixel, uint32_t s) {
@@ -60,6 +66,8 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
                                  sampleDimension(key, 3), sampleDimension(key, 4), e))
             return;
         const bool infinite = isInfiniteLight(scene.lights[li]);
+        // (media) the face it emits from: a two-sided light's back face for u2 >= 1/2
+        const bool back = scene.lights[li].twoSided && sampleDimension(key, 3) >= 0.5f;
         // Light vertex: alpha = Le-carrying weight 1 / (pmf pdfPos) (Veach 10.2).
         const float invPos = 1.0f / (pmf * e.pdfPos);
         if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
@@ -67,7 +75,14 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
             if (cs.valid) {
                 Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi) * e.tex;  // (tex 1 but for textured emitters)
                 float cosL = std::fabs(dot(cs.wi, e.n));
-                if (!isBlack(Le)) addConnection(scene, b, e.p, e.n, cs, Le * (cosL * invPos * cs.We / cs.pdf));
+                if (!isBlack(Le)) {
+                    if (media) {  // the face towards the camera (e.n is the face emission took)
+                        b.connMedium[b.numConn] = (back != (dot(cs.wi, e.n) < 0)) ? scene.lightMediumBack[size_t(li)]
+                                                                                : scene.lightMediumFront[size_t(li)];
+                        b.connKey[b.numConn] = key;
+                    }
+                    addConnection(scene, b, e.p, e.n, cs, Le * (cosL * invPos * cs.We / cs.pdf));
+                }
             }
         }
         Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) * invPos / e.pdfDir);
@@ -78,12 +93,22 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
         Vec3 o = infinite ? e.p : scene.offsetRayOrigin(e.p, e.n, e.dir);
         setRayHit(b.ray[n], o, e.dir);
         b.beta[n] = beta;
+        if (media) b.medium[n] = back ? scene.lightMediumBack[size_t(li)] : scene.lightMediumFront[size_t(li)];
         ++n;
     });
     b.numPaths = n;
 }
 
 void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c) {
+    if (scene.features.media) {  // through media and pass-through boundaries (media.h)
+        for (size_t k = 0; k < b.numConn; ++k) {
+            const uint64_t seed = mix64(b.connKey[k] ^ 0x434f4e4eull ^ (uint64_t(length) << 40));
+            const Vec3 v = b.connValue[k] * transmittanceAlong(scene, b.conn[k], b.connMedium[k], seed, c);
+            if (!isBlack(v) && b.tally.take(v, length)) pushSplat(b.splats, b.points, b.connPixel[k], b.connX[k], b.connY[k], v);
+        }
+        b.numConn = 0;
+        return;
+    }
     traceOccluded(scene.rtc, b.conn.data(), b.numConn);
     c.raysOccluded += b.numConn;
     for (size_t k = 0; k < b.numConn; ++k) {
@@ -99,13 +124,34 @@ namespace {
 // The stage for the scene's surface features F (surface.h, withSurfaceFeatures).
 template <class F>
 void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
+    const bool media = scene.features.media;
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
         prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
+        if (media && b.mediumEvent[i]) {  // a scattering event in the path's medium: a Phase vertex
+            const Vec3 d = rayDir(rh);
+            const int m = b.medium[i];
+            b.hitPath[h] = uint32_t(i);
+            b.p[h] = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + d * b.mediumT[i];
+            b.ng[h] = Vec3(0.0f);
+            b.wo[h] = -d;
+            b.shading[h] = Frame::fromNormal(-d);
+            b.bsdf[h] = BsdfParams{};
+            b.bsdf[h].kind = MaterialKind::Phase;
+            b.bsdf[h].eta = scene.media[size_t(m)].g;  // phaseG
+            b.hitMediumIn[h] = b.hitMediumOut[h] = m;
+            ++h;
+            continue;
+        }
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene
         SurfacePoint sp = surfaceAt<F>(scene, rh);
         if (sp.material < 0) continue;  // an emitter without a material absorbs
+        if (media) {
+            const GeomRecord& g = scene.geoms[rh.hit.geomID];
+            b.hitMediumIn[h] = g.mediumBoundary ? g.mediumInside : b.medium[i];
+            b.hitMediumOut[h] = g.mediumBoundary ? g.mediumOutside : b.medium[i];
+        }
         recordHit<F>(scene, b, h++, i, sp, -rayDir(rh));
     }
     b.numHits = h;
@@ -140,6 +186,10 @@ void connectToCamera(const Scene& scene, LtBatch& b, int d) {
                 // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
                 float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
                 Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
+                if (scene.features.media) {
+                    b.connMedium[b.numConn] = dot(cs.wi, b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
+                    b.connKey[b.numConn] = key;
+                }
                 addConnection(scene, b, b.p[h], b.ng[h], cs, v);
             }
         });
@@ -166,9 +216,13 @@ void sampleLightBsdfs(const Scene& scene, LtBatch& b, int d) {
 }
 
 void advanceLightPaths(const Scene& scene, LtBatch& b) {
+    const bool media = scene.features.media;
     compact(
         scene, b, [&](size_t h, Vec3& p, Vec3& ng) { p = b.p[h]; ng = b.ng[h]; },
-        [&](size_t n, uint32_t, size_t h) { b.beta[n] = b.nextBeta[h]; });
+        [&](size_t n, uint32_t, size_t h) {
+            b.beta[n] = b.nextBeta[h];
+            if (media) b.medium[n] = dot(b.nextDir[h], b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
+        });
 }
 
 }  // namespace wmlt

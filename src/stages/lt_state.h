@@ -26,8 +26,16 @@ namespace wmlt {
     X(uint64_t, key) X(float, betaScale) X(Vec3, beta) WMLT_HIT_SURFACE_ARRAYS(X)          \
     X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(float, connX) X(float, connY) X(Vec3, connValue)
 
+// Allocated only for a scene with media (docs/media.md): per path its medium and this
+// round's scattering event (traverseMediaOf); per hit the media on its two sides; per
+// connection the medium it starts in and its sample's key (a grid's ratio tracking).
+#define WMLT_LT_MEDIA_ARRAYS(X)                                                              \
+    X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(int32_t, hitMediumIn)   \
+    X(int32_t, hitMediumOut) X(int32_t, connMedium) X(uint64_t, connKey)
+
 struct LtBatch : PathWave {
     WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
     size_t numConn = 0;
     std::vector<Splat> splats;
     std::vector<PointSplat> points;  // filtered scenes: contributions at film points
@@ -36,6 +44,7 @@ struct LtBatch : PathWave {
     void reserve(size_t n, const BatchNeeds& needs) {
         resizeWave(n, needs);
         WMLT_LT_ARRAYS(WMLT_SOA_RESIZE)
+        if (needs.media) { WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
         splats.reserve(n);
     }
 };
