@@ -32,6 +32,15 @@ SceneDesc loadText(const std::string& name, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
     return loadScene(path);
 }
+// The message a Mitsuba scene's loading fails with (read as "bad.xml"), or "no error".
+std::string mitsubaError(const std::string& xml) {
+    try {
+        loadMitsubaFromString(xml, "bad.xml", dir());
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "no error";
+}
 std::string errorOf(const std::string& name, const std::string& text) {
     try {
         loadText(name, text);
@@ -334,14 +343,6 @@ TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a 
         INFO((d == &inMedium ? "sensor in the medium" : "null sphere") << ": " << z.describe());
         CHECK(z.pass);
     }
-    auto mitsubaError = [&](const std::string& xml) {
-        try {
-            loadMitsubaFromString(xml, "bad.xml", dir());
-        } catch (const InputError& e) {
-            return std::string(e.what());
-        }
-        return std::string("no error");
-    };
     CHECK_THAT(mitsubaError(scene("", "<medium type=\"vdb\" id=\"h\"/><shape type=\"sphere\"><ref name=\"interior\" id=\"h\"/></shape>\n")),
                Catch::Contains("bad.xml:9") && Catch::Contains("medium \"vdb\" is not supported"));
     CHECK_THAT(mitsubaError(scene("", "<shape type=\"sphere\"><medium type=\"homogeneous\" name=\"interior\"><float name=\"sigma_t\" value=\"-1\"/></medium></shape>\n")),
@@ -495,14 +496,6 @@ TEST_CASE("media in Mitsuba files: a heterogeneous gridvolume, the furnace, and 
     const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
     INFO(z.describe());
     CHECK(z.pass);
-    auto mitsubaError = [&](const std::string& xml) {
-        try {
-            loadMitsubaFromString(xml, "bad.xml", dir());
-        } catch (const InputError& e) {
-            return std::string(e.what());
-        }
-        return std::string("no error");
-    };
     CHECK_THAT(mitsubaError(scene("short.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("truncated: 20 values for 27"));
     CHECK_THAT(mitsubaError(scene("rgb.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("3 channels"));
     CHECK_THAT(mitsubaError(scene("missing.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("missing.vol"));

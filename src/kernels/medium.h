@@ -186,11 +186,36 @@ inline bool gridSpan(const Medium& m, Vec3 o, Vec3 d, float tMax, Vec3& go, Vec3
 
 constexpr int kMaxNullCollisions = 1 << 20;  // past it a path is taken as absorbed
 
-// A free-path sample in a grid medium along [0, tMax]: tentative collisions at the majorant's
-// rate; at each, scatter with probability P_s = mean(sigma_s w) / mean((sigma_s + sigma_n) w)
-// (w the segment's weight so far, sigma_n = majorant - sigma_t per channel), the weight
-// taking sigma_s / (majorant P_s), else go on with sigma_n / (majorant (1 - P_s)): unbiased
-// per channel, absorption in the weights.
+// Calls f(t, majorant, sigma_t, sigma_s) at each tentative collision along [t0, t1] of the ray
+// go + t gd in grid space, at the rate of each majorant cell it crosses (free paths are
+// memoryless: a new start at each cell), until f returns false; returns false when f stopped
+// it or after kMaxNullCollisions collisions.
+template <class F>
+inline bool forEachCollision(const Medium& m, Vec3 go, Vec3 gd, float t0, float t1, MediumRng& rng, F&& f) {
+    int collisions = 0;
+    bool completed = true;
+    walkMajorants(m, go, gd, t0, t1, [&](float ta, float tb, float maj) {
+        if (!(maj > 0)) return true;
+        const float inv = 1.0f / maj;
+        for (float t = ta;;) {
+            t -= std::log1p(-rng()) * inv;
+            if (!(t < tb)) return true;
+            Vec3 sT, sS;
+            gridCoefficients(m, go + gd * t, sT, sS);
+            if (++collisions > kMaxNullCollisions || !f(t, maj, sT, sS)) {
+                completed = false;
+                return false;
+            }
+        }
+    });
+    return completed;
+}
+
+// A free-path sample in a grid medium along [0, tMax]: at each tentative collision scatter
+// with probability P_s = mean(sigma_s w) / mean((sigma_s + sigma_n) w) (w the segment's
+// weight so far, sigma_n = majorant - sigma_t per channel), the weight taking
+// sigma_s / (majorant P_s), else go on with sigma_n / (majorant (1 - P_s)): unbiased per
+// channel, absorption in the weights.
 inline FreePath sampleGridFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng& rng) {
     FreePath r;
     r.t = tMax;
@@ -199,65 +224,37 @@ inline FreePath sampleGridFreePath(const Medium& m, Vec3 o, Vec3 d, float tMax, 
     float t0, t1;
     if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return r;
     Vec3 w(1.0f);
-    int collisions = 0;
-    bool absorbed = false;
-    // each cell with its own majorant (free paths are memoryless: a new start at each cell)
-    walkMajorants(m, go, gd, t0, t1, [&](float ta, float tb, float maj) {
-        if (!(maj > 0)) return true;
+    const bool passed = forEachCollision(m, go, gd, t0, t1, rng, [&](float t, float maj, Vec3 sT, Vec3 sS) {
         const float inv = 1.0f / maj;
-        for (float t = ta;;) {
-            t -= std::log1p(-rng()) * inv;
-            if (!(t < tb)) return true;
-            if (++collisions > kMaxNullCollisions) {
-                absorbed = true;
-                return false;
-            }
-            Vec3 sT, sS;
-            gridCoefficients(m, go + gd * t, sT, sS);
-            const Vec3 sN = vmax(Vec3(maj) - sT, Vec3(0.0f));
-            const float ps = sS.x * w.x + sS.y * w.y + sS.z * w.z, pn = sN.x * w.x + sN.y * w.y + sN.z * w.z;
-            if (!(ps + pn > 0)) {  // only absorption here: the path ends
-                absorbed = true;
-                return false;
-            }
-            const float Ps = ps / (ps + pn);
-            if (rng() < Ps) {
-                r.t = t;
-                r.scattered = true;
-                w = w * sS * (inv / Ps);
-                return false;
-            }
-            w = w * sN * (inv / (1.0f - Ps));
+        const Vec3 sN = vmax(Vec3(maj) - sT, Vec3(0.0f));
+        const float ps = sS.x * w.x + sS.y * w.y + sS.z * w.z, pn = sN.x * w.x + sN.y * w.y + sN.z * w.z;
+        if (!(ps + pn > 0)) return false;  // only absorption here: the path ends
+        const float Ps = ps / (ps + pn);
+        if (rng() < Ps) {
+            r.t = t;
+            r.scattered = true;
+            w = w * sS * (inv / Ps);
+            return false;
         }
+        w = w * sN * (inv / (1.0f - Ps));
+        return true;
     });
-    r.weight = absorbed ? Vec3(0.0f) : w;
+    r.weight = passed || r.scattered ? w : Vec3(0.0f);
     return r;
 }
 
 // Transmittance through a grid medium along [0, tMax] by ratio tracking: the product of
-// (1 - sigma_t / majorant) at tentative collisions of the majorant's rate (unbiased).
+// (1 - sigma_t / majorant) at the tentative collisions (unbiased).
 inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng& rng) {
     Vec3 go, gd;
     float t0, t1;
     if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return Vec3(1.0f);
     Vec3 T(1.0f);
-    int collisions = 0;
-    walkMajorants(m, go, gd, t0, t1, [&](float ta, float tb, float maj) {
-        if (!(maj > 0)) return true;
-        const float inv = 1.0f / maj;
-        for (float t = ta;;) {
-            t -= std::log1p(-rng()) * inv;
-            if (!(t < tb)) return true;
-            Vec3 sT, sS;
-            gridCoefficients(m, go + gd * t, sT, sS);
-            T = T * vmax(Vec3(1.0f) - sT * inv, Vec3(0.0f));
-            if (isBlack(T) || ++collisions > kMaxNullCollisions) {
-                T = Vec3(0.0f);
-                return false;
-            }
-        }
+    const bool passed = forEachCollision(m, go, gd, t0, t1, rng, [&](float, float maj, Vec3 sT, Vec3) {
+        T = T * vmax(Vec3(1.0f) - sT * (1.0f / maj), Vec3(0.0f));
+        return !isBlack(T);
     });
-    return T;
+    return passed ? T : Vec3(0.0f);
 }
 
 // Either kind: the free-path sample (homogeneous: from u; a grid: from the stream seeded

@@ -130,18 +130,7 @@ void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
         const RTCRayHit& rh = b.ray[i];
         prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
         if (media && b.mediumEvent[i]) {  // a scattering event in the path's medium: a Phase vertex
-            const Vec3 d = rayDir(rh);
-            const int m = b.medium[i];
-            b.hitPath[h] = uint32_t(i);
-            b.p[h] = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + d * b.mediumT[i];
-            b.ng[h] = Vec3(0.0f);
-            b.wo[h] = -d;
-            b.shading[h] = Frame::fromNormal(-d);
-            b.bsdf[h] = BsdfParams{};
-            b.bsdf[h].kind = MaterialKind::Phase;
-            b.bsdf[h].eta = scene.media[size_t(m)].g;  // phaseG
-            b.hitMediumIn[h] = b.hitMediumOut[h] = m;
-            ++h;
+            recordMediumVertex(scene, b, h++, i);
             continue;
         }
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;  // leaves the scene

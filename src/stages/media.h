@@ -66,6 +66,25 @@ void traverseMediaOf(const Scene& scene, Batch& b, int depth, RayCounters& c) {
     }
 }
 
+// Hit h of a batch with the hit-surface and media arrays (PT's, LT's): path i's scattering
+// event in its medium, at mediumT along its ray: a Phase vertex (kernels/bsdf.h) with no
+// normal (rays leave it without offset), its frame's z towards the previous vertex.
+template <class Batch>
+void recordMediumVertex(const Scene& scene, Batch& b, size_t h, size_t i) {
+    const RTCRayHit& rh = b.ray[i];
+    const Vec3 d = rayDir(rh);
+    const int m = b.medium[i];
+    b.hitPath[h] = uint32_t(i);
+    b.p[h] = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + d * b.mediumT[i];
+    b.ng[h] = Vec3(0.0f);
+    b.wo[h] = -d;
+    b.shading[h] = Frame::fromNormal(-d);
+    b.bsdf[h] = BsdfParams{};
+    b.bsdf[h].kind = MaterialKind::Phase;
+    b.bsdf[h].eta = scene.media[size_t(m)].g;  // phaseG
+    b.hitMediumIn[h] = b.hitMediumOut[h] = m;
+}
+
 // The transmittance along ray r (up to its tfar) from medium m through media and
 // pass-through boundaries; 0 when any other surface is in the way. A grid's ratio tracking
 // reads streams seeded by seed and the segment.

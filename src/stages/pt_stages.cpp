@@ -6,6 +6,7 @@
 #include "kernels/scatter.h"
 #include "scene/scene_lights.h"
 #include "stages/bsdf_dispatch.h"
+#include "stages/media.h"
 #include "stages/surface.h"
 #include "stages/trace.h"
 #include "stages/wave.h"
@@ -44,22 +45,10 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, ui
 
 namespace {
 
-// Hit h: path i's scattering event in its medium (traverseMedia), at mediumT along its
-// ray: a Phase vertex (kernels/bsdf.h) with no normal (rays leave it without offset), its
-// frame's z towards the previous vertex.
-void recordMediumVertex(const Scene& scene, PtBatch& b, size_t h, size_t i, Vec3 d, bool matte) {
-    const RTCRayHit& rh = b.ray[i];
-    const int m = b.medium[i];
-    b.hitPath[h] = uint32_t(i);
-    b.p[h] = rayOrigin(rh) + d * b.mediumT[i];
-    b.ng[h] = Vec3(0.0f);
-    b.wo[h] = -d;
-    b.shading[h] = Frame::fromNormal(-d);
-    BsdfParams& bp = b.bsdf[h];
-    bp = BsdfParams{};
-    bp.kind = MaterialKind::Phase;
-    bp.eta = scene.media[size_t(m)].g;  // phaseG
-    b.hitMediumIn[h] = b.hitMediumOut[h] = m;
+// Hit h: path i's scattering event in its medium (media.h, recordMediumVertex), with PT's
+// own per-hit arrays.
+void recordPtMediumVertex(const Scene& scene, PtBatch& b, size_t h, size_t i, Vec3 d, bool matte) {
+    recordMediumVertex(scene, b, h, i);
     b.hitKey[h] = b.key[b.pathSlot[i]];
     if (matte) {  // the matte flat loops run over every hit: harmless values
         b.hitNs[h] = -d;
@@ -81,7 +70,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         const uint32_t slot = b.pathSlot[i];
         const Vec3 d = rayDir(rh);
         if (media && b.mediumEvent[i]) {
-            if (depth < maxLength) recordMediumVertex(scene, b, h++, i, d, matte);
+            if (depth < maxLength) recordPtMediumVertex(scene, b, h++, i, d, matte);
             continue;
         }
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
