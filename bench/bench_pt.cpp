@@ -39,11 +39,11 @@
 #include "kernels/rng.h"
 #include "kernels/sampling.h"
 #include "scene/scene.h"
-#include "stages/bidirectional.h"
-#include "stages/mmlt.h"
-#include "stages/path_tracer.h"
-#include "stages/surface.h"
-#include "stages/trace.h"
+#include "stages/bpt/bidirectional.h"
+#include "stages/mmlt/mmlt.h"
+#include "stages/pt/path_tracer.h"
+#include "stages/core/surface.h"
+#include "stages/core/trace.h"
 #include "wavemmlt/error.h"
 
 using namespace wmlt;

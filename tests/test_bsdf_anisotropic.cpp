@@ -10,7 +10,7 @@
 #include "chi2.h"
 #include "kernels/bsdf.h"
 #include "scene/scene.h"
-#include "stages/surface.h"
+#include "stages/core/surface.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 

@@ -10,7 +10,7 @@
 #include "chi2.h"
 #include "kernels/bsdf.h"
 #include "kernels/fresnel.h"
-#include "stages/bsdf_dispatch.h"
+#include "stages/core/bsdf_dispatch.h"
 
 using namespace wmlt;
 using chi2::close;
@@ -275,7 +275,7 @@ TEST_CASE("Delta Mitsuba kinds: conductor and thin dielectric weights and direct
     }
 }
 
-// BsdfOf<K>::reads (stages/bsdf_dispatch.h) says which of a sample's numbers the kind reads:
+// BsdfOf<K>::reads (stages/core/bsdf_dispatch.h) says which of a sample's numbers the kind reads:
 // the stages ask for only those, and MMLT proposes only those, so a number declared unread
 // must never change a sample. Each kind, both transport modes, 2000 random draws: the
 // sample with the unread numbers replaced by other values is the same bit for bit.

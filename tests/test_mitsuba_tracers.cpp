@@ -150,7 +150,7 @@ TEST_CASE("Mitsuba tracers: point lights and mesh lights in every tracer", "[mit
 // Anisotropic roughness (alpha_u != alpha_v) under a ceiling light: a rough copper plate
 // turned 30 degrees about its normal (its u direction, the highlight's, off the box's axes)
 // and a rough glass sphere. Every tracer must turn the shading frames alike (x along
-// dp/du, stages/surface.h) for the connections and the sampled directions to agree.
+// dp/du, stages/core/surface.h) for the connections and the sampled directions to agree.
 TEST_CASE("Mitsuba tracers: anisotropic roughness in every tracer", "[mitsuba][render][stat][aniso]") {
     agree("anisotropic roughness", scene(R"(
   <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>

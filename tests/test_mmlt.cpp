@@ -33,7 +33,7 @@
 
 #include "power.h"
 #include "render_stats.h"
-#include "stages/mmlt.h"
+#include "stages/mmlt/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"

@@ -17,8 +17,8 @@
 #include "kernels/gaussian.h"
 #include "kernels/mutation.h"
 #include "render_stats.h"
-#include "stages/mmlt_stages.h"
-#include "stages/mmlt_state.h"
+#include "stages/mmlt/mmlt_stages.h"
+#include "stages/mmlt/mmlt_state.h"
 
 using namespace wmlt;
 

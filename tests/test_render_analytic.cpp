@@ -159,7 +159,7 @@ TEST_CASE("plane under a sphere light, length 2: per-pixel closed form", "[rende
 
 // The same scene with a larger floor: nothing in view changes, but ray offsets grow with
 // the scene's bounds (Scene::epsilonScale), which must not change the image.
-// (Found failing: sampleLights in src/stages/pt_stages.cpp casts the shadow ray from the
+// (Found failing: sampleLights in src/stages/pt/pt_stages.cpp casts the shadow ray from the
 // offset origin along ls.wi, the direction from the un-offset point, so the segment ends
 // beside ls.p, up to the offset inside the light; with a 1000-unit floor about 19 % of
 // the next-event samples hit the light sphere itself and the image is 19 % dark.)

@@ -1,4 +1,4 @@
-// The texture stage (src/stages/textures.h) with the combining textures (Scale, Mix) the
+// The texture stage (src/stages/core/textures.h) with the combining textures (Scale, Mix) the
 // pbrt-v4 importer fills: a floor whose reflectance is a Scale of a checkerboard by 0.5
 // renders as the same floor with the constant 0.5 times the checkerboard, bit for bit (a
 // product by 0.5 is exact), in every tracer; and Scene::build refuses a combining texture

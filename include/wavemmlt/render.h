@@ -26,7 +26,7 @@ struct Snapshot {
 
 // A viewer of a running render (--view, --display-server): RenderOptions::view. Tracers
 // call it on their own thread at each pass (PT, LT, BPT) or round (MMLT) boundary, while
-// no batch runs: stages/preview.h, offerSnapshot().
+// no batch runs: stages/core/preview.h, offerSnapshot().
 class RenderView {
 public:
     virtual ~RenderView() = default;
@@ -39,7 +39,7 @@ public:
     virtual double waitWhilePaused() = 0;
 };
 
-class Distributed;  // the ranks of a render split across processes (stages/distributed.h)
+class Distributed;  // the ranks of a render split across processes (stages/core/distributed.h)
 
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
@@ -51,7 +51,7 @@ struct RenderOptions {
     int minPathLength = 1, maxPathLength = 10;
     float misBeta = 2;         // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
     // MMLT (spp: mutations per pixel).
-    int chains = 0;            // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt.h)
+    int chains = 0;            // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt/mmlt.h)
     int bootstrap = 0;         // samples per path length in the first pass's pool; 0: automatic
     float probLarge = 0.3f;    // probability of a large step, (0, 1]
     int passLength = 0;        // iterations of every chain between restarts from a new pool; 0: automatic

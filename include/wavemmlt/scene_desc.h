@@ -158,7 +158,7 @@ inline bool principledTransmits(const MaterialDesc& m) {
 
 // A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it
 // differs from the u one (or is scaled by another texture): the material is anisotropic,
-// its shading frame's x axis follows dp/du (stages/surface.h).
+// its shading frame's x axis follows dp/du (stages/core/surface.h).
 inline float alphaVOf(const MaterialDesc& m) { return m.alphaV < 0 ? m.alpha : m.alphaV; }
 inline bool isAnisotropic(const MaterialDesc& m) {
     const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric ||

@@ -20,9 +20,9 @@
 #include "app/watchers.h"
 #include "app/ranks.h"
 #include "scene/features.h"
-#include "stages/distributed.h"
-#include "stages/memory.h"
-#include "stages/mmlt.h"
+#include "stages/core/distributed.h"
+#include "stages/core/memory.h"
+#include "stages/mmlt/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
 

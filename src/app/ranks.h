@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "stages/distributed.h"
+#include "stages/core/distributed.h"
 
 namespace wmlt {
 

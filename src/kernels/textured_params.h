@@ -1,6 +1,6 @@
 // A material's textured parameters at one point: kind K's constants (a hit's BsdfParams,
 // written by materialAt) finished with its textures there. The texture stage runs it kind by
-// kind over a round's hits (stages/textures.h); a blend with textured parts runs it on its
+// kind over a round's hits (stages/core/textures.h); a blend with textured parts runs it on its
 // parts where its kernel needs them (textureBlendParts). Pure: no allocation, no state.
 #pragma once
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The MPI implementation of Distributed (stages/distributed.h), built only when CMake finds
+// The MPI implementation of Distributed (stages/core/distributed.h), built only when CMake finds
 // MPI (into wavemmlt_ranks, which only the programs that start ranks link). The MPI calls are made from the render's own thread only
 // (MPI_THREAD_FUNNELED); the exchanges are plain MPI-3 collectives except the film sum,
 // a pipelined chain in rank order (its order of additions is fixed, which MPI_Reduce does
@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "stages/distributed.h"
+#include "stages/core/distributed.h"
 
 namespace wmlt {
 

@@ -1,9 +1,9 @@
-// startRanks() and abortRanks() of a build without MPI (stages/distributed.h): one
+// startRanks() and abortRanks() of a build without MPI (stages/core/distributed.h): one
 // process. The build with MPI links src/mpi/distributed_mpi.cpp instead; only the programs
 // that start ranks (wavemmlt, the tests' mpi runner) link either, so nothing else loads MPI.
 #include <cstdlib>
 
-#include "stages/distributed.h"
+#include "stages/core/distributed.h"
 
 namespace wmlt {
 

@@ -2,13 +2,13 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
-#include "stages/bidirectional.h"
-#include "stages/distributed.h"
-#include "stages/light_tracer.h"
-#include "stages/memory.h"
-#include "stages/strategy_films.h"
-#include "stages/mmlt.h"
-#include "stages/path_tracer.h"
+#include "stages/bpt/bidirectional.h"
+#include "stages/core/distributed.h"
+#include "stages/lt/light_tracer.h"
+#include "stages/core/memory.h"
+#include "stages/core/strategy_films.h"
+#include "stages/mmlt/mmlt.h"
+#include "stages/pt/path_tracer.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
 

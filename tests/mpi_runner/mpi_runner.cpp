@@ -11,7 +11,7 @@
 #include <iostream>
 #include <string>
 
-#include "stages/distributed.h"
+#include "stages/core/distributed.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"

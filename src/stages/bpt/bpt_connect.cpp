@@ -1,0 +1,194 @@
+// Connecting BPT's subpaths, a wave of strategies at a time: each strategy of a slot is
+// set up (setUpStrategy, bpt_strategy.cpp), the BSDFs at the connections' ends are
+// evaluated kind by kind (evaluateStrategyBsdfs), then each strategy is weighted
+// (weighStrategy) and added (s = 0) or queued as a shadow ray, in the order the strategies
+// were listed. BPT lists all strategies of each slot (connectBpt), MMLT the one each
+// chain's proposal picked (connectStrategies). Visibility is decided by batched shadow
+// rays (traceBptConnections).
+#include "stages/core/bsdf_dispatch.h"
+#include "stages/bpt/bpt_stages.h"
+#include "stages/core/trace.h"
+
+namespace wmlt {
+
+namespace {
+
+// Appends the shadow ray of a strategy sample (target: the slot; a t = 1 splat: the
+// pixel it lands on, or kFilmPoint to spread it about its film point, pushSplat).
+inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t slot, bool splat,
+                           int s, int pathLength, RayCounters& c) {
+    if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
+    if (ss.infinite) {  // towards the environment in direction `to`
+        setRay(b.conn[b.numConn], scene.offsetRayOrigin(ss.from, ss.nFrom, ss.to), ss.to, 0.0f, INFINITY);
+    } else {
+        Vec3 w = ss.to - ss.from;
+        if (!(lengthSquared(w) > 0)) return;
+        w = normalize(w);
+        Vec3 origin = scene.offsetRayOrigin(ss.from, ss.nFrom, w);
+        Vec3 end = isBlack(ss.nTo) ? ss.to : scene.offsetRayOrigin(ss.to, ss.nTo, -w);
+        Vec3 d = end - origin;
+        float dist = length(d);
+        if (!(dist > 0)) return;
+        setRay(b.conn[b.numConn], origin, d / dist, 0.0f, dist * (1.0f - 1e-4f));
+    }
+    b.connSlot[b.numConn] = !splat ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
+    b.connX[b.numConn] = ss.px;
+    b.connY[b.numConn] = ss.py;
+    b.connSplat[b.numConn] = splat ? 1 : 0;
+    b.connLength[b.numConn] = uint8_t(pathLength);
+    b.connValue[b.numConn] = ss.value;
+    b.connWeight[b.numConn] = ss.weight;
+    b.connS[b.numConn] = uint8_t(s);
+    ++b.numConn;
+}
+
+// A camera-side contribution (t >= 2) of strategy s to slot's pixel.
+inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float weight, int s, int length) {
+    const Vec3 v = unweighted * weight;
+    if (!b.tally.take(v, length)) return;
+    b.L[slot] += v;
+    if (b.strategyFilms)
+        b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v * b.filmWeight[slot], unweighted * b.filmWeight[slot]);
+}
+
+}  // namespace
+
+void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w) {
+    size_t n = 0;
+    for (uint32_t e = 0; e < 2 * w.n; ++e)
+        if (w.endVertex[e] != kNoEnd) w.ends[n++] = e;
+    auto params = [&](uint32_t e) -> const BsdfParams& { return (e & 1 ? b.cam : b.light).bsdf[w.endVertex[e]]; };
+    groupByMaterialKind([&](size_t h) { return params(w.ends[h]).kind; }, n, w.order.data(), w.kindStart);
+    forEachMaterialKind([&](auto kind) {
+        using B = BsdfOf<decltype(kind)::value>;
+        for (uint32_t r = w.kindStart[int(kind.value)]; r < w.kindStart[int(kind.value) + 1]; ++r) {
+            const uint32_t e = w.ends[w.order[r]];
+            const BsdfParams& m = params(e);
+            w.f[e] = B::f(m, w.fWo[e], w.fWi[e]);
+            w.pdfCam[e] = B::pdf(m, w.wo[e], w.wi[e]);
+            w.pdfLight[e] = B::pdf(m, w.wi[e], w.wo[e]);
+        }
+    });
+}
+
+namespace {
+
+// The strategies set up so far: their ends' BSDFs, then each one weighted and added (s =
+// 0) or queued (splat: t = 1 goes to the film at its raster pixel), in order.
+void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat, RayCounters& counters) {
+    StrategyWave& w = b.strategies;
+    evaluateStrategyBsdfs(b, w);
+    StrategyScratch scratch;
+    StrategySample ss;
+    for (size_t i = 0; i < w.n; ++i) {
+        if (!weighStrategy(scene, b, w, i, misBeta, scratch, ss)) continue;
+        const uint32_t slot = w.slot[i];
+        const int s = w.s[i], k = s + w.t[i] - 1;
+        if (w.t[i] == 1 && !splat) {
+            b.filmX[slot] = ss.px;
+            b.filmY[slot] = ss.py;
+        }
+        if (s == 0)
+            addCameraSide(b, slot, ss.value, ss.weight, 0, k);
+        else if (w.t[i] == 1 && splat)
+            pushConnection(scene, b, ss, slot, true, s, k, counters);
+        else
+            pushConnection(scene, b, ss, slot, false, s, k, counters);
+    }
+    w.n = 0;
+}
+
+// A pinhole camera: the camera samples of the light vertices the t = 1 strategies of
+// slots [slot0, slot1) end at (BPT: every light vertex; MMLT: x_{s-1} of a slot whose
+// strategy has t = 1), in one flat loop (pinholeCameraSamples); setUpStrategy reads them.
+void sampleCameraFromLightVertices(const Scene& scene, BptBatch& b, uint32_t slot0, uint32_t slot1,
+                                   bool oneStrategyPerSlot) {
+    uint32_t n = 0;
+    auto list = [&](size_t a) {
+        b.cameraSampleOf[a] = n;
+        b.csRef[n] = b.light.p[a];
+        b.csRefN[n] = b.light.ng[a];
+        ++n;
+    };
+    for (uint32_t slot = slot0; slot < slot1; ++slot) {
+        const int nL = b.light.count[slot];
+        if (!oneStrategyPerSlot) {
+            for (int i = 0; i < nL; ++i) list(b.light.at(slot, i));
+            continue;
+        }
+        const int s = b.strategyS[slot], t = b.pathLength[slot] + 1 - s;
+        if (t == 1 && s >= 1 && s <= nL) list(b.light.at(slot, s - 1));
+    }
+    pinholeCameraSamples(cameraFloats(scene.camera), n, &b.csRef[0].x, &b.csRefN[0].x, &b.csWi[0].x, b.csPx.data(),
+                         b.csPy.data(), b.csWe.data(), b.csPdf.data(), b.csPdfArea.data(), b.csValid.data());
+}
+
+}  // namespace
+
+void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
+    traceOccluded(scene.rtc, b.conn.data(), b.numConn);
+    c.raysOccluded += b.numConn;
+    for (size_t i = 0; i < b.numConn; ++i) {
+        if (!(b.conn[i].tfar >= 0)) continue;
+        const int s = b.connS[i], k = b.connLength[i];
+        if (!b.connSplat[i]) {
+            addCameraSide(b, b.connSlot[i], b.connValue[i], b.connWeight[i], s, k);
+            continue;
+        }
+        const Vec3 v = b.connValue[i] * b.connWeight[i];
+        if (!b.tally.take(v, k)) continue;
+        pushSplat(b.splats, b.points, b.connSlot[i], b.connX[i], b.connY[i], v);
+        if (!b.strategyFilms) continue;
+        if (b.connSlot[i] != kFilmPoint) {
+            b.strategySplats.push_back({b.connSlot[i], uint8_t(s), v, b.connValue[i]});
+            continue;
+        }
+        scene.forEachFilmPixel(b.connX[i], b.connY[i], [&](uint32_t p, float fw) {
+            b.strategySplats.push_back({p, uint8_t(s), v * fw, b.connValue[i] * fw});
+        });
+    }
+    b.numConn = 0;
+}
+
+void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& counters) {
+    const HashedSamples u{b.key.data()};
+    StrategyWave& w = b.strategies;
+    cacheMisSums(scene, b, misBeta);
+    b.numConn = 0;
+    w.n = 0;
+    const bool pinhole = isPinhole(scene.camera);
+    for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
+        if (pinhole && slot % kCameraSampleSlots == 0)
+            sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), false);
+        const int nC = b.cam.count[slot], nL = b.light.count[slot];
+        for (int t = 1; t <= nC; ++t)
+            for (int s = 0; s <= std::max(nL, 1); ++s) {
+                const int k = s + t - 1;
+                if (k < std::max(1, minLength) || k > maxLength) continue;
+                if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity)
+                    finishStrategies(scene, b, misBeta, true, counters);
+            }
+    }
+    finishStrategies(scene, b, misBeta, true, counters);
+    traceBptConnections(scene, b, counters);
+}
+
+void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, RayCounters& counters) {
+    StrategyWave& w = b.strategies;
+    cacheMisSums(scene, b, misBeta);
+    b.numConn = 0;
+    w.n = 0;
+    for (uint32_t slot = 0; slot < b.numSlots; ++slot) b.L[slot] = Vec3(0.0f);
+    const bool pinhole = isPinhole(scene.camera);
+    for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
+        if (pinhole && slot % kCameraSampleSlots == 0)
+            sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), true);
+        const int s = b.strategyS[slot], k = b.pathLength[slot], t = k + 1 - s;
+        if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity)
+            finishStrategies(scene, b, misBeta, false, counters);
+    }
+    finishStrategies(scene, b, misBeta, false, counters);
+    traceBptConnections(scene, b, counters);
+}
+
+}  // namespace wmlt

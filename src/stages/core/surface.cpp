@@ -1,0 +1,61 @@
+#include "stages/core/surface.h"
+
+#include "kernels/bump.h"
+
+namespace wmlt {
+
+// Partial derivatives of p with respect to (u, v) on a triangle (pbrt-v4 6.5.3); an
+// arbitrary tangent frame where the triangle has no usable (u, v).
+void triangleDerivatives(const TriangleMesh& m, const uint32_t* tri, Vec3 ns, Vec3& dpdu, Vec3& dpdv) {
+    if (!m.uvs.empty()) {
+        const float* uv = m.uvs.data();
+        float du02 = uv[2 * tri[0]] - uv[2 * tri[2]], dv02 = uv[2 * tri[0] + 1] - uv[2 * tri[2] + 1];
+        float du12 = uv[2 * tri[1]] - uv[2 * tri[2]], dv12 = uv[2 * tri[1] + 1] - uv[2 * tri[2] + 1];
+        Vec3 dp02 = m.positions[tri[0]] - m.positions[tri[2]], dp12 = m.positions[tri[1]] - m.positions[tri[2]];
+        float det = du02 * dv12 - dv02 * du12;
+        if (std::fabs(det) > 1e-12f) {
+            float inv = 1.0f / det;
+            dpdu = (dp02 * dv12 - dp12 * dv02) * inv;
+            dpdv = (dp12 * du02 - dp02 * du12) * inv;
+            if (lengthSquared(cross(dpdu, dpdv)) > 0) return;
+        }
+    }
+    Frame f = Frame::fromNormal(ns);
+    dpdu = f.s;
+    dpdv = f.t;
+}
+
+// The sphere's (u, v) of surfaceAt: u = 0.5 + phi / 2pi, v = 1 - theta / pi.
+void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv) {
+    float phi = std::atan2(local.z, local.x);
+    float cosT = std::clamp(local.y, -1.0f, 1.0f), sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
+    float r = g.radius;
+    dpdu = g.toWorld.vector(Vec3(-std::sin(phi), 0, std::cos(phi)) * (2.0f * kPi * r * sinT));
+    dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), -sinT, cosT * std::sin(phi)) * (-kPi * r));
+}
+
+// Mitsuba's sphere (u, v) = (phi / 2 pi, theta / pi) about local +z (l: the local unit
+// normal), and its derivatives through the sphere's toWorld (which maps the unit sphere).
+void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv) {
+    const float phi = std::atan2(l.y, l.x), cosT = std::clamp(l.z, -1.0f, 1.0f);
+    const float sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
+    dpdu = g.toWorld.vector(Vec3(-std::sin(phi), std::cos(phi), 0) * (2.0f * kPi * sinT));
+    dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), cosT * std::sin(phi), -sinT) * kPi);
+}
+
+void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
+    const MaterialDesc& m = scene.desc.materials[sp.material];
+    if (m.normalMap >= 0) {
+        sp.ns = normalMapped(scene.desc.textures[m.normalMap], sp.u, sp.v, sp.p, sp.ns, sp.ng, dpdu);
+        return;
+    }
+    if (m.bump < 0) return;
+    if (m.bumpMitsuba)
+        sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+    else if (m.bumpPbrt)
+        sp.ns = bumpedNormalPbrt(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+    else
+        sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
+}
+
+}  // namespace wmlt

@@ -1,0 +1,65 @@
+// Structure-of-arrays state of one batch of light-tracing samples (a tile of pixels
+// times a range of sample indices: one light subpath per pixel sample): a PathWave
+// (wave.h: the live subpaths and their hits) and
+//   slots   - one per light subpath: its random key and initial throughput scale;
+//   paths   - per live subpath: its throughput beta (compacted with the wave);
+//   hits    - per hit: the surface (WMLT_HIT_SURFACE_ARRAYS; wo points to the light side)
+//             and the next throughput;
+//   conns   - camera connections (t = 1): a shadow ray to the lens and its splat;
+//   splats  - this batch's unoccluded contributions, in stage order (film.h).
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/bsdf.h"
+#include "stages/core/film.h"
+#include "stages/core/wave.h"
+
+namespace wmlt {
+
+// betaScale: max component of the slot's initial beta (Russian roulette). beta: flux-like
+// throughput, Le |cos| / (pmf pdfPos pdfDir) ... connValue: the connection's unoccluded splat,
+// at connPixel or, for kFilmPoint, spread about the film point (connX, connY) (pushSplat).
+#define WMLT_LT_ARRAYS(X)                                                                    \
+    X(uint64_t, key) X(float, betaScale) X(Vec3, beta) WMLT_HIT_SURFACE_ARRAYS(X)          \
+    X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(float, connX) X(float, connY) X(Vec3, connValue)
+
+// Allocated only for a scene with media (docs/media.md): per path its medium and this
+// round's scattering event (traverseMediaOf); per hit the media on its two sides; per
+// connection the medium it starts in and its sample's key (a grid's ratio tracking).
+#define WMLT_LT_MEDIA_ARRAYS(X)                                                              \
+    X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(int32_t, hitMediumIn)   \
+    X(int32_t, hitMediumOut) X(int32_t, connMedium) X(uint64_t, connKey)
+
+struct LtBatch : PathWave {
+    WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
+    size_t numConn = 0;
+    std::vector<Splat> splats;
+    std::vector<PointSplat> points;  // filtered scenes: contributions at film points
+    ContributionTally tally;  // of the splats
+
+    void reserve(size_t n, const BatchNeeds& needs) {
+        resizeWave(n, needs);
+        WMLT_LT_ARRAYS(WMLT_SOA_RESIZE)
+        if (needs.media) { WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
+        splats.reserve(n);
+    }
+};
+
+// Primary sample layout of a light-tracing sample (keys: ltSampleKey, a stream apart
+// from the path tracer's):
+//   0: light choice, 1-2: point on the light, 3-4: emitted direction,
+//   5-6: lens point of the light point's camera connection (length 1, area lights),
+//   7-8: pixel jitter and 9-10: lens point of the camera ray that sees the environment
+//        directly (length 1; a point at infinity cannot be connected to),
+//   vertex d >= 1 (after d segments) reads kLtVertexBase + (d - 1) * kLtVertexStride +
+//   (0-1: lens point of its camera connection, 2: BSDF lobe, 3-4: BSDF direction,
+//   5: Russian roulette).
+constexpr uint32_t kLtVertexBase = 11;
+constexpr uint32_t kLtVertexStride = 6;
+inline uint32_t ltVertexDim(int d, uint32_t j) { return kLtVertexBase + uint32_t(d - 1) * kLtVertexStride + j; }
+
+}  // namespace wmlt

@@ -1,0 +1,130 @@
+// MmltRender: the MMLT driver's state and its phases (docs/architecture.md, "The
+// Metropolis wavefront"; the algorithm in mmlt.cpp's opening comment). Defined in three
+// files: mmlt.cpp (construction, the passes, the rounds, the image and the stats),
+// mmlt_pool.cpp (tracing the pools and exchanging them between ranks) and mmlt_chains.cpp
+// (allocating chains to lengths, seeding and replaying them, planning the batches).
+// Internal to src/stages.
+#pragma once
+#include "stages/mmlt/mmlt.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <unordered_set>
+
+#include "stages/core/distributed_films.h"
+#include "stages/core/film.h"
+#include "stages/core/memory.h"
+#include "stages/mmlt/mmlt_stages.h"
+#include "stages/core/passes.h"
+#include "stages/core/preview.h"
+#include "wavemmlt/error.h"
+
+namespace wmlt::mmlt_detail {
+
+constexpr uint32_t kBatchChains = 256;      // chains per batch: the tasks of a round
+constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB) and a round's time
+
+using Clock = std::chrono::steady_clock;
+
+// One pool-tracing task: samples [i0, i0 + n) of length k.
+struct PoolTask {
+    int k;
+    uint32_t i0, n;
+};
+
+class MmltRender {
+public:
+    MmltRender(const Scene& scene, const RenderOptions& opt);
+    RenderResult run();
+
+private:
+    bool tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap);
+    void bootstrap();
+    void chooseTimedChains();
+    bool allocateChains();
+    void seedChains();
+    void planBatches();
+    void replaySeeds();
+    void runRounds(uint64_t passEnd);
+    RenderResult resolve();
+    // Render time: paused time (a viewer's) is left out.
+    double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count() - paused_; }
+    Image image() const;
+    bool timed() const { return opt_.timeBudget > 0; }
+    bool stopRequested() const { return opt_.cancel && opt_.cancel->load(); }
+    // Split across ranks: rank 0's decision `rootValue` and whether any rank was cancelled
+    // (one exchange; without ranks, this process's flag).
+    Agreement agreeAtBoundary(uint64_t rootValue) {
+        const Agreement a = agree(ranks_, false, stopRequested(), rootValue);
+        cancelled_ = cancelled_ || a.cancel;
+        return a;
+    }
+    void exchangePools(std::vector<SamplePool>& pools, size_t first, size_t count);
+    void sumAcrossRanks(RenderResult& res);
+    void mergeDigest();
+    // Entries the pool of length k may hold before it is thinned to half: 8 per chain of
+    // the length (its last allocation; before the first, its share of the chains as the
+    // bootstrap was spread), at least 2^13.
+    size_t poolCapacity(int k) const {
+        size_t n = 0;
+        if (stats_.passes) {
+            n = stats_.chains[size_t(k)];
+        } else if (const uint64_t all = std::accumulate(stats_.bootstrapSamples.begin(), stats_.bootstrapSamples.end(),
+                                                        uint64_t(0))) {
+            n = size_t(double(chains_) * double(stats_.bootstrapSamples[size_t(k)]) / double(all));
+        }
+        return std::max<size_t>(size_t(1) << 13, 8 * n);
+    }
+    void thin(SamplePool& pool, int k) {
+        // Each length counts its own thinnings (its comb offsets are hashed from the seed,
+        // the length and that count), so that the lengths' pools can be merged in parallel.
+        if (pool.lit.size() > poolCapacity(k))
+            thinPool(pool, poolCapacity(k) / 2, mix64(opt_.seed + uint64_t(k)), thinRounds_[size_t(k)]++);
+    }
+
+    const Scene& scene_;
+    const RenderOptions& opt_;
+    Distributed* ranks_;                   // nullptr: one process
+    bool cancelled_ = false;               // agreed by the ranks at a boundary
+    uint64_t poolDigest_ = 0;              // a hash of the pools of every pass
+    Clock::time_point t0_;
+    int kMin_, kMax_;
+    double pixels_, targetMutations_;
+    uint32_t chains_ = 1;                  // C
+    bool autoChains_ = opt_.chains == 0;   // --chains auto
+    std::string chainsReason_;             // how C was chosen (--stats, the notice)
+    uint64_t target_ = 0;                  // iterations per chain (spp renders)
+    uint32_t passLength_ = 1;
+    uint32_t pass_ = 0;
+    uint64_t iteration_ = 0;               // iterations of every chain so far
+    double passWeight_ = 1;                // f_p of this pass (allocateChains)
+    double weighted_ = 0;                  // sum over rounds of f_p times iterations: the image's divisor
+    bool stopped_ = false;
+    double paused_ = 0;                    // seconds a viewer held the render between rounds
+    double perIteration_ = 0;              // seconds per iteration of all chains, measured
+    double sampleSeconds_ = 0;             // seconds per pool sample, measured
+
+    tbb::enumerable_thread_specific<MmltBatch> batches_;
+    tbb::enumerable_thread_specific<RayCounters> rays_;
+    std::vector<SamplePool> pools_, next_;  // [k]: this pass's pool, the next one's large steps
+    std::vector<double> passB_;            // sum over rounds of iterations times b_k
+    std::vector<uint32_t> thinRounds_;     // [k]: thinnings of length k's pools so far
+    std::vector<ChainGroup> groups_;       // this pass's chains, one group per length with chains
+    std::vector<std::vector<BatchSlice>> plan_;  // per batch: its slices
+    SplatFilm film_;
+    std::vector<SplatFilm> lengthFilms_;   // RenderOptions::lengthImages only
+    RenderStats::Mmlt stats_;
+    MmltCounters counters_;
+    double ratioSum_ = 0;
+    uint64_t rounds_ = 0;
+    size_t poolEntries_ = 0;               // the most pool entries held at once
+};
+
+}  // namespace wmlt::mmlt_detail

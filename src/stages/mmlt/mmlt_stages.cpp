@@ -1,0 +1,321 @@
+#include "stages/mmlt/mmlt_stages.h"
+
+#include <algorithm>
+
+#include "kernels/gaussian.h"
+#include "kernels/mutation.h"
+#include "stages/bpt/bpt_stages.h"
+
+namespace wmlt {
+
+namespace {
+
+// Random numbers of a chain's proposal (dimensions of mmltChainKey); coordinate i's fresh
+// value is poolCoordinate(key, i) = dimension 2 + 2 i, its small step's normal number
+// standardNormal(key, dimNormal(i)).
+constexpr uint32_t kDimLarge = 0, kDimAccept = 1;
+inline uint32_t dimNormal(uint32_t i) { return 3 + 2 * i; }
+
+// Slot i's strategy from its u0: the walks' lengths and the numbers each stream reads.
+inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
+    const int s = strategyOf(u0, k), t = k + 1 - s;
+    BptBatch& b = mb.bpt;
+    b.strategyS[i] = uint8_t(s);
+    b.pathLength[i] = uint8_t(k);
+    b.cam.maxCount[i] = uint8_t(t);
+    b.light.maxCount[i] = uint8_t(s >= 2 || (s == 1 && t == 1) ? s : 0);
+    mb.used[kBptCamera][i] = uint16_t(StrategyLayout::cameraUsed(t));
+    mb.used[kBptLight][i] = uint16_t(StrategyLayout::lightUsed(s, t));
+    mb.used[kBptConnect][i] = uint16_t(StrategyLayout::connectUsed(s, t));
+}
+
+// Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order: the
+// prefixes of the blocks its strategy reads (StrategyLayout), less the numbers no walk
+// of the scene reads (bpt_state.h's layout: camera j = 2-3 the lens, then vertices of
+// four from j = 4; light vertices from j = 5; of each vertex's four, [vertexLo, vertexHi)).
+template <class Fn>
+void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
+    auto run = [&](uint32_t d0, uint32_t d1) {
+        for (uint32_t d = d0; d < d1; ++d) fn(d);
+    };
+    const uint32_t lo = mb.vertexLo, hi = mb.vertexHi;
+    const uint32_t cb = StrategyLayout::base(k, kBptCamera), cn = mb.used[kBptCamera][i];
+    if (cn > 0) run(cb, cb + (mb.lensRead ? 4 : 2));
+    for (uint32_t j = 4; j < cn; j += 4) run(cb + j + lo, cb + j + hi);
+    const uint32_t lb = StrategyLayout::base(k, kBptLight), ln = mb.used[kBptLight][i];
+    if (ln > 0) run(lb, lb + 5);
+    for (uint32_t j = 5; j < ln; j += 4) run(lb + j + lo, lb + j + hi);
+    const uint32_t xb = StrategyLayout::base(k, kBptConnect);
+    run(xb, xb + mb.used[kBptConnect][i]);
+}
+
+// Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
+void packVertices(BptBatch& b) {
+    b.cam.pack(b.numSlots);
+    b.light.pack(b.numSlots);
+}
+
+// Packs the slots' rows of u one after the other, each its length's size (mmlt_state.h).
+void packRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    uint32_t at = 0;
+    for (const BatchSlice& sl : mb.slices) {
+        const uint32_t dims = groups[size_t(sl.group)].dims;
+        for (uint32_t j = 0; j < sl.n; ++j, at += dims) mb.row[sl.slot0 + j] = at;
+    }
+}
+
+}  // namespace
+
+void setNumbersRead(const Scene& scene, MmltBatch& mb) {
+    uint8_t reads = 0;  // of the scene's material kinds' BSDF samples
+    forEachMaterialKind([&](auto kind) {
+        if (scene.features.has(decltype(kind)::value)) reads |= BsdfOf<decltype(kind)::value>::reads;
+    });
+    // Bit m of a vertex's four numbers (0 lobe, 1-2 direction, 3 roulette), then the run
+    // [lo, hi) that covers the bits (a number in a gap would be proposed unread: harmless).
+    const uint32_t bits = (reads & kReadsLobe ? 1 : 0) | (reads & kReadsDirection ? 6 : 0) | (mb.bpt.roulette ? 8 : 0);
+    mb.lensRead = scene.camera.thinLens;
+    mb.vertexLo = mb.vertexHi = 0;
+    if (bits) {
+        mb.vertexLo = uint8_t(__builtin_ctz(bits));
+        mb.vertexHi = uint8_t(32 - __builtin_clz(bits));
+    }
+}
+
+uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {
+    return sampleKey(mix64(seed ^ 0x4d4d4c54u /* "MMLT" */), globalChain, iteration);
+}
+
+uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index) {
+    return sampleKey(mix64(mix64(seed ^ 0x504f4f4cu /* "POOL" */) + pass), uint32_t(k), index);
+}
+
+float targetOf(const Vec3& F) {
+    const float c = luminance(F);
+    return std::isfinite(c) && isFinite(F) ? c : 0.0f;
+}
+
+void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
+    const uint32_t dims = StrategyLayout::size(k);
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
+        mb.bpt.key[i] = key;
+        mb.row[i] = i * dims;
+        float* row = mb.rowOf(i);
+        row[0] = poolCoordinate(key, 0);
+        setStrategy(mb, i, k, row[0]);
+        // Only the numbers the strategy reads (the others keep what they held: unread).
+        forEachUsedOf(mb, i, k, [&](uint32_t d) { row[d] = poolCoordinate(key, d); });
+    }
+    mb.bpt.numSlots = n;
+    packVertices(mb.bpt);
+}
+
+void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    packRows(groups, mb);
+    for (const BatchSlice& sl : mb.slices) {
+        const ChainGroup& g = groups[size_t(sl.group)];
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            float* row = mb.rowOf(i);
+            for (uint32_t d = 0; d < g.dims; ++d) row[d] = g.value[g.at(c, d)];
+            mb.chain[i] = c;
+            setStrategy(mb, i, g.k, row[0]);
+        }
+    }
+    mb.bpt.numSlots = slotsIn(mb.slices);
+    packVertices(mb.bpt);
+}
+
+namespace {
+
+// Coordinate d's small step, one coordinate at a time (u0, which the strategy depends on,
+// and the draws drawSmallSteps' fast path leaves); uFresh is drawn only when read.
+inline float smallStepOf(uint64_t key, uint32_t d, float value, uint32_t lastModified, uint32_t lastLarge,
+                         uint32_t n) {
+    const float uFresh = lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
+    return proposeCoordinate(value, lastModified, lastLarge, n, false, kSmallStepSigma, uFresh,
+                             standardNormal(key, dimNormal(d)));
+}
+
+// The chunk's small steps (SmallStepChunk), written to their rows; the chunk is emptied.
+void drawSmallSteps(MmltBatch& mb) {
+    SmallStepChunk& st = *mb.steps;
+    const float sigma = kSmallStepSigma;
+    // Bit for bit proposeCoordinate(value, lastModified, lastLarge, n, false, sigma, uFresh,
+    // standardNormal(key, dimNormal(d))) for the draws inside their layer (97.2%).
+    for (uint32_t m = 0; m < st.count; ++m) {
+        const uint64_t key = st.key[m];
+        const uint32_t d = st.dim[m];
+        const uint64_t h = normalBits(key, dimNormal(d), 0);
+        const int layer = int(h & 127);
+        const double u = double(h >> 11) * 0x1p-53;
+        st.slow[m] = u < kZiggurat.inner[layer] ? 0 : 1;
+        const float z = withNormalSign(h, u * kZiggurat.x[layer]);
+        // uFresh is read only when the coordinate is stale: drawn for every one, no branch.
+        st.out[m] = proposeCoordinate(st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], false, sigma,
+                                      poolCoordinate(key, d), z);
+    }
+    for (uint32_t m = 0; m < st.count; ++m) {
+        if (st.slow[m])
+            st.out[m] = smallStepOf(st.key[m], st.dim[m], st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m]);
+        mb.u[st.dst[m]] = st.out[m];
+    }
+    st.count = 0;
+}
+
+}  // namespace
+
+void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
+                  float probLarge) {
+    SmallStepChunk& st = *mb.steps;
+    st.count = 0;
+    packRows(groups, mb);
+    for (const BatchSlice& sl : mb.slices) {
+        const ChainGroup& g = groups[size_t(sl.group)];
+        // Slot by slot (chain c = sl.c0 + j): the step kind and u0, which picks the
+        // strategy and so which other coordinates the proposal reads; then those (a small
+        // step's are listed for drawSmallSteps).
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
+            const bool large = sampleDimension(key, kDimLarge) < probLarge;
+            mb.bpt.key[i] = key;
+            mb.chain[i] = c;
+            mb.large[i] = large ? 1 : 0;
+            const size_t at = g.at(c, 0);
+            const uint32_t lastLarge = g.lastLarge[c], n = g.accepted[c] + 1;
+            float* row = mb.rowOf(i);
+            row[0] = large ? poolCoordinate(key, 0) : smallStepOf(key, 0, g.value[at], g.lastModified[at], lastLarge, n);
+            setStrategy(mb, i, g.k, row[0]);
+            if (large) {
+                forEachUsedOf(mb, i, g.k, [&](uint32_t d) { row[d] = poolCoordinate(key, d); });
+                continue;
+            }
+            forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
+                if (st.count == SmallStepChunk::kSize) drawSmallSteps(mb);
+                const uint32_t m = st.count++;
+                st.key[m] = key;
+                st.value[m] = g.value[at + d];
+                st.lastModified[m] = g.lastModified[at + d];
+                st.lastLarge[m] = lastLarge;
+                st.n[m] = n;
+                st.dim[m] = d;
+                st.dst[m] = mb.row[i] + d;
+            });
+        }
+    }
+    drawSmallSteps(mb);
+    mb.bpt.numSlots = slotsIn(mb.slices);
+    packVertices(mb.bpt);
+}
+
+void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters) {
+    BptBatch& b = mb.bpt;
+    const StoredSamples u = mb.samples();
+    b.tally.nonfinite = 0;
+    generateChainCameraPaths(scene, b, u);
+    walkBpt(scene, b, b.cam, true, false, counters, u);
+    generateBptLightPaths(scene, b, u);
+    walkBpt(scene, b, b.light, false, false, counters, u);
+    connectStrategies(scene, b, u, misBeta, counters);
+    mb.counters.nonfinite += b.tally.nonfinite;
+}
+
+void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    for (const BatchSlice& sl : mb.slices) {
+        ChainGroup& g = groups[size_t(sl.group)];
+        const uint8_t k = uint8_t(g.k);
+        SamplePool& pool = mb.pools[size_t(g.k)];
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = mb.chain[i];
+            Vec3 F;
+            const float cP = evaluatedTarget(mb, i, F);
+            const float a = acceptance(cP, g.c[c]);
+            const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
+            if (a > 0) {
+                mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
+            }
+            if (a < 1 && g.c[c] > 0) {
+                mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
+            }
+            const int kind = mb.large[i];
+            ++mb.counters.proposed[kind][k];
+            if (kind) pool.addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
+            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;  // rejected
+            ++mb.counters.accepted[kind][k];
+            // Commit: the coordinates the proposal read (the chain's block is contiguous).
+            const uint32_t next = g.accepted[c] + 1;
+            const float* row = mb.rowOf(i);
+            float* value = &g.value[g.at(c, 0)];
+            uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
+            value[0] = row[0];
+            lastModified[0] = next;
+            forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
+                value[d] = row[d];
+                lastModified[d] = next;
+            });
+            g.accepted[c] = next;
+            if (kind) g.lastLarge[c] = next;
+            g.F[c] = F;
+            g.c[c] = cP;
+            g.filmX[c] = filmX;
+            g.filmY[c] = filmY;
+        }
+    }
+}
+
+// thinPool's tau: with the v = w c in decreasing order and f(m) = (the sum of all but the
+// m largest) / (keep - m), tau = f(m) for the least m with v_(m) < f(m) (the m largest are
+// kept whole, the rest share keep - m places). Removing values >= f(m) lowers the level
+// (f(m') <= f(m)), so from m = 0 the count of values >= f(m) grows to that m and stays: a
+// few passes over the pool instead of a sort (which was 2% of an MMLT render of the
+// Cornell box at 128 mutations per pixel). above >= keep happens only by rounding (lit
+// entries have v > 0, so the level stays above keep - m values).
+double thinningThreshold(const std::vector<PoolEntry>& e, size_t keep) {
+    double tau = 0;
+    for (const PoolEntry& x : e) tau += double(x.w) * double(x.c);
+    tau /= double(keep);
+    for (size_t m = 0;;) {
+        size_t above = 0;
+        double rest = 0;
+        for (const PoolEntry& x : e) {
+            const double vx = double(x.w) * double(x.c);
+            if (vx >= tau) ++above;
+            else rest += vx;
+        }
+        if (above == m || above >= keep) return tau;
+        m = above;
+        tau = rest / double(keep - m);
+    }
+}
+
+void thinPool(SamplePool& pool, size_t keep, uint64_t seed, uint32_t round) {
+    std::vector<PoolEntry>& e = pool.lit;
+    if (e.size() <= keep || keep == 0) return;
+    // tau with sum_i min(1, v_i / tau) = keep, v_i = w_i c_i: the entries above tau are kept
+    // as they are; the others by a systematic comb over their v / tau (one random offset):
+    // each is kept with probability v_i / tau and then weighs tau / c_i, and the comb keeps
+    // their total within tau of what it was (independent draws would add a variance of
+    // about tau times their total).
+    const double tau = thinningThreshold(e, keep);
+    double comb = double(sampleDimension(mix64(seed ^ 0x5448494eu /* "THIN" */), round));
+    size_t n = 0;
+    double sum = 0;
+    for (const PoolEntry& x : e) {
+        PoolEntry y = x;
+        const double vx = double(x.w) * double(x.c);
+        if (vx < tau) {
+            comb -= vx / tau;
+            if (comb >= 0) continue;
+            comb += 1;
+            y.w = float(tau / double(x.c));
+        }
+        sum += double(y.w) * double(y.c);
+        e[n++] = y;
+    }
+    e.resize(n);
+    pool.sumWC = sum;
+}
+
+}  // namespace wmlt

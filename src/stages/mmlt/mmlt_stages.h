@@ -1,0 +1,68 @@
+// MMLT's wavefront stages, in the order one iteration of a batch of chains runs them:
+//   mutateChains      (chain state -> proposal rows u, strategy per slot, step kind)
+//   evaluateProposals (the BPT stages on StoredSamples: camera subpath, light subpath,
+//                      connectStrategies with its batched shadow rays -> L, pixel)
+//   acceptAndSplat    (target c, Metropolis acceptance, expected-value splats, commit,
+//                      large steps into the next pass's pools)
+// A batch holds slices of chains of several lengths (MmltBatch::slices). Pools are traced
+// by evaluateProposals on rows written by fillPoolRows, and seeded chains replayed on rows
+// written by fillSeedRows.
+#pragma once
+#include <cstdint>
+
+#include "kernels/rng.h"
+#include "scene/scene.h"
+#include "stages/mmlt/mmlt_state.h"
+#include "stages/core/wave.h"  // RayCounters
+
+namespace wmlt {
+
+// The key of a chain's proposal `iteration` (its random numbers: large step, acceptance,
+// two per coordinate) and of fresh pool sample `index` of length k in pass `pass`.
+uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration);
+uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index);
+
+// Coordinate d of the vector u of a pool entry: the numbers a large step with that key
+// draws (so a large-step proposal joins the next pool as its key).
+inline float poolCoordinate(uint64_t key, uint32_t d) { return sampleDimension(key, 2 + 2 * d); }
+
+// The strategy s = min(floor(u0 (k + 1)), k) of a length-k vector (mmlt.md, step 4).
+inline int strategyOf(float u0, int k) { return std::min(int(u0 * float(k + 1)), k); }
+
+// Which numbers the scene's walks read (MmltBatch::lensRead, vertexLo, vertexHi), once per batch
+// after reserve: from its camera and the BSDF kinds it has.
+void setNumbersRead(const Scene& scene, MmltBatch& mb);
+// Rows of fresh pool samples [index0, index0 + n) of length k in pass `pass`.
+void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed);
+// Rows of the seeded chains of the batch's slices: every coordinate from the seed's key.
+void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb);
+// Proposal `iteration` of every chain of the batch: a large step with probability
+// probLarge, else the lazy small step of each coordinate the proposal reads.
+void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
+                  float probLarge);
+// Traces and connects each slot's strategy: bpt.L = its MIS-weighted contribution,
+// (bpt.filmX, bpt.filmY) = the film point where it lands.
+void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
+// The contribution F = (k + 1) L of slot i and its target c = luminance(F), 0 when it is
+// not finite (evaluatedTarget counts those in mb.counters.nonfinite).
+inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }
+float targetOf(const Vec3& F);
+inline float evaluatedTarget(MmltBatch& mb, size_t i, Vec3& F) {
+    F = contributionOf(mb, i);
+    const float c = targetOf(F);
+    if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
+    return c;
+}
+// Accepts or rejects each slot's proposal (a = min(1, c'/c)), splats a F'/c' at the
+// proposal's film point and (1 - a) F/c at the current one's (spread over the filter's
+// footprint: MmltBatch::addSplat), both times the group's weight, to
+// mb.splats, and commits accepted proposals. Large-step proposals join mb.pools.
+void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb);
+// Thins a pool to about `keep` entries, keeping each with probability min(1, w c / tau)
+// (tau chosen for `keep` in expectation) and dividing its weight by that probability: an
+// unbiased thinning (systematic: one comb over the entries, its offset from (seed, round)).
+void thinPool(SamplePool& pool, size_t keep, uint64_t seed, uint32_t round);
+// Its tau: sum_i min(1, w_i c_i / tau) = keep over the pool's entries (more than keep).
+double thinningThreshold(const std::vector<PoolEntry>& e, size_t keep);
+
+}  // namespace wmlt

@@ -1,0 +1,214 @@
+// Structure-of-arrays state of MMLT (Hachisuka et al. 2014): the sample pools, the Markov
+// chains of one pass, grouped by path length, and one batch of chains in flight.
+//
+// A chain of length k carries a primary sample vector u of StrategyLayout::size(k)
+// coordinates (bpt_state.h: u[0] picks the strategy, then the camera, light and connection
+// blocks). A chain's coordinates are side by side (ChainGroup::at). Each coordinate
+// stores its value and the accepted proposal that last wrote it (kernels/mutation.h: the
+// lazy small step). A proposal never writes the chain: the batch holds it, and only an
+// accepted proposal is committed, so a rejection restores every coordinate by doing nothing.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "stages/bpt/bpt_state.h"
+#include "wavemmlt/render.h"
+
+namespace wmlt {
+
+// A sample of u kept in a pool: its key (u_d = poolCoordinate(key, d)), its target c > 0,
+// its weight w (1, or 1 / the probability it survived the pool's thinning), and the
+// contribution F and film point its evaluation gave (a chain seeded there starts with them; a
+// share of the seeds is replayed to check them, seedChains).
+struct PoolEntry {
+    uint64_t key;
+    float c, w;
+    Vec3 F;
+    float filmX, filmY;
+};
+
+// Independent uniform samples of u of one length k (mmlt.md, "Many chains"; the design in
+// docs/mmlt-chains.md): every sample drawn for it so far (the bootstrap, each pass's fresh
+// samples and every large-step proposal) counts in `count`; those with c > 0 are kept,
+// each with a weight, so that sum_i w_i h(x_i) is an unbiased estimate of count E[h] for
+// any h. b = E[c] is estimated by sumWC / count, and chains start at entries chosen in
+// proportion to w c: together an unbiased start (importance resampling). When the entries
+// outgrow their capacity, thinPool keeps each with a probability and divides its weight by
+// it (Russian roulette: the sums stay unbiased), so the memory stays bounded.
+struct SamplePool {
+    std::vector<PoolEntry> lit;
+    double sumWC = 0;      // sum over lit of w c
+    uint64_t count = 0;    // samples drawn
+    double mean() const { return count ? sumWC / double(count) : 0.0; }
+    // One more independent sample (its key, target c, contribution F and film point).
+    void addSample(uint64_t key, float c, Vec3 F, float filmX, float filmY) {
+        sumWC += double(c);
+        ++count;
+        if (c > 0) lit.push_back({key, c, 1.0f, F, filmX, filmY});
+    }
+    void add(const SamplePool& o) {
+        lit.insert(lit.end(), o.lit.begin(), o.lit.end());
+        sumWC += o.sumWC;
+        count += o.count;
+    }
+    void clear() {
+        lit.clear();
+        sumWC = 0;
+        count = 0;
+    }
+};
+
+// The chains of one path length k in the current pass. Per chain and coordinate,
+// at(chain, coordinate): a chain's coordinates side by side, so that a proposal reads one
+// contiguous block: its value and the accepted proposal that last wrote it. Per chain: its
+// accepted proposals (the lazy step's clock), its last accepted large step, the current
+// state's contribution F = (k + 1) L_w, target c = luminance(F) and film point, and the key of
+// the pool entry it started from.
+#define WMLT_CHAIN_COORDINATE_ARRAYS(X) X(float, value) X(uint32_t, lastModified)
+#define WMLT_CHAIN_ARRAYS(X)                                                                 \
+    X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(float, filmX)      \
+    X(float, filmY) X(uint64_t, seed)
+
+struct ChainGroup {
+    int k = 0;
+    uint32_t count = 0;               // chains of this length
+    uint32_t first = 0;               // global index of its first chain
+    uint32_t dims = 0;                // StrategyLayout::size(k)
+    float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
+    WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
+
+    size_t at(uint32_t chain, uint32_t d) const { return size_t(chain) * dims + d; }
+
+    // count chains, every array zeroed.
+    void resize(uint32_t chains) {
+        count = chains;
+        size_t n = size_t(dims) * chains;
+        WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ZERO)
+        n = chains;
+        WMLT_CHAIN_ARRAYS(WMLT_SOA_ZERO)
+    }
+};
+
+// Chains [c0, c0 + n) of group `group`, in slots [slot0, slot0 + n) of a batch.
+struct BatchSlice {
+    int group;
+    uint32_t c0, n, slot0;
+};
+
+// The slots a batch's slices fill.
+inline uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0 : b.back().slot0 + b.back().n; }
+
+// Counters of one batch, per path length (merged in batch order).
+struct MmltCounters {
+    uint64_t proposed[2][kMaxPathLength + 1] = {}, accepted[2][kMaxPathLength + 1] = {};  // [0]: small, [1]: large
+    uint64_t nonfinite = 0;
+    void add(const MmltCounters& o) {
+        for (int s = 0; s < 2; ++s)
+            for (int k = 0; k <= kMaxPathLength; ++k) {
+                proposed[s][k] += o.proposed[s][k];
+                accepted[s][k] += o.accepted[s][k];
+            }
+        nonfinite += o.nonfinite;
+    }
+};
+
+// The small steps of a batch's proposals, a chunk of coordinates at a time (mutateChains):
+// listed slot by slot with what the lazy step reads, drawn in one flat loop the compiler
+// vectorises (the hashes, the ziggurat's fast path, the step and the wrap), then the few
+// draws outside their layer's rectangle redone (gaussianSlow) and each result written to
+// its row at dst.
+struct SmallStepChunk {
+    static constexpr uint32_t kSize = 1024;
+    uint32_t count = 0;
+    uint64_t key[kSize];
+    float value[kSize], out[kSize];
+    uint32_t lastModified[kSize], lastLarge[kSize], n[kSize], dim[kSize], dst[kSize];
+    uint8_t slow[kSize];
+};
+
+// A batch of chains in flight: slices of several lengths side by side (a batch holds a
+// share of every length's chains, so that batches cost about the same), their proposals
+// (rows of u, as StoredSamples reads them), the BPT stages' state, and what a round
+// produces: splats, the large steps for the next pass's pools, counters.
+struct MmltBatch {
+    BptBatch bpt;
+    // Slot i's proposal: u[row[i] + coordinate], rows packed at their lengths' sizes
+    // (StrategyLayout::size(k)), so that a batch's numbers stay in cache (rows of the
+    // longest length's size were 2 KB apart at MaxPathLength 64).
+    // Per slot: row[i] as above, the chain (its index within its group), whether the
+    // proposal is a large step.
+    std::vector<float> u;
+#define WMLT_MMLT_SLOT_ARRAYS(X) X(uint32_t, row) X(uint32_t, chain) X(uint8_t, large)
+    WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_ARRAY)
+    std::vector<uint16_t> used[3];    // the prefix of each stream's block the strategy reads (256 at k = 64, s = 0)
+    // Which numbers within those prefixes the scene's walks read (setNumbersRead): the
+    // lens point (a thin lens), and numbers [vertexLo, vertexHi) of each vertex's four
+    // (0 lobe, 1-2 direction, 3 roulette). The others are neither proposed nor committed.
+    bool lensRead = true;
+    uint8_t vertexLo = 0, vertexHi = 4;
+    std::vector<BatchSlice> slices;
+    // Expected-value splats of the round, in order, grouped by film stripe (2^stripeShift
+    // pixels each: the rounds merge the film one stripe per task), with their path lengths.
+    static constexpr uint32_t kStripes = 64;
+    uint32_t stripeShift = 31;
+    // The lengths only for --length-images (splatLengths): their byte stores may alias
+    // anything, so the splat lists' pointers were reloaded after each (a third of
+    // acceptAndSplat's samples were in these appends).
+    std::vector<Splat> splats[kStripes];
+    std::vector<uint8_t> splatLength[kStripes];
+    bool splatLengths = false;
+    void addSplat(uint32_t pixel, Vec3 v, uint8_t k) {
+        const uint32_t st = pixel >> stripeShift;
+        splats[st].push_back({pixel, v});
+        if (splatLengths) splatLength[st].push_back(k);
+    }
+    // v at film point (px, py): to the pixel holding it (box filter), or kept as a film
+    // point in every stripe its filter footprint reaches (the merge spreads it over the
+    // footprint's pixels of each stripe: mergeStripe, mmlt.cpp).
+    std::vector<PointSplat> points[kStripes];
+    std::vector<uint8_t> pointLength[kStripes];
+    void clearSplats() {
+        for (uint32_t st = 0; st < kStripes; ++st) {
+            splats[st].clear();
+            splatLength[st].clear();
+            points[st].clear();
+            pointLength[st].clear();
+        }
+    }
+    __attribute__((always_inline)) void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
+        if (scene.filter.box) {  // the pixel holding the point, inline
+            addSplat(rasterPixel(scene.camera, px, py), v, k);
+            return;
+        }
+        addPointSplat(scene, px, py, v, k);
+    }
+    __attribute__((noinline)) void addPointSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
+        int x0, x1, y0, y1;
+        filterFootprint(scene.filter, scene.camera.width, scene.camera.height, px, py, x0, x1, y0, y1);
+        const uint32_t w = uint32_t(scene.camera.width);
+        const uint32_t st0 = (uint32_t(y0) * w + uint32_t(x0)) >> stripeShift;
+        const uint32_t st1 = (uint32_t(y1) * w + uint32_t(x1)) >> stripeShift;
+        for (uint32_t st = st0; st <= st1 && st < kStripes; ++st) {
+            points[st].push_back({px, py, v});
+            if (splatLengths) pointLength[st].push_back(k);
+        }
+    }
+    std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
+    MmltCounters counters;
+    std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
+
+    void reserve(size_t n, int maxLength, const BatchNeeds& needs) {
+        bpt.reserve(n, maxLength, needs, true);
+        bpt.roulette = false;
+        u.assign(n * StrategyLayout::size(maxLength), 0.0f);
+        WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
+        for (auto& v : used) v.resize(n);
+        pools.resize(size_t(maxLength) + 1);
+    }
+    StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data()}; }
+    float* rowOf(uint32_t i) { return &u[row[i]]; }
+};
+
+}  // namespace wmlt
