@@ -108,6 +108,18 @@ inline FreePath sampleFreePath(const Medium& m, float tMax, float u) {
     return r;
 }
 
+// The density with which sampleFreePath takes a segment of length d that ends at a
+// scattering event (inMedium: p(d) above) or passes it (P), for BPT's MIS weights
+// (bidirectional media, docs/media.md). A grid medium's tracking density has no closed
+// form: its segments weigh 1 there, the same for every strategy (the weights still sum to
+// one; they only lose the free-path term).
+inline float freePathDensity(const Medium& m, float d, bool inMedium) {
+    if (m.nx != 0) return 1.0f;
+    const Vec3 T = transmittance(m, d);
+    const Vec3 p = inMedium ? m.sigmaT * T : T;
+    return (p.x + p.y + p.z) * (1.0f / 3.0f);
+}
+
 // ---- Heterogeneous media: a density grid, tracked against its majorant ----
 // (Woodcock's delta tracking as spectral tracking, Kutz et al. 2017; ratio tracking for
 // transmittance, Novak et al. 2014; both walk the majorant grid cell by cell.) Their random numbers come from a stream seeded by the

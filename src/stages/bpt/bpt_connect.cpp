@@ -11,6 +11,23 @@
 
 namespace wmlt {
 
+bool connectionRay(const Scene& scene, const StrategySample& ss, RTCRay& r) {
+    if (ss.infinite) {  // towards the environment in direction `to`
+        setRay(r, scene.offsetRayOrigin(ss.from, ss.nFrom, ss.to), ss.to, 0.0f, INFINITY);
+        return true;
+    }
+    Vec3 w = ss.to - ss.from;
+    if (!(lengthSquared(w) > 0)) return false;
+    w = normalize(w);
+    Vec3 origin = scene.offsetRayOrigin(ss.from, ss.nFrom, w);
+    Vec3 end = isBlack(ss.nTo) ? ss.to : scene.offsetRayOrigin(ss.to, ss.nTo, -w);
+    Vec3 d = end - origin;
+    float dist = length(d);
+    if (!(dist > 0)) return false;
+    setRay(r, origin, d / dist, 0.0f, dist * (1.0f - 1e-4f));
+    return true;
+}
+
 namespace {
 
 // Appends the shadow ray of a strategy sample (target: the slot; a t = 1 splat: the
@@ -18,19 +35,7 @@ namespace {
 inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t slot, bool splat,
                            int s, int pathLength, RayCounters& c) {
     if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
-    if (ss.infinite) {  // towards the environment in direction `to`
-        setRay(b.conn[b.numConn], scene.offsetRayOrigin(ss.from, ss.nFrom, ss.to), ss.to, 0.0f, INFINITY);
-    } else {
-        Vec3 w = ss.to - ss.from;
-        if (!(lengthSquared(w) > 0)) return;
-        w = normalize(w);
-        Vec3 origin = scene.offsetRayOrigin(ss.from, ss.nFrom, w);
-        Vec3 end = isBlack(ss.nTo) ? ss.to : scene.offsetRayOrigin(ss.to, ss.nTo, -w);
-        Vec3 d = end - origin;
-        float dist = length(d);
-        if (!(dist > 0)) return;
-        setRay(b.conn[b.numConn], origin, d / dist, 0.0f, dist * (1.0f - 1e-4f));
-    }
+    if (!connectionRay(scene, ss, b.conn[b.numConn])) return;
     b.connSlot[b.numConn] = !splat ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
     b.connX[b.numConn] = ss.px;
     b.connY[b.numConn] = ss.py;
@@ -49,6 +54,27 @@ inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float wei
     b.L[slot] += v;
     if (b.strategyFilms)
         b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v * b.filmWeight[slot], unweighted * b.filmWeight[slot]);
+}
+
+// A visible connection of strategy s of a path of length k: to its slot's camera side, or
+// a t = 1 splat at raster pixel `target` (kFilmPoint: spread about the film point (x, y)).
+void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, float y, bool splat, int s, int k,
+                   Vec3 unweighted, float weight) {
+    if (!splat) {
+        addCameraSide(b, target, unweighted, weight, s, k);
+        return;
+    }
+    const Vec3 v = unweighted * weight;
+    if (!b.tally.take(v, k)) return;
+    pushSplat(b.splats, b.points, target, x, y, v);
+    if (!b.strategyFilms) return;
+    if (target != kFilmPoint) {
+        b.strategySplats.push_back({target, uint8_t(s), v, unweighted});
+        return;
+    }
+    scene.forEachFilmPixel(x, y, [&](uint32_t p, float fw) {
+        b.strategySplats.push_back({p, uint8_t(s), v * fw, unweighted * fw});
+    });
 }
 
 }  // namespace
@@ -77,11 +103,12 @@ namespace {
 // 0) or queued (splat: t = 1 goes to the film at its raster pixel), in order.
 void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat, RayCounters& counters) {
     StrategyWave& w = b.strategies;
+    const bool media = b.cam.media;
     evaluateStrategyBsdfs(b, w);
     StrategyScratch scratch;
     StrategySample ss;
     for (size_t i = 0; i < w.n; ++i) {
-        if (!weighStrategy(scene, b, w, i, misBeta, scratch, ss)) continue;
+        if (!weighStrategy(scene, b, w, i, misBeta, scratch, ss, counters)) continue;
         const uint32_t slot = w.slot[i];
         const int s = w.s[i], k = s + w.t[i] - 1;
         if (w.t[i] == 1 && !splat) {
@@ -90,6 +117,13 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
         }
         if (s == 0)
             addCameraSide(b, slot, ss.value, ss.weight, 0, k);
+        else if (media) {  // weighStrategy traced it through the media: visible as it stands
+            const bool splatHere = w.t[i] == 1 && splat;
+            const uint32_t target = !splatHere                ? slot
+                                    : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py)
+                                                       : kFilmPoint;
+            addConnection(scene, b, target, ss.px, ss.py, splatHere, s, k, ss.value, ss.weight);
+        }
         else if (w.t[i] == 1 && splat)
             pushConnection(scene, b, ss, slot, true, s, k, counters);
         else
@@ -108,6 +142,8 @@ void sampleCameraFromLightVertices(const Scene& scene, BptBatch& b, uint32_t slo
         b.cameraSampleOf[a] = n;
         b.csRef[n] = b.light.p[a];
         b.csRefN[n] = b.light.ng[a];
+        if (b.light.kind[a] == BptVertexKind::Medium)  // volume density: a "normal" along the ray, cosine 1
+            b.csRefN[n] = normalize(b.light.p[a] - scene.camera.position);
         ++n;
     };
     for (uint32_t slot = slot0; slot < slot1; ++slot) {
@@ -130,22 +166,8 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
     c.raysOccluded += b.numConn;
     for (size_t i = 0; i < b.numConn; ++i) {
         if (!(b.conn[i].tfar >= 0)) continue;
-        const int s = b.connS[i], k = b.connLength[i];
-        if (!b.connSplat[i]) {
-            addCameraSide(b, b.connSlot[i], b.connValue[i], b.connWeight[i], s, k);
-            continue;
-        }
-        const Vec3 v = b.connValue[i] * b.connWeight[i];
-        if (!b.tally.take(v, k)) continue;
-        pushSplat(b.splats, b.points, b.connSlot[i], b.connX[i], b.connY[i], v);
-        if (!b.strategyFilms) continue;
-        if (b.connSlot[i] != kFilmPoint) {
-            b.strategySplats.push_back({b.connSlot[i], uint8_t(s), v, b.connValue[i]});
-            continue;
-        }
-        scene.forEachFilmPixel(b.connX[i], b.connY[i], [&](uint32_t p, float fw) {
-            b.strategySplats.push_back({p, uint8_t(s), v * fw, b.connValue[i] * fw});
-        });
+        addConnection(scene, b, b.connSlot[i], b.connX[i], b.connY[i], b.connSplat[i] != 0, b.connS[i], b.connLength[i],
+                      b.connValue[i], b.connWeight[i]);
     }
     b.numConn = 0;
 }

@@ -25,6 +25,7 @@ inline void startCameraPath(const Scene& scene, BptBatch& b, size_t i, Vec3 o, V
     b.cam.pdfRev[z0] = 0.0f;
     b.cam.delta[z0] = 0;
     b.cam.kind[z0] = BptVertexKind::Camera;
+    if (b.cam.media) b.cam.mediumFront[z0] = b.cam.mediumBack[z0] = scene.cameraMedium;
 }
 
 }  // namespace
@@ -53,6 +54,7 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int 
             b.light.maxCount[i] = uint8_t(b.light.capacity);
             startCameraPath(scene, b, i, o, d);
             startPath(b, i, o, d);
+            if (b.cam.media) b.medium[i] = scene.cameraMedium;
             b.pathPdf[i] = cameraPdfOfRay(scene.camera, d);
             b.pathBeta[i] = Vec3(1.0f);
         });
@@ -80,6 +82,7 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
         setRayHit(b.ray[n], o, d);
         b.pathPdf[n] = cameraPdfOfRay(cam, d);
         b.pathBeta[n] = Vec3(1.0f);
+        if (b.cam.media) b.medium[n] = scene.cameraMedium;
         ++n;
     }
     b.numPaths = n;
@@ -107,6 +110,12 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.light.kind[y0] = infinite ? BptVertexKind::Env : BptVertexKind::Light;
         b.light.light[y0] = int16_t(li);
         if (infinite) b.light.pdfFwd[y0] = pmf * e.pdfDir;  // the direction's density
+        if (b.light.media) {  // the face emission took (e.n): a two-sided light's back for u3 >= 1/2
+            const bool back = scene.lights[li].twoSided && u(uint32_t(i), kBptLight, 3) >= 0.5f;
+            const int front = scene.lightMediumFront[size_t(li)], behind = scene.lightMediumBack[size_t(li)];
+            b.light.mediumFront[y0] = back ? behind : front;
+            b.light.mediumBack[y0] = back ? front : behind;
+        }
         if (b.light.maxCount[i] < 2) return;
         Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) / (pdfOrigin * e.pdfDir));
         if (isBlack(beta) || !isFinite(beta)) return;
@@ -115,6 +124,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         setRayHit(b.ray[n], infinite ? e.p : scene.offsetRayOrigin(e.p, e.n, e.dir), e.dir);
         b.pathPdf[n] = infinite ? e.pdfPos : e.pdfDir;  // resolveBptHits projects the disc's
         b.pathBeta[n] = beta;
+        if (b.light.media) b.medium[n] = b.light.mediumFront[y0];
         ++n;
     };
     if (const Light* rect = soleRectLight(scene)) {
@@ -172,12 +182,58 @@ template void generateBptLightPaths(const Scene&, BptBatch&, const StoredSamples
 namespace {
 
 // The stage for the scene's surface features F (surface.h, withSurfaceFeatures).
+// (media) Path i's free-path densities at its new vertex cur: pdfFwd takes the walk's, rhoRev
+// keeps the reverse one for the densities towards the previous vertex.
+inline void takeSegmentDensities(const BptBatch& b, BptVertices& v, size_t i, size_t cur) {
+    v.pdfFwd[cur] *= b.rhoFwd[i];
+    v.rhoRev[cur] = b.rhoRev[i];
+}
+
+// Path i's scattering event in its medium (traverseBptMedia), at mediumT along its ray:
+// medium vertex cur (a Phase BSDF in a frame whose z is wo).
+inline void recordBptMediumVertex(const Scene& scene, BptBatch& b, BptVertices& v, size_t i, size_t prev, size_t cur) {
+    const RTCRayHit& rh = b.ray[i];
+    const Vec3 d = rayDir(rh);
+    const int m = b.medium[i];
+    v.p[cur] = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + d * b.mediumT[i];
+    v.ng[cur] = Vec3(0.0f);
+    v.shading[cur] = Frame::fromNormal(-d);
+    v.bsdf[cur] = BsdfParams{};
+    v.bsdf[cur].kind = MaterialKind::Phase;
+    v.bsdf[cur].eta = scene.media[size_t(m)].g;  // phaseG
+    v.beta[cur] = b.pathBeta[i];
+    // volume density: the solid angle's over r^2 (from the environment's disc or an
+    // orthographic film: their area density along the ray), times the free path's
+    const bool projected = v.kind[prev] == BptVertexKind::Env || (scene.camera.ortho && v.kind[prev] == BptVertexKind::Camera);
+    v.pdfFwd[cur] = projected ? b.pathPdf[i] : solidAngleToArea(b.pathPdf[i], v.p[prev], v.p[cur], Vec3(0.0f), false);
+    takeSegmentDensities(b, v, i, cur);
+    v.pdfRev[cur] = 0.0f;
+    v.delta[cur] = 0;
+    v.kind[cur] = BptVertexKind::Medium;
+    v.light[cur] = -1;
+    v.mediumFront[cur] = v.mediumBack[cur] = m;
+}
+
 template <class F>
 void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
+    const bool media = v.media;
     size_t h = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
         prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
+        if (media && b.mediumEvent[i]) {
+            const uint32_t slot = b.pathSlot[i];
+            const int idx = v.count[slot];
+            if (idx >= v.maxCount[slot]) continue;
+            const size_t prev = v.at(slot, idx - 1), cur = v.at(slot, idx);
+            v.count[slot] = uint8_t(idx + 1);
+            recordBptMediumVertex(scene, b, v, i, prev, cur);
+            if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
+            b.hitPath[h] = uint32_t(i);
+            b.hitKind[h] = MaterialKind::Phase;
+            ++h;
+            continue;
+        }
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             if (!cameraWalk || scene.envLight < 0) continue;
             // The camera path escapes to the environment: an Env vertex ends it.
@@ -195,6 +251,10 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
             v.delta[cur] = 0;
             v.kind[cur] = BptVertexKind::Env;
             v.light[cur] = int16_t(scene.envLight);
+            if (media) {
+                takeSegmentDensities(b, v, i, cur);
+                v.mediumFront[cur] = v.mediumBack[cur] = -1;
+            }
             continue;
         }
         SurfacePoint sp = surfaceAt<F>(scene, rh);
@@ -214,6 +274,12 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;
         v.light[cur] = int16_t(sp.light);  // a Surface on an emitter keeps its light (s = 0)
+        if (media) {  // a boundary's outside on the +ng side (media.h, mediumAcross), else the path's
+            takeSegmentDensities(b, v, i, cur);
+            const GeomRecord& g = scene.geoms[rh.hit.geomID];
+            v.mediumFront[cur] = g.mediumBoundary ? g.mediumOutside : b.medium[i];
+            v.mediumBack[cur] = g.mediumBoundary ? g.mediumInside : b.medium[i];
+        }
         if (cameraWalk && sp.light >= 0 && !v.emitPdfA.empty()) {  // a textured emitter's T and density here
             v.emitTex[cur] = Vec3(1.0f);
             v.emitPdfA[cur] = -1;
@@ -289,8 +355,8 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             }
             v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
                                  ? pdfRev
-                                 : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev],
-                                                    v.kind[prev] != BptVertexKind::Camera);
+                                 : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev], hasCosine(v.kind[prev]));
+            if (v.media) v.pdfRev[prev] *= v.rhoRev[cur];  // the reverse free path's density
             // Roulette (sampling.h): the light subpath's relative to its initial throughput.
             if (b.roulette && d >= kRouletteDepth &&
                 !survivesRoulette(beta, cameraWalk ? 1.0f : b.betaScale[slot], u(slot, stream, jOf(d, 3))))
@@ -310,6 +376,7 @@ void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, b
              const U& u) {
     for (bool first = true; b.numPaths > 0; first = false) {
         intersect(scene, b, coherentFirst && first, counters);
+        if (v.media) traverseBptMedia(scene, b, v, cameraWalk, counters);  // (bpt_media.cpp)
         resolveBptHits(scene, b, v, cameraWalk);
         if (b.numHits == 0) break;
         groupByMaterial(b, b.hitKind.data());
@@ -329,9 +396,13 @@ void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
             p = v.p[cur];
             ng = v.ng[cur];
         },
-        [&](size_t n, uint32_t path, size_t) {
+        [&](size_t n, uint32_t path, size_t h) {
             b.pathBeta[n] = b.pathBeta[path];
             b.pathPdf[n] = b.pathPdf[path];
+            if (v.media) {  // the side the next ray leaves into (a medium vertex: its own medium)
+                const uint32_t slot = b.pathSlot[path];
+                b.medium[n] = v.mediumTowards(v.at(slot, v.count[slot] - 1), b.nextDir[h]);
+            }
         });
 }
 

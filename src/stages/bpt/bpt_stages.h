@@ -53,6 +53,10 @@ void resolveBptHits(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
 // d: the vertex's index in its subpath (random-number layout, roulette from d = 3).
 template <class U>
 void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u);
+// (media) After intersect: each path's free-path sample in its medium up to its hit
+// (a scattering event becomes a Medium vertex in resolveBptHits), pass-through boundaries
+// crossed, the samples' densities kept for the vertex (bpt_media.cpp).
+void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, RayCounters& c);
 // Compacts the surviving hits into the next round's paths.
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
 // The rounds of one walk (camera or light): intersect -> resolve -> group -> sample ->
@@ -91,9 +95,14 @@ void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta);
 // grouped by material kind and each kind's kernels called at compile time.
 void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w);
 // weighStrategy: strategy i's unweighted contribution and MIS weight, and its shadow
-// ray's ends. False when it contributes nothing.
+// ray's ends. False when it contributes nothing. A scene with media traces the connection
+// here (its transmittance in the contribution, its free-path densities in the weight:
+// bpt_media.cpp's stage made the walks'; the contribution is then visible as it stands).
 bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
-                   StrategyScratch& scratch, StrategySample& out);
+                   StrategyScratch& scratch, StrategySample& out, RayCounters& counters);
+// The shadow ray of a strategy sample between its ends (offset off their surfaces); false
+// when they coincide.
+bool connectionRay(const Scene& scene, const StrategySample& ss, RTCRay& r);
 // Every strategy (s, t) with s + t - 1 in [minLength, maxLength]: s = 0 to L, the
 // others to conns (flushed through traceBptConnections when full and at the end).
 void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& c);

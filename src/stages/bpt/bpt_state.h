@@ -26,8 +26,13 @@
 namespace wmlt {
 
 // Env: a point of the environment at infinity (ng = minus the direction towards it; p on
-// the line from the neighbouring vertex, so that directions to it are exact).
-enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
+// the line from the neighbouring vertex, so that directions to it are exact). Medium: a
+// scattering event in a participating medium (ng = 0, the phase function as its BSDF,
+// MaterialKind::Phase; densities in volume measure: no cosine).
+enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env, Medium };
+// Whether a vertex's area density takes the cosine at it (surfaces and lights; the pinhole
+// camera's convention and medium vertices: none).
+inline bool hasCosine(BptVertexKind k) { return k != BptVertexKind::Camera && k != BptVertexKind::Medium; }
 
 // The vertices of one kind of subpath for every slot of a batch, at index
 // first[slot] + i (slot * capacity, or packed): position, geometric normal (lights: emitting side), shading frame
@@ -43,6 +48,11 @@ enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env };
 // Scenes with a textured emitter (BatchNeeds::texturedEmitter): at an emitter vertex, T and
 // the area density of light sampling there (camera walk: s = 0; y_0: emission's).
 #define WMLT_BPT_EMITTER_ARRAYS(X) X(Vec3, emitTex) X(float, emitPdfA)
+// Scenes with media (BatchNeeds::media; docs/media.md): the media on the vertex's +ng and
+// -ng sides (a medium vertex, the camera: its medium on both), and the free-path density of
+// the segment that reached it sampled the other way (ending at the previous vertex:
+// SegmentDensities::rev), which its pdfRev-side densities take; pdfFwd has the walk's own.
+#define WMLT_BPT_MEDIA_VERTEX_ARRAYS(X) X(int32_t, mediumFront) X(int32_t, mediumBack) X(float, rhoRev)
 
 struct BptVertices {
     int capacity = 0;
@@ -51,9 +61,11 @@ struct BptVertices {
     std::vector<uint32_t> first;     // per slot: the index of its vertex 0
     WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_BPT_MEDIA_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
 
-    void reserve(size_t slots, int cap, bool emitters = false) {
+    void reserve(size_t slots, int cap, bool emitters = false, bool withMedia = false) {
         texturedEmitters = emitters;
+        media = withMedia;
         capacity = cap;
         count.assign(slots, 0);
         maxCount.assign(slots, uint8_t(cap));
@@ -61,11 +73,14 @@ struct BptVertices {
         for (size_t i = 0; i < slots; ++i) first[i] = uint32_t(i * size_t(cap));
         resizeVertices(slots * size_t(cap));
     }
-    bool texturedEmitters = false;
+    bool texturedEmitters = false, media = false;
     void resizeVertices(size_t n) {
         WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_RESIZE)
         if (texturedEmitters) { WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_RESIZE) }
+        if (media) { WMLT_BPT_MEDIA_VERTEX_ARRAYS(WMLT_SOA_RESIZE) }
     }
+    // The medium a ray leaving vertex a along dir travels in.
+    int mediumTowards(size_t a, Vec3 dir) const { return dot(dir, ng[a]) < 0 ? mediumBack[a] : mediumFront[a]; }
     // Slots whose walks stop early (MMLT's: maxCount is known before the walk) get only
     // their vertices, one after the other (at least one each), so that a batch's vertices
     // stay in cache instead of capacity apart.
@@ -131,6 +146,10 @@ struct StrategyWave {
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
     X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
+// Allocated only for a scene with media (docs/media.md): per path its medium, this round's
+// free-path sample (traverseBptMedia: a scattering event and where) and its densities.
+#define WMLT_BPT_MEDIA_ARRAYS(X)                                                             \
+    X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(float, rhoFwd) X(float, rhoRev)
 // Allocated only for a scene whose one light is a rectangle (soleRectLight).
 #define WMLT_BPT_RECT_LIGHT_ARRAYS(X)                                                        \
     X(uint32_t, emitSlot) X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) \
@@ -160,6 +179,7 @@ struct BptBatch : PathWave {
     WMLT_BPT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_ARRAY)
     std::vector<uint32_t> cameraSampleOf;  // per light vertex
     bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
@@ -182,8 +202,9 @@ struct BptBatch : PathWave {
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
         if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
-        cam.reserve(n, maxLength + 1, needs.texturedEmitter);
-        light.reserve(n, maxLength, needs.texturedEmitter);
+        if (needs.media) { WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
+        cam.reserve(n, maxLength + 1, needs.texturedEmitter, needs.media);
+        light.reserve(n, maxLength, needs.texturedEmitter, needs.media);
         if (needs.pinhole) {
             const size_t samples = std::min<size_t>(kCameraSampleSlots, std::max<size_t>(n, 1)) *
                                    (oneStrategyPerSlot ? 1 : size_t(maxLength));  // a chunk's light vertices

@@ -8,6 +8,7 @@
 #include "kernels/mis.h"
 #include "scene/scene_lights.h"
 #include "stages/bpt/bpt_stages.h"
+#include "stages/core/media.h"
 
 namespace wmlt {
 
@@ -33,10 +34,11 @@ inline float lightDirPdfArea(Vec3 p, Vec3 n, Vec3 to, Vec3 nTo, bool toOnSurface
 inline Vec3 dirTo(Vec3 a, Vec3 b) { return normalize(b - a); }
 
 // Solid-angle density at `from` converted to the measure of vertex `to`: area for surface
-// and light points (the camera: no cosine), unchanged (solid angle) for the environment.
+// and light points (the camera: no cosine; a medium vertex: volume, no cosine), unchanged
+// (solid angle) for the environment.
 inline float pdfAt(float pdfSa, Vec3 from, const PathPoint& to) {
     if (to.kind == BptVertexKind::Env) return pdfSa;
-    return solidAngleToArea(pdfSa, from, to.p, to.ng, to.kind != BptVertexKind::Camera);
+    return solidAngleToArea(pdfSa, from, to.p, to.ng, hasCosine(to.kind));
 }
 
 // Density with which a light subpath starts at x0 (light li): emission position times
@@ -59,13 +61,13 @@ inline float emissionPdfAt(const Scene& scene, int li, const PathPoint& x0, cons
         return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
     if (const Light& l = scene.lights[li]; isDeltaLight(l)) {
         const float pdf = isSpot(l) ? pointEmissionPdf(l, dirTo(x0.p, x1.p)) : kUniformSpherePdf;
-        return solidAngleToArea(pdf, x0.p, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+        return solidAngleToArea(pdf, x0.p, x1.p, x1.ng, hasCosine(x1.kind));
     }
     if (scene.lights[li].twoSided) {  // either face with probability 1/2: the one facing x1
         const Vec3 n = dot(x0.ng, x1.p - x0.p) < 0 ? -x0.ng : x0.ng;
-        return 0.5f * lightDirPdfArea(x0.p, n, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+        return 0.5f * lightDirPdfArea(x0.p, n, x1.p, x1.ng, hasCosine(x1.kind));
     }
-    return lightDirPdfArea(x0.p, x0.ng, x1.p, x1.ng, x1.kind != BptVertexKind::Camera);
+    return lightDirPdfArea(x0.p, x0.ng, x1.p, x1.ng, hasCosine(x1.kind));
 }
 
 // Vertex i of the path of strategy (s, t) of slot, k = s + t - 1: the light subpath's
@@ -79,6 +81,40 @@ inline size_t indexOf(const BptBatch& b, uint32_t slot, int i, int s, int k) {
 inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathPoint& x1) {
     Vec3 dir = x0.kind == BptVertexKind::Env ? -x0.ng : dirTo(x1.p, x0.p);
     return pdfAt(lightPdfFrom(scene, l0, x1.p, x0.p, dir, x0.ng, x0.pdfA), x1.p, x0);
+}
+
+// (media) Strategy i's connection through media and pass-through boundaries (out: its
+// ends): value takes its transmittance (false: blocked); the densities that would sample
+// the connection's segment take its free-path densities (pE at y = x_{s-1}, pL at z =
+// x_s), and those of the segments next to it, sampled backwards, the walks' kept ones
+// (rhoRev). s = 0: the emission's density at x_1 crosses the camera walk's last segment.
+bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, RayCounters& c, float* pL,
+                  float* pE, const StrategySample& out, Vec3& value) {
+    const uint32_t slot = w.slot[i];
+    const int s = w.s[i], t = w.t[i], k = s + t - 1;
+    const size_t zi = b.cam.at(slot, t - 1);
+    if (s == 0) {
+        if (k >= 2) pL[1] *= b.cam.rhoRev[zi];
+        return true;
+    }
+    RTCRay r;
+    if (!connectionRay(scene, out, r)) return false;
+    const bool fromZ = s == 1 && t >= 2;  // the ray leaves z for the light point; else y
+    const BptVertices& fv = fromZ ? b.cam : b.light;
+    const size_t fa = fromZ ? zi : b.light.at(slot, s - 1);
+    const int m = fv.mediumTowards(fa, Vec3(r.dir_x, r.dir_y, r.dir_z));
+    const bool fromInMedium = fv.kind[fa] == BptVertexKind::Medium;
+    const bool toInMedium = s >= 2 && t >= 2 && b.cam.kind[zi] == BptVertexKind::Medium;
+    SegmentDensities rho;
+    const uint64_t seed = mix64(b.key[slot] ^ 0x42434f4e4eull ^ (uint64_t(s) << 40) ^ (uint64_t(t) << 48));
+    const Vec3 T = transmittanceAlong(scene, r, m, seed, fromInMedium, toInMedium, rho, c);
+    if (isBlack(T)) return false;
+    value = value * T;
+    pE[s - 1] *= fromZ ? rho.fwd : rho.rev;  // ending at y
+    if (t >= 2) pL[s] *= fromZ ? rho.rev : rho.fwd;  // ending at z
+    if (t >= 2 && s + 1 < k) pL[s + 1] *= b.cam.rhoRev[zi];
+    if (s >= 2) pE[s - 2] *= b.light.rhoRev[b.light.at(slot, s - 1)];
+    return true;
 }
 
 }  // namespace
@@ -131,8 +167,11 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
     const bool zEmits = zKind == BptVertexKind::Light || zKind == BptVertexKind::Env ||
                         (zKind == BptVertexKind::Surface && b.cam.light[zi] >= 0);
     if (s == 0 && !zEmits) return false;
-    // A connection needs a non-delta lobe at both ends, whichever lobe the walk took there.
-    if (s >= 1 && t >= 2 && (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind))) return false;
+    // A connection needs a non-delta lobe at both ends, whichever lobe the walk took there
+    // (a medium vertex's phase function is one).
+    if (s >= 1 && t >= 2 && zKind != BptVertexKind::Medium &&
+        (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind)))
+        return false;
     if (s == 1 && t >= 2 && scene.lights.empty()) return false;
     if (s >= 2 || (s == 1 && t == 1)) {
         if (s > nL) return false;
@@ -237,7 +276,7 @@ template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, c
 template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const StoredSamples&, StrategyWave&);
 
 bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
-                   StrategyScratch& scratch, StrategySample& out) {
+                   StrategyScratch& scratch, StrategySample& out, RayCounters& counters) {
     const Camera& cam = scene.camera;
     const uint32_t slot = w.slot[i];
     const int s = w.s[i], t = w.t[i], k = s + t - 1;
@@ -254,6 +293,25 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     else
         value = b.light.beta[w.endVertex[ey]] * (w.f[ey] * w.scale[i]) * w.f[ez] * b.cam.beta[zi] * w.tail[i];
     if (isBlack(value)) return false;
+    // The shadow ray's ends.
+    out.infinite = false;
+    out.nTo = Vec3(0.0f);
+    if (s == 1 && t >= 2) {
+        out.from = b.cam.p[zi];
+        out.nFrom = b.cam.ng[zi];
+        out.infinite = w.infinite[i] != 0;
+        out.to = out.infinite ? -w.endN[i] : w.endP[i];
+    } else if (s >= 1) {
+        const size_t yi = b.light.at(slot, s - 1);
+        out.from = b.light.p[yi];
+        out.nFrom = b.light.ng[yi];
+        out.to = t == 1 ? w.endP[i] : b.cam.p[zi];
+        if (t >= 2) out.nTo = b.cam.ng[zi];
+        if (t == 1) {
+            out.px = w.filmX[i];
+            out.py = w.filmY[i];
+        }
+    }
     // The path's stored densities around the connection, x_{s-3} .. x_{s+2}, and at x_0
     // (the rest of the path is in the subpaths' cached sums); the new endpoint's (s = 1,
     // t >= 2: x_0; t = 1: x_k) and the connection's follow.
@@ -297,10 +355,10 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         const PathPoint y = x(s - 1), z = x(s);
         pE[s - 1] = pdfAt(w.pdfCam[ez], z.p, y);
         pE[s - 2] = pdfAt(w.pdfCam[ey], y.p, x(s - 2));
-        pL[s] = solidAngleToArea(w.pdfLight[ey], y.p, z.p, z.ng, true);
+        pL[s] = solidAngleToArea(w.pdfLight[ey], y.p, z.p, z.ng, hasCosine(z.kind));
         if (s + 1 < k) {
             const PathPoint next = x(s + 1);
-            pL[s + 1] = solidAngleToArea(w.pdfLight[ez], z.p, next.p, next.ng, true);
+            pL[s + 1] = solidAngleToArea(w.pdfLight[ez], z.p, next.p, next.ng, hasCosine(next.kind));
         }
     } else if (t == 1) {
         const PathPoint y = x(s - 1);
@@ -316,9 +374,10 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         pL[1] = emissionPdfAt(scene, l0, x0, z);
         if (2 < k) {
             const PathPoint next = x(2);
-            pL[2] = solidAngleToArea(w.pdfLight[ez], z.p, next.p, next.ng, true);
+            pL[2] = solidAngleToArea(w.pdfLight[ez], z.p, next.p, next.ng, hasCosine(next.kind));
         }
     }
+    if (b.cam.media && !throughMedia(scene, b, w, i, counters, pL, pE, out, value)) return false;
     // x_0 under next-event estimation from x_1 (k = 1: s = 1 is the light subpath's own
     // vertex connected to the camera). A point light: NEE chooses it as emission does
     // (the pmf), and no camera path reaches it (s = 0 has no density).
@@ -329,25 +388,6 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     const double lightSum = s >= 3 ? b.light.misSum[b.light.at(slot, s - 3)] : 0.0;
     out.weight = bptMisWeightCached(k, s, pL, pE, delta, pL0Nee, misBeta, x0Infinite, x0Delta, cameraSum, lightSum);
     out.value = value;
-    // The shadow ray's ends.
-    out.infinite = false;
-    out.nTo = Vec3(0.0f);
-    if (s == 1 && t >= 2) {
-        out.from = b.cam.p[zi];
-        out.nFrom = b.cam.ng[zi];
-        out.infinite = w.infinite[i] != 0;
-        out.to = out.infinite ? -w.endN[i] : w.endP[i];
-    } else if (s >= 1) {
-        const size_t yi = b.light.at(slot, s - 1);
-        out.from = b.light.p[yi];
-        out.nFrom = b.light.ng[yi];
-        out.to = t == 1 ? w.endP[i] : b.cam.p[zi];
-        if (t >= 2) out.nTo = b.cam.ng[zi];
-        if (t == 1) {
-            out.px = w.filmX[i];
-            out.py = w.filmY[i];
-        }
-    }
     return out.weight > 0;
 }
 

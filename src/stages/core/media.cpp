@@ -30,7 +30,13 @@ void continuePast(const Scene& scene, RTCRayHit& rh, float tMax) {
     rh.ray.tfar = tMax;
 }
 
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, RayCounters& c) {
+namespace {
+
+// transmittanceAlong's walk; with Densities also each segment's free-path densities (the
+// segment next to each end ending in the medium there when that end is a medium vertex).
+template <bool Densities>
+Vec3 transmittanceOf(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                     SegmentDensities& rho, RayCounters& c) {
     const Vec3 d(r.dir_x, r.dir_y, r.dir_z);
     RTCRayHit rh;
     setRayHit(rh, Vec3(r.org_x, r.org_y, r.org_z), d);
@@ -42,17 +48,35 @@ Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t see
         traceClosest(scene.rtc, &rh, 1, false);
         ++c.raysOccluded;
         const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-            if (m >= 0) T = T * mediumTransmittance(scene.media[size_t(m)], o, d, remaining, mix64(seed + k));
-            return T;
+        const bool last = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID;
+        if (!last && !scene.geoms[rh.hit.geomID].passThrough) return Vec3(0.0f);  // occluded
+        const float len = last ? remaining : rh.ray.tfar;
+        if (m >= 0) {
+            const Medium& med = scene.media[size_t(m)];
+            T = T * mediumTransmittance(med, o, d, len, mix64(seed + k));
+            if constexpr (Densities) {
+                rho.fwd *= freePathDensity(med, len, last && toInMedium);
+                rho.rev *= freePathDensity(med, len, k == 0 && fromInMedium);
+            }
         }
-        if (!scene.geoms[rh.hit.geomID].passThrough) return Vec3(0.0f);  // occluded
-        if (m >= 0) T = T * mediumTransmittance(scene.media[size_t(m)], o, d, rh.ray.tfar, mix64(seed + k));
+        if (last) return T;
         remaining -= rh.ray.tfar;
         m = mediumAcross(scene, rh, d, m);
         continuePast(scene, rh, remaining);
     }
     return Vec3(0.0f);
+}
+
+}  // namespace
+
+Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, RayCounters& c) {
+    SegmentDensities unused;
+    return transmittanceOf<false>(scene, r, m, seed, false, false, unused, c);
+}
+
+Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                        SegmentDensities& rho, RayCounters& c) {
+    return transmittanceOf<true>(scene, r, m, seed, fromInMedium, toInMedium, rho, c);
 }
 
 }  // namespace wmlt

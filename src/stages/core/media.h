@@ -27,41 +27,64 @@ int mediumAcross(const Scene& scene, const RTCRayHit& rh, Vec3 d, int m);
 // Moves rh's ray to start just past the surface it hit, up to tMax.
 void continuePast(const Scene& scene, RTCRayHit& rh, float tMax);
 
-// Each path's free-path sample in its medium up to its hit (beta times its weight): a
-// scattering event (mediumEvent, mediumT along the ray as it ends) or the surface, crossing
-// pass-through boundaries (the medium updated, the ray continued past them).
+// The densities of a ray's free-path samples up to where it stopped (BPT's MIS weights,
+// freePathDensity): fwd, the walk's own (ending at its event or surface); rev, the same
+// segments sampled the other way, ending at the ray's origin (prevInMedium: a medium vertex).
+struct SegmentDensities {
+    float fwd = 1, rev = 1;
+};
+
+// One ray's free-path sample in medium m up to its hit (beta times its weight): a
+// scattering event (event, eventT along the ray as it ends) or the surface, crossing
+// pass-through boundaries (m updated, the ray continued past them). Segment k's number is
+// dimension dimOf(k) of key (a grid's stream is seeded from it too). With Densities, rho
+// gets the sample's densities.
+template <bool Densities, class DimOf>
+inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, uint64_t key, DimOf&& dimOf, Vec3& beta,
+                             uint8_t& event, float& eventT, bool prevInMedium, SegmentDensities& rho, RayCounters& c) {
+    event = 0;
+    for (uint32_t k = 0;; ++k) {
+        const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        if (m >= 0) {
+            const Medium& med = scene.media[size_t(m)];
+            const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+            const uint32_t dim = dimOf(k);
+            const FreePath fp = sampleMediumFreePath(med, o, d, hit ? rh.ray.tfar : INFINITY, sampleDimension(key, dim),
+                                                     mix64(key ^ (uint64_t(dim) << 32)));
+            beta = beta * fp.weight;
+            if constexpr (Densities) {
+                rho.fwd *= freePathDensity(med, fp.t, fp.scattered);
+                rho.rev *= freePathDensity(med, fp.t, k == 0 && prevInMedium);
+            }
+            if (fp.scattered) {
+                event = 1;
+                eventT = fp.t;
+                return;
+            }
+        }
+        if (!hit || !scene.geoms[rh.hit.geomID].passThrough) return;
+        if (k + 1 >= kMediumStride) {  // a ray through hundreds of boundaries: dropped
+            beta = Vec3(0.0f);
+            return;
+        }
+        const Vec3 d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+        m = mediumAcross(scene, rh, d, m);
+        continuePast(scene, rh, INFINITY);
+        traceClosest(scene.rtc, &rh, 1, false);
+        ++c.raysIntersect;
+    }
+}
+
+// Each path's free-path sample in its medium up to its hit (traverseMediumOf), for a batch
+// whose paths carry beta (PT's, LT's); bounce depth's numbers (mediumDim).
 template <class Batch>
 void traverseMediaOf(const Scene& scene, Batch& b, int depth, RayCounters& c) {
+    SegmentDensities unused;
     for (size_t i = 0; i < b.numPaths; ++i) {
-        RTCRayHit& rh = b.ray[i];
-        const uint64_t key = b.key[b.pathSlot[i]];
         int m = b.medium[i];
-        b.mediumEvent[i] = 0;
-        for (uint32_t k = 0;; ++k) {
-            const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-            if (m >= 0) {
-                const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-                const uint32_t dim = mediumDim(depth, k);  // a grid's stream is seeded from it too
-                const FreePath fp = sampleMediumFreePath(scene.media[size_t(m)], o, d, hit ? rh.ray.tfar : INFINITY,
-                                                         sampleDimension(key, dim), mix64(key ^ (uint64_t(dim) << 32)));
-                b.beta[i] = b.beta[i] * fp.weight;
-                if (fp.scattered) {
-                    b.mediumEvent[i] = 1;
-                    b.mediumT[i] = fp.t;
-                    break;
-                }
-            }
-            if (!hit || !scene.geoms[rh.hit.geomID].passThrough) break;
-            if (k + 1 >= kMediumStride) {  // a ray through hundreds of boundaries: dropped
-                b.beta[i] = Vec3(0.0f);
-                break;
-            }
-            const Vec3 d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-            m = mediumAcross(scene, rh, d, m);
-            continuePast(scene, rh, INFINITY);
-            traceClosest(scene.rtc, &rh, 1, false);
-            ++c.raysIntersect;
-        }
+        traverseMediumOf<false>(
+            scene, b.ray[i], m, b.key[b.pathSlot[i]], [&](uint32_t k) { return mediumDim(depth, k); }, b.beta[i],
+            b.mediumEvent[i], b.mediumT[i], false, unused, c);
         b.medium[i] = m;
     }
 }
@@ -89,5 +112,10 @@ void recordMediumVertex(const Scene& scene, Batch& b, size_t h, size_t i) {
 // pass-through boundaries; 0 when any other surface is in the way. A grid's ratio tracking
 // reads streams seeded by seed and the segment.
 Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, RayCounters& c);
+// The same, with the densities of free-path samples along the ray (BPT's connections):
+// rho.fwd of a walk from r's origin that ends at its end (toInMedium: a medium vertex there),
+// rho.rev of one from its end that ends at its origin (fromInMedium).
+Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                        SegmentDensities& rho, RayCounters& c);
 
 }  // namespace wmlt
