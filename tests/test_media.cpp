@@ -14,6 +14,7 @@
 
 #include "kernels/camera.h"
 #include "kernels/medium.h"
+#include "media_scenes.h"
 #include "render_stats.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
@@ -27,11 +28,7 @@ std::string dir() {
     static const std::string d = rstats::tempDir("media");
     return d;
 }
-SceneDesc loadText(const std::string& name, const std::string& text) {
-    const std::string path = dir() + "/" + name;
-    std::ofstream(path, std::ios::binary) << text;
-    return loadScene(path);
-}
+SceneDesc loadText(const std::string& name, const std::string& text) { return media_scenes::load(name, text); }
 // The message a Mitsuba scene's loading fails with (read as "bad.xml"), or "no error".
 std::string mitsubaError(const std::string& xml) {
     try {
@@ -48,27 +45,6 @@ std::string errorOf(const std::string& name, const std::string& text) {
         return e.what();
     }
     return "no error";
-}
-
-// A cube [-h, h]^3 about c as a pbrt trianglemesh, its winding's normals outward (or inward).
-std::string cube(Vec3 c, float h, bool inward) {
-    std::string P, idx;
-    for (int i = 0; i < 8; ++i)
-        P += std::to_string(c.x + ((i & 1) ? h : -h)) + " " + std::to_string(c.y + ((i & 2) ? h : -h)) + " " +
-             std::to_string(c.z + ((i & 4) ? h : -h)) + "  ";
-    const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-    auto corner = [&](int i) { return Vec3((i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h); };
-    auto triangle = [&](int a, int b, int d) {  // wound so that its normal points as asked
-        const Vec3 n = cross(corner(b) - corner(a), corner(d) - corner(a));
-        const bool out = dot(n, corner(a) + corner(b) + corner(d)) > 0;
-        if (out == inward) std::swap(b, d);
-        idx += std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + " ";
-    };
-    for (const auto& q : quads) {
-        triangle(q[0], q[1], q[2]);
-        triangle(q[0], q[2], q[3]);
-    }
-    return "Shape \"trianglemesh\" \"point3 P\" [ " + P + "] \"integer indices\" [ " + idx + "]\n";
 }
 
 double blockMean(const std::vector<double>& v) {
@@ -134,7 +110,7 @@ AttributeBegin
 Material "interface"
 MediumInterface "ink" ""
 Scale 10 10 1
-)" + cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
+)" + media_scenes::cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
@@ -237,7 +213,7 @@ TEST_CASE("media in PT: white furnaces, the camera in the medium and the medium 
 MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 1.3 1.3 1.3 ] "float g" 0.5
 )";
     const std::string walls = "AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n" +
-                              cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
+                              media_scenes::cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
     const std::string film = R"(Camera "perspective" "float fov" [ 60 ]
 Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
 PixelFilter "box"
@@ -245,7 +221,7 @@ PixelFilter "box"
     const SceneDesc inMedium = loadText("furnace-a.pbrt", head + "MediumInterface \"\" \"fog\"\n" + film + "WorldBegin\nMediumInterface \"\" \"\"\n" + walls);
     const SceneDesc boxed = loadText("furnace-b.pbrt", head + film + "WorldBegin\n" + walls +
                                                         "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"fog\" \"\"\n" +
-                                                        cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
+                                                        media_scenes::cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
     REQUIRE(inMedium.cameraMedium == 0);
     REQUIRE(boxed.cameraMedium == -1);
     for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT})
@@ -267,25 +243,7 @@ TEST_CASE("media behind glass: PT, LT and BPT agree on a scattering medium in a 
     // estimation through it), the light tracer's connections leave the ball through its
     // rough surface. No closed form: the three tracers' block means agree (differences of
     // K-run means against their standard errors), per channel.
-    const SceneDesc d = loadText("glass-ball.pbrt", R"(LookAt 0 1 -4  0 0.6 0  0 1 0
-Camera "perspective" "float fov" [ 35 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-PixelFilter "box"
-MakeNamedMedium "milk" "string type" "homogeneous" "rgb sigma_a" [ 0.05 0.1 0.2 ] "rgb sigma_s" [ 2 1.5 1 ] "float g" 0.3
-WorldBegin
-AttributeBegin
-AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
-Shape "trianglemesh" "point3 P" [ -1.5 3 -1.5  1.5 3 -1.5  1.5 3 1.5  -1.5 3 1.5 ] "integer indices" [ 0 1 2 0 2 3 ]
-AttributeEnd
-Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ]
-Shape "trianglemesh" "point3 P" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] "integer indices" [ 0 2 1 0 3 2 ]
-AttributeBegin
-Material "dielectric" "float eta" 1.5 "float roughness" 0.3
-MediumInterface "milk" ""
-Translate 0 0.7 0
-Shape "sphere" "float radius" 0.7
-AttributeEnd
-)");
+    const SceneDesc d = loadText("glass-ball.pbrt", media_scenes::glassBall());
     REQUIRE(d.cameraMedium == -1);
     REQUIRE(d.shapes[2].mediumBoundary);
     const TracerKind tracers[3] = {TracerKind::PT, TracerKind::LT, TracerKind::BPT};
@@ -419,7 +377,7 @@ MediumInterface "" ""
 AttributeBegin
 Material "diffuse" "rgb reflectance" [ 0 0 0 ]
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
-)" + cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
+)" + media_scenes::cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
     const SceneDesc d = loadText("grid-furnace.pbrt", furnace);
     REQUIRE(d.media.size() == 1);
     REQUIRE(d.media[0].density.size() == 64);
@@ -450,7 +408,7 @@ AttributeBegin
 Material "interface"
 MediumInterface "ramp" ""
 Scale 10 10 1
-)" + cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
+)" + media_scenes::cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
@@ -592,7 +550,4 @@ TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
     } catch (const InputError& e) {
         CHECK_THAT(std::string(e.what()), Catch::Contains("m5.pbrt:7") && Catch::Contains("open mesh"));
     }
-    // MMLT refuses media for now
-    const SceneDesc fog = loadText("m6.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nShape \"sphere\"\n");
-    CHECK_THROWS_WITH(render(fog, rstats::renderOptions(TracerKind::MMLT, 1, 1, 1, 2)), Catch::Contains("path, light and bidirectional tracers only"));
 }

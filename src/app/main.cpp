@@ -61,9 +61,9 @@ void checkOutputPath(const std::string& path, bool image) {
 // memory it would need (every chain counted at MaxPathLength, the largest state). The
 // limit is the one renderMmlt applies to the chains it actually runs: 3/4 of the
 // machine's physical memory.
-void checkChainMemory(long long chains, const wmlt::Settings& s) {
+void checkChainMemory(long long chains, const wmlt::Settings& s, bool media) {
     const double mem = wmlt::physicalMemoryBytes();
-    const uint64_t perChain = wmlt::mmltChainBytes(s.maxPathLength);
+    const uint64_t perChain = wmlt::mmltChainBytes(s.maxPathLength, media);
     const double bytes = double(chains) * double(perChain);
     if (mem > 0 && bytes > 0.75 * mem)
         throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + wmlt::bytesText(bytes) +
@@ -231,7 +231,7 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
     if (cl.chains && *cl.chains > 0 && job.scene.settings.tracer == TracerKind::MMLT)
-        checkChainMemory(*cl.chains, job.scene.settings);
+        checkChainMemory(*cl.chains, job.scene.settings, deriveFeatures(job.scene).media);
     if (cl.describe) {
         if (root) std::cout << deriveFeatures(job.scene).describe();
         return false;

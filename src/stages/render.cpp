@@ -68,9 +68,6 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
     int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
-    if (scene->features.media && opt.tracer == TracerKind::MMLT)
-        throw InputError(scene->desc.path, 0,
-                         "participating media are rendered by the path, light and bidirectional tracers only so far (--tracer pt, lt or bpt; docs/media.md)");
     RenderResult r = opt.tracer == TracerKind::MMLT  ? renderMmlt(*scene, opt)
                      : opt.tracer == TracerKind::LT  ? renderLightTracing(*scene, opt)
                      : opt.tracer == TracerKind::BPT ? renderBidirectional(*scene, opt)

@@ -7,7 +7,31 @@
 
 namespace wmlt {
 
-void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, RayCounters& c) {
+namespace {
+
+// Segment k (the boundaries crossed) of walk segment d's free-path number and its grid
+// stream's seed. BPT: hashed from the slot's key (dimension mediumDim(d, k) of the walk's
+// stream). MMLT: the proposal's number for the segment (StrategyLayout's media block), the
+// segments past pass-through boundaries and the stream hashed from it, so that a replay
+// of the same numbers traces the same path.
+inline void freePathNumber(const HashedSamples& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
+                           uint64_t& seed) {
+    hashedFreePathNumber(u.key[slot], bptDim(stream, mediumDim(d, k)), x, seed);
+}
+inline void freePathNumber(const StoredSamples& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
+                           uint64_t& seed) {
+    const float x0 = u.medium(slot, stream, d);
+    uint32_t bits;
+    std::memcpy(&bits, &x0, sizeof bits);
+    const uint64_t h = mix64(uint64_t(bits) ^ (uint64_t(d) << 32) ^ (uint64_t(stream) << 48));
+    x = k == 0 ? x0 : sampleDimension(h, k);
+    seed = mix64(h + k);
+}
+
+}  // namespace
+
+template <class U>
+void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c) {
     const BptStream stream = cameraWalk ? kBptCamera : kBptLight;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const uint32_t slot = b.pathSlot[i];
@@ -16,12 +40,14 @@ void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, boo
         int m = b.medium[i];
         SegmentDensities rho;
         traverseMediumOf<true>(
-            scene, b.ray[i], m, b.key[slot], [&](uint32_t k) { return bptDim(stream, mediumDim(d, k)); }, b.pathBeta[i],
-            b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, c);
+            scene, b.ray[i], m, [&](uint32_t k, float& x, uint64_t& seed) { freePathNumber(u, slot, stream, d, k, x, seed); },
+            b.pathBeta[i], b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, c);
         b.medium[i] = m;
         b.rhoFwd[i] = rho.fwd;
         b.rhoRev[i] = rho.rev;
     }
 }
+template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const HashedSamples&, RayCounters&);
+template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const StoredSamples&, RayCounters&);
 
 }  // namespace wmlt

@@ -376,7 +376,7 @@ void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, b
              const U& u) {
     for (bool first = true; b.numPaths > 0; first = false) {
         intersect(scene, b, coherentFirst && first, counters);
-        if (v.media) traverseBptMedia(scene, b, v, cameraWalk, counters);  // (bpt_media.cpp)
+        if (v.media) traverseBptMedia(scene, b, v, cameraWalk, u, counters);  // (bpt_media.cpp)
         resolveBptHits(scene, b, v, cameraWalk);
         if (b.numHits == 0) break;
         groupByMaterial(b, b.hitKind.data());

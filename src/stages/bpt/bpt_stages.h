@@ -55,8 +55,10 @@ template <class U>
 void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, const U& u);
 // (media) After intersect: each path's free-path sample in its medium up to its hit
 // (a scattering event becomes a Medium vertex in resolveBptHits), pass-through boundaries
-// crossed, the samples' densities kept for the vertex (bpt_media.cpp).
-void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, RayCounters& c);
+// crossed, the samples' densities kept for the vertex (bpt_media.cpp); the free-path
+// numbers from u.
+template <class U>
+void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c);
 // Compacts the surviving hits into the next round's paths.
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
 // The rounds of one walk (camera or light): intersect -> resolve -> group -> sample ->

@@ -266,7 +266,11 @@ struct StrategyLayout {
     static uint32_t base(int k, BptStream c) {
         return c == kBptCamera ? 1 : c == kBptLight ? 1 + cameraSize(k) : 1 + cameraSize(k) + lightSize(k);
     }
-    static uint32_t size(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
+    // Scenes with media: one more block, each walk segment's free-path number (the camera
+    // walk's segment d = 1 .. t - 1 at j = d - 1, the light walk's d = 1 .. s - 1 at j = k + d - 1).
+    static uint32_t mediaBase(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
+    static uint32_t mediaSize(int k) { return 2 * uint32_t(k); }
+    static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? mediaSize(k) : 0); }
     static uint32_t blockSize(int k, BptStream c) {
         return c == kBptCamera ? cameraSize(k) : c == kBptLight ? lightSize(k) : kConnectSize;
     }
@@ -274,6 +278,8 @@ struct StrategyLayout {
     static uint32_t cameraUsed(int t) { return t >= 2 ? 4 * uint32_t(t) - 4 : 0; }
     static uint32_t lightUsed(int s, int t) { return s >= 2 ? 4 * uint32_t(s) - 3 : s == 1 && t == 1 ? 5 : 0; }
     static uint32_t connectUsed(int s, int t) { return (s == 1 && t >= 2) || t == 1 ? kConnectSize : 0; }
+    static uint32_t cameraMediaUsed(int t) { return uint32_t(std::max(t - 1, 0)); }
+    static uint32_t lightMediaUsed(int s) { return uint32_t(std::max(s - 1, 0)); }
 };
 
 struct StoredSamples {
@@ -284,6 +290,11 @@ struct StoredSamples {
         return u[row[slot] + StrategyLayout::base(length[slot], c) + j];
     }
     static uint32_t connectJ(int, int, uint32_t m) { return m; }
+    // The free-path number of walk segment d (media block).
+    float medium(uint32_t slot, BptStream c, int d) const {
+        const int k = length[slot];
+        return u[row[slot] + StrategyLayout::mediaBase(k) + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1)];
+    }
 };
 
 }  // namespace wmlt

@@ -106,8 +106,7 @@ bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, 
     const bool fromInMedium = fv.kind[fa] == BptVertexKind::Medium;
     const bool toInMedium = s >= 2 && t >= 2 && b.cam.kind[zi] == BptVertexKind::Medium;
     SegmentDensities rho;
-    const uint64_t seed = mix64(b.key[slot] ^ 0x42434f4e4eull ^ (uint64_t(s) << 40) ^ (uint64_t(t) << 48));
-    const Vec3 T = transmittanceAlong(scene, r, m, seed, fromInMedium, toInMedium, rho, c);
+    const Vec3 T = transmittanceAlong(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho, c);
     if (isBlack(T)) return false;
     value = value * T;
     pE[s - 1] *= fromZ ? rho.fwd : rho.rev;  // ending at y

@@ -6,6 +6,8 @@
 #pragma once
 #include <embree3/rtcore.h>
 
+#include <cstring>
+
 #include "kernels/medium.h"
 #include "kernels/rng.h"
 #include "scene/scene.h"
@@ -36,11 +38,11 @@ struct SegmentDensities {
 
 // One ray's free-path sample in medium m up to its hit (beta times its weight): a
 // scattering event (event, eventT along the ray as it ends) or the surface, crossing
-// pass-through boundaries (m updated, the ray continued past them). Segment k's number is
-// dimension dimOf(k) of key (a grid's stream is seeded from it too). With Densities, rho
-// gets the sample's densities.
-template <bool Densities, class DimOf>
-inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, uint64_t key, DimOf&& dimOf, Vec3& beta,
+// pass-through boundaries (m updated, the ray continued past them). numberOf(k, u, seed)
+// gives segment k's number u and the seed of a grid's stream. With Densities, rho gets the
+// sample's densities.
+template <bool Densities, class NumberOf>
+inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, NumberOf&& numberOf, Vec3& beta,
                              uint8_t& event, float& eventT, bool prevInMedium, SegmentDensities& rho, RayCounters& c) {
     event = 0;
     for (uint32_t k = 0;; ++k) {
@@ -48,9 +50,10 @@ inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, uint64_t
         if (m >= 0) {
             const Medium& med = scene.media[size_t(m)];
             const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
-            const uint32_t dim = dimOf(k);
-            const FreePath fp = sampleMediumFreePath(med, o, d, hit ? rh.ray.tfar : INFINITY, sampleDimension(key, dim),
-                                                     mix64(key ^ (uint64_t(dim) << 32)));
+            float u;
+            uint64_t seed;
+            numberOf(k, u, seed);
+            const FreePath fp = sampleMediumFreePath(med, o, d, hit ? rh.ray.tfar : INFINITY, u, seed);
             beta = beta * fp.weight;
             if constexpr (Densities) {
                 rho.fwd *= freePathDensity(med, fp.t, fp.scattered);
@@ -75,6 +78,12 @@ inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, uint64_t
     }
 }
 
+// Segment k's number of a sample keyed `key` at dimension dim, and its grid stream's seed.
+inline void hashedFreePathNumber(uint64_t key, uint32_t dim, float& u, uint64_t& seed) {
+    u = sampleDimension(key, dim);
+    seed = mix64(key ^ (uint64_t(dim) << 32));
+}
+
 // Each path's free-path sample in its medium up to its hit (traverseMediumOf), for a batch
 // whose paths carry beta (PT's, LT's); bounce depth's numbers (mediumDim).
 template <class Batch>
@@ -82,9 +91,10 @@ void traverseMediaOf(const Scene& scene, Batch& b, int depth, RayCounters& c) {
     SegmentDensities unused;
     for (size_t i = 0; i < b.numPaths; ++i) {
         int m = b.medium[i];
+        const uint64_t key = b.key[b.pathSlot[i]];
         traverseMediumOf<false>(
-            scene, b.ray[i], m, b.key[b.pathSlot[i]], [&](uint32_t k) { return mediumDim(depth, k); }, b.beta[i],
-            b.mediumEvent[i], b.mediumT[i], false, unused, c);
+            scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(key, mediumDim(depth, k), u, seed); },
+            b.beta[i], b.mediumEvent[i], b.mediumT[i], false, unused, c);
         b.medium[i] = m;
     }
 }
@@ -106,6 +116,19 @@ void recordMediumVertex(const Scene& scene, Batch& b, size_t h, size_t i) {
     b.bsdf[h].kind = MaterialKind::Phase;
     b.bsdf[h].eta = scene.media[size_t(m)].g;  // phaseG
     b.hitMediumIn[h] = b.hitMediumOut[h] = m;
+}
+
+// A seed from a ray's origin, direction and length (BPT's connections: a grid's ratio tracking
+// along a path's connection is then a function of the path alone, as MMLT's replay needs).
+inline uint64_t rayHash(const RTCRay& r) {
+    const float f[7] = {r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z, r.tfar};
+    uint64_t h = 0x434f4e4eull;
+    for (float x : f) {
+        uint32_t bits;
+        std::memcpy(&bits, &x, sizeof bits);
+        h = mix64(h ^ bits);
+    }
+    return h;
 }
 
 // The transmittance along ray r (up to its tfar) from medium m through media and

@@ -97,7 +97,7 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
     // Memory, refused before anything large is allocated: the chain state at its largest
     // (every chain at MaxPathLength), the films, a round's splats.
-    const double chainBytes = double(chains_) * double(mmltChainBytes(kMax_));
+    const double chainBytes = double(chains_) * double(mmltChainBytes(kMax_, scene.features.media));
     const double filmBytes = 24.0 * pixels_ * double(1 + lengthFilms_.size());
     const double mem = physicalMemoryBytes();
     if (mem > 0 && chainBytes + filmBytes > 0.75 * mem)
@@ -390,7 +390,7 @@ uint32_t autoChains(double mutations, double iterationsPerChain, uint32_t least,
     return uint32_t(std::clamp(256.0 * batches, double(std::min(least, most)), double(most)));
 }
 
-uint64_t mmltChainBytes(int k) { return uint64_t(StrategyLayout::size(k)) * 8 + 5 * 4 + 12 + 8; }
+uint64_t mmltChainBytes(int k, bool media) { return uint64_t(StrategyLayout::size(k, media)) * 8 + 5 * 4 + 12 + 8; }
 
 RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) { return mmlt_detail::MmltRender(scene, opt).run(); }
 

@@ -29,8 +29,8 @@ constexpr uint32_t kAutoChainsMost = 65536;
 uint32_t autoChains(double mutations, double iterationsPerChain = kAutoIterationsPerChain,
                     uint32_t least = kAutoChainsLeast, uint32_t most = kAutoChainsMost);
 
-// Bytes of chain state per chain of path length k.
-uint64_t mmltChainBytes(int k);
+// Bytes of chain state per chain of path length k (in a scene with media or not).
+uint64_t mmltChainBytes(int k, bool media);
 
 // Throws InputError when no light reaches the camera (every b_k is 0) or when the chains
 // would not fit in memory.

@@ -51,7 +51,7 @@ bool MmltRender::allocateChains() {
         ChainGroup g;
         g.k = k;
         g.first = first;
-        g.dims = StrategyLayout::size(k);
+        g.dims = StrategyLayout::size(k, scene_.features.media);
         g.weight = float(passWeight_ * pools_[size_t(k)].mean() / double(n[size_t(k)]));
         first += n[size_t(k)];
         groups_.push_back(std::move(g));
@@ -89,7 +89,7 @@ void MmltRender::seedChains() {
         }
         stats_.chainsSeeded[size_t(g.k)] += g.count;
         stats_.distinctSeeds[size_t(g.k)] += distinct.size();
-        bytes += uint64_t(g.count) * mmltChainBytes(g.k);
+        bytes += uint64_t(g.count) * mmltChainBytes(g.k, scene_.features.media);
     }
     stats_.chainBytes = std::max(stats_.chainBytes, bytes);
     planBatches();

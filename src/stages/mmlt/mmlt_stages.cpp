@@ -32,7 +32,8 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
 // Calls fn(d) for every coordinate d > 0 that slot i (length k) reads, in order: the
 // prefixes of the blocks its strategy reads (StrategyLayout), less the numbers no walk
 // of the scene reads (bpt_state.h's layout: camera j = 2-3 the lens, then vertices of
-// four from j = 4; light vertices from j = 5; of each vertex's four, [vertexLo, vertexHi)).
+// four from j = 4; light vertices from j = 5; of each vertex's four, [vertexLo, vertexHi);
+// with media, the walks' free-path numbers).
 template <class Fn>
 void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
     auto run = [&](uint32_t d0, uint32_t d1) {
@@ -47,6 +48,12 @@ void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
     for (uint32_t j = 5; j < ln; j += 4) run(lb + j + lo, lb + j + hi);
     const uint32_t xb = StrategyLayout::base(k, kBptConnect);
     run(xb, xb + mb.used[kBptConnect][i]);
+    if (mb.bpt.cam.media) {  // each walk segment's free-path number
+        const int s = mb.bpt.strategyS[i], t = k + 1 - s;
+        const uint32_t mbase = StrategyLayout::mediaBase(k);
+        run(mbase, mbase + StrategyLayout::cameraMediaUsed(t));
+        run(mbase + uint32_t(k), mbase + uint32_t(k) + StrategyLayout::lightMediaUsed(s));
+    }
 }
 
 // Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
@@ -96,7 +103,7 @@ float targetOf(const Vec3& F) {
 }
 
 void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
-    const uint32_t dims = StrategyLayout::size(k);
+    const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media);
     for (uint32_t i = 0; i < n; ++i) {
         const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
         mb.bpt.key[i] = key;

@@ -1,7 +1,7 @@
 // Structure-of-arrays state of MMLT (Hachisuka et al. 2014): the sample pools, the Markov
 // chains of one pass, grouped by path length, and one batch of chains in flight.
 //
-// A chain of length k carries a primary sample vector u of StrategyLayout::size(k)
+// A chain of length k carries a primary sample vector u of StrategyLayout::size(k, media)
 // coordinates (bpt_state.h: u[0] picks the strategy, then the camera, light and connection
 // blocks). A chain's coordinates are side by side (ChainGroup::at). Each coordinate
 // stores its value and the accepted proposal that last wrote it (kernels/mutation.h: the
@@ -74,7 +74,7 @@ struct ChainGroup {
     int k = 0;
     uint32_t count = 0;               // chains of this length
     uint32_t first = 0;               // global index of its first chain
-    uint32_t dims = 0;                // StrategyLayout::size(k)
+    uint32_t dims = 0;                // StrategyLayout::size(k, media)
     float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
     WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
@@ -135,7 +135,7 @@ struct SmallStepChunk {
 struct MmltBatch {
     BptBatch bpt;
     // Slot i's proposal: u[row[i] + coordinate], rows packed at their lengths' sizes
-    // (StrategyLayout::size(k)), so that a batch's numbers stay in cache (rows of the
+    // (StrategyLayout::size(k, media)), so that a batch's numbers stay in cache (rows of the
     // longest length's size were 2 KB apart at MaxPathLength 64).
     // Per slot: row[i] as above, the chain (its index within its group), whether the
     // proposal is a large step.
@@ -202,7 +202,7 @@ struct MmltBatch {
     void reserve(size_t n, int maxLength, const BatchNeeds& needs) {
         bpt.reserve(n, maxLength, needs, true);
         bpt.roulette = false;
-        u.assign(n * StrategyLayout::size(maxLength), 0.0f);
+        u.assign(n * StrategyLayout::size(maxLength, needs.media), 0.0f);
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);

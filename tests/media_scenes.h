@@ -1,0 +1,67 @@
+// Scenes of the media tests (test_media.cpp, test_media_mmlt.cpp), as pbrt-v4 text.
+#pragma once
+#include <fstream>
+#include <string>
+#include <utility>
+
+#include "render_stats.h"
+#include "wavemmlt/math.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace media_scenes {
+
+// The scene of pbrt text `text`, written as `name` in the tests' folder and loaded.
+inline wmlt::SceneDesc load(const std::string& name, const std::string& text) {
+    static const std::string dir = rstats::tempDir("media");
+    const std::string path = dir + "/" + name;
+    std::ofstream(path, std::ios::binary) << text;
+    return wmlt::loadScene(path);
+}
+
+// A cube [-h, h]^3 about c as a pbrt trianglemesh, its winding's normals outward (or inward).
+inline std::string cube(wmlt::Vec3 c, float h, bool inward) {
+    std::string P, idx;
+    for (int i = 0; i < 8; ++i)
+        P += std::to_string(c.x + ((i & 1) ? h : -h)) + " " + std::to_string(c.y + ((i & 2) ? h : -h)) + " " +
+             std::to_string(c.z + ((i & 4) ? h : -h)) + "  ";
+    const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    auto corner = [&](int i) { return wmlt::Vec3((i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h); };
+    auto triangle = [&](int a, int b, int d) {  // wound so that its normal points as asked
+        const wmlt::Vec3 n = cross(corner(b) - corner(a), corner(d) - corner(a));
+        const bool out = dot(n, corner(a) + corner(b) + corner(d)) > 0;
+        if (out == inward) std::swap(b, d);
+        idx += std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + " ";
+    };
+    for (const auto& q : quads) {
+        triangle(q[0], q[1], q[2]);
+        triangle(q[0], q[2], q[3]);
+    }
+    return "Shape \"trianglemesh\" \"point3 P\" [ " + P + "] \"integer indices\" [ " + idx + "]\n";
+}
+
+// A rough dielectric ball (eta 1.5) filled with a coloured scattering medium (sigma_s
+// (2, 1.5, 1), sigma_a (0.05, 0.1, 0.2), g 0.3) on a floor under an area light, the camera
+// outside in vacuum, 16 x 16.
+inline std::string glassBall() {
+    return R"(LookAt 0 1 -4  0 0.6 0  0 1 0
+Camera "perspective" "float fov" [ 35 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+MakeNamedMedium "milk" "string type" "homogeneous" "rgb sigma_a" [ 0.05 0.1 0.2 ] "rgb sigma_s" [ 2 1.5 1 ] "float g" 0.3
+WorldBegin
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
+Shape "trianglemesh" "point3 P" [ -1.5 3 -1.5  1.5 3 -1.5  1.5 3 1.5  -1.5 3 1.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ]
+Shape "trianglemesh" "point3 P" [ -5 0 -5  5 0 -5  5 0 5  -5 0 5 ] "integer indices" [ 0 2 1 0 3 2 ]
+AttributeBegin
+Material "dielectric" "float eta" 1.5 "float roughness" 0.3
+MediumInterface "milk" ""
+Translate 0 0.7 0
+Shape "sphere" "float radius" 0.7
+AttributeEnd
+)";
+}
+
+}  // namespace media_scenes
