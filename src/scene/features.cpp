@@ -71,8 +71,10 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (l.texture >= 0) f.texturedEmitters = true;
     f.envMap = d.envMap.width > 0;
     f.media = !d.media.empty();
-    for (const ShapeDesc& s : d.shapes)
+    for (const ShapeDesc& s : d.shapes) {
         if (s.passThrough || s.mediumBoundary) f.media = true;
+        if (s.passThrough) f.passThrough = true;
+    }
     f.depthOfField = d.camera.dof;
     f.filter = describeFilter(d.filter);
     f.needUv = f.textures || f.bump;

@@ -23,6 +23,7 @@ struct SceneFeatures {
     bool anisotropic = false;   // some rough material has alpha_u != alpha_v: frames follow dp/du
     bool texturedEmitters = false;  // some mesh light's radiance is a texture (LightDesc::texture)
     bool media = false;         // participating media or pass-through boundaries (the media stages run)
+    bool passThrough = false;   // pass-through boundaries: shadow rays are traced through them one by one
     std::string filter = "box (radius 0.5)";  // the pixel filter (describeFilter)
 
     bool has(MaterialKind k) const { return material[int(k)]; }

@@ -103,7 +103,7 @@ namespace {
 // 0) or queued (splat: t = 1 goes to the film at its raster pixel), in order.
 void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat, RayCounters& counters) {
     StrategyWave& w = b.strategies;
-    const bool media = b.cam.media;
+    const bool tracedThroughMedia = scene.features.passThrough;  // weighStrategy traced the connections
     evaluateStrategyBsdfs(b, w);
     StrategyScratch scratch;
     StrategySample ss;
@@ -117,7 +117,7 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
         }
         if (s == 0)
             addCameraSide(b, slot, ss.value, ss.weight, 0, k);
-        else if (media) {  // weighStrategy traced it through the media: visible as it stands
+        else if (tracedThroughMedia) {  // visible as it stands
             const bool splatHere = w.t[i] == 1 && splat;
             const uint32_t target = !splatHere                ? slot
                                     : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py)

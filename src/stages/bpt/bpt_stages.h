@@ -97,9 +97,10 @@ void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta);
 // grouped by material kind and each kind's kernels called at compile time.
 void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w);
 // weighStrategy: strategy i's unweighted contribution and MIS weight, and its shadow
-// ray's ends. False when it contributes nothing. A scene with media traces the connection
-// here (its transmittance in the contribution, its free-path densities in the weight:
-// bpt_media.cpp's stage made the walks'; the contribution is then visible as it stands).
+// ray's ends. False when it contributes nothing. A scene with media takes the connection's
+// transmittance in the contribution and its free-path densities in the weight (bpt_media.cpp's
+// stage made the walks'); with pass-through boundaries it traces the connection here (the
+// contribution is then visible as it stands), else only its medium (the shadow ray decides).
 bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
                    StrategyScratch& scratch, StrategySample& out, RayCounters& counters);
 // The shadow ray of a strategy sample between its ends (offset off their surfaces); false

@@ -84,7 +84,8 @@ inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathP
 }
 
 // (media) Strategy i's connection through media and pass-through boundaries (out: its
-// ends): value takes its transmittance (false: blocked); the densities that would sample
+// ends; without such boundaries only its medium, its visibility left to the shadow ray):
+// value takes its transmittance (false: blocked); the densities that would sample
 // the connection's segment take its free-path densities (pE at y = x_{s-1}, pL at z =
 // x_s), and those of the segments next to it, sampled backwards, the walks' kept ones
 // (rhoRev). s = 0: the emission's density at x_1 crosses the camera walk's last segment.
@@ -106,7 +107,9 @@ bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, 
     const bool fromInMedium = fv.kind[fa] == BptVertexKind::Medium;
     const bool toInMedium = s >= 2 && t >= 2 && b.cam.kind[zi] == BptVertexKind::Medium;
     SegmentDensities rho;
-    const Vec3 T = transmittanceAlong(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho, c);
+    // (without pass-through boundaries: here, unblocked, the shadow ray tests visibility)
+    const Vec3 T = scene.features.passThrough ? transmittanceAlong(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho, c)
+                                              : transmittanceUnblocked<true>(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho);
     if (isBlack(T)) return false;
     value = value * T;
     pE[s - 1] *= fromZ ? rho.fwd : rho.rev;  // ending at y

@@ -118,6 +118,23 @@ void recordMediumVertex(const Scene& scene, Batch& b, size_t h, size_t i) {
     b.hitMediumIn[h] = b.hitMediumOut[h] = m;
 }
 
+// Without pass-through boundaries (SceneFeatures::passThrough) a shadow or connection ray
+// that nothing blocks stays in medium m: its transmittance transmittanceAlong's, without
+// tracing (the caller tests visibility with the batched occlusion rays), and with Densities
+// its free-path densities.
+template <bool Densities>
+inline Vec3 transmittanceUnblocked(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium,
+                                   bool toInMedium, SegmentDensities& rho) {
+    if (m < 0) return Vec3(1.0f);
+    const Medium& med = scene.media[size_t(m)];
+    if constexpr (Densities) {
+        rho.fwd *= freePathDensity(med, r.tfar, toInMedium);
+        rho.rev *= freePathDensity(med, r.tfar, fromInMedium);
+    }
+    return mediumTransmittance(med, Vec3(r.org_x, r.org_y, r.org_z), Vec3(r.dir_x, r.dir_y, r.dir_z), r.tfar,
+                               mix64(seed));
+}
+
 // A seed from a ray's origin, direction and length (BPT's connections: a grid's ratio tracking
 // along a path's connection is then a function of the path alone, as MMLT's replay needs).
 inline uint64_t rayHash(const RTCRay& r) {

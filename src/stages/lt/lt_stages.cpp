@@ -101,13 +101,23 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
 
 void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c) {
     if (scene.features.media) {  // through media and pass-through boundaries (media.h)
+        const bool passThrough = scene.features.passThrough;
+        SegmentDensities unused;
         for (size_t k = 0; k < b.numConn; ++k) {
             const uint64_t seed = mix64(b.connKey[k] ^ 0x434f4e4eull ^ (uint64_t(length) << 40));
+            if (!passThrough) {  // the transmittance here, visibility by the batched occlusion rays below
+                b.connValue[k] = b.connValue[k] *
+                                 transmittanceUnblocked<false>(scene, b.conn[k], b.connMedium[k], seed, false, false, unused);
+                if (isBlack(b.connValue[k])) b.conn[k].tfar = -1.0f;  // (a ray with tfar < tnear is not traced)
+                continue;
+            }
             const Vec3 v = b.connValue[k] * transmittanceAlong(scene, b.conn[k], b.connMedium[k], seed, c);
             if (!isBlack(v) && b.tally.take(v, length)) pushSplat(b.splats, b.points, b.connPixel[k], b.connX[k], b.connY[k], v);
         }
-        b.numConn = 0;
-        return;
+        if (passThrough) {
+            b.numConn = 0;
+            return;
+        }
     }
     traceOccluded(scene.rtc, b.conn.data(), b.numConn);
     c.raysOccluded += b.numConn;
