@@ -275,6 +275,11 @@ struct MediumDesc {
     std::vector<Vec3> sigmaAGrid, sigmaSGrid;
     Affine worldToGrid;
     bool clampEdges = false;
+    // Emission: the radiance Le the medium emits (RGB, >= 0; the source term is sigma_a Le per
+    // unit length), or per voxel (LeGrid, the grid's size: pbrt's Le times a Lescale grid, or
+    // an rgbgrid's Le).
+    Vec3 Le{0.0f};
+    std::vector<Vec3> LeGrid;
 };
 
 // One placement of a group of shapes (Mitsuba's instance of a shapegroup): stored once,

@@ -36,6 +36,10 @@ struct Medium {
     // tracking walks it cell by cell.
     const float* majorants = nullptr;
     int mx = 0, my = 0, mz = 0;
+    // Emission (MediumDesc::Le): the source term is sigma_a Le, Le constant or per voxel.
+    bool emissive = false;
+    Vec3 Le{0.0f};
+    const Vec3* gridLe = nullptr;
 };
 
 // Calls f(ta, tb, majorant) for the majorant grid's cells along the ray go + t gd (grid
@@ -267,6 +271,32 @@ inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, Mediu
         return !isBlack(T);
     });
     return passed ? T : Vec3(0.0f);
+}
+
+// The radiance emitted along [0, tMax] of the ray o + t d that reaches o:
+//   E = int_0^tMax T(t) sigma_a(t) Le(t) dt,
+// homogeneous: sigma_a Le (1 - exp(-sigma_t tMax)) / sigma_t per channel, exactly; a grid:
+// the collision estimator sum_i T_i sigma_a(t_i) Le(t_i) / majorant over the tracking's
+// tentative collisions, T_i ratio tracking's transmittance up to them (unbiased).
+inline Vec3 emissionAlong(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng& rng) {
+    if (m.nx == 0) {
+        auto one = [&](float sA, float sT, float Le) {
+            return sT > 0 ? sA * Le * (std::isinf(tMax) ? 1.0f : -std::expm1(-sT * tMax)) / sT : 0.0f;
+        };
+        const Vec3 sA = m.sigmaT - m.sigmaS;
+        return Vec3(one(sA.x, m.sigmaT.x, m.Le.x), one(sA.y, m.sigmaT.y, m.Le.y), one(sA.z, m.sigmaT.z, m.Le.z));
+    }
+    Vec3 go, gd;
+    float t0, t1;
+    if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return Vec3(0.0f);
+    Vec3 T(1.0f), E(0.0f);
+    forEachCollision(m, go, gd, t0, t1, rng, [&](float t, float maj, Vec3 sT, Vec3 sS) {
+        const Vec3 Le = m.gridLe ? gridLookup(m, m.gridLe, go + gd * t) : m.Le;
+        E = E + T * vmax(sT - sS, Vec3(0.0f)) * Le * (1.0f / maj);
+        T = T * vmax(Vec3(1.0f) - sT * (1.0f / maj), Vec3(0.0f));
+        return !isBlack(T);
+    });
+    return E;
 }
 
 // Either kind: the free-path sample (homogeneous: from u; a grid: from the stream seeded

@@ -71,6 +71,8 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (l.texture >= 0) f.texturedEmitters = true;
     f.envMap = d.envMap.width > 0;
     f.media = !d.media.empty();
+    for (const MediumDesc& m : d.media)
+        if (!m.LeGrid.empty() || m.Le.x != 0 || m.Le.y != 0 || m.Le.z != 0) f.emissiveMedia = true;
     for (const ShapeDesc& s : d.shapes) {
         if (s.passThrough || s.mediumBoundary) f.media = true;
         if (s.passThrough) f.passThrough = true;

@@ -24,6 +24,7 @@ struct SceneFeatures {
     bool texturedEmitters = false;  // some mesh light's radiance is a texture (LightDesc::texture)
     bool media = false;         // participating media or pass-through boundaries (the media stages run)
     bool passThrough = false;   // pass-through boundaries: shadow rays are traced through them one by one
+    bool emissiveMedia = false; // a medium emits (the walks gather its emission)
     std::string filter = "box (radius 0.5)";  // the pixel filter (describeFilter)
 
     bool has(MaterialKind k) const { return material[int(k)]; }

@@ -8,6 +8,8 @@
 
 #include "kernels/rng.h"
 #include "kernels/texture.h"
+#include "scene/transform.h"
+#include "stages/core/trace.h"  // (the scene's own queries once it is built: the media around a point)
 #include "wavemmlt/error.h"
 
 namespace wmlt {
@@ -210,6 +212,16 @@ void buildMedia(const SceneDesc& d, Scene& s) {
             s.majorantGrids.emplace_back();
             buildMajorants(r, s.majorantGrids.back());
         }
+        if (bad(m.Le)) throw InputError(d.path, m.line, "medium \"" + m.name + "\": its emission Le must be finite and >= 0");
+        if (!m.LeGrid.empty()) {
+            if (r.nx == 0 || m.LeGrid.size() != size_t(r.nx) * size_t(r.ny) * size_t(r.nz))
+                throw InputError(d.path, m.line, "medium \"" + m.name + "\": its emission grid's size disagrees with its grid");
+            for (const Vec3& v : m.LeGrid)
+                if (bad(v)) throw InputError(d.path, m.line, "medium \"" + m.name + "\": emission values must be finite and >= 0");
+            r.gridLe = m.LeGrid.data();
+        }
+        r.Le = m.Le;
+        r.emissive = !m.LeGrid.empty() || !isBlack(m.Le);
         s.media.push_back(r);
     }
     // the majorant grids have stopped moving: point the media at them
@@ -232,7 +244,85 @@ void buildMedia(const SceneDesc& d, Scene& s) {
     }
 }
 
+// The closed medium boundary (a sphere or a closed mesh, not instanced) around p: the
+// shape whose surface every axis ray from p meets first, from inside (crossing the
+// surfaces that are no boundary); -1 when there is none or the rays disagree.
+int enclosingBoundary(const Scene& s, const SceneDesc& d, Vec3 p) {
+    static const Vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    int found = -1;
+    for (const Vec3& dir : dirs) {
+        RTCRayHit rh;
+        setRayHit(rh, p, dir);
+        int shape = -1;
+        for (int k = 0; k < 64; ++k) {
+            traceClosest(s.rtc, &rh, 1, false);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+            const GeomRecord& g = s.geoms[rh.hit.geomID];
+            const Vec3 n = s.hitNormal(rh);
+            if (g.mediumBoundary) {
+                const ShapeDesc& sh = d.shapes[rh.hit.geomID];
+                const bool closed = sh.kind == ShapeKind::Sphere || closedMesh(sh.mesh);
+                if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID && closed && dot(dir, n) > 0) shape = int(rh.hit.geomID);
+                break;
+            }
+            const Vec3 q = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + dir * rh.ray.tfar;
+            setRayHit(rh, s.offsetRayOrigin(q, normalize(n), dir), dir);
+        }
+        if (shape < 0 || (found >= 0 && found != shape)) return -1;
+        found = shape;
+    }
+    return found;
+}
+
+std::string mediumName(const SceneDesc& d, int m) { return m < 0 ? "vacuum" : "medium \"" + d.media[size_t(m)].name + "\""; }
+
+// Once the scene is built: the camera's medium checked against a closed boundary around it;
+// each light's media (Scene::lightMediumFront, lightMediumBack).
+void placeLightsInMedia(const SceneDesc& d, Scene& s) {
+    if (!s.features.media) {
+        s.lightMediumFront.assign(d.lights.size(), -1);
+        s.lightMediumBack.assign(d.lights.size(), -1);
+        return;
+    }
+    if (const int e = enclosingBoundary(s, d, d.camera.position); e >= 0 && d.shapes[size_t(e)].mediumInside != s.cameraMedium)
+        throw InputError(d.path, d.shapes[size_t(e)].line,
+                         "the camera is inside this closed boundary, whose inside is " + mediumName(d, d.shapes[size_t(e)].mediumInside) +
+                             ", but the camera's medium is " + mediumName(d, s.cameraMedium));
+    for (const LightDesc& ld : d.lights) {
+        const ShapeDesc* sh = ld.shape >= 0 ? &d.shapes[size_t(ld.shape)] : nullptr;
+        int front = s.cameraMedium, back = s.cameraMedium;
+        if (sh && sh->mediumBoundary) {  // an emitter on a boundary: its sides' media
+            front = sh->mediumOutside;
+            back = sh->mediumInside;
+        } else if (ld.kind != LightKind::Directional) {  // inside a closed boundary: its inside medium
+            Vec3 p = ld.position;
+            if (sh && sh->kind == ShapeKind::Sphere) p = sh->center;
+            if (sh && sh->kind == ShapeKind::Mesh && sh->mesh.indices.size() >= 3) {  // just off its first triangle
+                const Vec3 a = sh->mesh.positions[sh->mesh.indices[0]], b = sh->mesh.positions[sh->mesh.indices[1]],
+                           c = sh->mesh.positions[sh->mesh.indices[2]];
+                const Vec3 n = normalize(cross(b - a, c - a));
+                p = s.offsetRayOrigin((a + b + c) * (1.0f / 3.0f), n, n);
+            }
+            if (const int e = enclosingBoundary(s, d, p); e >= 0) front = back = d.shapes[size_t(e)].mediumInside;
+        }
+        s.lightMediumFront.push_back(front);
+        s.lightMediumBack.push_back(back);
+    }
+}
+
 }  // namespace
+
+Vec3 Scene::hitNormal(const RTCRayHit& rh) const {
+    const GeomRecord& g = geoms[rh.hit.geomID];
+    if (g.kind == ShapeKind::Sphere) {
+        const Vec3 p(rh.ray.org_x + rh.ray.dir_x * rh.ray.tfar, rh.ray.org_y + rh.ray.dir_y * rh.ray.tfar,
+                     rh.ray.org_z + rh.ray.dir_z * rh.ray.tfar);
+        return p - g.center;
+    }
+    const Vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) return n;
+    return normalToWorld(instances[rh.hit.instID[0] - firstInstanceID].toLocal, n);
+}
 
 std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     std::unique_ptr<Scene> s(new Scene());
@@ -487,12 +577,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         }
         s->lights.push_back(l);
     }
-    for (const LightDesc& ld : d.lights) {  // (the environment, appended below, too)
-        const ShapeDesc* sh = ld.shape >= 0 ? &d.shapes[size_t(ld.shape)] : nullptr;
-        const bool boundary = sh && sh->mediumBoundary;
-        s->lightMediumFront.push_back(boundary ? sh->mediumOutside : s->cameraMedium);
-        s->lightMediumBack.push_back(boundary ? sh->mediumInside : s->cameraMedium);
-    }
+    placeLightsInMedia(d, *s);  // (the environment, appended below, too)
     std::vector<float> power;
     for (const Light& l : s->lights)  // a textured emitter's: times its texture's mean luminance
         power.push_back(lightPower(l) * (l.type == LightType::Mesh ? s->meshLights[size_t(l.mesh)].meanLuminance : 1.0f));

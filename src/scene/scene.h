@@ -100,14 +100,18 @@ public:
     // Participating media (kernels/medium.h), by SceneDesc::media index; the camera's.
     std::vector<Medium> media;
     // The medium each light emits into from its front face (the outside of a boundary
-    // shape) and its back face (the inside); else, and for point, directional and
-    // environment lights, the camera's (docs/media.md). By light index.
+    // shape) and its back face (the inside); a point or spot light, or an emitter that is no
+    // boundary, inside a closed boundary: its inside medium; else the camera's, and for
+    // directional and environment lights (docs/media.md). By light index.
     std::vector<int> lightMediumFront, lightMediumBack;
     std::vector<std::vector<float>> majorantGrids;  // the grid media's, in their order (Medium::majorants)
     int cameraMedium = -1;
     Vec3 boundsMin, boundsMax, center;
     float radius = 1;               // bounding sphere of the scene's geometry
     float epsilonScale = 1e-4f;     // ray offsets scale with the scene's size
+
+    // A hit's geometric normal in world space (unnormalised; rh must have hit something).
+    Vec3 hitNormal(const RTCRayHit& rh) const;
 
     // Offset along the normal to leave a surface towards w without self-intersection.
     Vec3 offsetRayOrigin(Vec3 p, Vec3 n, Vec3 w) const {

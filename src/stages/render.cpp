@@ -68,6 +68,9 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
     int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
+    if (scene->features.emissiveMedia && opt.tracer == TracerKind::LT)
+        throw InputError(scene->desc.path, 0,
+                         "the light tracer cannot start paths in an emitting medium: render it with --tracer pt, bpt or mmlt (docs/media.md)");
     RenderResult r = opt.tracer == TracerKind::MMLT  ? renderMmlt(*scene, opt)
                      : opt.tracer == TracerKind::LT  ? renderLightTracing(*scene, opt)
                      : opt.tracer == TracerKind::BPT ? renderBidirectional(*scene, opt)

@@ -27,8 +27,16 @@ void Importer::medium(Directive& d) {
         m.sigmaS = spectrum(p, "sigma_s", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
     }
     m.g = float(p.getFloat("g", 0));
-    const Vec3 Le = spectrum(p, "Le", Vec3(0.0f), SpectrumUse::Illuminant) * float(p.getFloat("Lescale", 1));
-    if (Le.x != 0 || Le.y != 0 || Le.z != 0) fail(p.find("Le")->at, "an emitting medium (Le) is not supported yet");
+    // Emission (pbrt-v4: the source term sigma_a Le; Le an illuminant spectrum times Lescale;
+    // a uniformgrid's Lescale may be a grid of the density's size, an rgbgrid's Le one RGB per voxel)
+    const std::vector<double> LeScale = p.has("Lescale") ? p.getNumbers("Lescale") : std::vector<double>{1.0};
+    for (double x : LeScale)
+        if (!(x >= 0) || !std::isfinite(x)) fail(p.find("Lescale")->at, "Lescale must be finite and >= 0");
+    if (type != "rgbgrid") {
+        m.Le = spectrum(p, "Le", Vec3(0.0f), SpectrumUse::Illuminant);
+        if (LeScale.size() == 1) m.Le = m.Le * float(LeScale[0]);
+    }
+    if (LeScale.size() != 1 && type != "uniformgrid") fail(p.find("Lescale")->at, "Lescale: one number (a grid of them: a uniformgrid's)");
     auto bad = [](Vec3 v) { return !isFinite(v) || v.x < 0 || v.y < 0 || v.z < 0; };
     if (bad(m.sigmaA) || bad(m.sigmaS)) fail(d.at, "medium \"" + name + "\": sigma_a and sigma_s (times scale) must be finite and >= 0");
     if (!(m.g > -1 && m.g < 1)) fail(p.has("g") ? p.find("g")->at : d.at, "medium \"" + name + "\": g must be in (-1, 1)");
@@ -52,11 +60,21 @@ void Importer::medium(Directive& d) {
         if (type == "uniformgrid") {
             const std::vector<double> v = grid("density", 1);
             m.density.assign(v.begin(), v.end());
+            if (LeScale.size() != 1) {  // Le times a grid of scales
+                const std::vector<double> ls = grid("Lescale", 1);
+                for (double x : ls) m.LeGrid.push_back(m.Le * float(x));
+                m.Le = Vec3(0.0f);
+            }
         } else {  // rgbgrid: the coefficients themselves, times scale
             const std::vector<double> a = grid("sigma_a", 3), s = grid("sigma_s", 3);
             for (size_t i = 0; i < n; ++i) {
                 m.sigmaAGrid.push_back(Vec3(float(a[3 * i]), float(a[3 * i + 1]), float(a[3 * i + 2])) * scale);
                 m.sigmaSGrid.push_back(Vec3(float(s[3 * i]), float(s[3 * i + 1]), float(s[3 * i + 2])) * scale);
+            }
+            if (p.has("Le")) {  // an RGB radiance per voxel, times Lescale
+                const std::vector<double> e = grid("Le", 3);
+                for (size_t i = 0; i < n; ++i)
+                    m.LeGrid.push_back(Vec3(float(e[3 * i]), float(e[3 * i + 1]), float(e[3 * i + 2])) * float(LeScale[0]));
             }
         }
         const Vec3 p0 = p.getPoint3("p0", Vec3(0.0f)), p1 = p.getPoint3("p1", Vec3(1.0f));
@@ -65,8 +83,8 @@ void Importer::medium(Directive& d) {
         if (g_.ctm.det3() == 0) fail(d.at, type + ": the current transformation is singular");
         const Matrix toGrid = Matrix::scale(1 / e.x, 1 / e.y, 1 / e.z) * Matrix::translate(-p0.x, -p0.y, -p0.z) * g_.ctm.inverse();
         m.worldToGrid = toGrid.affine();
-        for (const char* k : {"temperature", "temperaturescale", "temperatureoffset"})
-            if (p.has(k)) fail(p.find(k)->at, std::string(k) + ": an emitting medium is not supported yet");
+        for (const char* k : {"temperature", "temperaturescale", "temperatureoffset", "temperaturecutoff"})
+            if (p.has(k)) fail(p.find(k)->at, std::string(k) + ": emission from a temperature grid (blackbody) is not supported: give Le");
     }
     namedMedia_[name] = int(s_.media.size());
     s_.media.push_back(m);

@@ -30,6 +30,8 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
     b.points.clear();
     b.strategySplats.clear();
     b.tally = ContributionTally();
+    b.minLength = opt.minPathLength;
+    b.maxLength = opt.maxPathLength;
     generateBptCameraPaths(scene, b, tile, opt.strataPerAxis, opt.seed);
     const HashedSamples u{b.key.data()};
     walkBpt(scene, b, b.cam, true, true, counters, u);

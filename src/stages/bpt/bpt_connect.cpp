@@ -79,6 +79,8 @@ void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, fl
 
 }  // namespace
 
+void addVolumeEmission(BptBatch& b, uint32_t slot, Vec3 emitted, int k) { addCameraSide(b, slot, emitted, 1.0f, 0, k); }
+
 void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w) {
     size_t n = 0;
     for (uint32_t e = 0; e < 2 * w.n; ++e)
@@ -200,7 +202,7 @@ void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, 
     cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
     w.n = 0;
-    for (uint32_t slot = 0; slot < b.numSlots; ++slot) b.L[slot] = Vec3(0.0f);
+    // (L is 0 from generateChainCameraPaths, but for what emitting media gave the camera walk)
     const bool pinhole = isPinhole(scene.camera);
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
         if (pinhole && slot % kCameraSampleSlots == 0)

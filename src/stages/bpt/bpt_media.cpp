@@ -28,10 +28,18 @@ inline void freePathNumber(const StoredSamples& u, uint32_t slot, BptStream stre
     seed = mix64(h + k);
 }
 
-}  // namespace
+// Whether the camera walk's segment d of slot gathers emitting media's light: BPT, a path
+// length rendered; MMLT, the strategy s = 0 of its length (the camera walk alone finds
+// that light: it is weighed against no other strategy).
+inline bool gathersEmission(const HashedSamples&, const BptBatch& b, uint32_t, int d) {
+    return d >= b.minLength && d <= b.maxLength;
+}
+inline bool gathersEmission(const StoredSamples&, const BptBatch& b, uint32_t slot, int d) {
+    return b.strategyS[slot] == 0 && d == b.pathLength[slot];
+}
 
-template <class U>
-void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c) {
+template <bool Emission, class U>
+void traverseBptMediaOf(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c) {
     const BptStream stream = cameraWalk ? kBptCamera : kBptLight;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const uint32_t slot = b.pathSlot[i];
@@ -39,13 +47,26 @@ void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, boo
         const bool prevInMedium = v.kind[v.at(slot, d - 1)] == BptVertexKind::Medium;
         int m = b.medium[i];
         SegmentDensities rho;
-        traverseMediumOf<true>(
+        Vec3 emitted(0.0f);
+        traverseMediumOf<true, Emission>(
             scene, b.ray[i], m, [&](uint32_t k, float& x, uint64_t& seed) { freePathNumber(u, slot, stream, d, k, x, seed); },
-            b.pathBeta[i], b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, c);
+            b.pathBeta[i], b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, emitted, c);
         b.medium[i] = m;
         b.rhoFwd[i] = rho.fwd;
         b.rhoRev[i] = rho.rev;
+        if constexpr (Emission)
+            if (!isBlack(emitted) && gathersEmission(u, b, slot, d)) addVolumeEmission(b, slot, emitted, d);
     }
+}
+
+}  // namespace
+
+template <class U>
+void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c) {
+    if (cameraWalk && scene.features.emissiveMedia)
+        traverseBptMediaOf<true>(scene, b, v, cameraWalk, u, c);
+    else
+        traverseBptMediaOf<false>(scene, b, v, cameraWalk, u, c);
 }
 template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const HashedSamples&, RayCounters&);
 template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const StoredSamples&, RayCounters&);

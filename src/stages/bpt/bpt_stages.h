@@ -59,6 +59,9 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
 // numbers from u.
 template <class U>
 void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c);
+// (emitting media) Light that a camera walk's segment gathered, a contribution of length k
+// to the slot's camera side (strategy s = 0, MIS weight 1).
+void addVolumeEmission(BptBatch& b, uint32_t slot, Vec3 emitted, int k);
 // Compacts the surviving hits into the next round's paths.
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
 // The rounds of one walk (camera or light): intersect -> resolve -> group -> sample ->

@@ -183,6 +183,7 @@ struct BptBatch : PathWave {
     WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_ARRAY)
     std::vector<uint32_t> cameraSampleOf;  // per light vertex
     bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
+    int minLength = 1, maxLength = kMaxPathLength;  // BPT: the path lengths rendered (emitting media's, bpt_media.cpp)
 
     BptVertices cam, light;
 

@@ -1,31 +1,17 @@
 #include "stages/core/media.h"
 
-#include "scene/transform.h"
-
 namespace wmlt {
-
-Vec3 hitNormal(const Scene& scene, const RTCRayHit& rh) {
-    const GeomRecord& g = scene.geoms[rh.hit.geomID];
-    if (g.kind == ShapeKind::Sphere) {
-        const Vec3 p(rh.ray.org_x + rh.ray.dir_x * rh.ray.tfar, rh.ray.org_y + rh.ray.dir_y * rh.ray.tfar,
-                     rh.ray.org_z + rh.ray.dir_z * rh.ray.tfar);
-        return p - g.center;
-    }
-    const Vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) return n;
-    return normalToWorld(scene.instances[rh.hit.instID[0] - scene.firstInstanceID].toLocal, n);
-}
 
 int mediumAcross(const Scene& scene, const RTCRayHit& rh, Vec3 d, int m) {
     const GeomRecord& g = scene.geoms[rh.hit.geomID];
     if (!g.mediumBoundary) return m;
-    return dot(d, hitNormal(scene, rh)) < 0 ? g.mediumInside : g.mediumOutside;
+    return dot(d, scene.hitNormal(rh)) < 0 ? g.mediumInside : g.mediumOutside;
 }
 
 void continuePast(const Scene& scene, RTCRayHit& rh, float tMax) {
     const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
     const Vec3 p = o + d * rh.ray.tfar;
-    const Vec3 origin = scene.offsetRayOrigin(p, normalize(hitNormal(scene, rh)), d);
+    const Vec3 origin = scene.offsetRayOrigin(p, normalize(scene.hitNormal(rh)), d);
     setRayHit(rh, origin, d);
     rh.ray.tfar = tMax;
 }

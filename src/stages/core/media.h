@@ -22,8 +22,6 @@ namespace wmlt {
 constexpr uint32_t kMediumBase = 1u << 24, kMediumStride = 256;
 inline uint32_t mediumDim(int depth, uint32_t k) { return kMediumBase + uint32_t(depth - 1) * kMediumStride + k; }
 
-// A hit's geometric normal in world space (unnormalised; rh must have hit something).
-Vec3 hitNormal(const Scene& scene, const RTCRayHit& rh);
 // The medium a ray along d is in after crossing the surface rh hit, from medium m.
 int mediumAcross(const Scene& scene, const RTCRayHit& rh, Vec3 d, int m);
 // Moves rh's ray to start just past the surface it hit, up to tMax.
@@ -40,10 +38,13 @@ struct SegmentDensities {
 // scattering event (event, eventT along the ray as it ends) or the surface, crossing
 // pass-through boundaries (m updated, the ray continued past them). numberOf(k, u, seed)
 // gives segment k's number u and the seed of a grid's stream. With Densities, rho gets the
-// sample's densities.
-template <bool Densities, class NumberOf>
+// sample's densities. With Emission, `emitted` gets what emitting media send back along the
+// ray up to its hit (emissionAlong, whole segments, times beta before each: the expected
+// value, whatever the free path then samples).
+template <bool Densities, bool Emission, class NumberOf>
 inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, NumberOf&& numberOf, Vec3& beta,
-                             uint8_t& event, float& eventT, bool prevInMedium, SegmentDensities& rho, RayCounters& c) {
+                             uint8_t& event, float& eventT, bool prevInMedium, SegmentDensities& rho, Vec3& emitted,
+                             RayCounters& c) {
     event = 0;
     for (uint32_t k = 0;; ++k) {
         const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
@@ -53,6 +54,12 @@ inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, NumberOf
             float u;
             uint64_t seed;
             numberOf(k, u, seed);
+            if constexpr (Emission) {
+                if (med.emissive) {
+                    MediumRng rng(mix64(seed ^ 0x454d4954ull));  // "EMIT": apart from the free path's stream
+                    emitted = emitted + beta * emissionAlong(med, o, d, hit ? rh.ray.tfar : INFINITY, rng);
+                }
+            }
             const FreePath fp = sampleMediumFreePath(med, o, d, hit ? rh.ray.tfar : INFINITY, u, seed);
             beta = beta * fp.weight;
             if constexpr (Densities) {
@@ -89,12 +96,13 @@ inline void hashedFreePathNumber(uint64_t key, uint32_t dim, float& u, uint64_t&
 template <class Batch>
 void traverseMediaOf(const Scene& scene, Batch& b, int depth, RayCounters& c) {
     SegmentDensities unused;
+    Vec3 noEmission;
     for (size_t i = 0; i < b.numPaths; ++i) {
         int m = b.medium[i];
         const uint64_t key = b.key[b.pathSlot[i]];
-        traverseMediumOf<false>(
+        traverseMediumOf<false, false>(
             scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(key, mediumDim(depth, k), u, seed); },
-            b.beta[i], b.mediumEvent[i], b.mediumT[i], false, unused, c);
+            b.beta[i], b.mediumEvent[i], b.mediumT[i], false, unused, noEmission, c);
         b.medium[i] = m;
     }
 }

@@ -21,7 +21,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
     const bool media = scene.features.media;  // the media stages (pt_media.cpp)
     for (int depth = 1; depth <= opt.maxPathLength && b.numPaths > 0; ++depth) {
         intersect(scene, b, depth == 1, counters);
-        if (media) traverseMedia(scene, b, depth, counters);
+        if (media) traverseMedia(scene, b, depth, opt.minPathLength, opt.maxPathLength, counters);
         resolveHits(scene, b, depth, opt.minPathLength, opt.maxPathLength);
         if (b.numHits == 0) break;
         groupByMaterial(b, b.bsdf.data());

@@ -6,7 +6,26 @@
 
 namespace wmlt {
 
-void traverseMedia(const Scene& scene, PtBatch& b, int depth, RayCounters& c) { traverseMediaOf(scene, b, depth, c); }
+void traverseMedia(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength, RayCounters& c) {
+    if (!scene.features.emissiveMedia) {
+        traverseMediaOf(scene, b, depth, c);
+        return;
+    }
+    // Emitting media: what they send back along each ray is a contribution of length depth
+    // (only the path's own walk can find it: no other strategy to weigh it against).
+    const bool count = depth >= minLength && depth <= maxLength;
+    SegmentDensities unused;
+    for (size_t i = 0; i < b.numPaths; ++i) {
+        int m = b.medium[i];
+        const uint32_t slot = b.pathSlot[i];
+        Vec3 emitted(0.0f);
+        traverseMediumOf<false, true>(
+            scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(b.key[slot], mediumDim(depth, k), u, seed); },
+            b.beta[i], b.mediumEvent[i], b.mediumT[i], false, unused, emitted, c);
+        b.medium[i] = m;
+        if (count && !isBlack(emitted)) addRadiance(b, slot, emitted, depth);
+    }
+}
 
 void traceShadowsThroughMedia(const Scene& scene, PtBatch& b, int length, RayCounters& c) {
     const bool passThrough = scene.features.passThrough;

@@ -22,7 +22,8 @@ void advancePaths(const Scene& scene, PtBatch& b);
 // free-path sample in its medium up to its hit, crossing pass-through boundaries (a
 // scattering event then resolves as a Phase hit); the shadow rays with their transmittance
 // through media and pass-through boundaries, instead of traceShadows.
-void traverseMedia(const Scene& scene, PtBatch& b, int depth, RayCounters& c);
+// Emitting media: what they send back along the rays, added as contributions of length depth.
+void traverseMedia(const Scene& scene, PtBatch& b, int depth, int minLength, int maxLength, RayCounters& c);
 void traceShadowsThroughMedia(const Scene& scene, PtBatch& b, int length, RayCounters& c);
 
 }  // namespace wmlt
