@@ -122,7 +122,7 @@ AttributeEnd
     REQUIRE(d.shapes[0].mediumBoundary);
     CHECK(d.shapes[0].mediumInside == 0);
     CHECK(d.shapes[0].mediumOutside == -1);
-    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT})
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT})
         for (int c = 0; c < 3; ++c) {
             const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
             rstats::RunStats runs;
@@ -224,7 +224,7 @@ PixelFilter "box"
                                                         media_scenes::cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
     REQUIRE(inMedium.cameraMedium == 0);
     REQUIRE(boxed.cameraMedium == -1);
-    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT})
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT})
         for (const SceneDesc* d : {&inMedium, &boxed}) {
             if (tr == TracerKind::LT && d == &inMedium) continue;  // (infinite variance: see the single-scattering test)
             rstats::RunStats runs;
@@ -414,7 +414,7 @@ AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
 AttributeEnd
 )");
-    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT})
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT})
         for (int c = 0; c < 3; ++c) {
             const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
             rstats::RunStats runs;
@@ -504,6 +504,71 @@ TEST_CASE("media in Mitsuba files: a heterogeneous gridvolume, the furnace, and 
     CHECK_THAT(mitsubaError(scene("short.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("truncated: 20 values for 27"));
     CHECK_THAT(mitsubaError(scene("rgb.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("3 channels"));
     CHECK_THAT(mitsubaError(scene("missing.vol")), Catch::Contains("bad.xml:3") && Catch::Contains("missing.vol"));
+}
+
+TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[media][render][grid][mitsuba]") {
+    // sigma_t a random 3 x 3 x 3 grid; albedo a grid too: everywhere (0.2, 0.5, 0.9) in a
+    // three-channel .vol, then 0.5 in a one-channel one with sigma_t constant. Each renders
+    // what the same medium with that albedo as a constant renders (block means, K runs each).
+    auto writeVol = [&](const std::string& name, int n, int channels, const std::vector<float>& perVoxel, uint64_t seed) {
+        std::ofstream f(dir() + "/" + name, std::ios::binary);
+        f.write("VOL\3", 4);
+        const int32_t head[5] = {1, n, n, n, channels};
+        f.write(reinterpret_cast<const char*>(head), sizeof head);
+        const float box[6] = {0, 0, 0, 1, 1, 1};
+        f.write(reinterpret_cast<const char*>(box), sizeof box);
+        for (int i = 0; i < n * n * n; ++i)
+            for (int c = 0; c < channels; ++c) {
+                seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+                const float v = perVoxel.empty() ? 2.0f * float(seed >> 40) / float(1u << 24) : perVoxel[size_t(c)];
+                f.write(reinterpret_cast<const char*>(&v), 4);
+            }
+    };
+    writeVol("density.vol", 3, 1, {}, 7);
+    writeVol("albedo3.vol", 3, 3, {0.2f, 0.5f, 0.9f}, 0);
+    writeVol("albedo1.vol", 3, 1, {0.5f}, 0);
+    writeVol("albedo-big.vol", 4, 1, {0.5f}, 0);
+    const std::string toWorld = R"(<transform name="to_world"><scale value="5"/><translate value="-2.5, -2.5, -2.5"/></transform>)";
+    auto grid = [&](const std::string& name, const std::string& file) {
+        return "<volume type=\"gridvolume\" name=\"" + name + "\"><string name=\"filename\" value=\"" + file + "\"/>" + toWorld + "</volume>";
+    };
+    auto scene = [&](const std::string& sigmaT, const std::string& albedo) {
+        return R"(<scene version="3.0.0">
+<medium type="heterogeneous" id="smoke">)" + sigmaT + albedo + R"(<phase type="hg"><float name="g" value="0.3"/></phase></medium>
+<sensor type="perspective"><float name="fov" value="60"/>
+  <transform name="to_world"><lookat origin="0, 0, -1.5" target="0, 0, 0" up="0, 1, 0"/></transform>
+  <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film>
+  <ref name="medium" id="smoke"/></sensor>
+<shape type="cube"><transform name="to_world"><scale value="2"/></transform><boolean name="flip_normals" value="true"/>
+  <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>)";
+    };
+    const std::string sigmaGrid = grid("sigma_t", "density.vol");
+    const SceneDesc withGrid = loadMitsubaFromString(scene(sigmaGrid, grid("albedo", "albedo3.vol")), "a.xml", dir());
+    const SceneDesc withConstant = loadMitsubaFromString(scene(sigmaGrid, R"(<rgb name="albedo" value="0.2, 0.5, 0.9"/>)"), "b.xml", dir());
+    const SceneDesc oneChannel = loadMitsubaFromString(scene(R"(<float name="sigma_t" value="0.8"/>)", grid("albedo", "albedo1.vol")), "c.xml", dir());
+    const SceneDesc homogeneousGrid = loadMitsubaFromString(
+        scene(R"(<float name="sigma_t" value="0.8"/>)", R"(<float name="albedo" value="0.5"/>)"), "d.xml", dir());
+    REQUIRE(withGrid.media[0].albedoGrid.size() == 27);
+    REQUIRE(oneChannel.media[0].density.size() == 27);
+    struct Pair {
+        const SceneDesc *a, *b;
+    };
+    for (const Pair& pr : {Pair{&withGrid, &withConstant}, Pair{&oneChannel, &homogeneousGrid}})
+        for (int c = 0; c < 3; ++c) {
+            rstats::RunStats ra, rb;
+            for (int k = 0; k < 6; ++k) {
+                ra.add(rstats::blockMeans(render(*pr.a, rstats::renderOptions(TracerKind::PT, 16, 500 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+                rb.add(rstats::blockMeans(render(*pr.b, rstats::renderOptions(TracerKind::PT, 16, 510 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+            }
+            double ratio = 0;
+            const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
+            INFO((pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid") << ", channel " << c << ": "
+                                                                                               << z.describe() << ", ratio " << ratio);
+            CHECK(z.pass);
+        }
+    CHECK_THAT(mitsubaError(scene(sigmaGrid, grid("albedo", "albedo-big.vol"))),
+               Catch::Contains("bad.xml:2") && Catch::Contains("another grid than sigma_t's"));
 }
 
 TEST_CASE("media in pbrt files: the path integrator ignores them, as pbrt-v4's does", "[media][import]") {

@@ -119,7 +119,7 @@ AttributeEnd
     }
 }
 
-TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale grid, an rgbgrid's Le) are 1", "[media][render]") {
+TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale grid, an rgbgrid's Le) are 1", "[media][render][stat]") {
     uint64_t h = 99;
     const SceneDesc homogeneous = media_scenes::load(
         "glow-a.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "homogeneous" "rgb sigma_a" [ 0.3 0.6 0.9 ] "rgb sigma_s" [ 0.9 0.6 0.3 ] "float g" 0.3 "rgb Le" [ 1 1 1 ])"));

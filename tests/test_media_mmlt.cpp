@@ -75,7 +75,7 @@ TEST_CASE("media in MMLT: replay is exact, and a seed gives one image for 1, 2 a
     }
 }
 
-TEST_CASE("media in MMLT: the grid furnace is 1, and MMLT agrees with PT on the glass ball", "[media][mmlt][render]") {
+TEST_CASE("media in MMLT: the grid furnace is 1, and MMLT agrees with PT on the glass ball", "[media][mmlt][render][stat]") {
     const SceneDesc grid = media_scenes::load("mmlt-grid.pbrt", gridFurnace());
     for (int c = 0; c < 3; ++c) {
         rstats::RunStats runs;

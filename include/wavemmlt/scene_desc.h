@@ -280,6 +280,9 @@ struct MediumDesc {
     // an rgbgrid's Le).
     Vec3 Le{0.0f};
     std::vector<Vec3> LeGrid;
+    // A density grid's albedo per voxel (Mitsuba's albedo gridvolume): sigma_s = albedo
+    // sigma_t there, trilinear as the density (sigmaA + sigmaS is then sigma_t; their split unused).
+    std::vector<Vec3> albedoGrid;
 };
 
 // One placement of a group of shapes (Mitsuba's instance of a shapegroup): stored once,

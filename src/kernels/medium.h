@@ -40,6 +40,7 @@ struct Medium {
     bool emissive = false;
     Vec3 Le{0.0f};
     const Vec3* gridLe = nullptr;
+    const Vec3* gridAlbedo = nullptr;  // a density grid's albedo per voxel: sigma_s = albedo sigma_t
 };
 
 // Calls f(ta, tb, majorant) for the majorant grid's cells along the ray go + t gd (grid
@@ -173,7 +174,7 @@ inline void gridCoefficients(const Medium& m, Vec3 q, Vec3& sigmaT, Vec3& sigmaS
     if (m.density) {
         const float d = gridDensity(m, q);
         sigmaT = m.sigmaT * d;
-        sigmaS = m.sigmaS * d;
+        sigmaS = m.gridAlbedo ? sigmaT * gridLookup(m, m.gridAlbedo, q) : m.sigmaS * d;
         return;
     }
     sigmaS = gridLookup(m, m.gridSigmaS, q);

@@ -222,6 +222,14 @@ void buildMedia(const SceneDesc& d, Scene& s) {
         }
         r.Le = m.Le;
         r.emissive = !m.LeGrid.empty() || !isBlack(m.Le);
+        if (!m.albedoGrid.empty()) {
+            if (!r.density || m.albedoGrid.size() != m.density.size())
+                throw InputError(d.path, m.line, "medium \"" + m.name + "\": its albedo grid's size disagrees with its density grid");
+            for (const Vec3& a : m.albedoGrid)
+                if (bad(a) || a.x > 1 || a.y > 1 || a.z > 1)
+                    throw InputError(d.path, m.line, "medium \"" + m.name + "\": albedo values must be in [0, 1]");
+            r.gridAlbedo = m.albedoGrid.data();
+        }
         s.media.push_back(r);
     }
     // the majorant grids have stopped moving: point the media at them

@@ -2,6 +2,7 @@
 // albedo, scale) with an `isotropic` or `hg` phase, referenced as a shape's `interior` and
 // `exterior` and as the sensor's medium; the `null` BSDF makes a shape an index-matched
 // boundary (ShapeDesc::passThrough).
+#include <cmath>
 #include <cstring>
 
 #include "scene/mitsuba/mitsuba_importer.h"
@@ -41,6 +42,14 @@ VolFile readVol(const std::string& path) {
     return v;
 }
 
+// Two grid transforms equal up to float rounding.
+bool sameAffine(const Affine& a, const Affine& b) {
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            if (std::fabs(a.m[r][c] - b.m[r][c]) > 1e-5f * (1 + std::fabs(a.m[r][c]))) return false;
+    return true;
+}
+
 }  // namespace
 
 int Importer::medium(Node n) {
@@ -54,45 +63,83 @@ int Importer::medium(Node n) {
     m.line = files_.line(n);
     // Mitsuba 3: sigma_s = albedo sigma_t, sigma_a = sigma_t - sigma_s, both times scale;
     // heterogeneous: sigma_t a one-channel gridvolume (its values the density) or a
-    // constvolume, albedo a constant or constvolume
-    auto constant = [&](const char* name, Vec3 def, Props::ColorUse use, bool gridAllowed) {
+    // constvolume, albedo a constant, a constvolume or a gridvolume (one or three channels)
+    // on the same grid as sigma_t's (or, with sigma_t constant, its own)
+    struct Grid {
+        VolFile vol;
+        Affine worldToGrid;
+        Node at;
+    };
+    auto readGrid = [&](Node v, Props& vp) {
+        Grid g{[&] {
+                   try {
+                       return readVol(resolve(vp.getString("filename", "")));
+                   } catch (const InputError& e) {
+                       vp.fail(v, e.what());
+                   }
+               }(),
+               Affine(), v};
+        if (vp.getString("wrap_mode", "clamp") != "clamp") vp.fail(v, "wrap_mode other than clamp is not supported");
+        vp.getString("filter_type", "trilinear");
+        vp.getBool("raw", false);
+        Matrix M = vp.getTransform("to_world");
+        if (M.det3() == 0) vp.fail(v, "to_world is singular");
+        if (vp.getBool("use_grid_bbox", false)) {  // the file's box, in the volume's space
+            const float* b = g.vol.bbox;
+            if (!(b[3] > b[0] && b[4] > b[1] && b[5] > b[2])) vp.fail(v, "use_grid_bbox: the file's box is empty");
+            M = M * Matrix::translate(b[0], b[1], b[2]) * Matrix::scale(b[3] - b[0], b[4] - b[1], b[5] - b[2]);
+        }
+        g.worldToGrid = M.inverse().affine();
+        return g;
+    };
+    std::vector<Grid> sigmaGrid, albedoGrid;  // at most one each
+    auto constant = [&](const char* name, Vec3 def, Props::ColorUse use, std::vector<Grid>* grid) {
         if (!p.isNested("volume", name)) return p.getColor(name, def, use);
         const Node v = p.getNested("volume", name);
         Props vp = props(v);
         Vec3 c(1.0f);
         if (vp.type() == "constvolume") {
             c = vp.getColor("value", Vec3(1.0f), use);
-        } else if (vp.type() == "gridvolume" && gridAllowed) {
-            const VolFile vol = [&] {
-                try {
-                    return readVol(resolve(vp.getString("filename", "")));
-                } catch (const InputError& e) {
-                    vp.fail(v, e.what());
-                }
-            }();
-            if (vol.channels != 1) vp.fail(v, "a sigma_t grid of " + std::to_string(vol.channels) + " channels (one is supported)");
-            m.nx = vol.nx, m.ny = vol.ny, m.nz = vol.nz;
-            m.density = vol.values;
-            m.clampEdges = vp.getString("wrap_mode", "clamp") == "clamp";
-            if (!m.clampEdges) vp.fail(v, "wrap_mode other than clamp is not supported");
-            vp.getString("filter_type", "trilinear");
-            vp.getBool("raw", false);
-            Matrix M = vp.getTransform("to_world");
-            if (M.det3() == 0) vp.fail(v, "to_world is singular");
-            if (vp.getBool("use_grid_bbox", false)) {  // the file's box, in the volume's space
-                const float* b = vol.bbox;
-                if (!(b[3] > b[0] && b[4] > b[1] && b[5] > b[2])) vp.fail(v, "use_grid_bbox: the file's box is empty");
-                M = M * Matrix::translate(b[0], b[1], b[2]) * Matrix::scale(b[3] - b[0], b[4] - b[1], b[5] - b[2]);
-            }
-            m.worldToGrid = M.inverse().affine();
+        } else if (vp.type() == "gridvolume" && grid) {
+            grid->push_back(readGrid(v, vp));
         } else {
-            vp.fail(v, "volume \"" + vp.type() + "\" is not supported here (" + (gridAllowed ? "gridvolume, " : "") + "constvolume)");
+            vp.fail(v, "volume \"" + vp.type() + "\" is not supported here (" + (grid ? "gridvolume, " : "") + "constvolume)");
         }
         vp.finish();
         return c;
     };
-    const Vec3 sigmaT = constant("sigma_t", Vec3(1.0f), Props::ColorUse::Unbounded, p.type() == "heterogeneous");
-    const Vec3 albedo = constant("albedo", Vec3(0.75f), Props::ColorUse::Reflectance, false);
+    const bool heterogeneous = p.type() == "heterogeneous";
+    const Vec3 sigmaT = constant("sigma_t", Vec3(1.0f), Props::ColorUse::Unbounded, heterogeneous ? &sigmaGrid : nullptr);
+    const Vec3 albedo = constant("albedo", Vec3(0.75f), Props::ColorUse::Reflectance, heterogeneous ? &albedoGrid : nullptr);
+    if (!sigmaGrid.empty()) {
+        const Grid& g = sigmaGrid[0];
+        if (g.vol.channels != 1)
+            p.fail(g.at, "a sigma_t grid of " + std::to_string(g.vol.channels) + " channels (one is supported)");
+        m.nx = g.vol.nx, m.ny = g.vol.ny, m.nz = g.vol.nz;
+        m.density = g.vol.values;
+        m.worldToGrid = g.worldToGrid;
+        m.clampEdges = true;
+    }
+    if (!albedoGrid.empty()) {
+        const Grid& g = albedoGrid[0];
+        if (g.vol.channels != 1 && g.vol.channels != 3)
+            p.fail(g.at, "an albedo grid of " + std::to_string(g.vol.channels) + " channels (one or three are supported)");
+        if (sigmaGrid.empty()) {  // a constant sigma_t: a density of ones on the albedo's grid
+            m.nx = g.vol.nx, m.ny = g.vol.ny, m.nz = g.vol.nz;
+            m.density.assign(size_t(m.nx) * size_t(m.ny) * size_t(m.nz), 1.0f);
+            m.worldToGrid = g.worldToGrid;
+            m.clampEdges = true;
+        } else if (g.vol.nx != m.nx || g.vol.ny != m.ny || g.vol.nz != m.nz || !sameAffine(g.worldToGrid, m.worldToGrid)) {
+            p.fail(g.at, "an albedo grid on another grid than sigma_t's (the same size and to_world are supported)");
+        }
+        const size_t n = m.density.size();
+        for (size_t i = 0; i < n; ++i) {
+            const float* a = &g.vol.values[i * size_t(g.vol.channels)];
+            m.albedoGrid.push_back(g.vol.channels == 3 ? Vec3(a[0], a[1], a[2]) : Vec3(a[0]));
+            for (int c = 0; c < 3; ++c)
+                if (!(m.albedoGrid.back()[c] >= 0 && m.albedoGrid.back()[c] <= 1)) p.fail(g.at, "albedo grid values must be in [0, 1]");
+        }
+    }
     const float scale = p.getFloat("scale", 1.0f);
     p.getBool("sample_emitted", true);
     m.sigmaS = albedo * sigmaT * scale;
