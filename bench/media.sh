@@ -1,55 +1,70 @@
 #!/usr/bin/env bash
 # Issue 27's media figures with build/wavemmlt, measured in this run (docs/media.md):
-#   1. the path tracer on the shared volumetric caustic (../shared/scenes/pbrt-v4/cornell-box/
-#      volumetric-caustic.pbrt: a glass sphere in homogeneous fog under a light), 256 x 256,
-#      SPP samples per pixel: with the fog (the file's integrator made "volpath") and without
-#      it (the file as it is: pbrt's "path" ignores media): wall and CPU seconds, rays per
-#      second, samples per second; medians of REPS runs, interleaved;
+#   1. speed on the shared volumetric caustic (../shared/scenes/pbrt-v4/cornell-box/
+#      volumetric-caustic.pbrt: a glass sphere in homogeneous fog under a light), 256 x 256:
+#      PT, BPT (SPP samples per pixel) and MMLT (SPP mutations per pixel) with the fog (the
+#      file's integrator made "volpath") and PT without it (the file as it is: pbrt's "path"
+#      ignores media): wall and CPU seconds, rays per second (MMLT: mutations per second); medians of REPS runs;
 #   2. a heterogeneous medium: a 32^3 grid of a smooth random density (a blob of smoke, sparse
-#      at the edges) in a Cornell-like box written here, PT at 128 x 128: the same figures.
-# The other tracers do not render media yet (issue 27): no equal-time comparison of them.
-# Says so and skips part 1 when the shared scene is missing.
+#      at the edges) behind an interface sphere in a Cornell-like box written here, 128 x 128:
+#      the same figures for PT, BPT and MMLT;
+#   3. equal-time error on the volumetric caustic with its fog: PT, BPT and MMLT against a BPT
+#      reference (build/wavemmlt_bench_error: RMSE at budgets of BUDGETS seconds, 2 seeds
+#      each, 128 x 128; the reference of REFSPP samples per pixel is rendered once and cached
+#      in build/bench-cache, about 4 minutes on 2 cores), then the equal-time ratios
+#      RMSE(MMLT) / RMSE(PT) and RMSE(MMLT) / RMSE(BPT) per budget.
+# Says so and skips parts 1 and 3 when the shared scene is missing.
 #
-#   bench/media.sh [--reps N] [--spp N]
+#   bench/media.sh [--reps N] [--spp N] [--budgets 4,8,16] [--ref-spp 2048]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 reps=3
 spp=16
+budgets=4,8,16
+refspp=2048
 while [ $# -gt 0 ]; do
   case $1 in
     --reps) reps=$2; shift 2 ;;
     --spp) spp=$2; shift 2 ;;
+    --budgets) budgets=$2; shift 2 ;;
+    --ref-spp) refspp=$2; shift 2 ;;
     *) echo "media.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
 [ -x /usr/bin/time ] || { echo "media.sh: needs GNU time (apt-get install time)" >&2; exit 1; }
-cmake --build build -j"$(nproc)" --target wavemmlt >/dev/null
+cmake --build build -j"$(nproc)" --target wavemmlt wavemmlt_bench_error >/dev/null
 bin=build/wavemmlt
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
-json() { grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'; }
+json() { { grep -o "\"$2\": [0-9.e+-]*" "$1" || true; } | head -1 | awk "{print \$2}"; }
 
-# run NAME ARGS...: REPS renders; prints the medians of wall s, CPU s, Mrays/s
+# run NAME ARGS...: REPS renders; prints the medians of wall s, CPU s, Mrays/s (MMLT: and
+# mutations per second)
 run() {
   local name=$1; shift
-  local walls=() cpus=() rays=()
+  local walls=() cpus=() rays=() muts=()
   for r in $(seq "$reps"); do
     /usr/bin/time -f "%e %U %S" -o "$tmp/time" "$bin" "$@" --seed "$r" -o "$tmp/out.exr" --stats "$tmp/stats.json" >/dev/null 2>&1
     read -r wall user sys < "$tmp/time"
     walls+=("$wall")
     cpus+=("$(echo "$user + $sys" | bc -l)")
     rays+=("$(json "$tmp/stats.json" mrays_per_second)")
+    muts+=("$(json "$tmp/stats.json" mmlt_mutations_per_second)")
   done
-  printf '%-44s wall %6.2f s  cpu %6.2f s  %6.2f Mrays/s\n' "$name" "$(median "${walls[@]}")" "$(median "${cpus[@]}")" "$(median "${rays[@]}")"
+  local extra=""
+  [ -n "${muts[0]}" ] && extra=$(printf '  %6.3f M mutations/s' "$(echo "$(median "${muts[@]}") / 1000000" | bc -l)")
+  printf '%-44s wall %6.2f s  cpu %6.2f s  %6.2f Mrays/s%s\n' "$name" "$(median "${walls[@]}")" "$(median "${cpus[@]}")" "$(median "${rays[@]}")" "$extra"
 }
 
 scene=../shared/scenes/pbrt-v4/cornell-box/volumetric-caustic.pbrt
-echo "== PT, $spp spp, medians of $reps runs"
+echo "== 1. volumetric caustic, 256 x 256, $spp samples (MMLT: mutations) per pixel, medians of $reps runs"
 if [ -f "$scene" ]; then
   sed 's/Integrator "path"/Integrator "volpath"/' "$scene" > "$tmp/volpath.pbrt"
-  run "volumetric caustic, fog (volpath)" "$tmp/volpath.pbrt" --tracer pt --width 256 --height 256 --spp "$spp"
-  run "volumetric caustic, no fog (path)" "$scene" --tracer pt --width 256 --height 256 --spp "$spp"
+  for t in pt bpt mmlt; do
+    run "$t, fog (volpath)" "$tmp/volpath.pbrt" --tracer $t --width 256 --height 256 --spp "$spp"
+  done
+  run "pt, no fog (path)" "$scene" --tracer pt --width 256 --height 256 --spp "$spp"
 else
   echo "(skipped: $scene is missing)"
 fi
@@ -82,4 +97,19 @@ Scale 0.6 0.6 0.6
 Shape "sphere" "float radius" 1
 AttributeEnd
 PBRT
-run "smoke blob (32^3 grid), 128 x 128" "$tmp/smoke.pbrt" --tracer pt --spp "$spp"
+echo "== 2. smoke blob (32^3 grid), 128 x 128, $spp samples (MMLT: mutations) per pixel, medians of $reps runs"
+for t in pt bpt mmlt; do
+  run "$t, smoke blob" "$tmp/smoke.pbrt" --tracer $t --spp "$spp"
+done
+
+echo "== 3. equal-time error, volumetric caustic with its fog, 128 x 128"
+if [ -f "$scene" ]; then
+  build/wavemmlt_bench_error "$tmp/volpath.pbrt" --tracers pt,bpt,mmlt --budgets "$budgets" --size 128x128 \
+    --reps 2 --ref-spp "$refspp" --cache build/bench-cache --csv "$tmp/error.csv" | grep -v "^equal-time\|^  -\|^wrote"
+  echo "equal-time ratios (RMSE, root of the mean squared error over the 2 seeds):"
+  awk -F, 'NR > 1 { r[$2 "," $4] = $7; b[$4] = 1 }
+    END { for (x in b) printf "  %4ss: MMLT / PT %.3f   MMLT / BPT %.3f   BPT / PT %.3f\n", x,
+          r["mmlt," x] / r["pt," x], r["mmlt," x] / r["bpt," x], r["bpt," x] / r["pt," x] }' "$tmp/error.csv" | sort -n
+else
+  echo "(skipped: $scene is missing)"
+fi
