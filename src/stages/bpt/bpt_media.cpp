@@ -61,6 +61,38 @@ void traverseBptMediaOf(const Scene& scene, BptBatch& b, const BptVertices& v, b
 
 }  // namespace
 
+// (media) Path i's free-path densities at its new vertex cur: pdfFwd takes the walk's, rhoRev
+// keeps the reverse one for the densities towards the previous vertex.
+void takeSegmentDensities(const BptBatch& b, BptVertices& v, size_t i, size_t cur) {
+    v.pdfFwd[cur] *= b.rhoFwd[i];
+    v.rhoRev[cur] = b.rhoRev[i];
+}
+
+// Path i's scattering event in its medium (traverseBptMedia), at mediumT along its ray:
+// medium vertex cur (a Phase BSDF in a frame whose z is wo).
+void recordBptMediumVertex(const Scene& scene, BptBatch& b, BptVertices& v, size_t i, size_t prev, size_t cur) {
+    const RTCRayHit& rh = b.ray[i];
+    const Vec3 d = rayDir(rh);
+    const int m = b.medium[i];
+    v.p[cur] = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + d * b.mediumT[i];
+    v.ng[cur] = Vec3(0.0f);
+    v.shading[cur] = Frame::fromNormal(-d);
+    v.bsdf[cur] = BsdfParams{};
+    v.bsdf[cur].kind = MaterialKind::Phase;
+    v.bsdf[cur].eta = scene.media[size_t(m)].g;  // phaseG
+    v.beta[cur] = b.pathBeta[i];
+    // volume density: the solid angle's over r^2 (from the environment's disc or an
+    // orthographic film: their area density along the ray), times the free path's
+    const bool projected = v.kind[prev] == BptVertexKind::Env || (scene.camera.ortho && v.kind[prev] == BptVertexKind::Camera);
+    v.pdfFwd[cur] = projected ? b.pathPdf[i] : solidAngleToArea(b.pathPdf[i], v.p[prev], v.p[cur], Vec3(0.0f), false);
+    takeSegmentDensities(b, v, i, cur);
+    v.pdfRev[cur] = 0.0f;
+    v.delta[cur] = 0;
+    v.kind[cur] = BptVertexKind::Medium;
+    v.light[cur] = -1;
+    v.mediumFront[cur] = v.mediumBack[cur] = m;
+}
+
 template <class U>
 void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c) {
     if (cameraWalk && scene.features.emissiveMedia)

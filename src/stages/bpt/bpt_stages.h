@@ -59,6 +59,11 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
 // numbers from u.
 template <class U>
 void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c);
+// (media, resolveBptHits) Path i's free-path densities at its new vertex cur: pdfFwd takes
+// the walk's, rhoRev keeps the reverse one; and path i's scattering event as medium vertex
+// cur after prev (bpt_media.cpp).
+void takeSegmentDensities(const BptBatch& b, BptVertices& v, size_t i, size_t cur);
+void recordBptMediumVertex(const Scene& scene, BptBatch& b, BptVertices& v, size_t i, size_t prev, size_t cur);
 // (emitting media) Light that a camera walk's segment gathered, a contribution of length k
 // to the slot's camera side (strategy s = 0, MIS weight 1).
 void addVolumeEmission(BptBatch& b, uint32_t slot, Vec3 emitted, int k);
