@@ -348,6 +348,12 @@ SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name,
 // relative file names (OBJ, images).
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
                               const std::string& baseDir);
+// The thesis-format text `xml` (named `name` in messages) with its camera and the settings
+// an interactive session sets (size, samples, tracer, path lengths, ProbLarge) replaced by
+// cam and st, the rest as it was (scene/thesis/write_scene.cpp). Throws InputError when the
+// text is not a thesis-format scene.
+std::string thesisSceneWithView(const std::string& xml, const std::string& name, const CameraDesc& cam,
+                                const Settings& st);
 // Loads a pbrt-v4 scene file (.pbrt, or gzipped .pbrt.gz; docs/pbrt.md). loadScene calls
 // it for those names. Throws InputError("file:line: problem").
 SceneDesc loadPbrt(const std::string& path);
