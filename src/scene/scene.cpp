@@ -254,8 +254,9 @@ void buildMedia(const SceneDesc& d, Scene& s) {
 
 // The closed medium boundary (a sphere or a closed mesh, not instanced) around p: the
 // shape whose surface every axis ray from p meets first, from inside (crossing the
-// surfaces that are no boundary); -1 when there is none or the rays disagree.
-int enclosingBoundary(const Scene& s, const SceneDesc& d, Vec3 p) {
+// surfaces that are no boundary); -1 when there is none or the rays disagree. closed:
+// per shape, whether it is closed (-1: not known yet; filled as met).
+int enclosingBoundary(const Scene& s, const SceneDesc& d, Vec3 p, std::vector<int8_t>& closed) {
     static const Vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     int found = -1;
     for (const Vec3& dir : dirs) {
@@ -269,8 +270,9 @@ int enclosingBoundary(const Scene& s, const SceneDesc& d, Vec3 p) {
             const Vec3 n = s.hitNormal(rh);
             if (g.mediumBoundary) {
                 const ShapeDesc& sh = d.shapes[rh.hit.geomID];
-                const bool closed = sh.kind == ShapeKind::Sphere || closedMesh(sh.mesh);
-                if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID && closed && dot(dir, n) > 0) shape = int(rh.hit.geomID);
+                int8_t& isClosed = closed[rh.hit.geomID];
+                if (isClosed < 0) isClosed = sh.kind == ShapeKind::Sphere || closedMesh(sh.mesh) ? 1 : 0;
+                if (rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID && isClosed && dot(dir, n) > 0) shape = int(rh.hit.geomID);
                 break;
             }
             const Vec3 q = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) + dir * rh.ray.tfar;
@@ -292,7 +294,8 @@ void placeLightsInMedia(const SceneDesc& d, Scene& s) {
         s.lightMediumBack.assign(d.lights.size(), -1);
         return;
     }
-    if (const int e = enclosingBoundary(s, d, d.camera.position); e >= 0 && d.shapes[size_t(e)].mediumInside != s.cameraMedium)
+    std::vector<int8_t> closed(d.shapes.size(), -1);  // (a mesh's closedness, once)
+    if (const int e = enclosingBoundary(s, d, d.camera.position, closed); e >= 0 && d.shapes[size_t(e)].mediumInside != s.cameraMedium)
         throw InputError(d.path, d.shapes[size_t(e)].line,
                          "the camera is inside this closed boundary, whose inside is " + mediumName(d, d.shapes[size_t(e)].mediumInside) +
                              ", but the camera's medium is " + mediumName(d, s.cameraMedium));
@@ -311,7 +314,7 @@ void placeLightsInMedia(const SceneDesc& d, Scene& s) {
                 const Vec3 n = normalize(cross(b - a, c - a));
                 p = s.offsetRayOrigin((a + b + c) * (1.0f / 3.0f), n, n);
             }
-            if (const int e = enclosingBoundary(s, d, p); e >= 0) front = back = d.shapes[size_t(e)].mediumInside;
+            if (const int e = enclosingBoundary(s, d, p, closed); e >= 0) front = back = d.shapes[size_t(e)].mediumInside;
         }
         s.lightMediumFront.push_back(front);
         s.lightMediumBack.push_back(back);
