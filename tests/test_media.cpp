@@ -136,7 +136,7 @@ AttributeEnd
         }
 }
 
-TEST_CASE("media in PT: single scattering of a point light in an infinite medium", "[media][render]") {
+TEST_CASE("media in PT: single scattering of a point light in an infinite medium", "[media][render][stat]") {
     // The camera and a point light (I = 2) in one medium everywhere (the camera's), a black
     // ball far away the only surface; paths of two segments (camera, medium vertex, light)
     // are single scattering:
@@ -236,7 +236,7 @@ PixelFilter "box"
         }
 }
 
-TEST_CASE("media behind glass: PT, LT and BPT agree on a scattering medium in a rough glass ball", "[media][render]") {
+TEST_CASE("media behind glass: PT, LT and BPT agree on a scattering medium in a rough glass ball", "[media][render][stat]") {
     // A rough dielectric ball (eta 1.5) filled with a coloured scattering medium (sigma_s
     // (2, 1.5, 1), sigma_a (0.05, 0.1, 0.2), g 0.3) on a floor under an area light, the camera
     // outside in vacuum: light reaches the medium only through the glass (no next-event

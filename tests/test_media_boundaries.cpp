@@ -16,7 +16,7 @@
 
 using namespace wmlt;
 
-TEST_CASE("media: a point light inside a closed fog ball emits into the fog", "[media][render]") {
+TEST_CASE("media: a point light inside a closed fog ball emits into the fog", "[media][render][stat]") {
     // The ball (radius 1, interface material) holds fog (sigma_s 1.2, sigma_a 0.2, g 0.3) and
     // a point light at its centre; the camera is outside in vacuum; a diffuse floor below.
     const SceneDesc d = media_scenes::load("lamp-in-fog.pbrt", R"(LookAt 0 0.5 -4  0 0 0  0 1 0
