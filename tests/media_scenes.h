@@ -1,5 +1,6 @@
 // Scenes of the media tests (test_media.cpp, test_media_mmlt.cpp), as pbrt-v4 text.
 #pragma once
+#include <cstdint>
 #include <fstream>
 #include <string>
 #include <utility>
@@ -37,6 +38,52 @@ inline std::string cube(wmlt::Vec3 c, float h, bool inward) {
         triangle(q[0], q[2], q[3]);
     }
     return "Shape \"trianglemesh\" \"point3 P\" [ " + P + "] \"integer indices\" [ " + idx + "]\n";
+}
+
+// A furnace: `medium` (pbrt text making a medium named `name`) around the camera, in a
+// closed box [-2, 2]^3 of black walls emitting 1 inwards, 8 x 8.
+inline std::string furnace(const std::string& medium, const std::string& name) {
+    return medium + R"(
+LookAt 0 0 -1.5  0 0 0  0 1 0
+MediumInterface "" ")" + name + R"("
+Camera "perspective" "float fov" [ 60 ]
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+PixelFilter "box"
+WorldBegin
+MediumInterface "" ""
+AttributeBegin
+Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+)" + cube(wmlt::Vec3(0.0f), 2.0f, true) +
+           "AttributeEnd\n";
+}
+
+// n numbers in [lo, hi) from a fixed LCG (state h), as pbrt text.
+inline std::string randomNumbers(int n, double lo, double hi, uint64_t& h) {
+    std::string s;
+    for (int i = 0; i < n; ++i) {
+        h = h * 6364136223846793005ull + 1442695040888963407ull;
+        s += std::to_string(lo + (hi - lo) * (double(h >> 40) / double(1ull << 24))) + " ";
+    }
+    return s;
+}
+
+// A point light (I = 2) at (0.3, 0.2, 2) and the camera at the origin looking along +z, both
+// in one homogeneous medium everywhere (sigma_a (0.1, 0.2, 0.4), g 0.4, the given sigma_s), a
+// black ball far away the only surface, 16 x 16.
+inline std::string pointLightInFog(const std::string& sigmaS) {
+    return R"(LookAt 0 0 0  0 0 1  0 1 0
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.2 0.4 ] "rgb sigma_s" [ )" + sigmaS + R"( ] "float g" 0.4
+MediumInterface "" "fog"
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+WorldBegin
+LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.3 0.2 2 ]
+Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+Translate 0 0 1000
+Shape "sphere" "float radius" 1
+)";
 }
 
 // A rough dielectric ball (eta 1.5) filled with a coloured scattering medium (sigma_s

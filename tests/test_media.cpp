@@ -143,18 +143,7 @@ TEST_CASE("media in PT: single scattering of a point light in an infinite medium
     //   L = int_0^inf T(t) sigma_s p(cos) I T(r) / r^2 dt,  r = |x(t) - light|,
     // per channel (sigma_s (0.5, 0.3, 0.1), sigma_a (0.1, 0.2, 0.4), g 0.4), integrated over
     // phi with t = t0 + b tan(phi) (b the ray's distance to the light): smooth.
-    const std::string text = R"(LookAt 0 0 0  0 0 1  0 1 0
-MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.2 0.4 ] "rgb sigma_s" [ 0.5 0.3 0.1 ] "float g" 0.4
-MediumInterface "" "fog"
-Camera "perspective" "float fov" [ 40 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-PixelFilter "box"
-WorldBegin
-LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.3 0.2 2 ]
-Material "diffuse" "rgb reflectance" [ 0 0 0 ]
-Translate 0 0 1000
-Shape "sphere" "float radius" 1
-)";
+    const std::string text = media_scenes::pointLightInFog("0.5 0.3 0.1");
     const SceneDesc d = loadText("single.pbrt", text);
     REQUIRE(d.cameraMedium == 0);
     const Vec3 light(0.3f, 0.2f, 2.0f);
@@ -358,26 +347,12 @@ TEST_CASE("media in PT: a heterogeneous grid, unbiased (a furnace of random dens
     //    (pbrt's uniformgrid; the enclosure [-2, 2]^3), sigma_s (0.25, 0.5, 1), no absorption:
     //    albedo 1 in every channel, so the radiance is 1 everywhere whatever the densities
     //    (spectral tracking's weights with channels apart).
-    std::string dens;
     uint64_t h = 12345;
-    for (int i = 0; i < 64; ++i) {
-        h = h * 6364136223846793005ull + 1442695040888963407ull;
-        dens += std::to_string(2.0 * double(h >> 40) / double(1ull << 24)) + " ";
-    }
-    const std::string furnace = R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.25 0.5 1 ] "float g" -0.3
+    const std::string dens = media_scenes::randomNumbers(64, 0, 2, h);
+    const std::string furnace = media_scenes::furnace(R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.25 0.5 1 ] "float g" -0.3
   "integer nx" 4 "integer ny" 4 "integer nz" 4 "point3 p0" [ -2.5 -2.5 -2.5 ] "point3 p1" [ 2.5 2.5 2.5 ] "float density" [ )" +
-                                dens + R"(]
-LookAt 0 0 -1.5  0 0 0  0 1 0
-MediumInterface "" "smoke"
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
-PixelFilter "box"
-WorldBegin
-MediumInterface "" ""
-AttributeBegin
-Material "diffuse" "rgb reflectance" [ 0 0 0 ]
-AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
-)" + media_scenes::cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
+                                dens + "]",
+                                                      "smoke");
     const SceneDesc d = loadText("grid-furnace.pbrt", furnace);
     REQUIRE(d.media.size() == 1);
     REQUIRE(d.media[0].density.size() == 64);
@@ -426,12 +401,9 @@ AttributeEnd
         }
     // 3. pbrt's rgbgrid: sigma_s per voxel and channel (random in [0, 1.5]), no absorption:
     //    the furnace again, channel by channel.
-    std::string sigS, sigA;
-    for (int i = 0; i < 3 * 27; ++i) {
-        h = h * 6364136223846793005ull + 1442695040888963407ull;
-        sigS += std::to_string(1.5 * double(h >> 40) / double(1ull << 24)) + " ";
-        sigA += "0 ";
-    }
+    const std::string sigS = media_scenes::randomNumbers(3 * 27, 0, 1.5, h);
+    std::string sigA;
+    for (int i = 0; i < 3 * 27; ++i) sigA += "0 ";
     std::string rgbFurnace = furnace;
     const size_t from = rgbFurnace.find("MakeNamedMedium"), to = rgbFurnace.find("LookAt");
     rgbFurnace.replace(from, to - from, "MakeNamedMedium \"smoke\" \"string type\" \"rgbgrid\" \"float g\" 0.2 \"integer nx\" 3 \"integer ny\" 3 "

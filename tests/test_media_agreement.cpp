@@ -80,18 +80,7 @@ TEST_CASE("media: a constant grid tracks to what the homogeneous medium renders"
 }
 
 TEST_CASE("media: multiple scattering of a point light in an infinite medium, PT against BPT and MMLT", "[media][render][stat]") {
-    const SceneDesc d = media_scenes::load("multiple.pbrt", R"(LookAt 0 0 0  0 0 1  0 1 0
-MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.2 0.4 ] "rgb sigma_s" [ 0.9 0.7 0.5 ] "float g" 0.4
-MediumInterface "" "fog"
-Camera "perspective" "float fov" [ 40 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-PixelFilter "box"
-WorldBegin
-LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.3 0.2 2 ]
-Material "diffuse" "rgb reflectance" [ 0 0 0 ]
-Translate 0 0 1000
-Shape "sphere" "float radius" 1
-)");
+    const SceneDesc d = media_scenes::load("multiple.pbrt", media_scenes::pointLightInFog("0.9 0.7 0.5"));
     const std::vector<rstats::RunStats> pt = blockRuns(d, TracerKind::PT, 256, 700, 30);
     checkAgree(blockRuns(d, TracerKind::BPT, 64, 710, 30), pt, "BPT against PT");
     checkAgree(blockRuns(d, TracerKind::MMLT, 256, 720, 30), pt, "MMLT against PT");

@@ -34,33 +34,8 @@ RenderOptions optionsFor(TracerKind tracer, int spp, uint64_t seed, int maxLengt
     return o;
 }
 
-// The furnace: `medium` (a MakeNamedMedium named "glow") around the camera, the black
-// walls of [-2, 2]^3 emitting 1 inwards.
-std::string furnace(const std::string& medium) {
-    return medium + R"(
-LookAt 0 0 -1.5  0 0 0  0 1 0
-MediumInterface "" "glow"
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
-PixelFilter "box"
-WorldBegin
-MediumInterface "" ""
-AttributeBegin
-Material "diffuse" "rgb reflectance" [ 0 0 0 ]
-AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
-)" + media_scenes::cube(Vec3(0.0f), 2.0f, true) +
-           "AttributeEnd\n";
-}
-
-// n numbers in [lo, hi) from a fixed LCG, as pbrt text.
-std::string numbers(int n, double lo, double hi, uint64_t& h) {
-    std::string s;
-    for (int i = 0; i < n; ++i) {
-        h = h * 6364136223846793005ull + 1442695040888963407ull;
-        s += std::to_string(lo + (hi - lo) * double(h >> 40) / double(1ull << 24)) + " ";
-    }
-    return s;
-}
+// The furnace (media_scenes.h) in `medium`, a MakeNamedMedium named "glow".
+std::string furnace(const std::string& medium) { return media_scenes::furnace(medium, "glow"); }
 
 std::string repeat(const std::string& s, int n) {
     std::string r;
@@ -127,12 +102,12 @@ TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale 
         "glow-b.pbrt",
         furnace(R"(MakeNamedMedium "glow" "string type" "uniformgrid" "rgb sigma_a" [ 0.3 0.6 0.9 ] "rgb sigma_s" [ 0.9 0.6 0.3 ] "float g" -0.2
   "integer nx" 3 "integer ny" 3 "integer nz" 3 "point3 p0" [ -3 -3 -3 ] "point3 p1" [ 3 3 3 ] "rgb Le" [ 0.5 0.5 0.5 ]
-  "float density" [ )" + numbers(27, 0, 2, h) +
+  "float density" [ )" + media_scenes::randomNumbers(27, 0, 2, h) +
                 "] \"float Lescale\" [ " + repeat("2 ", 27) + "]"));
     const SceneDesc rgb = media_scenes::load(
         "glow-c.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "rgbgrid" "float g" 0.5 "integer nx" 2 "integer ny" 2 "integer nz" 2
   "point3 p0" [ -4 -4 -4 ] "point3 p1" [ 4 4 4 ] "rgb sigma_a" [ )" +
-                               numbers(24, 0, 1.5, h) + "] \"rgb sigma_s\" [ " + numbers(24, 0, 1.5, h) +
+                               media_scenes::randomNumbers(24, 0, 1.5, h) + "] \"rgb sigma_s\" [ " + media_scenes::randomNumbers(24, 0, 1.5, h) +
                                "] \"rgb Le\" [ " + repeat("1 ", 24) + "]"));
     REQUIRE(grid.media[0].LeGrid.size() == 27);
     REQUIRE(rgb.media[0].LeGrid.size() == 8);

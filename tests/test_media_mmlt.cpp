@@ -23,21 +23,11 @@ namespace {
 // 2 x 2 x 2 grid of densities over [-2.5, 2.5]^3 with sigma_s (0.5, 1, 1.5) and no
 // absorption: albedo 1, so the radiance is 1 everywhere.
 std::string gridFurnace() {
-    return R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.5 1 1.5 ] "float g" 0.4
+    return media_scenes::furnace(R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.5 1 1.5 ] "float g" 0.4
   "integer nx" 2 "integer ny" 2 "integer nz" 2 "point3 p0" [ -2.5 -2.5 -2.5 ] "point3 p1" [ 2.5 2.5 2.5 ]
   "float density" [ 0.3 1.2 0.7 1.9 0.5 1.1 1.6 0.2 ]
-LookAt 0 0 -1.5  0 0 0  0 1 0
-MediumInterface "" "smoke"
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
-PixelFilter "box"
-WorldBegin
-MediumInterface "" ""
-AttributeBegin
-Material "diffuse" "rgb reflectance" [ 0 0 0 ]
-AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
-)" + media_scenes::cube(Vec3(0.0f), 2.0f, true) +
-           "AttributeEnd\n";
+)",
+                                   "smoke");
 }
 
 RenderOptions mmltOptions(int mutationsPerPixel, uint64_t seed, int maxLength, int chains, int threads = 2) {
