@@ -286,6 +286,16 @@ int enclosingBoundary(const Scene& s, const SceneDesc& d, Vec3 p, std::vector<in
 
 std::string mediumName(const SceneDesc& d, int m) { return m < 0 ? "vacuum" : "medium \"" + d.media[size_t(m)].name + "\""; }
 
+// A camera at `position` inside a closed boundary whose inside is not the camera's medium:
+// refused, naming the boundary.
+void checkCameraMedium(const SceneDesc& d, Scene& s, Vec3 position) {
+    if (!s.features.media) return;
+    if (const int e = enclosingBoundary(s, d, position, s.closedShapes); e >= 0 && d.shapes[size_t(e)].mediumInside != s.cameraMedium)
+        throw InputError(d.path, d.shapes[size_t(e)].line,
+                         "the camera is inside this closed boundary, whose inside is " + mediumName(d, d.shapes[size_t(e)].mediumInside) +
+                             ", but the camera's medium is " + mediumName(d, s.cameraMedium));
+}
+
 // Once the scene is built: the camera's medium checked against a closed boundary around it;
 // each light's media (Scene::lightMediumFront, lightMediumBack).
 void placeLightsInMedia(const SceneDesc& d, Scene& s) {
@@ -294,11 +304,8 @@ void placeLightsInMedia(const SceneDesc& d, Scene& s) {
         s.lightMediumBack.assign(d.lights.size(), -1);
         return;
     }
-    std::vector<int8_t> closed(d.shapes.size(), -1);  // (a mesh's closedness, once)
-    if (const int e = enclosingBoundary(s, d, d.camera.position, closed); e >= 0 && d.shapes[size_t(e)].mediumInside != s.cameraMedium)
-        throw InputError(d.path, d.shapes[size_t(e)].line,
-                         "the camera is inside this closed boundary, whose inside is " + mediumName(d, d.shapes[size_t(e)].mediumInside) +
-                             ", but the camera's medium is " + mediumName(d, s.cameraMedium));
+    std::vector<int8_t>& closed = s.closedShapes;
+    checkCameraMedium(d, s, d.camera.position);
     for (const LightDesc& ld : d.lights) {
         const ShapeDesc* sh = ld.shape >= 0 ? &d.shapes[size_t(ld.shape)] : nullptr;
         int front = s.cameraMedium, back = s.cameraMedium;
@@ -323,6 +330,26 @@ void placeLightsInMedia(const SceneDesc& d, Scene& s) {
 
 }  // namespace
 
+void Scene::setImage(const CameraDesc& c, int width, int height) {
+    camera = makeCamera(c, width, height);
+    filterNormX.clear();
+    filterNormY.clear();
+    for (int x = 0; x < width; ++x) filterNormX.push_back(float(filterNorm(filter, x, width)));
+    for (int y = 0; y < height; ++y) filterNormY.push_back(float(filterNorm(filter, y, height)));
+    features.depthOfField = c.dof;
+}
+
+void Scene::setView(const CameraDesc& c, int width, int height) {
+    if (!(width >= 1 && height >= 1)) throw InputError("an image needs at least one pixel");
+    if (c.position.x != desc.camera.position.x || c.position.y != desc.camera.position.y ||
+        c.position.z != desc.camera.position.z)
+        checkCameraMedium(desc, *this, c.position);
+    setImage(c, width, height);
+    desc.camera = c;
+    desc.settings.width = width;
+    desc.settings.height = height;
+}
+
 Vec3 Scene::hitNormal(const RTCRayHit& rh) const {
     const GeomRecord& g = geoms[rh.hit.geomID];
     if (g.kind == ShapeKind::Sphere) {
@@ -341,10 +368,9 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     const SceneDesc& d = s->desc;
     s->features = deriveFeatures(d);
     buildMedia(d, *s);
-    s->camera = makeCamera(d.camera, d.settings.width, d.settings.height);
     s->filter = makePixelFilter(d.filter);
-    for (int x = 0; x < d.settings.width; ++x) s->filterNormX.push_back(float(filterNorm(s->filter, x, d.settings.width)));
-    for (int y = 0; y < d.settings.height; ++y) s->filterNormY.push_back(float(filterNorm(s->filter, y, d.settings.height)));
+    s->setImage(d.camera, d.settings.width, d.settings.height);
+    s->closedShapes.assign(d.shapes.size(), -1);
 
     std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
     s->device = rtcNewDevice(config.c_str());

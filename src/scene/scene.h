@@ -110,6 +110,14 @@ public:
     float radius = 1;               // bounding sphere of the scene's geometry
     float epsilonScale = 1e-4f;     // ray offsets scale with the scene's size
 
+    // Another camera and image size (the interactive mode, between renders): the camera,
+    // the filter's normalisation per column and row, the depth-of-field feature. Throws
+    // InputError, the scene unchanged, for a camera inside a closed boundary of another
+    // medium than the camera's.
+    void setView(const CameraDesc& camera, int width, int height);
+    // Each shape's closedness, found when first needed (-1: not yet; the media's enclosure test).
+    std::vector<int8_t> closedShapes;
+
     // A hit's geometric normal in world space (unnormalised; rh must have hit something).
     Vec3 hitNormal(const RTCRayHit& rh) const;
 
@@ -122,6 +130,7 @@ public:
 
 private:
     Scene() = default;
+    void setImage(const CameraDesc& camera, int width, int height);
     std::string embreeErrorMessage;
 };
 

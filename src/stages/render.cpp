@@ -11,6 +11,7 @@
 #include "stages/pt/path_tracer.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
+#include "stages/render_scene.h"
 
 namespace wmlt {
 
@@ -45,7 +46,11 @@ std::vector<std::pair<std::string, uint64_t>> filmBuffers(const RenderOptions& o
 
 }  // namespace
 
-RenderResult render(SceneDesc desc, const RenderOptions& opt) {
+namespace {
+
+// What no tracer can render, refused before the scene is built: bad path lengths, options
+// of the wrong tracer, films that would not fit (with the figure).
+std::vector<std::pair<std::string, uint64_t>> checkOptions(const RenderOptions& opt, int width, int height) {
     if (opt.maxPathLength < 1 || opt.maxPathLength > kMaxPathLength || opt.minPathLength < 1 || opt.minPathLength > opt.maxPathLength)
         throw InputError("path lengths must satisfy 1 <= min <= max <= " + std::to_string(kMaxPathLength));
     if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT)
@@ -56,32 +61,50 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
         throw InputError("length images need the BPT or MMLT tracer");
     if (opt.ranks && opt.ranks->many() && (!opt.strategyImages.empty() || opt.lengthImages))
         throw InputError("strategy and length images are made by one process only (run without mpirun)");
-    // Films that would not fit are refused before the scene is built (with the figure).
-    const auto buffers = filmBuffers(opt, desc.settings.width, desc.settings.height);
+    const auto buffers = filmBuffers(opt, width, height);
     double bytes = 0;
     for (const auto& b : buffers) bytes += double(b.second);
     const double mem = physicalMemoryBytes();
     if (mem > 0 && bytes > 0.75 * mem)
-        throw InputError("a " + std::to_string(desc.settings.width) + " x " + std::to_string(desc.settings.height) +
-                         " render needs " + bytesText(bytes) + " of films, more than 3/4 of this machine's " +
-                         bytesText(mem));
-    int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+        throw InputError("a " + std::to_string(width) + " x " + std::to_string(height) + " render needs " +
+                         bytesText(bytes) + " of films, more than 3/4 of this machine's " + bytesText(mem));
+    return buffers;
+}
+
+int threadCount(const RenderOptions& opt) { return opt.threads > 0 ? opt.threads : tbb::info::default_concurrency(); }
+
+}  // namespace
+
+RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
+    const auto buffers = checkOptions(opt, scene.camera.width, scene.camera.height);
+    const int threads = threadCount(opt);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-    std::unique_ptr<Scene> scene = Scene::build(std::move(desc), threads);
-    if (scene->features.emissiveMedia && opt.tracer == TracerKind::LT)
-        throw InputError(scene->desc.path, 0,
+    if (scene.features.emissiveMedia && opt.tracer == TracerKind::LT)
+        throw InputError(scene.desc.path, 0,
                          "the light tracer cannot start paths in an emitting medium: render it with --tracer pt, bpt or mmlt (docs/media.md)");
-    RenderResult r = opt.tracer == TracerKind::MMLT  ? renderMmlt(*scene, opt)
-                     : opt.tracer == TracerKind::LT  ? renderLightTracing(*scene, opt)
-                     : opt.tracer == TracerKind::BPT ? renderBidirectional(*scene, opt)
-                                                     : renderPathTracing(*scene, opt);
+    RenderResult r = opt.tracer == TracerKind::MMLT  ? renderMmlt(scene, opt)
+                     : opt.tracer == TracerKind::LT  ? renderLightTracing(scene, opt)
+                     : opt.tracer == TracerKind::BPT ? renderBidirectional(scene, opt)
+                                                     : renderPathTracing(scene, opt);
     r.stats.threads = threads;
     if (r.stats.buffers.empty()) r.stats.buffers = buffers;
     // The scene: its triangle meshes' arrays (a shape group's once, however many instances)
     // and what Embree holds (BVHs, instances), from Embree's memory monitor.
-    r.stats.buffers.push_back({"meshes", scene->meshBytes});
-    r.stats.buffers.push_back({"embree", uint64_t(std::max<int64_t>(0, scene->embreeBytes.load()))});
+    r.stats.buffers.push_back({"meshes", scene.meshBytes});
+    r.stats.buffers.push_back({"embree", uint64_t(std::max<int64_t>(0, scene.embreeBytes.load()))});
     return r;
+}
+
+RenderResult render(SceneDesc desc, const RenderOptions& opt) {
+    // Films that would not fit are refused before the scene is built.
+    checkOptions(opt, desc.settings.width, desc.settings.height);
+    const int threads = threadCount(opt);
+    std::unique_ptr<Scene> scene;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        scene = Scene::build(std::move(desc), threads);
+    }
+    return renderScene(*scene, opt);
 }
 
 }  // namespace wmlt
