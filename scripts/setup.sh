@@ -6,13 +6,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # clang and libclang-rt-14-dev (libFuzzer, the sanitizer runtimes) are for scripts/fuzz.sh;
-# libsdl2-dev is for the --view window; xvfb, xdotool and x11-apps (xwd) are for its tests;
+# libsdl2-dev is for the --view window and libimgui-dev (Dear ImGui) for --interactive's panel; xvfb, xdotool and x11-apps (xwd) are for its tests;
 # libopenmpi-dev and openmpi-bin (mpirun) are for one render across many ranks (docs/mpi.md);
 # zlib1g-dev (zlib's inflate) is for Mitsuba's compressed serialized meshes (load_serialized.cpp);
 # colord-data has the CIE 1931 observer and D65 tables that spectra are projected with (scene/spectrum.h).
 packages=(build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev
           libtinyobjloader-dev libpugixml-dev catch2 libstb-dev clang libclang-rt-14-dev
-          libsdl2-dev xvfb xdotool x11-apps libopenmpi-dev openmpi-bin zlib1g-dev colord-data)
+          libsdl2-dev libimgui-dev xvfb xdotool x11-apps libopenmpi-dev openmpi-bin zlib1g-dev colord-data)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -62,6 +62,19 @@ void parseHostPort(const std::string& v, std::string& host, std::string& port) {
     fail(opt + "has no valid host ('" + host + "': a name, an IPv4 address or an [IPv6] address)");
 }
 
+// "X,Y,Z": three finite numbers.
+Vec3 parseVec3(const std::string& opt, const std::string& v) {
+    float xyz[3];
+    size_t start = 0;
+    for (int i = 0; i < 3; ++i) {
+        const size_t comma = v.find(',', start);
+        if ((i < 2) != (comma != std::string::npos)) fail(opt + ": '" + v + "' is not X,Y,Z");
+        xyz[i] = float(parseReal(opt, v.substr(start, comma - start), -1e30, 1e30));
+        start = comma + 1;
+    }
+    return {xyz[0], xyz[1], xyz[2]};
+}
+
 // --filter NAME[:param=value,...] (filter_desc.h).
 FilterDesc parseFilter(const std::string& v) {
     const size_t colon = v.find(':');
@@ -117,6 +130,11 @@ std::string usageText() {
         "  --stats FILE.json        write render statistics\n"
         "  --view                   watch the render in a window: + / - exposure, s saves the outputs now,\n"
         "                           p pauses, q / Esc / closing it stops like Ctrl-C; stays open when done\n"
+        "  --interactive            move the camera and change the settings in the window (docs/interactive.md):\n"
+        "                           the render restarts at each change; w writes the scene (--scene-out FILE)\n"
+        "                           and prints the command line that renders it\n"
+        "  --eye X,Y,Z, --look-at X,Y,Z, --up X,Y,Z, --fov DEGREES   the camera, over the scene's\n"
+        "  --focus-distance D, --f-stop N   the thin lens (aperture radius D / 2N; --f-stop 0: a pinhole)\n"
         "  --display-server HOST:PORT  stream the render to a running tev (e.g. 127.0.0.1:14158)\n"
         "  -D name=value            Mitsuba scene files: set a <default> parameter ($name)\n"
         "  --describe               print the scene's feature set and exit\n"
@@ -177,6 +195,14 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--exposure") cl.exposure = float(parseReal(a, value(), -64, 64));
         else if (a == "--stats") cl.statsPath = value();
         else if (a == "--view") cl.view = true;
+        else if (a == "--interactive") cl.interactive = true;
+        else if (a == "--scene-out") cl.sceneOut = value();
+        else if (a == "--eye") cl.eye = parseVec3(a, value());
+        else if (a == "--look-at") cl.lookAt = parseVec3(a, value());
+        else if (a == "--up") cl.up = parseVec3(a, value());
+        else if (a == "--fov") cl.fov = float(parseReal(a, value(), 1, 170));
+        else if (a == "--focus-distance") cl.focusDistance = float(parseReal(a, value(), 1e-30, 1e30));
+        else if (a == "--f-stop") cl.fStop = float(parseReal(a, value(), 0, 1e30));
         else if (a == "--display-server") parseHostPort(value(), cl.displayHost, cl.displayPort);
         else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "' (see --help)");
         else if (cl.scenePath.empty()) cl.scenePath = a;
@@ -198,6 +224,22 @@ void applyCommandLine(const CommandLine& cl, Settings& s) {
     if (s.minPathLength > s.maxPathLength)
         fail("the minimum path length " + std::to_string(s.minPathLength) + " exceeds the maximum " +
              std::to_string(s.maxPathLength));
+}
+
+void applyCamera(const CommandLine& cl, CameraDesc& c) {
+    if (cl.eye) c.position = *cl.eye;
+    if (cl.lookAt) c.lookAt = *cl.lookAt;
+    if (cl.up) c.up = *cl.up;
+    if (cl.fov) c.fovDegrees = *cl.fov;
+    if (cl.focusDistance) c.focalLength = *cl.focusDistance;
+    if (cl.fStop) {
+        c.dof = *cl.fStop > 0;
+        if (c.dof) c.fStop = *cl.fStop;
+    }
+    if (!(cl.eye || cl.lookAt || cl.up)) return;
+    const Vec3 d = c.lookAt - c.position;
+    if (!(length(d) > 0)) fail("--eye and --look-at: the camera must look somewhere (they are the same point)");
+    if (!(length(cross(d, c.up)) > 0)) fail("--up: must not be parallel to the view direction");
 }
 
 }  // namespace wmlt

@@ -26,6 +26,12 @@ struct CommandLine {
     std::string statsPath;
     float exposure = 0;
     bool view = false;                     // --view: the SDL2 window
+    bool interactive = false;              // --interactive: the window, the camera and settings changed in it
+    std::string sceneOut;                  // --scene-out: where the interactive mode writes the scene
+    // The camera, over the scene's (the interactive mode prints them): --eye, --look-at, --up,
+    // --fov, --focus-distance, --f-stop (0: a pinhole).
+    std::optional<Vec3> eye, lookAt, up;
+    std::optional<float> fov, focusDistance, fStop;
     std::string displayHost, displayPort;  // --display-server HOST:PORT (tev); empty: none
     bool describe = false, quiet = false, help = false, version = false;
 };
@@ -36,5 +42,8 @@ std::string usageText();
 
 // Applies the command line over the scene's Settings and checks the result.
 void applyCommandLine(const CommandLine& cl, Settings& s);
+// Applies --eye, --look-at, --up, --fov, --focus-distance, --f-stop over the scene's camera
+// and checks the result (a view direction, an up not along it).
+void applyCamera(const CommandLine& cl, CameraDesc& c);
 
 }  // namespace wmlt

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "app/cli.h"
+#include "app/interactive_run.h"
 #include "app/progress.h"
 #include "app/watchers.h"
 #include "app/ranks.h"
@@ -31,9 +32,11 @@ namespace wmlt { extern const char* const kDefaultSceneXml; }
 namespace {
 
 std::atomic<bool> gCancel{false};
+std::atomic<bool> gInterrupted{false};  // Ctrl-C (or mpirun's SIGTERM), not q
 
 void onInterrupt(int signal) {
     gCancel = true;
+    gInterrupted = true;
     std::signal(signal, SIG_DFL);  // a second Ctrl-C ends the process at once
 }
 
@@ -207,6 +210,17 @@ struct Job {
     std::vector<std::string> outputs;
 };
 
+// The scene file (or the built-in scene) with the command line's settings, filter and camera.
+wmlt::SceneDesc loadJobScene(const wmlt::CommandLine& cl) {
+    using namespace wmlt;
+    SceneDesc scene = cl.scenePath.empty() ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
+                                           : loadScene(cl.scenePath, cl.defines);
+    applyCommandLine(cl, scene.settings);
+    applyCamera(cl, scene.camera);
+    if (cl.filter) scene.filter = *cl.filter;
+    return scene;
+}
+
 // Parses, loads and checks (throws InputError). Returns false when the job ends here
 // (--help, --version, --describe). Only rank 0 prints, opens viewers and checks the output
 // paths (they are its files); the other ranks load the scene themselves, quietly.
@@ -219,15 +233,18 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
         if (root) std::cout << (cl.help ? usageText() : std::string("wavemmlt ") + WAVEMMLT_VERSION + "\n");
         return false;
     }
-    if (root && cl.view && !cl.describe) checkViewPossible();
+    if (cl.interactive && ranks.many())
+        throw InputError("wavemmlt: --interactive needs one process (run it without mpirun; --view watches a render across ranks)");
+    if (cl.interactive && !cl.statsPath.empty())
+        throw InputError("wavemmlt: --stats is not written by --interactive (render the printed command line with --stats)");
+    if (cl.interactive && !cl.strategyImages.empty())
+        throw InputError("wavemmlt: --strategy-images is not made by --interactive");
+    if (root && (cl.view || cl.interactive) && !cl.describe) checkViewPossible(cl.interactive ? "--interactive" : "--view");
     if (ranks.many() && !cl.strategyImages.empty())
         throw InputError("wavemmlt: --strategy-images is made by one process only (run it without mpirun)");
 
     if (cl.scenePath.empty() && !cl.defines.empty()) throw InputError("wavemmlt: -D needs a Mitsuba scene file");
-    job.scene = cl.scenePath.empty() ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
-                                     : loadScene(cl.scenePath, cl.defines);
-    applyCommandLine(cl, job.scene.settings);
-    if (cl.filter) job.scene.filter = *cl.filter;
+    job.scene = loadJobScene(cl);
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
     if (cl.chains && *cl.chains > 0 && job.scene.settings.tracer == TracerKind::MMLT)
@@ -281,13 +298,13 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
 
     // The outputs (rank 0's): at the end, and from the --view window's s key (its own thread).
     std::mutex outputsMutex;
-    auto writeOutputs = [&](const Image& image) {
+    auto writeOutputs = [&](const Image& image, float exposure) {
         std::lock_guard<std::mutex> lock(outputsMutex);
-        for (const std::string& o : outputs) writeImage(o, image, cl.exposure);
+        for (const std::string& o : outputs) writeImage(o, image, exposure);
     };
-    auto saveNow = [&](const Snapshot& snap) {
+    auto saveNow = [&](const Snapshot& snap, float exposure) {
         try {
-            writeOutputs(snap.image);
+            writeOutputs(snap.image, exposure);
             if (!cl.quiet) std::fprintf(stderr, "\nsaved the image so far (%llu spp)\n", (unsigned long long)snap.spp);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "\nwarning: %s\n", e.what());
@@ -296,9 +313,17 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     const std::string imageName = std::filesystem::path(outputs[0]).filename().string() + " (" +
                                   std::to_string(getpid()) + ")";
     CommandLine viewers = cl;  // rank 0 watches the job; the other ranks have no viewers
-    if (!root) viewers.view = false, viewers.displayHost.clear();
-    Watchers watchers(viewers, tracerName(opt.tracer), s.width, s.height, imageName, &gCancel, saveNow);
+    if (!root) viewers.view = viewers.interactive = false, viewers.displayHost.clear();
+    Watchers watchers(viewers, tracerName(opt.tracer), s.width, s.height, imageName, &gCancel, saveNow, !ranks.many());
     opt.view = watchers.view();
+    // The interactive mode (--interactive, or the i key in --view): the scene built once and
+    // rendered again at each change, until the window closes (interactive_run.cpp).
+    auto interactive = [&](SceneDesc scene) {
+        gCancel = false;
+        return runInteractive(cl, std::move(scene), opt, watchers, gInterrupted,
+                              [&](const Snapshot& snap, float exposure) { writeOutputs(snap.image, exposure); });
+    };
+    if (cl.interactive) return interactive(std::move(job.scene));
     Progress progress(cl.quiet || !root);
     if (root)
         opt.progress = [&](double f) {
@@ -316,8 +341,9 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
         throw;
     }
     progress.finish();
+    if (root && watchers.interactiveRequested() && !gInterrupted) return interactive(loadJobScene(cl));
     if (!root) return r.stats.cancelled ? 130 : 0;
-    writeOutputs(r.image);
+    writeOutputs(r.image, cl.exposure);
     for (const StrategyImage& si : r.strategyImages) {
         const std::string stem = opt.strategyImages + "/s" + std::to_string(si.s) + "_t" + std::to_string(si.t);
         writeImage(stem + "_weighted.exr", si.weighted, 0);
@@ -338,7 +364,8 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
                      "warning: ran %u chains, not %u: one iteration of them all costs at most 2%% of --time "
                      "(a longer budget runs them all)\n",
                      r.stats.mmlt.chainsRun, r.stats.mmlt.chainsAsked);
-    watchers.finish(r);  // with --view: until the window is closed
+    // With --view: until the window is closed, or the i key asks for the interactive mode.
+    if (watchers.finish(r)) return interactive(loadJobScene(cl));
     return r.stats.cancelled ? 130 : 0;
 }
 

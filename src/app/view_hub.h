@@ -45,9 +45,19 @@ public:
     // Stops the render as Ctrl-C does (a paused render resumes to stop).
     void cancel() { *cancel_ = true; }
     bool cancelled() const { return cancel_->load(); }
+    // The i key of --view: the render stops (as cancel()) and main() goes on to the
+    // interactive mode in the same window.
+    void requestInteractive() {
+        interactive_ = true;
+        *cancel_ = true;
+    }
+    bool interactiveRequested() const { return interactive_; }
     // The fraction done, as the progress callback last reported it.
     void setProgress(double fraction) { progress_ = fraction; }
     double progress() const { return progress_; }
+
+    // The interactive mode's preview (not the render's; no frame asked for).
+    void show(Snapshot snapshot) { store(std::move(snapshot), false); }
 
     // main(), after the outputs are written: the final frame.
     void finish(Snapshot snapshot) { store(std::move(snapshot), true); }
@@ -60,7 +70,7 @@ private:
     // wantsFrame() said yes at askedAt_; no frame is made before notBefore_.
     mutable Clock::time_point askedAt_;
     Clock::time_point notBefore_;
-    std::atomic<bool> frameWanted_{false}, paused_{false};
+    std::atomic<bool> frameWanted_{false}, paused_{false}, interactive_{false};
     std::atomic<double> progress_{0};
     mutable std::mutex mutex_;
     mutable std::condition_variable changed_;

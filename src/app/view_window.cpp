@@ -12,33 +12,21 @@
 #include <future>
 #include <thread>
 
+#include "app/sdl_leaks.h"
+#include "app/view_controls.h"
 #include "wavemmlt/error.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/lsan_interface.h>
-#endif
 
 namespace wmlt {
 
 namespace {
 
-// SDL_Quit unloads the libraries SDL loaded (X11 extensions, dbus) and leaves their
-// allocations unreachable: LeakSanitizer would report those libraries' memory as leaks. In
-// sanitizer builds what SDL allocates (in a scope holding this) is not leak-checked; what
-// wavemmlt's own code allocates is.
-struct NotLeakChecked {
-#if defined(__SANITIZE_ADDRESS__)
-    NotLeakChecked() { __lsan_disable(); }
-    ~NotLeakChecked() { __lsan_enable(); }
-#else
-    NotLeakChecked() {}
-    ~NotLeakChecked() {}
-#endif
-};
-
 using Clock = std::chrono::steady_clock;
 constexpr auto kFrameInterval = std::chrono::milliseconds(250);  // frames asked of the render
+constexpr auto kInteractiveFrameInterval = std::chrono::milliseconds(100);
 constexpr int kEventWaitMs = 50;                                  // the loop's tick
+constexpr int kInteractiveWaitMs = 10;                            // (previews shown as they come)
+const char* const kTracerNames[] = {"mmlt", "bpt", "lt", "pt"};
 constexpr float kExposureStep = 0.5f;                             // stops per + or -
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
@@ -54,9 +42,9 @@ bool isSet(const char* name) {
 
 }  // namespace
 
-void checkViewPossible() {
+void checkViewPossible(const char* option) {
     if (!isSet("DISPLAY") && !isSet("WAYLAND_DISPLAY"))
-        throw InputError("wavemmlt: --view needs a display, and neither DISPLAY nor WAYLAND_DISPLAY is set "
+        throw InputError(std::string("wavemmlt: ") + option + " needs a display, and neither DISPLAY nor WAYLAND_DISPLAY is set "
                          "(render without --view, or watch in tev with --display-server HOST:PORT)");
 }
 
@@ -71,15 +59,24 @@ struct ViewWindow::Thread {
     SDL_Texture* texture = nullptr;
     std::shared_ptr<const Snapshot> shown;
     bool final = false;
-    float exposure = 0;
+    float exposure = 0, uploadedExposure = 0;
     int mouseX = -1, mouseY = -1;  // image pixel under the mouse; -1: none
     Clock::time_point start = Clock::now();
     std::string title;
+    // The interactive mode: attach() hands over the session; the window's thread makes the controls.
+    std::mutex attachMutex;
+    InteractiveSession* pending = nullptr;
+    ControlsOptions pendingOptions;
+    std::atomic<bool> attachPending{false}, closed{false};
+    InteractiveSession* session = nullptr;
+    std::unique_ptr<ViewControls> controls;
 
     Thread(ViewHub& h, ViewWindowOptions o) : hub(h), opt(std::move(o)), exposure(opt.exposure) {}
 
     bool open();
     void run();
+    void takeSession();
+    SDL_Rect imageRect() const;
     void close();
     void upload();
     void draw();
@@ -88,7 +85,7 @@ struct ViewWindow::Thread {
     void onKey(SDL_Keycode key);
     bool nextEvent(SDL_Event& e, bool wait) {
         NotLeakChecked notChecked;
-        return wait ? SDL_WaitEventTimeout(&e, kEventWaitMs) : SDL_PollEvent(&e);
+        return wait ? SDL_WaitEventTimeout(&e, session ? kInteractiveWaitMs : kEventWaitMs) : SDL_PollEvent(&e);
     }
 };
 
@@ -132,6 +129,7 @@ bool ViewWindow::Thread::open() {
 
 void ViewWindow::Thread::close() {
     NotLeakChecked notChecked;
+    controls.reset();
     if (texture) SDL_DestroyTexture(texture);
     if (renderer) SDL_DestroyRenderer(renderer);
     if (window) SDL_DestroyWindow(window);
@@ -141,30 +139,76 @@ void ViewWindow::Thread::close() {
 // The shown snapshot, tone-mapped as the PNG output is, into the texture.
 void ViewWindow::Thread::upload() {
     if (!shown) return;
-    const std::vector<unsigned char> bytes = toSrgb8(shown->image, exposure);
+    uploadedExposure = controls ? controls->exposure() : exposure;
+    const std::vector<unsigned char> bytes = toSrgb8(shown->image, uploadedExposure);
     NotLeakChecked notChecked;
     SDL_UpdateTexture(texture, nullptr, bytes.data(), opt.width * 3);
+}
+
+// Interactive: the image at the window's top left, as large as fits beside the panel (a
+// whole factor when enlarged), its aspect ratio kept: the resolution gate.
+SDL_Rect ViewWindow::Thread::imageRect() const {
+    int W = 0, H = 0;
+    SDL_GetWindowSize(window, &W, &H);
+    const int areaW = std::max(1, W - (controls && controls->panelShown() ? kPanelWidth : 0));
+    double scale = std::min(double(areaW) / opt.width, double(std::max(1, H)) / opt.height);
+    if (scale >= 1) scale = std::floor(scale);
+    return SDL_Rect{0, 0, std::max(1, int(opt.width * scale)), std::max(1, int(opt.height * scale))};
 }
 
 void ViewWindow::Thread::draw() {
     NotLeakChecked notChecked;
     SDL_SetRenderDrawColor(renderer, 40, 40, 40, 255);
     SDL_RenderClear(renderer);
-    if (shown) SDL_RenderCopy(renderer, texture, nullptr, nullptr);
+    if (!controls) {
+        if (shown) SDL_RenderCopy(renderer, texture, nullptr, nullptr);
+        SDL_RenderPresent(renderer);
+        return;
+    }
+    const SDL_Rect r = imageRect();
+    if (shown) SDL_RenderCopy(renderer, texture, nullptr, &r);
+    SDL_SetRenderDrawColor(renderer, 230, 200, 60, 255);  // the gate's edges
+    SDL_RenderDrawLine(renderer, r.w, 0, r.w, r.h);
+    SDL_RenderDrawLine(renderer, 0, r.h, r.w, r.h);
+    controls->drawPanel(titleText());
     SDL_RenderPresent(renderer);
+}
+
+// The session main() attached (the window's thread): the panel's column added to the
+// window, the image placed by imageRect from now on.
+void ViewWindow::Thread::takeSession() {
+    std::lock_guard<std::mutex> lock(attachMutex);
+    attachPending = false;
+    NotLeakChecked notChecked;
+    session = pending;
+    controls = std::make_unique<ViewControls>(window, renderer, *session, pendingOptions);
+    SDL_RenderSetLogicalSize(renderer, 0, 0);
+    int W = 0, H = 0;
+    SDL_GetWindowSize(window, &W, &H);
+    SDL_SetWindowSize(window, W + kPanelWidth, std::max(H, 480));
+    mouseX = mouseY = -1;
+    upload();
 }
 
 std::string ViewWindow::Thread::titleText() const {
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     std::string t = "wavemmlt " + opt.tracer + ": ";
+    if (session) {  // the tracer now, and the preview's figures while it runs
+        t = std::string("wavemmlt interactive ") + kTracerNames[int(session->settings().tracer)] + ": ";
+        const std::string status = session->status();
+        if (!status.empty()) return t + status;
+    } else if (hub.interactiveRequested()) {
+        return t + "switching to the interactive mode";
+    }
     const double mrays = shown && shown->seconds > 0 ? double(shown->rays) / shown->seconds * 1e-6 : 0;
     if (final)
         t += format("done, %.0f spp in %.1f s, %.2f Mrays/s", double(shown->spp), shown->seconds, mrays);
     else
-        t += format("%.0f%%, %.1f s", std::floor(hub.progress() * 100), wall) +
+        t += format("%.0f%%, %.1f s", std::floor(hub.progress() * 100), session ? (shown ? shown->seconds : 0.0) : wall) +
              (shown ? format(", %.2f Mrays/s", mrays) : std::string(", preparing")) +
              (hub.paused() ? ", paused" : "");
-    if (exposure != 0) t += format(", exposure %+.1f", exposure);
+    const float ev = controls ? controls->exposure() : exposure;
+    if (ev != 0) t += format(", exposure %+.1f", ev);
     if (shown && mouseX >= 0 && mouseY >= 0 && mouseX < opt.width && mouseY < opt.height) {
         const Vec3 v = shown->image.at(mouseX, mouseY);
         t += format(" | (%.0f, %.0f)", mouseX, mouseY) + format(" %.4g %.4g %.4g", v.x, v.y, v.z);
@@ -193,10 +237,18 @@ void ViewWindow::Thread::onKey(SDL_Keycode key) {
             if (!final) hub.setPaused(!hub.paused());
             return;
         case SDLK_s:
-            if (shown) opt.save(*shown);
+            if (shown) opt.save(*shown, controls ? controls->exposure() : opt.exposure);
             return;
         case SDLK_q: case SDLK_ESCAPE:
             hub.cancel();
+            return;
+        case SDLK_i:  // --view: on to the interactive mode (main() takes it from here)
+            if (session || hub.interactiveRequested()) return;
+            if (!opt.interactiveAllowed) {
+                std::fprintf(stderr, "\nthe interactive mode needs one process (run without mpirun)\n");
+                return;
+            }
+            hub.requestInteractive();
             return;
         default:
             return;
@@ -216,9 +268,11 @@ void ViewWindow::Thread::run() {
     opened.set_value("");
     uint64_t version = 0;
     auto lastRequest = Clock::now() - kFrameInterval;
-    // Ends when the user closes the window or the render is cancelled (q, Ctrl-C).
-    while (!hub.cancelled()) {
-        if (!final && Clock::now() - lastRequest >= kFrameInterval) {
+    // Ends when the user closes the window or the render is cancelled (q, Ctrl-C); not while
+    // main() switches to the interactive mode (it cancelled the render to).
+    while (!hub.cancelled() || (hub.interactiveRequested() && !session)) {
+        if (attachPending) takeSession();
+        if (!final && Clock::now() - lastRequest >= (session ? kInteractiveFrameInterval : kFrameInterval)) {
             hub.requestFrame();
             lastRequest = Clock::now();
         }
@@ -233,27 +287,45 @@ void ViewWindow::Thread::run() {
         }
         SDL_Event e;
         for (bool got = nextEvent(e, true); got; got = nextEvent(e, false)) {
+            if (controls) {
+                redraw = true;  // (the panel answers every event)
+                const SDL_Rect r = imageRect();
+                if (e.type == SDL_MOUSEMOTION) {
+                    mouseX = e.motion.x < r.w ? e.motion.x * opt.width / r.w : -1;
+                    mouseY = e.motion.y < r.h ? e.motion.y * opt.height / r.h : -1;
+                }
+                if (controls->event(e, r)) {
+                    if (e.type == SDL_KEYDOWN) upload();  // (exposure)
+                    continue;
+                }
+                if (e.type == SDL_MOUSEMOTION) continue;
+            }
             if (e.type == SDL_QUIT) hub.cancel();
             else if (e.type == SDL_KEYDOWN) onKey(e.key.keysym.sym);
             else if (e.type == SDL_MOUSEMOTION) mouseX = e.motion.x, mouseY = e.motion.y;
             else if (e.type == SDL_WINDOWEVENT && e.window.event == SDL_WINDOWEVENT_LEAVE) mouseX = mouseY = -1;
             else if (e.type == SDL_WINDOWEVENT) redraw = true;  // exposed, resized
         }
+        if (controls && shown && controls->exposure() != uploadedExposure) {  // (set in the panel)
+            upload();
+            redraw = true;
+        }
         if (redraw) draw();
         updateTitle();
     }
     close();
+    closed = true;
 }
 
 ViewWindow::ViewWindow(ViewHub& hub, ViewWindowOptions options) {
-    checkViewPossible();
+    checkViewPossible(options.interactive ? "--interactive" : "--view");
     thread_ = std::make_unique<Thread>(hub, std::move(options));
     std::future<std::string> opened = thread_->opened.get_future();
     thread_->thread = std::thread([t = thread_.get()] { t->run(); });
     const std::string error = opened.get();
     if (!error.empty()) {
         thread_->thread.join();
-        throw InputError("wavemmlt: --view: " + error);
+        throw InputError(std::string("wavemmlt: ") + (thread_->opt.interactive ? "--interactive" : "--view") + ": " + error);
     }
 }
 
@@ -261,6 +333,22 @@ ViewWindow::~ViewWindow() { waitClosed(); }
 
 void ViewWindow::waitClosed() {
     if (thread_ && thread_->thread.joinable()) thread_->thread.join();
+}
+
+bool ViewWindow::waitClosedOrInteractive() {
+    while (thread_ && !thread_->closed) {
+        if (thread_->hub.interactiveRequested() && !thread_->session) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    waitClosed();
+    return false;
+}
+
+void ViewWindow::attach(InteractiveSession& session, ControlsOptions options) {
+    std::lock_guard<std::mutex> lock(thread_->attachMutex);
+    thread_->pending = &session;
+    thread_->pendingOptions = std::move(options);
+    thread_->attachPending = true;
 }
 
 }  // namespace wmlt

@@ -17,8 +17,9 @@ class Watchers {
 public:
     // Opens the window (before the scene is built) and resolves the display server: throws
     // InputError (exit status 2) when either cannot be. `save` writes the outputs (the s key).
+    // interactiveAllowed: the i key may switch to the interactive mode (one process).
     Watchers(const CommandLine& cl, const std::string& tracer, int width, int height, const std::string& imageName,
-             std::atomic<bool>* cancel, std::function<void(const Snapshot&)> save);
+             std::atomic<bool>* cancel, std::function<void(const Snapshot&, float)> save, bool interactiveAllowed);
     // Without finish() (an error ended the render): closes the window without waiting.
     ~Watchers();
 
@@ -28,8 +29,12 @@ public:
     }
     // After the outputs are written: shows the render's image, as written. Returns once tev
     // has it (or it is given up on) and the window is closed: by the user after a complete
-    // render, at once after a cancelled one.
-    void finish(const RenderResult& result);
+    // render, at once after a cancelled one; or true as soon as the user asks for the
+    // interactive mode (the i key).
+    bool finish(const RenderResult& result);
+    bool interactiveRequested() const { return hub_ && hub_->interactiveRequested(); }
+    ViewHub* hub() { return hub_.get(); }
+    ViewWindow* window() { return window_.get(); }
 
 private:
     std::unique_ptr<ViewHub> hub_;
