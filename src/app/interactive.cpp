@@ -220,7 +220,9 @@ void InteractiveSession::renderPreview(const ViewSettings& s, uint64_t generatio
         }
         const RenderResult r = renderScene(*scene_, opt);
         if (r.stats.cancelled) return;
-        hub_.show(Snapshot{enlarged(r.image, width_, height_), 0, r.stats.seconds, 1, r.stats.raysIntersect + r.stats.raysOccluded});
+        Snapshot shot{enlarged(r.image, width_, height_), 0, r.stats.seconds, 1, r.stats.raysIntersect + r.stats.raysOccluded};
+        std::lock_guard<std::mutex> lock(mutex_);  // (a change since: not shown)
+        if (generation_ == generation) hub_.show(std::move(shot));
     } catch (const std::exception& e) {
         setStatus(std::string("error: ") + e.what());
         return;
@@ -234,7 +236,7 @@ void InteractiveSession::renderPreview(const ViewSettings& s, uint64_t generatio
     else if (seconds < 0.4 * kPreviewSeconds && previewScale_ > 1) --previewScale_;
 }
 
-void InteractiveSession::renderFull(const ViewSettings& s, uint64_t) {
+void InteractiveSession::renderFull(const ViewSettings& s, uint64_t generation) {
     RenderOptions opt = base_;
     opt.tracer = s.tracer;
     opt.minPathLength = s.minPathLength;
@@ -256,6 +258,8 @@ void InteractiveSession::renderFull(const ViewSettings& s, uint64_t) {
         }
         const RenderResult r = renderScene(*scene_, opt);
         if (r.stats.cancelled) return;
+        std::lock_guard<std::mutex> lock(mutex_);  // (a change since: not shown)
+        if (generation_ != generation) return;
         hub_.setProgress(1);
         hub_.finish(Snapshot{r.image, 1, r.stats.seconds, r.stats.spp, r.stats.raysIntersect + r.stats.raysOccluded});
     } catch (const std::exception& e) {

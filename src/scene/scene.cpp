@@ -350,6 +350,8 @@ void Scene::setView(const CameraDesc& c, int width, int height) {
     desc.settings.height = height;
 }
 
+void Scene::checkCameraAt(Vec3 position) { checkCameraMedium(desc, *this, position); }
+
 Vec3 Scene::hitNormal(const RTCRayHit& rh) const {
     const GeomRecord& g = geoms[rh.hit.geomID];
     if (g.kind == ShapeKind::Sphere) {

@@ -115,6 +115,8 @@ public:
     // InputError, the scene unchanged, for a camera inside a closed boundary of another
     // medium than the camera's.
     void setView(const CameraDesc& camera, int width, int height);
+    // setView's test of a camera position alone (throws InputError, naming the boundary).
+    void checkCameraAt(Vec3 position);
     // Each shape's closedness, found when first needed (-1: not yet; the media's enclosure test).
     std::vector<int8_t> closedShapes;
 
