@@ -339,11 +339,16 @@ TEST_CASE("mpirun wavemmlt: bad input gives one message and exit status 2 on eve
         CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
         CHECK(!std::filesystem::exists(dir + "/dark.png"));
     }
-    {  // an option that needs one process
+    {  // options that need one process
         const Ran r = mpirun(2, {WAVEMMLT_BIN, "--tracer", "bpt", "--strategy-images", dir + "/s", "-o", dir + "/o.png"}, dir);
         INFO(r.err);
         CHECK(r.status == 2);
         CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        const Ran i = mpirun(2, {WAVEMMLT_BIN, "--interactive", "-o", dir + "/o.png"}, dir);
+        INFO(i.err);
+        CHECK(i.status == 2);
+        CHECK(i.err.find("--interactive needs one process") != std::string::npos);
+        CHECK(std::count(i.err.begin(), i.err.end(), '\n') == 1);
     }
 }
 

@@ -170,8 +170,9 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
     const ImGuiIO& io = ImGui::GetIO();
     auto inImage = [&](int x, int y) { return x >= image.x && y >= image.y && x < image.x + image.w && y < image.y + image.h; };
     switch (e.type) {
+        // (The image and the panel do not overlap: a mouse event on the image is the camera's.)
         case SDL_MOUSEBUTTONDOWN: {
-            if (io.WantCaptureMouse || !inImage(e.button.x, e.button.y)) return io.WantCaptureMouse;
+            if (!inImage(e.button.x, e.button.y)) return true;
             const Uint16 mod = SDL_GetModState();
             focusClick_ = e.button.button == SDL_BUTTON_LEFT && (mod & KMOD_CTRL);
             drag_ = e.button.button == SDL_BUTTON_RIGHT || (e.button.button == SDL_BUTTON_LEFT && (mod & KMOD_SHIFT))
@@ -207,7 +208,7 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
             return was;
         }
         case SDL_MOUSEWHEEL: {
-            if (io.WantCaptureMouse || mouseX_ < 0 || e.wheel.y == 0) return io.WantCaptureMouse;
+            if (mouseX_ < 0 || e.wheel.y == 0) return true;
             ViewSettings s = session_.settings();
             s.camera = (SDL_GetModState() & KMOD_SHIFT) ? zoom(s.camera, kWheelDolly * float(e.wheel.y))
                                                         : dolly(s.camera, kWheelDolly * float(e.wheel.y));
@@ -235,6 +236,7 @@ bool ViewControls::field(const char* label, const std::string& current, std::str
     const bool entered = ImGui::InputText(label, buf, sizeof buf, ImGuiInputTextFlags_EnterReturnsTrue |
                                                                       ImGuiInputTextFlags_AutoSelectAll);
     note(label);
+    layout_[label].w = int(ImGui::CalcItemWidth());  // the text box, not its label beside it
     text = ImGui::IsItemActive() || entered ? std::string(buf) : current;
     if (!entered) return false;
     edit = buf;
@@ -256,7 +258,9 @@ void ViewControls::drawPanel(const std::string& progress) {
                      ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                          ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
         ImGui::PushItemWidth(120);
-        ImGui::TextWrapped("%s", progress.c_str());
+        // One line, whatever it says (the widgets below stay where they are).
+        const std::string line = progress.substr(0, progress.find(" | "));
+        ImGui::TextUnformatted(line.c_str());
         ImGui::Separator();
         ViewSettings s = session_.settings();
         for (int t : {3, 2, 1, 0}) {  // pt, lt, bpt, mmlt

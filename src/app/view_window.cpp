@@ -60,6 +60,7 @@ struct ViewWindow::Thread {
     std::shared_ptr<const Snapshot> shown;
     bool final = false;
     float exposure = 0, uploadedExposure = 0;
+    int panelFrames = 0;  // frames still to draw after an event (the interactive panel)
     int mouseX = -1, mouseY = -1;  // image pixel under the mouse; -1: none
     Clock::time_point start = Clock::now();
     std::string title;
@@ -288,7 +289,8 @@ void ViewWindow::Thread::run() {
         SDL_Event e;
         for (bool got = nextEvent(e, true); got; got = nextEvent(e, false)) {
             if (controls) {
-                redraw = true;  // (the panel answers every event)
+                // The panel answers an event at ImGui's next frames (a click's release: the one after).
+                panelFrames = 3;
                 const SDL_Rect r = imageRect();
                 if (e.type == SDL_MOUSEMOTION) {
                     mouseX = e.motion.x < r.w ? e.motion.x * opt.width / r.w : -1;
@@ -310,6 +312,7 @@ void ViewWindow::Thread::run() {
             upload();
             redraw = true;
         }
+        if (panelFrames > 0) --panelFrames, redraw = true;
         if (redraw) draw();
         updateTitle();
     }
