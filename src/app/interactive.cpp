@@ -157,6 +157,14 @@ std::string InteractiveSession::change(const ViewSettings& next, bool moving) {
     return "";
 }
 
+void InteractiveSession::endGesture() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        lastMove_ = Clock::now() - kStill;
+    }
+    changed_.notify_all();
+}
+
 std::optional<float> InteractiveSession::depthAt(float fx, float fy) const {
     const ViewSettings s = settings();
     CameraDesc pinhole = s.camera;
@@ -207,7 +215,9 @@ void InteractiveSession::renderPreview(const ViewSettings& s, uint64_t generatio
     opt.seed = base_.seed + generation;
     opt.minPathLength = s.minPathLength;
     opt.maxPathLength = s.maxPathLength;
-    opt.cancel = &restart_;
+    // Not stopped by the next change: a preview a step behind the mouse is shown, where
+    // restarting each one as the next step comes would show none while the mouse moves.
+    opt.cancel = &stop_;
     opt.view = nullptr;
     opt.progress = nullptr;
     opt.notice = nullptr;
@@ -221,8 +231,7 @@ void InteractiveSession::renderPreview(const ViewSettings& s, uint64_t generatio
         const RenderResult r = renderScene(*scene_, opt);
         if (r.stats.cancelled) return;
         Snapshot shot{enlarged(r.image, width_, height_), 0, r.stats.seconds, 1, r.stats.raysIntersect + r.stats.raysOccluded};
-        std::lock_guard<std::mutex> lock(mutex_);  // (a change since: not shown)
-        if (generation_ == generation) hub_.show(std::move(shot));
+        hub_.show(std::move(shot));
     } catch (const std::exception& e) {
         setStatus(std::string("error: ") + e.what());
         return;

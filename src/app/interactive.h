@@ -52,6 +52,9 @@ public:
     // Applies `next` and restarts the render: "" then; else the problem, and the settings
     // stay as they were. moving: part of a gesture (the preview runs until it is still).
     std::string change(const ViewSettings& next, bool moving);
+    // The gesture is over (the mouse button released): the tracer starts now, without the
+    // wait for stillness that a key held down needs.
+    void endGesture();
     // The distance along the camera's view direction to the surface seen at film point
     // (fx, fy) in [0, 1)^2 (from the top left), the pinhole's ray; none when it meets nothing.
     std::optional<float> depthAt(float fx, float fy) const;

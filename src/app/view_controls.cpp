@@ -203,6 +203,7 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
         case SDL_MOUSEBUTTONUP: {
             if (focusClick_ && inImage(e.button.x, e.button.y)) focusAt(e.button.x, e.button.y, image);
             const bool was = drag_ != Drag::None || focusClick_;
+            if (drag_ != Drag::None && moved_) session_.endGesture();
             drag_ = Drag::None;
             focusClick_ = false;
             return was;
