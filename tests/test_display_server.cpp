@@ -20,6 +20,7 @@
 
 #include "child_process.h"
 #include "render_stats.h"
+#include "view_display.h"
 #include "wavemmlt/image.h"
 
 namespace fs = std::filesystem;
@@ -268,6 +269,41 @@ TEST_CASE("display-server: the last image tev receives equals the EXR written", 
     }
     fs::remove_all(dir);
 }
+
+#if WAVEMMLT_HAVE_VIEW
+// The interactive mode streams every render of the session, not only the first to finish,
+// and at the end the image it writes.
+TEST_CASE("display-server: --interactive streams each restart; tev's last image is the one written", "[display][view]") {
+    viewtest::VirtualDisplay x;
+    REQUIRE_FALSE(x.name.empty());
+    const std::string dir = rstats::tempDir("display-interactive");
+    TevListener tev;
+    const std::string exr = dir + "/out.exr";
+    viewtest::ViewRun run(x, dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "8", "-o", exr,
+                                   "--display-server", "127.0.0.1:" + std::to_string(tev.port())},
+                          "--interactive");
+    INFO("stderr: " << run.err());
+    REQUIRE_FALSE(run.window.empty());
+    REQUIRE(run.waitTitle("interactive pt: done", kLimit));
+    // tev has the first render, all of it, before the camera moves.
+    const auto t0 = Clock::now();
+    int first = 0;
+    while ((first = tev.received().updates) < 3 && since(t0) < 10) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    run.xdotool({"mousemove", "--window", run.window, "20", "24", "mousedown", "1", "sleep", "0.05", "mousemove",
+                 "--window", run.window, "22", "25", "mouseup", "1"});
+    REQUIRE(run.waitTitle("interactive pt: done", kLimit));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // (the sender's next frame)
+    CHECK(tev.received().updates > first);  // the restart reached tev
+    run.key("q");
+    REQUIRE(run.process.wait(kLimit) == 0);
+    const Received got = tev.received();
+    INFO("malformed packet: " << got.error);
+    CHECK(got.error.empty());
+    CHECK(got.connections == 1);
+    CHECK(sameBits(got.rgb, wmlt::readImage(exr).rgb));
+    fs::remove_all(dir);
+}
+#endif
 
 // tev quits after the first tile it receives and is started again 0.2 s later: the render
 // (1 to 3 s; the sender retries every second) goes on at the same speed to the same image,

@@ -87,6 +87,7 @@ int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& 
     opt.progress = nullptr;
     const std::string scenePath = cl.scenePath;
 
+    hub.setSessionRunning(true);
     InteractiveSession session(std::move(built), opt, initial, hub);
     ControlsOptions controls;
     controls.commandLine = [&](const ViewSettings& s) {
@@ -116,11 +117,14 @@ int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& 
     watchers.window()->attach(session, controls);
     watchers.window()->waitClosed();
     session.stop();
+    hub.setSessionRunning(false);
     const ViewHub::Frame f = hub.latest();
     if (f.snapshot) {
         writeOutputs(*f.snapshot, session.settings().exposure);
         if (!cl.quiet) std::fprintf(stderr, "saved the image shown (%llu spp)\n", (unsigned long long)f.snapshot->spp);
+        hub.finish(*f.snapshot);  // tev's last frame: the image written
     }
+    watchers.waitFinalSent();
     return interrupted ? 130 : 0;
 }
 

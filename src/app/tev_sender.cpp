@@ -172,7 +172,7 @@ void TevSender::Thread::run() {
     int finalAttempts = 0;  // after the render: two tries at the final frame, without waiting
     while (!stop) {
         const ViewHub::Frame newest = hub.latest();
-        if (newest.final) {
+        if (newest.final && !hub.sessionRunning()) {
             if (newest.version == sentVersion || finalAttempts++ == 2) break;
             nextAttempt = Clock::now();
         }

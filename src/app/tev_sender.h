@@ -5,7 +5,8 @@
 // the thread reads the newest snapshot (ViewHub) and skips the frames it is too slow for;
 // its socket operations time out. A server that is not there, goes away or stops reading
 // is a warning, and the thread reconnects every second (a restarted tev gets the image
-// again).
+// again). In the interactive mode it streams every render of the session (ViewHub::
+// sessionRunning) and the image written at its end.
 #pragma once
 #include <memory>
 #include <string>

@@ -52,6 +52,10 @@ public:
         *cancel_ = true;
     }
     bool interactiveRequested() const { return interactive_; }
+    // An interactive session renders into this hub: a final frame is not the last one (the
+    // tev sender goes on streaming after it).
+    void setSessionRunning(bool running) { session_ = running; }
+    bool sessionRunning() const { return session_; }
     // The fraction done, as the progress callback last reported it.
     void setProgress(double fraction) { progress_ = fraction; }
     double progress() const { return progress_; }
@@ -70,7 +74,7 @@ private:
     // wantsFrame() said yes at askedAt_; no frame is made before notBefore_.
     mutable Clock::time_point askedAt_;
     Clock::time_point notBefore_;
-    std::atomic<bool> frameWanted_{false}, paused_{false}, interactive_{false};
+    std::atomic<bool> frameWanted_{false}, paused_{false}, interactive_{false}, session_{false};
     std::atomic<double> progress_{0};
     mutable std::mutex mutex_;
     mutable std::condition_variable changed_;

@@ -32,6 +32,10 @@ public:
     // render, at once after a cancelled one; or true as soon as the user asks for the
     // interactive mode (the i key).
     bool finish(const RenderResult& result);
+    // The interactive mode's end: returns once tev has the final frame (or it is given up on).
+    void waitFinalSent() {
+        if (sender_) sender_->waitFinalSent();
+    }
     bool interactiveRequested() const { return hub_ && hub_->interactiveRequested(); }
     ViewHub* hub() { return hub_.get(); }
     ViewWindow* window() { return window_.get(); }
