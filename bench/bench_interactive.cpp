@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "app/camera_control.h"
+#include "app/cli.h"
 #include "app/interactive.h"
 #include "wavemmlt/error.h"
 
@@ -106,10 +107,9 @@ void run(const std::string& path, const Options& o) {
     RenderOptions opt = base;
     const RenderResult r = render(std::move(again), opt);
     const double fresh = since(fresh0);
-    const char* names[] = {"mmlt", "bpt", "lt", "pt"};
     std::printf("%-28s %4dx%-4d %-4s  preview %5.1f fps (%d steps in %.1f s; %s)  release -> %d spp: %6.2f s, "
                 "fresh start: %6.2f s (%.2fx)  same image: %s\n",
-                std::filesystem::path(path).filename().c_str(), width, height, names[int(base.tracer)], fps, steps,
+                std::filesystem::path(path).filename().c_str(), width, height, tracerName(base.tracer), fps, steps,
                 o.drag, scale.c_str(), o.spp, interactive, fresh, fresh / interactive,
                 r.image.rgb == f.snapshot->image.rgb ? "yes" : "NO");
     session.stop();

@@ -36,6 +36,12 @@ struct CommandLine {
     bool describe = false, quiet = false, help = false, version = false;
 };
 
+// The tracer's name on the command line (--tracer) and in titles.
+inline const char* tracerName(TracerKind t) {
+    static const char* const names[] = {"mmlt", "bpt", "lt", "pt"};  // TracerKind's order
+    return names[int(t)];
+}
+
 // Throws InputError("wavemmlt: ...") on an unknown option or a bad value.
 CommandLine parseCommandLine(int argc, char** argv);
 std::string usageText();

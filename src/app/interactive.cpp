@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/cli.h"
 #include "kernels/camera.h"
 #include "stages/core/trace.h"
 #include "stages/render_scene.h"
@@ -30,11 +31,6 @@ bool same(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 bool sameCamera(const CameraDesc& a, const CameraDesc& b) {
     return same(a.position, b.position) && same(a.lookAt, b.lookAt) && same(a.up, b.up) && a.fovDegrees == b.fovDegrees &&
            a.dof == b.dof && a.focalLength == b.focalLength && a.fStop == b.fStop;  // (what the session changes)
-}
-
-const char* tracerArg(TracerKind t) {
-    static const char* names[] = {"mmlt", "bpt", "lt", "pt"};
-    return names[int(t)];
 }
 
 // The image at `scale` times its size, each pixel repeated (the preview, shown in the window).
@@ -74,7 +70,7 @@ std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, 
     const CameraDesc& c = s.camera;
     std::string cmd = "wavemmlt";
     if (!scenePath.empty()) cmd += " '" + scenePath + "'";
-    cmd += std::string(" --tracer ") + tracerArg(s.tracer);
+    cmd += std::string(" --tracer ") + tracerName(s.tracer);
     cmd += " --eye " + triple(c.position) + " --look-at " + triple(c.lookAt) + " --up " + triple(c.up) +
            " --fov " + number(c.fovDegrees);
     cmd += " --focus-distance " + number(c.focalLength) + " --f-stop " + (c.dof ? number(c.fStop) : "0");

@@ -19,6 +19,11 @@ extern const char* const kDefaultSceneXml;
 
 namespace {
 
+bool endsWith(const std::string& s, const char* end) {
+    const size_t n = std::strlen(end);
+    return s.size() >= n && s.compare(s.size() - n, n, end) == 0;
+}
+
 // Where the w key writes: --scene-out, else beside the scene file (so that the files it
 // names are found from it) as <stem>-interactive.xml; the built-in scene's in the folder
 // wavemmlt runs in.
@@ -28,7 +33,7 @@ std::string sceneOutPath(const CommandLine& cl) {
     const std::filesystem::path p(cl.scenePath);
     std::string stem = p.filename().string();
     for (const char* ext : {".xml", ".pbrt.gz", ".pbrt"})
-        if (stem.size() > std::strlen(ext) && stem.compare(stem.size() - std::strlen(ext), std::string::npos, ext) == 0) {
+        if (stem.size() > std::strlen(ext) && endsWith(stem, ext)) {
             stem.resize(stem.size() - std::strlen(ext));
             break;
         }
@@ -72,7 +77,7 @@ int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& 
     std::string text;
     bool thesis = true;
     if (cl.scenePath.empty()) text = kDefaultSceneXml;
-    else if (cl.scenePath.size() >= 5 && (cl.scenePath.find(".pbrt") != std::string::npos)) thesis = false;
+    else if (endsWith(cl.scenePath, ".pbrt") || endsWith(cl.scenePath, ".pbrt.gz")) thesis = false;
     else text = readWholeFile(cl.scenePath, "scene file"), thesis = !isMitsubaXml(text);
 
     const int threads = base.threads > 0 ? base.threads : tbb::info::default_concurrency();

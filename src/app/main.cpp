@@ -40,11 +40,6 @@ void onInterrupt(int signal) {
     std::signal(signal, SIG_DFL);  // a second Ctrl-C ends the process at once
 }
 
-const char* tracerName(wmlt::TracerKind t) {
-    static const char* names[] = {"mmlt", "bpt", "lt", "pt"};
-    return names[int(t)];
-}
-
 // The folder of an output path must exist and be writable before hours of rendering.
 void checkOutputPath(const std::string& path, bool image) {
     if (image && !wmlt::isWritableImageExtension(path))

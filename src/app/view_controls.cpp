@@ -13,6 +13,7 @@
 #include <fstream>
 
 #include "app/camera_control.h"
+#include "app/cli.h"
 #include "app/sdl_leaks.h"
 
 namespace wmlt {
@@ -21,7 +22,6 @@ namespace {
 
 constexpr float kFlyStep = 0.05f;     // of the distance to LookAt, per key press
 constexpr float kWheelDolly = 0.1f;   // per wheel notch
-const char* const kTracers[] = {"mmlt", "bpt", "lt", "pt"};  // TracerKind's order
 
 std::string number(double v, const char* fmt = "%.6g") {
     char buf[48];
@@ -265,11 +265,11 @@ void ViewControls::drawPanel(const std::string& progress) {
         ImGui::Separator();
         ViewSettings s = session_.settings();
         for (int t : {3, 2, 1, 0}) {  // pt, lt, bpt, mmlt
-            if (ImGui::RadioButton(kTracers[t], int(s.tracer) == t) && int(s.tracer) != t) {
+            if (ImGui::RadioButton(tracerName(TracerKind(t)), int(s.tracer) == t) && int(s.tracer) != t) {
                 s.tracer = TracerKind(t);
                 apply(s, false);
             }
-            note(kTracers[t]);
+            note(tracerName(TracerKind(t)));
             ImGui::SameLine();
         }
         ImGui::Text("(t)");

@@ -12,6 +12,7 @@
 #include <future>
 #include <thread>
 
+#include "app/cli.h"
 #include "app/sdl_leaks.h"
 #include "app/view_controls.h"
 #include "wavemmlt/error.h"
@@ -26,7 +27,6 @@ constexpr auto kFrameInterval = std::chrono::milliseconds(250);  // frames asked
 constexpr auto kInteractiveFrameInterval = std::chrono::milliseconds(100);
 constexpr int kEventWaitMs = 50;                                  // the loop's tick
 constexpr int kInteractiveWaitMs = 10;                            // (previews shown as they come)
-const char* const kTracerNames[] = {"mmlt", "bpt", "lt", "pt"};
 constexpr float kExposureStep = 0.5f;                             // stops per + or -
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
@@ -195,7 +195,7 @@ std::string ViewWindow::Thread::titleText() const {
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     std::string t = "wavemmlt " + opt.tracer + ": ";
     if (session) {  // the tracer now, and the preview's figures while it runs
-        t = std::string("wavemmlt interactive ") + kTracerNames[int(session->settings().tracer)] + ": ";
+        t = std::string("wavemmlt interactive ") + tracerName(session->settings().tracer) + ": ";
         const std::string status = session->status();
         if (!status.empty()) return t + status;
     } else if (hub.interactiveRequested()) {
