@@ -68,12 +68,7 @@ void run(const std::string& path, const Options& o) {
     base.maxPathLength = desc.settings.maxPathLength;
     base.probLarge = desc.settings.probLarge;
     const int width = desc.settings.width, height = desc.settings.height;
-    ViewSettings s;
-    s.camera = desc.camera;
-    s.tracer = base.tracer;
-    s.minPathLength = base.minPathLength;
-    s.maxPathLength = base.maxPathLength;
-    s.probLarge = base.probLarge;
+    const ViewSettings s = viewSettingsOf(desc.camera, base);
     std::atomic<bool> cancel{false};
     ViewHub hub(&cancel);
     InteractiveSession session(Scene::build(desc, o.threads), base, s, hub);

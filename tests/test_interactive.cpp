@@ -37,19 +37,9 @@ RenderOptions baseOptions() {
     return o;
 }
 
-ViewSettings settingsOf(const SceneDesc& d, const RenderOptions& o) {
-    ViewSettings s;
-    s.camera = d.camera;
-    s.tracer = o.tracer;
-    s.minPathLength = o.minPathLength;
-    s.maxPathLength = o.maxPathLength;
-    s.probLarge = o.probLarge;
-    s.chains = o.chains;
-    s.misBeta = o.misBeta;
-    return s;
-}
-
 // The render a fresh process makes of `s`: a new scene with its camera, the options' tracer.
+// (Written out here, not with applyViewSettings: the test's own account of what reaches
+// the render.)
 Image freshRender(const ViewSettings& s, RenderOptions o) {
     SceneDesc d = smallDefaultScene();
     d.camera = s.camera;
@@ -81,7 +71,7 @@ TEST_CASE("interactive session: each change settles on the image a fresh render 
     ViewHub hub(&cancel);
     const RenderOptions base = baseOptions();
     SceneDesc desc = smallDefaultScene();
-    ViewSettings s = settingsOf(desc, base);
+    ViewSettings s = viewSettingsOf(desc.camera, base);
     InteractiveSession session(Scene::build(std::move(desc), 2), base, s, hub);
 
     ViewHub::Frame f = settled(hub, 0);
@@ -121,7 +111,7 @@ TEST_CASE("interactive session: refused settings keep the old ones, with the rea
     ViewHub hub(&cancel);
     const RenderOptions base = baseOptions();
     SceneDesc desc = smallDefaultScene();
-    const ViewSettings s = settingsOf(desc, base);
+    const ViewSettings s = viewSettingsOf(desc.camera, base);
     InteractiveSession session(Scene::build(std::move(desc), 2), base, s, hub);
     struct Case {
         const char* what;
@@ -163,7 +153,7 @@ TEST_CASE("interactive session: refused settings keep the old ones, with the rea
 TEST_CASE("interactive: the printed command line gives back the session's camera and settings exactly", "[interactive][cli]") {
     SceneDesc d = smallDefaultScene();
     RenderOptions base = baseOptions();
-    ViewSettings s = settingsOf(d, base);
+    ViewSettings s = viewSettingsOf(d.camera, base);
     s.camera = zoom(dolly(orbit(s.camera, 0.731f, -0.2f), 0.37f), 0.11f);
     s.camera.dof = true;
     s.camera.focalLength = 3.3333333f;

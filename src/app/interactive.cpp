@@ -45,6 +45,28 @@ Image enlarged(const Image& small, int width, int height) {
 
 }  // namespace
 
+ViewSettings viewSettingsOf(const CameraDesc& camera, const RenderOptions& o, float exposure) {
+    ViewSettings s;
+    s.camera = camera;
+    s.tracer = o.tracer;
+    s.minPathLength = o.minPathLength;
+    s.maxPathLength = o.maxPathLength;
+    s.probLarge = o.probLarge;
+    s.chains = o.chains;
+    s.misBeta = o.misBeta;
+    s.exposure = exposure;
+    return s;
+}
+
+void applyViewSettings(const ViewSettings& s, RenderOptions& o) {
+    o.tracer = s.tracer;
+    o.minPathLength = s.minPathLength;
+    o.maxPathLength = s.maxPathLength;
+    o.probLarge = s.probLarge;
+    o.chains = s.chains;
+    o.misBeta = s.misBeta;
+}
+
 std::string checkViewSettings(const ViewSettings& s) {
     const CameraDesc& c = s.camera;
     if (!finite(c.position) || !finite(c.lookAt) || !finite(c.up)) return "the camera's position, LookAt and Up must be finite";
@@ -243,12 +265,7 @@ void InteractiveSession::renderPreview(const ViewSettings& s, uint64_t generatio
 
 void InteractiveSession::renderFull(const ViewSettings& s, uint64_t generation) {
     RenderOptions opt = base_;
-    opt.tracer = s.tracer;
-    opt.minPathLength = s.minPathLength;
-    opt.maxPathLength = s.maxPathLength;
-    opt.probLarge = s.probLarge;
-    opt.chains = s.chains;
-    opt.misBeta = s.misBeta;
+    applyViewSettings(s, opt);
     opt.cancel = &restart_;
     opt.view = &hub_;
     opt.progress = [this](double f) { hub_.setProgress(f); };

@@ -31,6 +31,11 @@ struct ViewSettings {
     float exposure = 0;      // the display's and the PNG's, in stops
 };
 
+// The settings a render with these options and this camera has (what a session starts
+// from), and those settings written back over options (what it renders).
+ViewSettings viewSettingsOf(const CameraDesc& camera, const RenderOptions& o, float exposure = 0);
+void applyViewSettings(const ViewSettings& s, RenderOptions& o);
+
 // "" when the settings can be rendered, else what is wrong with them (one line, for the
 // panel and stderr): ProbLarge outside (0, 1], MaxPathLength < MinPathLength, a negative
 // aperture, a field of view outside [1, 170] degrees, ...

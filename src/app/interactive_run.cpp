@@ -61,15 +61,7 @@ void writeText(const std::string& path, const std::string& text) {
 int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& base, Watchers& watchers,
                    const std::atomic<bool>& interrupted, std::function<void(const Snapshot&, float)> writeOutputs) {
     ViewHub& hub = *watchers.hub();
-    ViewSettings initial;
-    initial.camera = scene.camera;
-    initial.tracer = base.tracer;
-    initial.minPathLength = base.minPathLength;
-    initial.maxPathLength = base.maxPathLength;
-    initial.probLarge = base.probLarge;
-    initial.chains = base.chains;
-    initial.misBeta = base.misBeta;
-    initial.exposure = cl.exposure;
+    const ViewSettings initial = viewSettingsOf(scene.camera, base, cl.exposure);
     const Settings fileSettings = scene.settings;
     const int width = scene.settings.width, height = scene.settings.height;
     const std::vector<std::string> outputs = cl.outputs.empty() ? std::vector<std::string>{scene.settings.output} : cl.outputs;

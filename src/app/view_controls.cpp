@@ -284,39 +284,28 @@ void ViewControls::drawPanel(const std::string& progress) {
             if (!problem.empty()) return say(std::string(label) + ": " + problem, true);
             apply(next, false);
         };
-        auto whole = [](double x) { return x == std::floor(x) && std::fabs(x) < 1e9; };
-        edit("MaxPathLength ([ ])", std::to_string(s.maxPathLength), [&](ViewSettings& n, double x) {
-            if (!whole(x)) return std::string("not a whole number");
-            n.maxPathLength = int(x);
-            return std::string();
-        });
-        edit("MinPathLength (, .)", std::to_string(s.minPathLength), [&](ViewSettings& n, double x) {
-            if (!whole(x)) return std::string("not a whole number");
-            n.minPathLength = int(x);
-            return std::string();
-        });
-        edit("ProbLarge", number(s.probLarge), [](ViewSettings& n, double x) {
-            n.probLarge = float(x);
-            return std::string();
-        });
-        edit("chains (0: auto)", std::to_string(s.chains), [&](ViewSettings& n, double x) {
-            if (!whole(x)) return std::string("not a whole number");
-            n.chains = int(x);
-            return std::string();
-        });
-        edit("MIS beta", number(s.misBeta), [](ViewSettings& n, double x) {
-            n.misBeta = float(x);
-            return std::string();
-        });
-        edit("exposure (+ -)", number(s.exposure), [](ViewSettings& n, double x) {
-            n.exposure = float(x);
-            return std::string();
-        });
+        // The plain fields: a whole number or a number, range-checked by the session.
+        auto wholeField = [&](const char* label, int ViewSettings::*member) {
+            edit(label, std::to_string(s.*member), [member](ViewSettings& n, double x) {
+                if (!(x == std::floor(x) && std::fabs(x) < 1e9)) return std::string("not a whole number");
+                n.*member = int(x);
+                return std::string();
+            });
+        };
+        auto realField = [&](const char* label, auto target) {  // target(settings): the float it sets
+            edit(label, number(target(s)), [target](ViewSettings& n, double x) {
+                target(n) = float(x);
+                return std::string();
+            });
+        };
+        wholeField("MaxPathLength ([ ])", &ViewSettings::maxPathLength);
+        wholeField("MinPathLength (, .)", &ViewSettings::minPathLength);
+        realField("ProbLarge", [](ViewSettings& n) -> float& { return n.probLarge; });
+        wholeField("chains (0: auto)", &ViewSettings::chains);
+        realField("MIS beta", [](ViewSettings& n) -> float& { return n.misBeta; });
+        realField("exposure (+ -)", [](ViewSettings& n) -> float& { return n.exposure; });
         ImGui::Separator();
-        edit("FOV (degrees)", number(s.camera.fovDegrees), [](ViewSettings& n, double x) {
-            n.camera.fovDegrees = float(x);
-            return std::string();
-        });
+        realField("FOV (degrees)", [](ViewSettings& n) -> float& { return n.camera.fovDegrees; });
         edit("focus distance (f)", number(s.camera.focalLength), [](ViewSettings& n, double x) {
             if (!(x > 0)) return std::string("must be positive");
             const float r = apertureOf(n.camera);

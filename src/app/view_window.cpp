@@ -45,7 +45,7 @@ bool isSet(const char* name) {
 void checkViewPossible(const char* option) {
     if (!isSet("DISPLAY") && !isSet("WAYLAND_DISPLAY"))
         throw InputError(std::string("wavemmlt: ") + option + " needs a display, and neither DISPLAY nor WAYLAND_DISPLAY is set "
-                         "(render without --view, or watch in tev with --display-server HOST:PORT)");
+                         "(render without a window, or watch in tev with --display-server HOST:PORT)");
 }
 
 struct ViewWindow::Thread {
