@@ -37,7 +37,7 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
     walkBpt(scene, b, b.cam, true, true, counters, u);
     generateBptLightPaths(scene, b, u);
     walkBpt(scene, b, b.light, false, false, counters, u);
-    connectBpt(scene, b, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
+    connectBpt(scene, b, u, opt.minPathLength, opt.maxPathLength, opt.misBeta, counters);
     for (size_t i = 0; i < b.numSlots; ++i) film.add(b.pixel[i], b.L[i] * b.filmWeight[i]);
     out.splats.insert(out.splats.end(), b.splats.begin(), b.splats.end());
     out.points.insert(out.points.end(), b.points.begin(), b.points.end());

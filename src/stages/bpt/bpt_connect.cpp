@@ -36,7 +36,7 @@ inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample
                            int s, int pathLength, RayCounters& c) {
     if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
     if (!connectionRay(scene, ss, b.conn[b.numConn])) return;
-    b.connSlot[b.numConn] = !splat ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
+    b.connSlot[b.numConn] = !splat || b.splatsBySlot ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
     b.connX[b.numConn] = ss.px;
     b.connY[b.numConn] = ss.py;
     b.connSplat[b.numConn] = splat ? 1 : 0;
@@ -57,7 +57,8 @@ inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float wei
 }
 
 // A visible connection of strategy s of a path of length k: to its slot's camera side, or
-// a t = 1 splat at raster pixel `target` (kFilmPoint: spread about the film point (x, y)).
+// a t = 1 splat at raster pixel `target` (kFilmPoint: spread about the film point (x, y);
+// b.splatsBySlot: kept with its slot `target` at (x, y)).
 void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, float y, bool splat, int s, int k,
                    Vec3 unweighted, float weight) {
     if (!splat) {
@@ -66,6 +67,10 @@ void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, fl
     }
     const Vec3 v = unweighted * weight;
     if (!b.tally.take(v, k)) return;
+    if (b.splatsBySlot) {  // PSSMLT: target is the slot
+        b.slotSplats.push_back({target, x, y, v});
+        return;
+    }
     pushSplat(b.splats, b.points, target, x, y, v);
     if (!b.strategyFilms) return;
     if (target != kFilmPoint) {
@@ -121,7 +126,7 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
             addCameraSide(b, slot, ss.value, ss.weight, 0, k);
         else if (tracedThroughMedia) {  // visible as it stands
             const bool splatHere = w.t[i] == 1 && splat;
-            const uint32_t target = !splatHere                ? slot
+            const uint32_t target = !splatHere || b.splatsBySlot ? slot
                                     : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py)
                                                        : kFilmPoint;
             addConnection(scene, b, target, ss.px, ss.py, splatHere, s, k, ss.value, ss.weight);
@@ -174,8 +179,9 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
     b.numConn = 0;
 }
 
-void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& counters) {
-    const HashedSamples u{b.key.data()};
+template <class U>
+void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int maxLength, float misBeta,
+                RayCounters& counters) {
     StrategyWave& w = b.strategies;
     cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
@@ -196,6 +202,9 @@ void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, f
     finishStrategies(scene, b, misBeta, true, counters);
     traceBptConnections(scene, b, counters);
 }
+
+template void connectBpt(const Scene&, BptBatch&, const HashedSamples&, int, int, float, RayCounters&);
+template void connectBpt(const Scene&, BptBatch&, const WholeSamples&, int, int, float, RayCounters&);
 
 void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, RayCounters& counters) {
     StrategyWave& w = b.strategies;

@@ -11,14 +11,15 @@ namespace {
 
 // Segment k (the boundaries crossed) of walk segment d's free-path number and its grid
 // stream's seed. BPT: hashed from the slot's key (dimension mediumDim(d, k) of the walk's
-// stream). MMLT: the proposal's number for the segment (StrategyLayout's media block), the
-// segments past pass-through boundaries and the stream hashed from it, so that a replay
-// of the same numbers traces the same path.
+// stream). MMLT and PSSMLT: the proposal's number for the segment (the rows' media block),
+// the segments past pass-through boundaries and the stream hashed from it, so that a
+// replay of the same numbers traces the same path.
 inline void freePathNumber(const HashedSamples& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
                            uint64_t& seed) {
     hashedFreePathNumber(u.key[slot], bptDim(stream, mediumDim(d, k)), x, seed);
 }
-inline void freePathNumber(const StoredSamples& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
+template <class U>
+inline void freePathNumber(const U& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
                            uint64_t& seed) {
     const float x0 = u.medium(slot, stream, d);
     uint32_t bits;
@@ -28,10 +29,13 @@ inline void freePathNumber(const StoredSamples& u, uint32_t slot, BptStream stre
     seed = mix64(h + k);
 }
 
-// Whether the camera walk's segment d of slot gathers emitting media's light: BPT, a path
-// length rendered; MMLT, the strategy s = 0 of its length (the camera walk alone finds
+// Whether the camera walk's segment d of slot gathers emitting media's light: BPT and
+// PSSMLT, a path length rendered; MMLT, the strategy s = 0 of its length (the camera walk alone finds
 // that light: it is weighed against no other strategy).
 inline bool gathersEmission(const HashedSamples&, const BptBatch& b, uint32_t, int d) {
+    return d >= b.minLength && d <= b.maxLength;
+}
+inline bool gathersEmission(const WholeSamples&, const BptBatch& b, uint32_t, int d) {
     return d >= b.minLength && d <= b.maxLength;
 }
 inline bool gathersEmission(const StoredSamples&, const BptBatch& b, uint32_t slot, int d) {
@@ -102,5 +106,6 @@ void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, boo
 }
 template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const HashedSamples&, RayCounters&);
 template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const StoredSamples&, RayCounters&);
+template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const WholeSamples&, RayCounters&);
 
 }  // namespace wmlt

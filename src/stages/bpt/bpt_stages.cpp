@@ -61,7 +61,8 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int 
     b.numPaths = b.numSlots;
 }
 
-void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSamples& u) {
+template <class U>
+void generateChainCameraPaths(const Scene& scene, BptBatch& b, const U& u) {
     const Camera& cam = scene.camera;
     const bool lens = cam.thinLens;
     size_t n = 0;
@@ -87,6 +88,9 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSampl
     }
     b.numPaths = n;
 }
+
+template void generateChainCameraPaths(const Scene&, BptBatch&, const StoredSamples&);
+template void generateChainCameraPaths(const Scene&, BptBatch&, const WholeSamples&);
 
 template <class U>
 void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
@@ -178,6 +182,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
 }
 template void generateBptLightPaths(const Scene&, BptBatch&, const HashedSamples&);
 template void generateBptLightPaths(const Scene&, BptBatch&, const StoredSamples&);
+template void generateBptLightPaths(const Scene&, BptBatch&, const WholeSamples&);
 
 namespace {
 
@@ -338,6 +343,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
 }
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const HashedSamples&);
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const StoredSamples&);
+template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const WholeSamples&);
 
 template <class U>
 void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters,
@@ -354,6 +360,7 @@ void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, b
 }
 template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, RayCounters&, const HashedSamples&);
 template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, RayCounters&, const StoredSamples&);
+template void walkBpt(const Scene&, BptBatch&, BptVertices&, bool, bool, RayCounters&, const WholeSamples&);
 
 void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
     compact(

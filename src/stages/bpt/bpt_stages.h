@@ -8,7 +8,8 @@
 // The stages that read primary samples are templates on their source (bpt_state.h):
 // HashedSamples for BPT, StoredSamples for MMLT's proposals, which run the same stages
 // with one strategy per slot (per-slot walk lengths, generateChainCameraPaths,
-// connectStrategies). Connections live in bpt_connect.cpp (the driver, the ends' BSDFs
+// connectStrategies), WholeSamples for PSSMLT's, a whole BPT sample per slot
+// (generateChainCameraPaths, connectBpt). Connections live in bpt_connect.cpp (the driver, the ends' BSDFs
 // kind by kind, the shadow rays) and bpt_strategy.cpp (one strategy's set-up and weight);
 // the MIS weights come from kernels/mis.h (bptMisWeight) on the per-vertex densities.
 #pragma once
@@ -32,10 +33,11 @@ float cameraPdfOfRay(const Camera& c, Vec3 w);
 // Writes slots (pixel, key, L = 0), camera vertex z_0 and one path per slot.
 void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& tile, int strataPerAxis,
                             uint64_t seed);
-// MMLT: camera vertex z_0 and the first path of each slot whose walk has room for more
-// than z_0 (t >= 2), the raster point u(camera, 0-1) over the whole image; writes pixel.
-// Slots' cam.maxCount (t) and numSlots are set by the caller.
-void generateChainCameraPaths(const Scene& scene, BptBatch& b, const StoredSamples& u);
+// MMLT and PSSMLT: camera vertex z_0 and the first path of each slot whose walk has room
+// for more than z_0 (t >= 2), the raster point u(camera, 0-1) over the whole image (kept in
+// filmX, filmY). Slots' cam.maxCount (t) and numSlots are set by the caller.
+template <class U>
+void generateChainCameraPaths(const Scene& scene, BptBatch& b, const U& u);
 // Writes light vertex y_0 (Env for the environment: a point on the disc of LT's
 // emission, lt_stages.h) and one path per slot with a usable emission sample.
 template <class U>
@@ -114,9 +116,12 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
 // The shadow ray of a strategy sample between its ends (offset off their surfaces); false
 // when they coincide.
 bool connectionRay(const Scene& scene, const StrategySample& ss, RTCRay& r);
-// Every strategy (s, t) with s + t - 1 in [minLength, maxLength]: s = 0 to L, the
-// others to conns (flushed through traceBptConnections when full and at the end).
-void connectBpt(const Scene& scene, BptBatch& b, int minLength, int maxLength, float misBeta, RayCounters& c);
+// Every strategy (s, t) with s + t - 1 in [minLength, maxLength], with the connection
+// numbers of u (BPT: HashedSamples; PSSMLT: WholeSamples): s = 0 to L, the others to conns
+// (flushed through traceBptConnections when full and at the end); t = 1 to the splats
+// (b.splatsBySlot: to slotSplats, with their slots).
+template <class U>
+void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int maxLength, float misBeta, RayCounters& c);
 // MMLT: the one strategy (strategyS, pathLength) of each slot; L = its MIS-weighted
 // contribution (0 when it cannot sample the path or is occluded), pixel = where it lands.
 void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, float misBeta, RayCounters& c);

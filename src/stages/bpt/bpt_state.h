@@ -174,6 +174,13 @@ constexpr uint32_t kCameraSampleSlots = 256;
     X(RTCRay, conn) X(uint32_t, connSlot) X(float, connX) X(float, connY) X(uint8_t, connSplat)  \
     X(uint8_t, connLength) X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
 
+// A t = 1 contribution kept with its slot (PSSMLT: a sample's splats are its chain's).
+struct SlotSplat {
+    uint32_t slot;
+    float px, py;
+    Vec3 value;
+};
+
 struct BptBatch : PathWave {
     size_t numSlots = 0;
     WMLT_BPT_ARRAYS(WMLT_SOA_ARRAY)
@@ -193,6 +200,8 @@ struct BptBatch : PathWave {
 
     std::vector<Splat> splats;
     std::vector<PointSplat> points;  // filtered scenes: t = 1 contributions at film points
+    bool splatsBySlot = false;       // PSSMLT: t = 1 contributions to slotSplats instead, in slot order
+    std::vector<SlotSplat> slotSplats;
     StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;
@@ -201,7 +210,7 @@ struct BptBatch : PathWave {
     void reserve(size_t n, int maxLength, const BatchNeeds& needs, bool oneStrategyPerSlot = false) {
         resizeWave(n, needs);
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
-        if (oneStrategyPerSlot) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
+        if (oneStrategyPerSlot) reserveStrategies(n);
         if (needs.rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
         if (needs.media) { WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
         cam.reserve(n, maxLength + 1, needs.texturedEmitter, needs.media);
@@ -221,6 +230,8 @@ struct BptBatch : PathWave {
         splats.reserve(n);
     }
     void resizeConnections(size_t n) { WMLT_BPT_CONN_ARRAYS(WMLT_SOA_RESIZE) }
+    // The per-slot strategy and film point (MMLT's; PSSMLT's film point).
+    void reserveStrategies(size_t n) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
 };
 
 // Primary sample layout of a BPT sample (keys: bptSampleKey, a stream apart from the PT's
@@ -295,6 +306,36 @@ struct StoredSamples {
     float medium(uint32_t slot, BptStream c, int d) const {
         const int k = length[slot];
         return u[row[slot] + StrategyLayout::mediaBase(k) + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1)];
+    }
+};
+
+// PSSMLT's primary sample vector (Kelemen et al. 2002 over BPT): one whole BPT sample per
+// row, every strategy of every length up to k (the walks' longest: k + 1 camera vertices, k
+// light vertices). Blocks of the camera stream (StrategyLayout::cameraSize(k): the raster
+// point over the whole image at j = 0-1), the light stream (lightSize(k)), the connections
+// (each strategy its own numbers, as BPT's: s = 1 at z_{t-1}, t <= k, reads j = 5 t + 0-2;
+// t = 1 at y_{s-1}, s <= k, j = 5 s + 3-4) and, with media, the walks' free-path numbers
+// (StrategyLayout's media block at length k).
+struct WholeLayout {
+    static uint32_t connectSize(int k) { return 5 * uint32_t(k) + 5; }
+    static uint32_t base(int k, BptStream c) {
+        return c == kBptCamera ? 0 : c == kBptLight ? StrategyLayout::cameraSize(k)
+                                                    : StrategyLayout::cameraSize(k) + StrategyLayout::lightSize(k);
+    }
+    static uint32_t mediaBase(int k) { return base(k, kBptConnect) + connectSize(k); }
+    static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? StrategyLayout::mediaSize(k) : 0); }
+};
+
+struct WholeSamples {
+    const float* u;      // slot i's row at u + row[i]
+    const uint32_t* row;
+    int k;               // the rows' longest path length
+    uint32_t base[3] = {WholeLayout::base(k, kBptCamera), WholeLayout::base(k, kBptLight), WholeLayout::base(k, kBptConnect)};
+    uint32_t mediaBase = WholeLayout::mediaBase(k);
+    float operator()(uint32_t slot, BptStream c, uint32_t j) const { return u[row[slot] + base[c] + j]; }
+    static uint32_t connectJ(int s, int t, uint32_t m) { return HashedSamples::connectJ(s, t, m); }
+    float medium(uint32_t slot, BptStream c, int d) const {
+        return u[row[slot] + mediaBase + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1)];
     }
 };
 

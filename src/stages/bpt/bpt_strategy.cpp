@@ -276,6 +276,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
 }
 template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const HashedSamples&, StrategyWave&);
 template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const StoredSamples&, StrategyWave&);
+template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const WholeSamples&, StrategyWave&);
 
 bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
                    StrategyScratch& scratch, StrategySample& out, RayCounters& counters) {
