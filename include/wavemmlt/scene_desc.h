@@ -12,7 +12,7 @@
 
 namespace wmlt {
 
-enum class TracerKind : uint8_t { MMLT, BPT, LT, PT };
+enum class TracerKind : uint8_t { MMLT, BPT, LT, PT, PSSMLT };
 
 struct Settings {
     int width = 512, height = 512;

@@ -103,18 +103,19 @@ std::string usageText() {
         "Renders the scene (the built-in default scene when none is given): the thesis' format\n"
         "or a Mitsuba 3 scene file (<scene version=\"3.x\">; see docs/mitsuba.md).\n"
         "Options override the scene's Settings:\n"
-        "  --tracer pt|lt|bpt|mmlt  light transport algorithm (default: the scene's, else mmlt)\n"
-        "  --mis-beta B             BPT, MMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
+        "  --tracer pt|lt|bpt|mmlt|pssmlt  light transport algorithm (default: the scene's, else mmlt;\n"
+        "                           pssmlt: Kelemen's PSSMLT over BPT, MMLT's baseline, docs/pssmlt.md)\n"
+        "  --mis-beta B             BPT, MMLT, PSSMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
         "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N);\n"
-        "                           MMLT: mutations per pixel\n"
-        "  --chains N|auto          MMLT: Markov chains in flight (default auto: one per 8000\n"
+        "                           MMLT, PSSMLT: mutations per pixel\n"
+        "  --chains N|auto          MMLT, PSSMLT: Markov chains in flight (default auto: one per 8000\n"
         "                           mutations the render makes, 4096 to 65536, from --spp alone so\n"
         "                           that a seed gives one image; under --time from the bootstrap's\n"
         "                           rate, at least 1024 and 512 per worker; printed, and in --stats)\n"
-        "  --bootstrap N            MMLT: bootstrap samples per path length (default: automatic)\n"
-        "  --pass-length N          MMLT: iterations of every chain between restarts from the\n"
+        "  --bootstrap N            MMLT: bootstrap samples per path length (PSSMLT: in all; default: automatic)\n"
+        "  --pass-length N          MMLT, PSSMLT: iterations of every chain between restarts from the\n"
         "                           sample pools (default: automatic, 2 to 8 passes a render)\n"
-        "  --p-large P              MMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
+        "  --p-large P              MMLT, PSSMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
         "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
         "                           and _unweighted.exr (the folder is created)\n"
         "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
@@ -161,7 +162,8 @@ CommandLine parseCommandLine(int argc, char** argv) {
             else if (v == "lt") cl.tracer = TracerKind::LT;
             else if (v == "bpt") cl.tracer = TracerKind::BPT;
             else if (v == "mmlt") cl.tracer = TracerKind::MMLT;
-            else fail("--tracer: '" + v + "' is not one of pt, lt, bpt, mmlt");
+            else if (v == "pssmlt") cl.tracer = TracerKind::PSSMLT;
+            else fail("--tracer: '" + v + "' is not one of pt, lt, bpt, mmlt, pssmlt");
         }
         else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
         else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);

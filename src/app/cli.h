@@ -38,7 +38,7 @@ struct CommandLine {
 
 // The tracer's name on the command line (--tracer) and in titles.
 inline const char* tracerName(TracerKind t) {
-    static const char* const names[] = {"mmlt", "bpt", "lt", "pt"};  // TracerKind's order
+    static const char* const names[] = {"mmlt", "bpt", "lt", "pt", "pssmlt"};  // TracerKind's order
     return names[int(t)];
 }
 

@@ -97,9 +97,10 @@ std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, 
            " --fov " + number(c.fovDegrees);
     cmd += " --focus-distance " + number(c.focalLength) + " --f-stop " + (c.dof ? number(c.fStop) : "0");
     cmd += " --min-length " + std::to_string(s.minPathLength) + " --max-length " + std::to_string(s.maxPathLength);
-    if (s.tracer == TracerKind::MMLT)
+    const bool metropolis = s.tracer == TracerKind::MMLT || s.tracer == TracerKind::PSSMLT;
+    if (metropolis)
         cmd += " --p-large " + number(s.probLarge) + " --chains " + (s.chains ? std::to_string(s.chains) : "auto");
-    if (s.tracer == TracerKind::MMLT || s.tracer == TracerKind::BPT) cmd += " --mis-beta " + number(s.misBeta);
+    if (metropolis || s.tracer == TracerKind::BPT) cmd += " --mis-beta " + number(s.misBeta);
     cmd += " --width " + std::to_string(width) + " --height " + std::to_string(height);
     cmd += base.timeBudget > 0 ? " --time " + number(base.timeBudget) : " --spp " + std::to_string(base.spp);
     cmd += " --seed " + std::to_string(base.seed);

@@ -24,6 +24,7 @@
 #include "stages/core/distributed.h"
 #include "stages/core/memory.h"
 #include "stages/mmlt/mmlt.h"
+#include "stages/pssmlt/pssmlt_stages.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
 
@@ -61,7 +62,8 @@ void checkOutputPath(const std::string& path, bool image) {
 // machine's physical memory.
 void checkChainMemory(long long chains, const wmlt::Settings& s, bool media) {
     const double mem = wmlt::physicalMemoryBytes();
-    const uint64_t perChain = wmlt::mmltChainBytes(s.maxPathLength, media);
+    const uint64_t perChain = s.tracer == wmlt::TracerKind::PSSMLT ? wmlt::pssmltChainBytes(s.maxPathLength, media)
+                                                                    : wmlt::mmltChainBytes(s.maxPathLength, media);
     const double bytes = double(chains) * double(perChain);
     if (mem > 0 && bytes > 0.75 * mem)
         throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + wmlt::bytesText(bytes) +
@@ -83,11 +85,20 @@ void prepareFolder(const std::string& dir) {
         throw wmlt::InputError(dir, 0, std::string("cannot write to the folder: ") + std::strerror(errno));
 }
 
-// MMLT's figures, each an object keyed by path length where it is per length.
+// MMLT's figures, each an object keyed by path length where it is per length. PSSMLT's the
+// same under its own prefix, with one value where MMLT's are per length (its one chain
+// group, index 0, holds every length).
 void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Settings& s) {
     const wmlt::RenderStats::Mmlt& m = st.mmlt;
+    const bool whole = st.tracer == "pssmlt";
+    const std::string prefix = whole ? "pssmlt_" : "mmlt_";
     auto perLength = [&](const char* name, auto value) {
-        o << ",\n  \"" << name << "\": {";
+        o << ",\n  \"" << prefix << (name + 5) << "\": ";  // name without "mmlt_"
+        if (whole) {
+            o << value(size_t(0));
+            return;
+        }
+        o << "{";
         for (int k = s.minPathLength; k <= s.maxPathLength && k < int(m.b.size()); ++k)
             o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << value(size_t(k));
         o << "}";
@@ -111,29 +122,33 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
         accL += m.acceptedLarge[k];
         propL += m.proposedLarge[k];
     }
-    o << ",\n  \"mmlt_acceptance\": {\"small\": " << rate(acc, prop) << ", \"large\": " << rate(accL, propL)
+    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc, prop) << ", \"large\": " << rate(accL, propL)
       << ", \"all\": " << rate(acc + accL, prop + propL) << "}"
-      << ",\n  \"mmlt_mutations\": " << m.mutations
-      << ",\n  \"mmlt_mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
-      << ",\n  \"mmlt_iterations\": " << m.iterations
-      << ",\n  \"mmlt_passes\": " << m.passes << ",\n  \"mmlt_pass_length\": " << m.passLength
-      << ",\n  \"mmlt_renewals\": " << (m.passes > 0 ? m.passes - 1 : 0)
-      << ",\n  \"mmlt_tasks_per_round\": " << m.tasksPerRound
-      << ",\n  \"mmlt_longest_task_ratio\": " << m.longestTaskRatio
-      << ",\n  \"mmlt_replay_mismatches\": " << m.replayMismatches
-      << ",\n  \"mmlt_chain_state_bytes\": " << m.chainBytes
-      << ",\n  \"mmlt_chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked))
-      << ",\n  \"mmlt_chains_run\": " << m.chainsRun << ",\n  \"mmlt_chains_reason\": \"" << m.chainsReason << "\"";
-    if (!m.poolDigestByRank.empty()) o << ",\n  \"mmlt_pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
+      << ",\n  \"" << prefix << "mutations\": " << m.mutations
+      << ",\n  \"" << prefix << "mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
+      << ",\n  \"" << prefix << "iterations\": " << m.iterations
+      << ",\n  \"" << prefix << "passes\": " << m.passes << ",\n  \"" << prefix << "pass_length\": " << m.passLength
+      << ",\n  \"" << prefix << "renewals\": " << (m.passes > 0 ? m.passes - 1 : 0)
+      << ",\n  \"" << prefix << "tasks_per_round\": " << m.tasksPerRound
+      << ",\n  \"" << prefix << "longest_task_ratio\": " << m.longestTaskRatio
+      << ",\n  \"" << prefix << "replay_mismatches\": " << m.replayMismatches
+      << ",\n  \"" << prefix << "chain_state_bytes\": " << m.chainBytes
+      << ",\n  \"" << prefix << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked))
+      << ",\n  \"" << prefix << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
+    if (!m.poolDigestByRank.empty()) o << ",\n  \"" << prefix << "pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
     if (st.ranks.count > 1) {  // what each rank computed: the same on every rank (docs/mpi.md)
-        o << ",\n  \"mmlt_b_by_rank\": [";
+        o << ",\n  \"" << prefix << "b_by_rank\": [";
         for (size_t r = 0; r < m.bByRank.size(); ++r) {
+            if (whole) {
+                o << (r ? ", " : "") << std::setprecision(17) << m.bByRank[r][0];
+                continue;
+            }
             o << (r ? ", " : "") << "{";
             for (int k = s.minPathLength; k <= s.maxPathLength && k < int(m.bByRank[r].size()); ++k)
                 o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << std::setprecision(17) << m.bByRank[r][size_t(k)];
             o << "}";
         }
-        o << std::setprecision(9) << "],\n  \"mmlt_pool_digest_by_rank\": [";
+        o << std::setprecision(9) << "],\n  \"" << prefix << "pool_digest_by_rank\": [";
         for (size_t r = 0; r < m.poolDigestByRank.size(); ++r)
             o << (r ? ", " : "") << '"' << std::hex << m.poolDigestByRank[r] << std::dec << '"';
         o << "]";
@@ -180,7 +195,7 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
     o << "}";
     writeRankStats(o, st);
-    if (st.tracer == "mmlt") writeMmltStats(o, st, s);
+    if (st.tracer == "mmlt" || st.tracer == "pssmlt") writeMmltStats(o, st, s);
     o << ",\n  \"buffers_bytes\": {";
     for (size_t i = 0; i < st.buffers.size(); ++i)
         o << (i ? ", " : "") << '"' << st.buffers[i].first << "\": " << st.buffers[i].second;
@@ -242,7 +257,8 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     job.scene = loadJobScene(cl);
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
-    if (cl.chains && *cl.chains > 0 && job.scene.settings.tracer == TracerKind::MMLT)
+    if (cl.chains && *cl.chains > 0 &&
+        (job.scene.settings.tracer == TracerKind::MMLT || job.scene.settings.tracer == TracerKind::PSSMLT))
         checkChainMemory(*cl.chains, job.scene.settings, deriveFeatures(job.scene).media);
     if (cl.describe) {
         if (root) std::cout << deriveFeatures(job.scene).describe();

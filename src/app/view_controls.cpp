@@ -141,7 +141,7 @@ bool ViewControls::key(SDL_Keycode k, Uint16 mod, const SDL_Rect& image) {
         case SDLK_DOWN: s.camera = fly(s.camera, {0, 0, -step}); break;
         case SDLK_PAGEUP: s.camera = fly(s.camera, {0, step, 0}); break;
         case SDLK_PAGEDOWN: s.camera = fly(s.camera, {0, -step, 0}); break;
-        case SDLK_t: s.tracer = TracerKind((int(s.tracer) + ((mod & KMOD_SHIFT) ? 3 : 1)) % 4); break;
+        case SDLK_t: s.tracer = TracerKind((int(s.tracer) + ((mod & KMOD_SHIFT) ? 4 : 1)) % 5); break;
         case SDLK_RIGHTBRACKET: ++s.maxPathLength; break;
         case SDLK_LEFTBRACKET: --s.maxPathLength; break;
         case SDLK_PERIOD: ++s.minPathLength; break;
@@ -264,7 +264,7 @@ void ViewControls::drawPanel(const std::string& progress) {
         ImGui::TextUnformatted(line.c_str());
         ImGui::Separator();
         ViewSettings s = session_.settings();
-        for (int t : {3, 2, 1, 0}) {  // pt, lt, bpt, mmlt
+        for (int t : {3, 2, 1, 0, 4}) {  // pt, lt, bpt, mmlt, pssmlt
             if (ImGui::RadioButton(tracerName(TracerKind(t)), int(s.tracer) == t) && int(s.tracer) != t) {
                 s.tracer = TracerKind(t);
                 apply(s, false);

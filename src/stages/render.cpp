@@ -8,6 +8,7 @@
 #include "stages/core/memory.h"
 #include "stages/core/strategy_films.h"
 #include "stages/mmlt/mmlt.h"
+#include "stages/pssmlt/pssmlt.h"
 #include "stages/pt/path_tracer.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
@@ -38,6 +39,7 @@ std::vector<std::pair<std::string, uint64_t>> filmBuffers(const RenderOptions& o
             return b;
         }
         case TracerKind::MMLT:
+        case TracerKind::PSSMLT:
             return {{"film", splats}, {"length films", opt.lengthImages ? splats * uint64_t(opt.maxPathLength) : 0},
                     {"image", image}};
     }
@@ -55,10 +57,11 @@ std::vector<std::pair<std::string, uint64_t>> checkOptions(const RenderOptions& 
         throw InputError("path lengths must satisfy 1 <= min <= max <= " + std::to_string(kMaxPathLength));
     if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT)
         throw InputError("strategy images need the BPT tracer");
-    if (opt.tracer == TracerKind::MMLT && !(opt.probLarge > 0 && opt.probLarge <= 1))
+    const bool metropolis = opt.tracer == TracerKind::MMLT || opt.tracer == TracerKind::PSSMLT;
+    if (metropolis && !(opt.probLarge > 0 && opt.probLarge <= 1))
         throw InputError("ProbLarge must be in (0, 1]");
-    if (opt.lengthImages && (opt.tracer == TracerKind::PT || opt.tracer == TracerKind::LT))
-        throw InputError("length images need the BPT or MMLT tracer");
+    if (opt.lengthImages && opt.tracer != TracerKind::BPT && opt.tracer != TracerKind::MMLT)
+        throw InputError("length images need the BPT or MMLT tracer (PSSMLT's chains carry every length at once)");
     if (opt.ranks && opt.ranks->many() && (!opt.strategyImages.empty() || opt.lengthImages))
         throw InputError("strategy and length images are made by one process only (run without mpirun)");
     const auto buffers = filmBuffers(opt, width, height);
@@ -82,7 +85,8 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
     if (scene.features.emissiveMedia && opt.tracer == TracerKind::LT)
         throw InputError(scene.desc.path, 0,
                          "the light tracer cannot start paths in an emitting medium: render it with --tracer pt, bpt or mmlt (docs/media.md)");
-    RenderResult r = opt.tracer == TracerKind::MMLT  ? renderMmlt(scene, opt)
+    RenderResult r = opt.tracer == TracerKind::MMLT     ? renderMmlt(scene, opt)
+                     : opt.tracer == TracerKind::PSSMLT ? renderPssmlt(scene, opt)
                      : opt.tracer == TracerKind::LT  ? renderLightTracing(scene, opt)
                      : opt.tracer == TracerKind::BPT ? renderBidirectional(scene, opt)
                                                      : renderPathTracing(scene, opt);

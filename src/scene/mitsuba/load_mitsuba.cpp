@@ -503,7 +503,8 @@ void Importer::integrator(Node n) {
     if (t == "path" || t == "volpath") st.tracer = TracerKind::PT;
     else if (t == "bdpt") st.tracer = TracerKind::BPT;
     else if (t == "ptracer") st.tracer = TracerKind::LT;
-    else if (t == "pssmlt" || t == "mlt") st.tracer = TracerKind::MMLT;
+    else if (t == "pssmlt") st.tracer = TracerKind::PSSMLT;
+    else if (t == "mlt") st.tracer = TracerKind::MMLT;
     else p.fail(n, "integrator not supported (path, volpath, bdpt, ptracer, pssmlt, mlt are)");
     const int depth = p.getInt("max_depth", -1);
     if (depth == 0 || depth < -1) p.fail(n, "max_depth must be -1 (unlimited) or >= 1");

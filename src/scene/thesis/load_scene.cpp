@@ -310,7 +310,8 @@ void Loader::settings(Node n) {
         else if (t == "BPT") st.tracer = TracerKind::BPT;
         else if (t == "LT") st.tracer = TracerKind::LT;
         else if (t == "PT") st.tracer = TracerKind::PT;
-        else fail(c, "name=\"" + std::string(c.attribute("name").value()) + "\" is not one of MMLT, BPT, LT, PT");
+        else if (t == "PSSMLT") st.tracer = TracerKind::PSSMLT;  // (extension: docs/scene-format.md)
+        else fail(c, "name=\"" + std::string(c.attribute("name").value()) + "\" is not one of MMLT, BPT, LT, PT, PSSMLT");
     }
     if (Node c = k["MaxPathLength"]) st.maxPathLength = integer(c, 1, 64);
     if (Node c = k["MinPathLength"]) st.minPathLength = integer(c, 1, 64);

@@ -39,7 +39,8 @@ void setValue(pugi::xml_node parent, const char* name, const std::string& value,
 }
 
 const char* tracerName(TracerKind t) {
-    return t == TracerKind::MMLT ? "MMLT" : t == TracerKind::BPT ? "BPT" : t == TracerKind::LT ? "LT" : "PT";
+    return t == TracerKind::MMLT ? "MMLT" : t == TracerKind::BPT ? "BPT" : t == TracerKind::LT ? "LT"
+         : t == TracerKind::PSSMLT ? "PSSMLT" : "PT";
 }
 
 }  // namespace

@@ -47,11 +47,15 @@ inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample
     ++b.numConn;
 }
 
-// A camera-side contribution (t >= 2) of strategy s to slot's pixel.
-inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float weight, int s, int length) {
+// A camera-side contribution (t >= 2) of strategy s to slot's pixel. PSSMLT
+// (b.splatsBySlot): one traced as a shadow ray (queued) to Lqueued, added to L at the end
+// (connectBpt), so that L's sum does not depend on when the batch's rays were flushed
+// (which depends on the other slots of the batch: a replay must give the same bits).
+inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float weight, int s, int length,
+                          bool queued = false) {
     const Vec3 v = unweighted * weight;
     if (!b.tally.take(v, length)) return;
-    b.L[slot] += v;
+    (queued && b.splatsBySlot ? b.Lqueued : b.L)[slot] += v;
     if (b.strategyFilms)
         b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v * b.filmWeight[slot], unweighted * b.filmWeight[slot]);
 }
@@ -60,9 +64,9 @@ inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float wei
 // a t = 1 splat at raster pixel `target` (kFilmPoint: spread about the film point (x, y);
 // b.splatsBySlot: kept with its slot `target` at (x, y)).
 void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, float y, bool splat, int s, int k,
-                   Vec3 unweighted, float weight) {
+                   Vec3 unweighted, float weight, bool queued) {
     if (!splat) {
-        addCameraSide(b, target, unweighted, weight, s, k);
+        addCameraSide(b, target, unweighted, weight, s, k, queued);
         return;
     }
     const Vec3 v = unweighted * weight;
@@ -129,7 +133,7 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
             const uint32_t target = !splatHere || b.splatsBySlot ? slot
                                     : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py)
                                                        : kFilmPoint;
-            addConnection(scene, b, target, ss.px, ss.py, splatHere, s, k, ss.value, ss.weight);
+            addConnection(scene, b, target, ss.px, ss.py, splatHere, s, k, ss.value, ss.weight, false);
         }
         else if (w.t[i] == 1 && splat)
             pushConnection(scene, b, ss, slot, true, s, k, counters);
@@ -174,7 +178,7 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
     for (size_t i = 0; i < b.numConn; ++i) {
         if (!(b.conn[i].tfar >= 0)) continue;
         addConnection(scene, b, b.connSlot[i], b.connX[i], b.connY[i], b.connSplat[i] != 0, b.connS[i], b.connLength[i],
-                      b.connValue[i], b.connWeight[i]);
+                      b.connValue[i], b.connWeight[i], true);
     }
     b.numConn = 0;
 }
@@ -186,6 +190,7 @@ void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int 
     cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
     w.n = 0;
+    if (b.splatsBySlot) std::fill(b.Lqueued.begin(), b.Lqueued.begin() + ptrdiff_t(b.numSlots), Vec3(0.0f));
     const bool pinhole = isPinhole(scene.camera);
     for (uint32_t slot = 0; slot < b.numSlots; ++slot) {
         if (pinhole && slot % kCameraSampleSlots == 0)
@@ -201,6 +206,8 @@ void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int 
     }
     finishStrategies(scene, b, misBeta, true, counters);
     traceBptConnections(scene, b, counters);
+    if (b.splatsBySlot)
+        for (uint32_t slot = 0; slot < b.numSlots; ++slot) b.L[slot] += b.Lqueued[slot];
 }
 
 template void connectBpt(const Scene&, BptBatch&, const HashedSamples&, int, int, float, RayCounters&);

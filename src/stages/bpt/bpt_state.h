@@ -202,6 +202,7 @@ struct BptBatch : PathWave {
     std::vector<PointSplat> points;  // filtered scenes: t = 1 contributions at film points
     bool splatsBySlot = false;       // PSSMLT: t = 1 contributions to slotSplats instead, in slot order
     std::vector<SlotSplat> slotSplats;
+    std::vector<Vec3> Lqueued;       // PSSMLT: the camera side's traced connections (addCameraSide)
     StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;

@@ -53,11 +53,14 @@ std::string secondsText(double s) {
 }
 }  // namespace
 
-MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
+MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
     : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
-      batches_([&scene, maxLength = opt.maxPathLength] {
+      whole_(whole), lo_(whole ? 0 : kMin_), hi_(whole ? 0 : kMax_),
+      batches_([&scene, whole, minLength = kMin_, maxLength = opt.maxPathLength] {
           MmltBatch mb;
-          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, batchNeeds(scene));
+          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, batchNeeds(scene), whole);
+          mb.bpt.minLength = minLength;
+          mb.bpt.maxLength = maxLength;
           setNumbersRead(scene, mb);
           return mb;
       }),
@@ -97,11 +100,11 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
     // Memory, refused before anything large is allocated: the chain state at its largest
     // (every chain at MaxPathLength), the films, a round's splats.
-    const double chainBytes = double(chains_) * double(mmltChainBytes(kMax_, scene.features.media));
+    const double chainBytes = double(chains_) * double(chainBytesOf(kMax_));
     const double filmBytes = 24.0 * pixels_ * double(1 + lengthFilms_.size());
     const double mem = physicalMemoryBytes();
     if (mem > 0 && chainBytes + filmBytes > 0.75 * mem)
-        throw InputError("MMLT would need " + bytesText(chainBytes) + " of chain state and " + bytesText(filmBytes) +
+        throw InputError(std::string(whole_ ? "PSSMLT" : "MMLT") + " would need " + bytesText(chainBytes) + " of chain state and " + bytesText(filmBytes) +
                          " of films, more than 3/4 of this machine's " + bytesText(mem));
 }
 
@@ -241,34 +244,6 @@ void MmltRender::runRounds(uint64_t passEnd) {
     }
 }
 
-// The bootstrap (mmlt.md, step 1; docs/mmlt-chains.md, "Where it departs"): a probe of 256
-// samples of every length, then each length gets its share of the whole in proportion to
-// its b_k as the probe estimates it (its share of the chains and of the mutations: where
-// the seeds are needed), at least 256. The whole is 5% of the mutations asked for or two
-// per chain, whichever is more, so the bootstrap is spread over the lengths as the
-// mutations are and costs about 5% of them (an equal count per length spent most of it on
-// the long lengths, whose samples cost the most and which get few chains). The probe's
-// samples join the second pass's pools, not the first: the first pool's size then depends
-// on the probe only, not on its own values, and its mean stays unbiased. Under a time
-// budget tracePool stops the bootstrap at 5% of the budget (if that is in the probe, the
-// probe is the first pool). --bootstrap N: N samples of every length, in one step.
-void MmltRender::bootstrap() {
-    const int nLengths = kMax_ - kMin_ + 1;
-    const double whole = timed() ? double(1 << 20) * nLengths : std::max(0.05 * targetMutations_, 2.0 * chains_);
-    const bool fixed = opt_.bootstrap > 0;
-    const uint32_t probe = fixed ? uint32_t(opt_.bootstrap) : kBatchChains;
-    std::vector<uint32_t> to(size_t(kMax_) + 1, probe);
-    if (!tracePool(0, to, true) || fixed) return;
-    double sum = 0;
-    for (int k = kMin_; k <= kMax_; ++k) sum += pools_[size_t(k)].mean();
-    for (int k = kMin_; k <= kMax_; ++k) {
-        const double share = sum > 0 ? pools_[size_t(k)].mean() / sum : 1.0 / nLengths;  // no light yet: alike
-        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * share), double(probe), double(1 << 20)));
-        std::swap(pools_[size_t(k)], next_[size_t(k)]);  // the probe: the second pass's
-    }
-    tracePool(probe, to, true);
-}
-
 // --chains auto under --time: from the mutations the rest of the budget allows at the
 // bootstrap's measured rate (a mutation costs about a pool sample), and never fewer than
 // kAutoChainsLeastTimed or two batches per worker of the job (every rank's threads, as many
@@ -289,11 +264,11 @@ void MmltRender::chooseTimedChains() {
 }
 
 RenderResult MmltRender::run() {
-    const int nLengths = kMax_ - kMin_ + 1;
+    const int nLengths = hi_ - lo_ + 1;
     bootstrap();
     if (timed() && autoChains_) chooseTimedChains();  // before the pools are thinned to the chains' needs
     stats_.bBootstrap.assign(size_t(kMax_) + 1, 0.0);
-    for (int k = kMin_; k <= kMax_; ++k) {
+    for (int k = lo_; k <= hi_; ++k) {
         stats_.bootstrapNonzero[size_t(k)] = pools_[size_t(k)].lit.size();
         stats_.bBootstrap[size_t(k)] = pools_[size_t(k)].mean();
         thin(pools_[size_t(k)], k);
@@ -312,11 +287,13 @@ RenderResult MmltRender::run() {
         chainsReason_ += "; capped to " + std::to_string(chains_) + ": one iteration of them all costs at most 2% of --time";
     stats_.chainsRun = chains_;
     stats_.chainsReason = chainsReason_;
-    if (opt_.notice) opt_.notice("MMLT: " + std::to_string(chains_) + " chains (" + chainsReason_ + ")");
+    if (opt_.notice) opt_.notice(std::string(whole_ ? "PSSMLT: " : "MMLT: ") + std::to_string(chains_) + " chains (" + chainsReason_ + ")");
     if (!allocateChains())
         throw InputError("no light reaches the camera: the bootstrap's " +
-                         std::to_string(*std::min_element(stats_.bootstrapSamples.begin() + kMin_, stats_.bootstrapSamples.end())) +
-                         " or more samples of each path length " + std::to_string(kMin_) + ".." + std::to_string(kMax_) +
+                         std::to_string(*std::min_element(stats_.bootstrapSamples.begin() + lo_,
+                                                          stats_.bootstrapSamples.begin() + hi_ + 1)) +
+                         (whole_ ? " or more whole BPT samples (path lengths " : " or more samples of each path length ") +
+                         std::to_string(kMin_) + ".." + std::to_string(kMax_) + (whole_ ? ")" : "") +
                          " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
     // Iterations per pass: 2 to 8 passes in a render, 32 to 1024 iterations each (each
     // pass replays its C seeds: 1 / passLength of the render at most). Restarts renew the
@@ -357,7 +334,7 @@ RenderResult MmltRender::run() {
                 break;
             }
             tracePool(0, std::vector<uint32_t>(size_t(kMax_) + 1, fresh), false);
-            for (int k = kMin_; k <= kMax_; ++k) {
+            for (int k = lo_; k <= hi_; ++k) {
                 pools_[size_t(k)].add(next_[size_t(k)]);
                 next_[size_t(k)].clear();
                 thin(pools_[size_t(k)], k);

@@ -10,7 +10,7 @@ namespace wmlt::mmlt_detail {
 bool MmltRender::allocateChains() {
     std::vector<double> b(size_t(kMax_) + 1, 0.0);
     double sum = 0;
-    for (int k = kMin_; k <= kMax_; ++k) {
+    for (int k = lo_; k <= hi_; ++k) {
         stats_.poolSamples[size_t(k)] = pools_[size_t(k)].count;
         if (pools_[size_t(k)].lit.empty()) continue;
         b[size_t(k)] = pools_[size_t(k)].mean();
@@ -24,7 +24,7 @@ bool MmltRender::allocateChains() {
     // at 1024 and at 65536 chains, the Cornell box unchanged (docs/mmlt-chains.md).
     constexpr double rho = 32;
     uint64_t poolSamples = 0;
-    for (int k = kMin_; k <= kMax_; ++k) poolSamples += pools_[size_t(k)].count;
+    for (int k = lo_; k <= hi_; ++k) poolSamples += pools_[size_t(k)].count;
     passWeight_ = double(poolSamples) / (double(poolSamples) + rho * double(chains_));
     if (!(sum > 0)) return false;
     std::vector<uint32_t> n(b.size(), 0);
@@ -45,13 +45,14 @@ bool MmltRender::allocateChains() {
         n[k] = 1;
     }
     uint32_t first = 0;
-    for (int k = kMin_; k <= kMax_; ++k) {
+    for (int k = lo_; k <= hi_; ++k) {
         stats_.chains[size_t(k)] = n[size_t(k)];
         if (!n[size_t(k)]) continue;
         ChainGroup g;
         g.k = k;
         g.first = first;
-        g.dims = StrategyLayout::size(k, scene_.features.media);
+        g.dims = whole_ ? WholeLayout::size(kMax_, scene_.features.media) : StrategyLayout::size(k, scene_.features.media);
+        g.points = whole_ ? uint32_t(kMax_) : 0;  // PSSMLT: a t = 1 contribution for each s = 1 .. kMax
         g.weight = float(passWeight_ * pools_[size_t(k)].mean() / double(n[size_t(k)]));
         first += n[size_t(k)];
         groups_.push_back(std::move(g));
@@ -89,7 +90,7 @@ void MmltRender::seedChains() {
         }
         stats_.chainsSeeded[size_t(g.k)] += g.count;
         stats_.distinctSeeds[size_t(g.k)] += distinct.size();
-        bytes += uint64_t(g.count) * mmltChainBytes(g.k, scene_.features.media);
+        bytes += uint64_t(g.count) * chainBytesOf(g.k);
     }
     stats_.chainBytes = std::max(stats_.chainBytes, bytes);
     planBatches();
@@ -100,10 +101,13 @@ void MmltRender::seedChains() {
 // Replays seeds (every one in the first pass, one in kReplayShare of them by their key's
 // hash after that): the evaluation of the seed's u must give its pool entry's F, c and
 // film point bit for bit, or the estimator would be wrong (counted in mmlt_replay_mismatches).
+// PSSMLT replays every chain this rank runs, in its batches (plan_): a chain's t = 1
+// contributions are its replay's (a pool entry keeps only the camera side's).
 void MmltRender::replaySeeds() {
     constexpr uint64_t kReplayShare = 8;
     std::vector<std::vector<BatchSlice>> plan(1);
-    for (size_t gi = 0; gi < groups_.size(); ++gi)
+    if (whole_) plan = plan_;
+    for (size_t gi = 0; gi < groups_.size() && !whole_; ++gi)
         for (uint32_t c = 0; c < groups_[gi].count; ++c) {
             if (pass_ > 0 && mix64(groups_[gi].seed[c]) % kReplayShare != 0) continue;
             if (slotsIn(plan.back()) >= kBatchChains) plan.emplace_back();
@@ -119,11 +123,15 @@ void MmltRender::replaySeeds() {
         fillSeedRows(groups_, mb);
         evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
         for (const BatchSlice& sl : mb.slices) {
-            const ChainGroup& g = groups_[size_t(sl.group)];
+            ChainGroup& g = groups_[size_t(sl.group)];
             for (uint32_t j = 0; j < sl.n; ++j) {
                 const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
-                const Vec3 F = contributionOf(mb, i);
-                const float cc = targetOf(F);
+                Vec3 F = contributionOf(mb, i);
+                float cc = targetOf(F);
+                if (whole_) {
+                    cc = wholeTarget(mb, i, F);
+                    keepWholePoints(g, c, mb, i);
+                }
                 if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0 || std::memcmp(&F, &g.F[c], sizeof F) != 0 ||
                     std::memcmp(&mb.bpt.filmX[i], &g.filmX[c], sizeof(float)) != 0 ||
                     std::memcmp(&mb.bpt.filmY[i], &g.filmY[c], sizeof(float)) != 0)

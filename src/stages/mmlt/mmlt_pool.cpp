@@ -1,5 +1,6 @@
-// MMLT's pools (mmlt_render.h): tracing fresh samples of every length, and, split across
-// ranks, exchanging every task's pool samples so that every rank merges the same pools.
+// MMLT's pools (mmlt_render.h): the bootstrap, tracing fresh samples of every length, and,
+// split across ranks, exchanging every task's pool samples so that every rank merges the
+// same pools.
 #include "stages/mmlt/mmlt_render.h"
 
 namespace wmlt::mmlt_detail {
@@ -20,13 +21,13 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
     // a multiple of the chunk or the end).
     const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
     uint32_t slabSize = bootstrap && timed()
-        ? 64 : chunk * uint32_t(std::ceil(4096.0 * workers / double(kMax_ - kMin_ + 1) / double(chunk)));
+        ? 64 : chunk * uint32_t(std::ceil(4096.0 * workers / double(hi_ - lo_ + 1) / double(chunk)));
     while (done < most) {
         const double start = elapsed();
         const uint32_t slab = std::min(most - done, slabSize);
         std::vector<PoolTask> tasks;
         uint64_t samples = 0;
-        for (int k = kMin_; k <= kMax_; ++k) {
+        for (int k = lo_; k <= hi_; ++k) {
             const uint32_t end = std::min(done + slab, to[size_t(k)]);
             for (uint32_t i = done; i < end; i += chunk) tasks.push_back({k, i, std::min(chunk, end - i)});
             samples += end > done ? end - done : 0;
@@ -58,7 +59,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
         uint64_t next = slabSize;
         if (bootstrap && timed()) {
             int active = 0;  // lengths that want more samples
-            for (int k = kMin_; k <= kMax_; ++k) active += to[size_t(k)] > done ? 1 : 0;
+            for (int k = lo_; k <= hi_; ++k) active += to[size_t(k)] > done ? 1 : 0;
             const double perSlab = 0.01 * opt_.timeBudget / (sampleSeconds_ * std::max(active, 1));
             next = elapsed() >= 0.05 * opt_.timeBudget ? 0 : uint64_t(std::clamp(perSlab, 64.0, double(1 << 16)));
         }
@@ -68,8 +69,36 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
     }
     const bool complete = done >= most;
     if (bootstrap)
-        for (int k = kMin_; k <= kMax_; ++k) stats_.bootstrapSamples[size_t(k)] = std::min(done, to[size_t(k)]) - from;
+        for (int k = lo_; k <= hi_; ++k) stats_.bootstrapSamples[size_t(k)] = std::min(done, to[size_t(k)]) - from;
     return complete;
+}
+
+// The bootstrap (mmlt.md, step 1; docs/mmlt-chains.md, "Where it departs"): a probe of 256
+// samples of every length, then each length gets its share of the whole in proportion to
+// its b_k as the probe estimates it (its share of the chains and of the mutations: where
+// the seeds are needed), at least 256. The whole is 5% of the mutations asked for or two
+// per chain, whichever is more, so the bootstrap is spread over the lengths as the
+// mutations are and costs about 5% of them (an equal count per length spent most of it on
+// the long lengths, whose samples cost the most and which get few chains). The probe's
+// samples join the second pass's pools, not the first: the first pool's size then depends
+// on the probe only, not on its own values, and its mean stays unbiased. Under a time
+// budget tracePool stops the bootstrap at 5% of the budget (if that is in the probe, the
+// probe is the first pool). --bootstrap N: N samples of every length, in one step.
+void MmltRender::bootstrap() {
+    const int nLengths = hi_ - lo_ + 1;
+    const double whole = timed() ? double(1 << 20) * nLengths : std::max(0.05 * targetMutations_, 2.0 * chains_);
+    const bool fixed = opt_.bootstrap > 0;
+    const uint32_t probe = fixed ? uint32_t(opt_.bootstrap) : kBatchChains;
+    std::vector<uint32_t> to(size_t(kMax_) + 1, probe);
+    if (!tracePool(0, to, true) || fixed) return;
+    double sum = 0;
+    for (int k = lo_; k <= hi_; ++k) sum += pools_[size_t(k)].mean();
+    for (int k = lo_; k <= hi_; ++k) {
+        const double share = sum > 0 ? pools_[size_t(k)].mean() / sum : 1.0 / nLengths;  // no light yet: alike
+        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * share), double(probe), double(1 << 20)));
+        std::swap(pools_[size_t(k)], next_[size_t(k)]);  // the probe: the second pass's
+    }
+    tracePool(probe, to, true);
 }
 
 namespace {

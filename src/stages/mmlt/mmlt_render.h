@@ -22,6 +22,7 @@
 #include "stages/core/film.h"
 #include "stages/core/memory.h"
 #include "stages/mmlt/mmlt_stages.h"
+#include "stages/pssmlt/pssmlt_stages.h"
 #include "stages/core/passes.h"
 #include "stages/core/preview.h"
 #include "wavemmlt/error.h"
@@ -39,9 +40,11 @@ struct PoolTask {
     uint32_t i0, n;
 };
 
+// MMLT's driver, and PSSMLT's (whole = true: one group of chains, k = 0, whose proposals
+// are whole BPT samples: pssmlt_stages.h; its pool is pools_[0]).
 class MmltRender {
 public:
-    MmltRender(const Scene& scene, const RenderOptions& opt);
+    MmltRender(const Scene& scene, const RenderOptions& opt, bool whole = false);
     RenderResult run();
 
 private:
@@ -95,7 +98,13 @@ private:
     bool cancelled_ = false;               // agreed by the ranks at a boundary
     uint64_t poolDigest_ = 0;              // a hash of the pools of every pass
     Clock::time_point t0_;
-    int kMin_, kMax_;
+    int kMin_, kMax_;                      // the path lengths rendered
+    bool whole_;                           // PSSMLT
+    int lo_, hi_;                          // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
+    // Bytes of state per chain of group k.
+    uint64_t chainBytesOf(int k) const {
+        return whole_ ? pssmltChainBytes(kMax_, scene_.features.media) : mmltChainBytes(k, scene_.features.media);
+    }
     double pixels_, targetMutations_;
     uint32_t chains_ = 1;                  // C
     bool autoChains_ = opt_.chains == 0;   // --chains auto

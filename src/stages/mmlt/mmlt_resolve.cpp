@@ -59,14 +59,14 @@ RenderResult MmltRender::resolve() {
     pr.stopped = stopped_;
     pr.cancelled = cancelled_;
     pr.passes = rounds_;
-    RenderResult res = startResult("mmlt", scene_, opt_, pr, rays_);
+    RenderResult res = startResult(whole_ ? "pssmlt" : "mmlt", scene_, opt_, pr, rays_);
     stats_.iterations = iteration_;
     stats_.passLength = passLength_;
     stats_.longestTaskRatio = rounds_ ? ratioSum_ / double(rounds_) : 0.0;
     res.stats.samplesNonfiniteDiscarded = counters_.nonfinite;
-    for (int k = kMin_; k <= kMax_; ++k) stats_.b[size_t(k)] = weighted_ > 0 ? passB_[size_t(k)] / weighted_ : 0.0;
+    for (int k = lo_; k <= hi_; ++k) stats_.b[size_t(k)] = weighted_ > 0 ? passB_[size_t(k)] / weighted_ : 0.0;
     sumAcrossRanks(res);
-    for (int k = kMin_; k <= kMax_; ++k) {
+    for (int k = lo_; k <= hi_; ++k) {
         stats_.proposedSmall[size_t(k)] = counters_.proposed[0][k];
         stats_.acceptedSmall[size_t(k)] = counters_.accepted[0][k];
         stats_.proposedLarge[size_t(k)] = counters_.proposed[1][k];
@@ -74,7 +74,7 @@ RenderResult MmltRender::resolve() {
         stats_.mutations += stats_.proposals[size_t(k)];
     }
     res.stats.mmlt = stats_;
-    res.stats.lengthMeanLuminance = stats_.b;
+    if (!whole_) res.stats.lengthMeanLuminance = stats_.b;  // (PSSMLT's one b is every length's)
     const double norm = weighted_ > 0 ? pixels_ / weighted_ : 0.0;
     res.image = image();
     sumStatsToRoot(opt_.ranks, res.stats);  // rays, samples discarded, the exchanges' cost

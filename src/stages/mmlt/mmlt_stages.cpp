@@ -5,6 +5,7 @@
 #include "kernels/gaussian.h"
 #include "kernels/mutation.h"
 #include "stages/bpt/bpt_stages.h"
+#include "stages/pssmlt/pssmlt_stages.h"
 
 namespace wmlt {
 
@@ -16,8 +17,13 @@ namespace {
 constexpr uint32_t kDimLarge = 0, kDimAccept = 1;
 inline uint32_t dimNormal(uint32_t i) { return 3 + 2 * i; }
 
-// Slot i's strategy from its u0: the walks' lengths and the numbers each stream reads.
+// Slot i's strategy from its u0: the walks' lengths and the numbers each stream reads
+// (PSSMLT: a whole sample).
 inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
+    if (mb.whole) {
+        setWholeSample(mb, i);
+        return;
+    }
     const int s = strategyOf(u0, k), t = k + 1 - s;
     BptBatch& b = mb.bpt;
     b.strategyS[i] = uint8_t(s);
@@ -33,9 +39,13 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
 // prefixes of the blocks its strategy reads (StrategyLayout), less the numbers no walk
 // of the scene reads (bpt_state.h's layout: camera j = 2-3 the lens, then vertices of
 // four from j = 4; light vertices from j = 5; of each vertex's four, [vertexLo, vertexHi);
-// with media, the walks' free-path numbers).
+// with media, the walks' free-path numbers). PSSMLT: every coordinate a whole sample reads.
 template <class Fn>
 void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
+    if (mb.whole) {
+        for (const uint16_t d : mb.wholeDims) fn(d);
+        return;
+    }
     auto run = [&](uint32_t d0, uint32_t d1) {
         for (uint32_t d = d0; d < d1; ++d) fn(d);
     };
@@ -87,6 +97,7 @@ void setNumbersRead(const Scene& scene, MmltBatch& mb) {
         mb.vertexLo = uint8_t(__builtin_ctz(bits));
         mb.vertexHi = uint8_t(32 - __builtin_clz(bits));
     }
+    if (mb.whole) setWholeNumbersRead(mb, mb.bpt.cam.media);
 }
 
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {
@@ -103,7 +114,7 @@ float targetOf(const Vec3& F) {
 }
 
 void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
-    const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media);
+    const uint32_t dims = mb.whole ? WholeLayout::size(mb.maxLength, mb.bpt.cam.media) : StrategyLayout::size(k, mb.bpt.cam.media);
     for (uint32_t i = 0; i < n; ++i) {
         const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
         mb.bpt.key[i] = key;
@@ -218,6 +229,10 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
 }
 
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters) {
+    if (mb.whole) {
+        evaluateWholeProposals(scene, mb, misBeta, counters);
+        return;
+    }
     BptBatch& b = mb.bpt;
     const StoredSamples u = mb.samples();
     b.tally.nonfinite = 0;
@@ -236,15 +251,16 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
         SamplePool& pool = mb.pools[size_t(g.k)];
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = mb.chain[i];
-            Vec3 F;
+            Vec3 F;  // PSSMLT: the camera side's (the t = 1 contributions are in slotSplats)
             const float cP = evaluatedTarget(mb, i, F);
             const float a = acceptance(cP, g.c[c]);
             const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
-            if (a > 0) {
-                mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
-            }
-            if (a < 1 && g.c[c] > 0) {
-                mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
+            if (mb.whole) {
+                splatWhole(scene, g, c, mb, i, a, cP);
+            } else {
+                if (a > 0) mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
+                if (a < 1 && g.c[c] > 0)
+                    mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
@@ -268,6 +284,7 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
             g.c[c] = cP;
             g.filmX[c] = filmX;
             g.filmY[c] = filmY;
+            if (mb.whole) keepWholePoints(g, c, mb, i);
         }
     }
 }

@@ -13,6 +13,7 @@
 #include "kernels/rng.h"
 #include "scene/scene.h"
 #include "stages/mmlt/mmlt_state.h"
+#include "stages/pssmlt/pssmlt_stages.h"
 #include "stages/core/wave.h"  // RayCounters
 
 namespace wmlt {
@@ -44,10 +45,11 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
 // (bpt.filmX, bpt.filmY) = the film point where it lands.
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
 // The contribution F = (k + 1) L of slot i and its target c = luminance(F), 0 when it is
-// not finite (evaluatedTarget counts those in mb.counters.nonfinite).
+// not finite (evaluatedTarget counts those in mb.counters.nonfinite). PSSMLT: wholeTarget.
 inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }
 float targetOf(const Vec3& F);
 inline float evaluatedTarget(MmltBatch& mb, size_t i, Vec3& F) {
+    if (mb.whole) return wholeTarget(mb, uint32_t(i), F);
     F = contributionOf(mb, i);
     const float c = targetOf(F);
     if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;

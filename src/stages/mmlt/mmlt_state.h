@@ -70,16 +70,26 @@ struct SamplePool {
     X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(float, filmX)      \
     X(float, filmY) X(uint64_t, seed)
 
+// PSSMLT (a group of whole BPT samples, k = 0): F and the film point are the camera side's
+// contribution and its raster point, c the luminance of the whole sample, and each chain
+// also keeps its t = 1 contributions, up to `points` of them side by side
+// (pointAt(chain, j)), pointCount per chain.
+#define WMLT_CHAIN_POINT_ARRAYS(X) X(float, pointX) X(float, pointY) X(Vec3, pointF)
+
 struct ChainGroup {
-    int k = 0;
+    int k = 0;                        // the path length; 0: PSSMLT's whole samples
     uint32_t count = 0;               // chains of this length
     uint32_t first = 0;               // global index of its first chain
-    uint32_t dims = 0;                // StrategyLayout::size(k, media)
+    uint32_t dims = 0;                // StrategyLayout::size(k, media) (PSSMLT: WholeLayout::size)
+    uint32_t points = 0;              // PSSMLT: t = 1 contributions a chain keeps at most
     float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
     WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_CHAIN_POINT_ARRAYS(WMLT_SOA_ARRAY)
+    std::vector<uint8_t> pointCount;
 
     size_t at(uint32_t chain, uint32_t d) const { return size_t(chain) * dims + d; }
+    size_t pointAt(uint32_t chain, uint32_t j) const { return size_t(chain) * points + j; }
 
     // count chains, every array zeroed.
     void resize(uint32_t chains) {
@@ -88,6 +98,10 @@ struct ChainGroup {
         WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ZERO)
         n = chains;
         WMLT_CHAIN_ARRAYS(WMLT_SOA_ZERO)
+        if (points == 0) return;
+        pointCount.assign(n, 0);
+        n = size_t(points) * chains;
+        WMLT_CHAIN_POINT_ARRAYS(WMLT_SOA_ZERO)
     }
 };
 
@@ -198,16 +212,33 @@ struct MmltBatch {
     std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
     MmltCounters counters;
     std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
+    // PSSMLT (pssmlt_stages.h): every slot a whole BPT sample of paths up to maxLength
+    // (WholeLayout), the coordinates the scene's walks and connections read (wholeDims, in
+    // order), and after an evaluation slot i's t = 1 contributions
+    // bpt.slotSplats[splatStart[i], splatStart[i + 1]).
+    bool whole = false;
+    int maxLength = 0;
+    std::vector<uint16_t> wholeDims;
+    std::vector<uint32_t> splatStart;
 
-    void reserve(size_t n, int maxLength, const BatchNeeds& needs) {
-        bpt.reserve(n, maxLength, needs, true);
-        bpt.roulette = false;
-        u.assign(n * StrategyLayout::size(maxLength, needs.media), 0.0f);
+    void reserve(size_t n, int maxLength_, const BatchNeeds& needs, bool wholeSamples = false) {
+        whole = wholeSamples;
+        maxLength = maxLength_;
+        bpt.reserve(n, maxLength, needs, !whole);
+        bpt.roulette = whole;  // MMLT: off, a strategy's lengths are fixed; PSSMLT: as BPT's, from u
+        if (whole) {
+            bpt.reserveStrategies(n);
+            bpt.splatsBySlot = true;
+            bpt.Lqueued.resize(n);
+            splatStart.resize(n + 1);
+        }
+        u.assign(n * (whole ? WholeLayout::size(maxLength, needs.media) : StrategyLayout::size(maxLength, needs.media)), 0.0f);
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
     }
     StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data()}; }
+    WholeSamples wholeSamples() const { return WholeSamples{u.data(), row.data(), maxLength}; }
     float* rowOf(uint32_t i) { return &u[row[i]]; }
 };
 
