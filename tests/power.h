@@ -17,12 +17,15 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "render_stats.h"
 #include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
 
 namespace power {
 
@@ -195,6 +198,72 @@ inline Verdict lengths(const Runs& a, const Runs& ref, double p, double minShare
 
 inline Verdict lengthBlocks(const Runs& a, const Runs& ref, double p) {
     return worstOf(a.lengthBlocks, ref.lengthBlocks, p, "length block");
+}
+
+// K renders of desc with options o and seeds seed0 + i, reduced to one Runs per entry of
+// kMinImage (0: the image as rendered): with length images (BPT, MMLT), the image of an
+// entry kMin > o.minPathLength is the sum of the length images from kMin on (BPT's image
+// restricted to those lengths: its lengths do not depend on MinPathLength). Every run must
+// discard nothing and, for MMLT and PSSMLT, replay every checked seed exactly.
+inline std::vector<Runs> tracerRuns(const wmlt::SceneDesc& desc, wmlt::RenderOptions o, int K, uint64_t seed0,
+                                    int block, const std::vector<int>& kMinImage = {0}) {
+    const bool lengthImages = o.tracer == wmlt::TracerKind::BPT || o.tracer == wmlt::TracerKind::MMLT;
+    std::vector<Runs> r;
+    for (int kMin : kMinImage)
+        r.emplace_back(block, std::max(kMin, o.minPathLength), lengthImages ? o.maxPathLength : 0);
+    o.lengthImages = lengthImages;
+    for (int i = 0; i < K; ++i) {
+        o.seed = seed0 + uint64_t(i);
+        const wmlt::RenderResult res = wmlt::render(desc, o);
+        REQUIRE(res.stats.samplesNonfiniteDiscarded == 0);
+        REQUIRE(res.stats.mmlt.replayMismatches == 0);
+        for (Runs& x : r) {
+            if (x.kMin == o.minPathLength) {
+                x.add(res);
+                continue;
+            }
+            wmlt::RenderResult part = res;
+            part.image = wmlt::Image(res.image.width, res.image.height);
+            for (int k = x.kMin; k <= o.maxPathLength; ++k)
+                for (size_t j = 0; j < part.image.rgb.size(); ++j) part.image.rgb[j] += res.lengthImages[size_t(k)].rgb[j];
+            x.add(part);
+        }
+    }
+    return r;
+}
+
+// The power a comparison claims: the brightness error it detects with probability 0.9,
+// and a length's (in lengths carrying >= 25% of the image; 0: not claimed).
+struct Claims {
+    double brightness = 0.01;
+    double length = 0;
+};
+
+// Every property of a's runs against the reference's at p (the lengths' when both have
+// length images), and the claimed power; the power is printed under `label`
+// ("MMLT vs BPT"), every statistic too with WMLT_TEST_VERBOSE=1.
+inline void compare(const Runs& a, const Runs& ref, const std::string& label, const std::string& what, double p,
+                    Claims claims) {
+    const bool withLengths = a.kMax >= a.kMin && ref.kMax >= ref.kMin;
+    const Verdict br = brightness(a, ref, p), bl = blocks(a, ref, p), sc = scatter(a, ref, p);
+    std::cout << label << ", " << what << " (K = " << a.runs() << ", p = " << p << "): fails a brightness error of "
+              << 100 * br.detectable << "%, a block error of " << 100 * bl.detectable << "% (median block)";
+    std::vector<Verdict> all = {br, bl, sc};
+    if (withLengths) {
+        all.push_back(lengths(a, ref, p, 0.25));
+        all.push_back(lengthBlocks(a, ref, p));
+        std::cout << ", a length's error of " << 100 * all[3].detectable << "% (lengths with >= 25% of the image)";
+    }
+    std::cout << "\n";
+    if (std::getenv("WMLT_TEST_VERBOSE"))
+        for (const Verdict& v : all) std::cout << "  " << v.text << "\n";
+    INFO(label << ", " << what);
+    for (size_t i = 0; i < all.size(); ++i) {
+        INFO(all[i].text);
+        CHECK(all[i].pass);
+        if (i == 0) CHECK(all[i].detectable <= claims.brightness);
+        if (i == 3 && claims.length > 0) CHECK(all[i].detectable <= claims.length);
+    }
 }
 
 }  // namespace power

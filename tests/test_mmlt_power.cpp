@@ -34,36 +34,6 @@ namespace {
 constexpr int K = 32;
 constexpr double kP = 1e-4;
 
-bool verbose() { return std::getenv("WMLT_TEST_VERBOSE") != nullptr; }
-
-// K renders with seeds seed0 + i, reduced to one Runs per entry of kMinImage: the image of
-// an entry kMin > o.minPathLength is the sum of the length images from kMin on (BPT's
-// image restricted to those lengths: its lengths do not depend on MinPathLength).
-std::vector<power::Runs> runs(const SceneDesc& desc, RenderOptions o, uint64_t seed0, int block,
-                              const std::vector<int>& kMinImage = {0}) {
-    std::vector<power::Runs> r;
-    for (int kMin : kMinImage) r.emplace_back(block, std::max(kMin, o.minPathLength), o.maxPathLength);
-    o.lengthImages = true;
-    for (int i = 0; i < K; ++i) {
-        o.seed = seed0 + uint64_t(i);
-        const RenderResult res = render(desc, o);
-        REQUIRE(res.stats.samplesNonfiniteDiscarded == 0);
-        if (o.tracer == TracerKind::MMLT) REQUIRE(res.stats.mmlt.replayMismatches == 0);
-        for (power::Runs& x : r) {
-            if (x.kMin == o.minPathLength) {
-                x.add(res);
-                continue;
-            }
-            RenderResult part = res;
-            part.image = Image(res.image.width, res.image.height);
-            for (int k = x.kMin; k <= o.maxPathLength; ++k)
-                for (size_t j = 0; j < part.image.rgb.size(); ++j) part.image.rgb[j] += res.lengthImages[size_t(k)].rgb[j];
-            x.add(part);
-        }
-    }
-    return r;
-}
-
 RenderOptions bpt(int spp, int minLength, int maxLength) {
     return rstats::renderOptions(TracerKind::BPT, spp, 0, minLength, maxLength);
 }
@@ -73,45 +43,6 @@ RenderOptions mmlt(int spp, int minLength, int maxLength, int chains, int bootst
     o.chains = chains;
     o.bootstrap = bootstrap;
     return o;
-}
-
-struct Claims {
-    double brightness = 0.01;  // detected with power 0.9
-    double length = 0;         // in lengths carrying >= 25% of the image (0: not claimed)
-};
-
-// Every property of MMLT's runs against the reference's, and the claimed power.
-void compare(const power::Runs& m, const power::Runs& ref, const std::string& what, Claims claims) {
-    const power::Verdict br = power::brightness(m, ref, kP), bl = power::blocks(m, ref, kP),
-                         sc = power::scatter(m, ref, kP), ln = power::lengths(m, ref, kP, 0.25),
-                         lb = power::lengthBlocks(m, ref, kP);
-    std::cout << "MMLT vs BPT, " << what << " (K = " << K << ", p = " << kP << "): fails a brightness error of "
-              << 100 * br.detectable << "%, a block error of " << 100 * bl.detectable << "% (median block), "
-              << "a length's error of " << 100 * ln.detectable << "% (lengths with >= 25% of the image)\n";
-    if (verbose()) std::cout << "  " << br.text << "\n  " << bl.text << "\n  " << sc.text << "\n  " << ln.text << "\n  " << lb.text << "\n";
-    INFO(what);
-    {
-        INFO(br.text);
-        CHECK(br.pass);
-        CHECK(br.detectable <= claims.brightness);
-    }
-    {
-        INFO(bl.text);
-        CHECK(bl.pass);
-    }
-    {
-        INFO(sc.text);
-        CHECK(sc.pass);
-    }
-    {
-        INFO(ln.text);
-        CHECK(ln.pass);
-        if (claims.length > 0) CHECK(ln.detectable <= claims.length);
-    }
-    {
-        INFO(lb.text);
-        CHECK(lb.pass);
-    }
 }
 
 SceneDesc cornell(int size, int maxLength) {
@@ -146,20 +77,21 @@ std::string outdoorXml() {
 TEST_CASE("MMLT power: Cornell box, MinPathLength 1, 2 and 3, every length against BPT", "[mmlt][stat]") {
     const int L = 5, B = 4;
     const SceneDesc desc = cornell(16, L);
-    const std::vector<power::Runs> ref = runs(desc, bpt(64, 1, L), 10000, B, {1, 2, 3});
+    const std::vector<power::Runs> ref = power::tracerRuns(desc, bpt(64, 1, L), K, 10000, B, {1, 2, 3});
     for (int kMin : {1, 2, 3}) {
-        const power::Runs m = runs(desc, mmlt(256, kMin, L, 1024, 65536), 11000 + 100 * uint64_t(kMin), B)[0];
-        compare(m, ref[size_t(kMin - 1)], "Cornell box, lengths " + std::to_string(kMin) + ".." + std::to_string(L),
-                Claims{kMin < 3 ? 0.01 : 0.015, kMin == 1 ? 0.01 : 0.0});
+        const power::Runs m = power::tracerRuns(desc, mmlt(256, kMin, L, 1024, 65536), K, 11000 + 100 * uint64_t(kMin), B)[0];
+        power::compare(m, ref[size_t(kMin - 1)], "MMLT vs BPT",
+                       "Cornell box, lengths " + std::to_string(kMin) + ".." + std::to_string(L), kP,
+                       power::Claims{kMin < 3 ? 0.01 : 0.015, kMin == 1 ? 0.01 : 0.0});
     }
 }
 
 TEST_CASE("MMLT power: glass and mirror caustics against BPT", "[mmlt][stat]") {
     const int L = 6, B = 4;
     const SceneDesc desc = loadSceneFromString(rstats::causticXml(16, L), "caustic.xml", ".");
-    const power::Runs ref = runs(desc, bpt(256, 1, L), 12000, B)[0];
-    const power::Runs m = runs(desc, mmlt(1024, 1, L, 1024, 1 << 16), 13000, B)[0];
-    compare(m, ref, "caustic scene", Claims{0.06, 0});
+    const power::Runs ref = power::tracerRuns(desc, bpt(256, 1, L), K, 12000, B)[0];
+    const power::Runs m = power::tracerRuns(desc, mmlt(1024, 1, L, 1024, 1 << 16), K, 13000, B)[0];
+    power::compare(m, ref, "MMLT vs BPT", "caustic scene", kP, power::Claims{0.06, 0});
 }
 
 TEST_CASE("MMLT power: the seed room (light above a drop ceiling) against BPT", "[mmlt][stat]") {
@@ -167,9 +99,9 @@ TEST_CASE("MMLT power: the seed room (light above a drop ceiling) against BPT", 
     SceneDesc desc = loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/seed-room/seed-room.xml");
     desc.settings.width = desc.settings.height = 16;
     desc.settings.maxPathLength = L;
-    const power::Runs ref = runs(desc, bpt(256, 1, L), 14000, B)[0];
-    const power::Runs m = runs(desc, mmlt(1024, 1, L, 1024, 1 << 14), 15000, B)[0];
-    compare(m, ref, "seed room", Claims{0.05, 0});
+    const power::Runs ref = power::tracerRuns(desc, bpt(256, 1, L), K, 14000, B)[0];
+    const power::Runs m = power::tracerRuns(desc, mmlt(1024, 1, L, 1024, 1 << 14), K, 15000, B)[0];
+    power::compare(m, ref, "MMLT vs BPT", "seed room", kP, power::Claims{0.05, 0});
 }
 
 TEST_CASE("MMLT power: environment map, thin lens and bump mapping against BPT", "[mmlt][stat]") {
@@ -177,8 +109,8 @@ TEST_CASE("MMLT power: environment map, thin lens and bump mapping against BPT",
     const std::string dir = rstats::tempDir("mmlt-power-outdoor");
     writeImage(dir + "/sky.pfm", rstats::skyWithSun());
     const SceneDesc desc = loadSceneFromString(outdoorXml(), "outdoor.xml", dir);
-    const power::Runs ref = runs(desc, bpt(64, 1, L), 16000, B)[0];
-    const power::Runs m = runs(desc, mmlt(256, 1, L, 1024, 1 << 14), 17000, B)[0];
-    compare(m, ref, "outdoor (environment map, thin lens, bump)", Claims{0.05, 0});
+    const power::Runs ref = power::tracerRuns(desc, bpt(64, 1, L), K, 16000, B)[0];
+    const power::Runs m = power::tracerRuns(desc, mmlt(256, 1, L, 1024, 1 << 14), K, 17000, B)[0];
+    power::compare(m, ref, "MMLT vs BPT", "outdoor (environment map, thin lens, bump)", kP, power::Claims{0.05, 0});
     std::filesystem::remove_all(dir);
 }

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli.h"
 #include "kernels/camera.h"
 #include "render_stats.h"
 #include "wavemmlt/image.h"
@@ -167,11 +168,12 @@ TEST_CASE("plane under a sphere light, length 2, 1000-unit floor", "[render][ana
     planeTest("1000");
 }
 
-TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengths", "[render][analytic]") {
+// The furnace's image mean per channel against the closed form, K runs of `tracer` with
+// options o for each of all lengths and two single lengths.
+void furnaceTest(const RenderOptions& base, int K, uint64_t seed0) {
     const SceneDesc desc = loadSceneFromString(kFurnaceHead, "furnace.xml", ".");
     struct Case { int minLength, maxLength; };
     const Case cases[] = {{1, 64}, {2, 2}, {4, 4}};
-    const int K = 16, spp = 16;
     // Each configuration and channel: t = (mean - expected) / se with K - 1 dof, mapped to
     // z; channels are correlated, so only the Bonferroni bound over all 9 is used.
     const int numTests = 9;
@@ -181,7 +183,11 @@ TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengt
     for (const Case& cs : cases) {
         rstats::RunStats runs;
         for (int k = 0; k < K; ++k) {
-            RenderResult r = render(desc, options(spp, 7000 + 100 * caseIndex + k, cs.minLength, cs.maxLength));
+            RenderOptions o = base;
+            o.seed = seed0 + uint64_t(100 * caseIndex + k);
+            o.minPathLength = cs.minLength;
+            o.maxPathLength = cs.maxLength;
+            RenderResult r = render(desc, o);
             REQUIRE(r.stats.samplesNonfiniteDiscarded == 0);
             std::vector<double> means(3, 0.0);
             for (int c = 0; c < 3; ++c) {
@@ -195,13 +201,25 @@ TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengt
             double expected = furnaceExpected(cs.minLength, cs.maxLength, c);
             double t = (runs.mean(c) - expected) / runs.se(c);
             double z = rstats::tToZ(t, runs.dof());
-            INFO("lengths [" << cs.minLength << ", " << cs.maxLength << "] channel " << c << ": image mean "
+            INFO(tracerName(base.tracer) << ", lengths [" << cs.minLength << ", " << cs.maxLength << "] channel " << c << ": image mean "
                  << runs.mean(c) << " expected " << expected << " se " << runs.se(c) << " (relative "
                  << runs.se(c) / expected << ") z " << z << " bound " << bound);
             CHECK(std::fabs(z) <= bound);
         }
         ++caseIndex;
     }
+}
+
+TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengths", "[render][analytic]") {
+    furnaceTest(options(16, 0, 1, 1), 16, 7000);
+}
+
+// PSSMLT (test_pssmlt.cpp): its chains' images of all lengths and of one length each.
+TEST_CASE("furnace: PSSMLT, all and single lengths", "[render][analytic][pssmlt][stat]") {
+    RenderOptions o = options(64, 0, 1, 1);
+    o.tracer = TracerKind::PSSMLT;
+    o.chains = 256;
+    furnaceTest(o, 12, 7500);
 }
 
 // ---- 3. environment furnace ---------------------------------------------------------
