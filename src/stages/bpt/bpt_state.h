@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "kernels/bsdf.h"
+#include "kernels/chain_numbers.h"
 #include "kernels/rng.h"
 #include "stages/core/film.h"
 #include "stages/core/strategy_films.h"
@@ -311,8 +312,8 @@ struct StoredSamples {
 };
 
 // PSSMLT's primary sample vector (Kelemen et al. 2002 over BPT): one whole BPT sample per
-// row, every strategy of every length up to k (the walks' longest: k + 1 camera vertices, k
-// light vertices). Blocks of the camera stream (StrategyLayout::cameraSize(k): the raster
+// chain, every strategy of every length up to k (the walks' longest: k + 1 camera vertices,
+// k light vertices). Blocks of the camera stream (StrategyLayout::cameraSize(k): the raster
 // point over the whole image at j = 0-1), the light stream (lightSize(k)), the connections
 // (each strategy its own numbers, as BPT's: s = 1 at z_{t-1}, t <= k, reads j = 5 t + 0-2;
 // t = 1 at y_{s-1}, s <= k, j = 5 s + 3-4) and, with media, the walks' free-path numbers
@@ -327,16 +328,56 @@ struct WholeLayout {
     static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? StrategyLayout::mediaSize(k) : 0); }
 };
 
+// PSSMLT's proposals, each coordinate made when it is first read (Kelemen et al.'s lazy
+// mutation, as pbrt's MLTSampler): a walk that ends early reads, proposes and commits
+// none of the numbers of the vertices it did not reach (a whole sample at MaxPathLength 10
+// has about 85 coordinates; a Cornell box sample with roulette reads about a third).
+// Per slot: its proposal's kind, key, and its chain's coordinates (value, lastModified at
+// chainAt, the chain's last large step and the proposal's number n, mutation.h). A chain's
+// coordinate never written since its seed (lastModified 0) is its seed's,
+// poolCoordinate(seed, d): seeding writes nothing. A read of coordinate d: a fresh proposal
+// (a large step, a pool sample) poolCoordinate(key, d); a small step smallStepOf the
+// chain's coordinate; a replay the chain's coordinate itself. The value is kept in
+// proposed and flagged in read (slot * dims + d), and d listed in the slot's readList
+// (readCount of them), so that a second read gives the same number and the commit (and
+// the next evaluation's clearing of the flags) visits exactly the coordinates read.
+enum class WholeProposal : uint8_t { Replay, SmallStep, Fresh };
 struct WholeSamples {
-    const float* u;      // slot i's row at u + row[i]
-    const uint32_t* row;
-    int k;               // the rows' longest path length
+    const WholeProposal* kind;
+    const uint64_t *key, *seed;               // per slot: the proposal's key, its chain's seed
+    const uint32_t *chainAt, *lastLarge, *n;  // per slot
+    const float* value;                        // the chains' coordinates (ChainGroup::value, lastModified)
+    const uint32_t* lastModified;
+    float* proposed;                           // per slot and coordinate: the value read
+    uint8_t* read;                             // per slot and coordinate: read yet
+    uint16_t* readList;                        // per slot, dims of them: the coordinates read, in order
+    uint16_t* readCount;                       // per slot
+    uint32_t dims;
+    int k;                                     // the longest path length
     uint32_t base[3] = {WholeLayout::base(k, kBptCamera), WholeLayout::base(k, kBptLight), WholeLayout::base(k, kBptConnect)};
     uint32_t mediaBase = WholeLayout::mediaBase(k);
-    float operator()(uint32_t slot, BptStream c, uint32_t j) const { return u[row[slot] + base[c] + j]; }
+
+    float coordinate(uint32_t slot, uint32_t d) const {
+        const size_t at = size_t(slot) * dims + d;
+        if (read[at]) return proposed[at];
+        float v;
+        if (kind[slot] == WholeProposal::Fresh) {
+            v = poolCoordinate(key[slot], d);
+        } else {
+            const size_t c = size_t(chainAt[slot]) + d;
+            const uint32_t lm = lastModified[c];
+            v = lm == 0 ? poolCoordinate(seed[slot], d) : value[c];
+            if (kind[slot] == WholeProposal::SmallStep) v = smallStepOf(key[slot], d, v, lm, lastLarge[slot], n[slot]);
+        }
+        read[at] = 1;
+        proposed[at] = v;
+        readList[at - d + readCount[slot]++] = uint16_t(d);
+        return v;
+    }
+    float operator()(uint32_t slot, BptStream c, uint32_t j) const { return coordinate(slot, base[c] + j); }
     static uint32_t connectJ(int s, int t, uint32_t m) { return HashedSamples::connectJ(s, t, m); }
     float medium(uint32_t slot, BptStream c, int d) const {
-        return u[row[slot] + mediaBase + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1)];
+        return coordinate(slot, mediaBase + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1));
     }
 };
 

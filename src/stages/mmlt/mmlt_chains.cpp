@@ -16,6 +16,10 @@ bool MmltRender::allocateChains() {
         b[size_t(k)] = pools_[size_t(k)].mean();
         sum += b[size_t(k)];
     }
+    // The last pass's groups lend their arrays to the new ones (resize zeroes them): a fresh
+    // allocation each pass cost page faults of the whole chain state (PSSMLT at
+    // MaxPathLength 64: 27 MB for 4096 chains).
+    std::vector<ChainGroup> old = std::move(groups_);
     groups_.clear();
     // A pass's weight f_p = N / (N + rho C), N the pool's samples (a count, independent of
     // their values: the weighted average of the passes stays unbiased): a pass whose pool
@@ -49,6 +53,10 @@ bool MmltRender::allocateChains() {
         stats_.chains[size_t(k)] = n[size_t(k)];
         if (!n[size_t(k)]) continue;
         ChainGroup g;
+        if (!old.empty()) {
+            g = std::move(old.back());
+            old.pop_back();
+        }
         g.k = k;
         g.first = first;
         g.dims = whole_ ? WholeLayout::size(kMax_, scene_.features.media) : StrategyLayout::size(k, scene_.features.media);
@@ -86,7 +94,8 @@ void MmltRender::seedChains() {
             g.filmX[c] = entry.filmX;
             g.filmY[c] = entry.filmY;
             distinct.insert(g.seed[c]);
-            for (uint32_t d = 0; d < g.dims; ++d) g.value[g.at(c, d)] = poolCoordinate(g.seed[c], d);
+            if (!whole_)  // (PSSMLT: a coordinate of lastModified 0 is read as its seed's, WholeSamples)
+                for (uint32_t d = 0; d < g.dims; ++d) g.value[g.at(c, d)] = poolCoordinate(g.seed[c], d);
         }
         stats_.chainsSeeded[size_t(g.k)] += g.count;
         stats_.distinctSeeds[size_t(g.k)] += distinct.size();

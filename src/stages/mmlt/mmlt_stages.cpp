@@ -11,19 +11,10 @@ namespace wmlt {
 
 namespace {
 
-// Random numbers of a chain's proposal (dimensions of mmltChainKey); coordinate i's fresh
-// value is poolCoordinate(key, i) = dimension 2 + 2 i, its small step's normal number
-// standardNormal(key, dimNormal(i)).
-constexpr uint32_t kDimLarge = 0, kDimAccept = 1;
-inline uint32_t dimNormal(uint32_t i) { return 3 + 2 * i; }
+// The random numbers of a chain's proposal (dimensions of mmltChainKey): kernels/chain_numbers.h.
 
-// Slot i's strategy from its u0: the walks' lengths and the numbers each stream reads
-// (PSSMLT: a whole sample).
+// Slot i's strategy from its u0: the walks' lengths and the numbers each stream reads.
 inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
-    if (mb.whole) {
-        setWholeSample(mb, i);
-        return;
-    }
     const int s = strategyOf(u0, k), t = k + 1 - s;
     BptBatch& b = mb.bpt;
     b.strategyS[i] = uint8_t(s);
@@ -39,13 +30,9 @@ inline void setStrategy(MmltBatch& mb, uint32_t i, int k, float u0) {
 // prefixes of the blocks its strategy reads (StrategyLayout), less the numbers no walk
 // of the scene reads (bpt_state.h's layout: camera j = 2-3 the lens, then vertices of
 // four from j = 4; light vertices from j = 5; of each vertex's four, [vertexLo, vertexHi);
-// with media, the walks' free-path numbers). PSSMLT: every coordinate a whole sample reads.
+// with media, the walks' free-path numbers).
 template <class Fn>
 void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
-    if (mb.whole) {
-        for (const uint16_t d : mb.wholeDims) fn(d);
-        return;
-    }
     auto run = [&](uint32_t d0, uint32_t d1) {
         for (uint32_t d = d0; d < d1; ++d) fn(d);
     };
@@ -97,7 +84,6 @@ void setNumbersRead(const Scene& scene, MmltBatch& mb) {
         mb.vertexLo = uint8_t(__builtin_ctz(bits));
         mb.vertexHi = uint8_t(32 - __builtin_clz(bits));
     }
-    if (mb.whole) setWholeNumbersRead(mb, mb.bpt.cam.media);
 }
 
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration) {
@@ -114,7 +100,11 @@ float targetOf(const Vec3& F) {
 }
 
 void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
-    const uint32_t dims = mb.whole ? WholeLayout::size(mb.maxLength, mb.bpt.cam.media) : StrategyLayout::size(k, mb.bpt.cam.media);
+    if (mb.whole) {
+        fillWholePoolSlots(mb, pass, index0, n, seed);
+        return;
+    }
+    const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media);
     for (uint32_t i = 0; i < n; ++i) {
         const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
         mb.bpt.key[i] = key;
@@ -130,6 +120,10 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
 }
 
 void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    if (mb.whole) {
+        fillWholeSeedSlots(groups, mb);
+        return;
+    }
     packRows(groups, mb);
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
@@ -146,15 +140,6 @@ void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
 }
 
 namespace {
-
-// Coordinate d's small step, one coordinate at a time (u0, which the strategy depends on,
-// and the draws drawSmallSteps' fast path leaves); uFresh is drawn only when read.
-inline float smallStepOf(uint64_t key, uint32_t d, float value, uint32_t lastModified, uint32_t lastLarge,
-                         uint32_t n) {
-    const float uFresh = lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
-    return proposeCoordinate(value, lastModified, lastLarge, n, false, kSmallStepSigma, uFresh,
-                             standardNormal(key, dimNormal(d)));
-}
 
 // The chunk's small steps (SmallStepChunk), written to their rows; the chunk is emptied.
 void drawSmallSteps(MmltBatch& mb) {
@@ -186,6 +171,10 @@ void drawSmallSteps(MmltBatch& mb) {
 
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge) {
+    if (mb.whole) {
+        mutateWholeChains(groups, mb, seed, iteration, probLarge);
+        return;
+    }
     SmallStepChunk& st = *mb.steps;
     st.count = 0;
     packRows(groups, mb);
@@ -269,15 +258,19 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
             ++mb.counters.accepted[kind][k];
             // Commit: the coordinates the proposal read (the chain's block is contiguous).
             const uint32_t next = g.accepted[c] + 1;
-            const float* row = mb.rowOf(i);
-            float* value = &g.value[g.at(c, 0)];
-            uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
-            value[0] = row[0];
-            lastModified[0] = next;
-            forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
-                value[d] = row[d];
-                lastModified[d] = next;
-            });
+            if (mb.whole) {
+                commitWhole(g, c, mb, i, next);
+            } else {
+                const float* row = mb.rowOf(i);
+                float* value = &g.value[g.at(c, 0)];
+                uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
+                value[0] = row[0];
+                lastModified[0] = next;
+                forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
+                    value[d] = row[d];
+                    lastModified[d] = next;
+                });
+            }
             g.accepted[c] = next;
             if (kind) g.lastLarge[c] = next;
             g.F[c] = F;

@@ -10,7 +10,7 @@
 #pragma once
 #include <cstdint>
 
-#include "kernels/rng.h"
+#include "kernels/chain_numbers.h"
 #include "scene/scene.h"
 #include "stages/mmlt/mmlt_state.h"
 #include "stages/pssmlt/pssmlt_stages.h"
@@ -23,9 +23,9 @@ namespace wmlt {
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration);
 uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index);
 
-// Coordinate d of the vector u of a pool entry: the numbers a large step with that key
-// draws (so a large-step proposal joins the next pool as its key).
-inline float poolCoordinate(uint64_t key, uint32_t d) { return sampleDimension(key, 2 + 2 * d); }
+// Coordinate d of the vector u of a pool entry is poolCoordinate(key, d)
+// (kernels/chain_numbers.h): the numbers a large step with that key draws (so a large-step
+// proposal joins the next pool as its key).
 
 // The strategy s = min(floor(u0 (k + 1)), k) of a length-k vector (mmlt.md, step 4).
 inline int strategyOf(float u0, int k) { return std::min(int(u0 * float(k + 1)), k); }

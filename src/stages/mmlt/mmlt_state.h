@@ -213,12 +213,22 @@ struct MmltBatch {
     MmltCounters counters;
     std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
     // PSSMLT (pssmlt_stages.h): every slot a whole BPT sample of paths up to maxLength
-    // (WholeLayout), the coordinates the scene's walks and connections read (wholeDims, in
-    // order), and after an evaluation slot i's t = 1 contributions
-    // bpt.slotSplats[splatStart[i], splatStart[i + 1]).
+    // (WholeLayout, wholeDims coordinates) whose coordinates are proposed as they are read
+    // (WholeSamples: per slot the proposal's kind, its chain's first coordinate, last large
+    // step and proposal number; per slot and coordinate the value read and whether it was),
+    // the chains' group (null for pool samples), and after an evaluation slot i's t = 1
+    // contributions bpt.slotSplats[splatStart[i], splatStart[i + 1]).
     bool whole = false;
     int maxLength = 0;
-    std::vector<uint16_t> wholeDims;
+    uint32_t wholeDims = 0;
+    const ChainGroup* wholeGroup = nullptr;
+#define WMLT_WHOLE_SLOT_ARRAYS(X)                                                            \
+    X(WholeProposal, wholeKind) X(uint64_t, seedKey) X(uint32_t, chainAt) X(uint32_t, slotLastLarge) X(uint32_t, slotN) \
+    X(uint16_t, readCount)
+    WMLT_WHOLE_SLOT_ARRAYS(WMLT_SOA_ARRAY)
+    std::vector<float> proposed;
+    std::vector<uint8_t> read;
+    std::vector<uint16_t> readList;
     std::vector<uint32_t> splatStart;
 
     void reserve(size_t n, int maxLength_, const BatchNeeds& needs, bool wholeSamples = false) {
@@ -231,14 +241,26 @@ struct MmltBatch {
             bpt.splatsBySlot = true;
             bpt.Lqueued.resize(n);
             splatStart.resize(n + 1);
+            WMLT_WHOLE_SLOT_ARRAYS(WMLT_SOA_RESIZE)
+            wholeDims = WholeLayout::size(maxLength, needs.media);
+            proposed.resize(n * wholeDims);
+            read.assign(n * wholeDims, 0);
+            readList.resize(n * wholeDims);
+        } else {
+            u.assign(n * StrategyLayout::size(maxLength, needs.media), 0.0f);
         }
-        u.assign(n * (whole ? WholeLayout::size(maxLength, needs.media) : StrategyLayout::size(maxLength, needs.media)), 0.0f);
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
     }
     StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data()}; }
-    WholeSamples wholeSamples() const { return WholeSamples{u.data(), row.data(), maxLength}; }
+    WholeSamples wholeSamples() {
+        const float* value = wholeGroup ? wholeGroup->value.data() : nullptr;
+        const uint32_t* lastModified = wholeGroup ? wholeGroup->lastModified.data() : nullptr;
+        return WholeSamples{wholeKind.data(), bpt.key.data(), seedKey.data(), chainAt.data(), slotLastLarge.data(),
+                            slotN.data(), value, lastModified, proposed.data(), read.data(), readList.data(),
+                            readCount.data(), wholeDims, maxLength};
+    }
     float* rowOf(uint32_t i) { return &u[row[i]]; }
 };
 

@@ -7,37 +7,9 @@
 
 namespace wmlt {
 
-void setWholeNumbersRead(MmltBatch& mb, bool media) {
-    const int K = mb.maxLength;
-    const uint32_t lo = mb.vertexLo, hi = mb.vertexHi;
-    std::vector<uint16_t>& dims = mb.wholeDims;
-    dims.clear();
-    auto run = [&](uint32_t d0, uint32_t d1) {
-        for (uint32_t d = std::max<uint32_t>(d0, 1); d < d1; ++d) dims.push_back(uint16_t(d));
-    };
-    // Camera stream: the raster point (and lens), then z_1 .. z_{K-1}, which sample a BSDF.
-    const uint32_t cb = WholeLayout::base(K, kBptCamera);
-    run(cb, cb + (mb.lensRead ? 4 : 2));
-    for (int d = 1; d <= K - 1; ++d) run(cb + bptCamVertexJ(d, lo), cb + bptCamVertexJ(d, hi));
-    // Light stream: y_0's light, point and direction, then y_1 .. y_{K-2}.
-    const uint32_t lb = WholeLayout::base(K, kBptLight);
-    run(lb, lb + 5);
-    for (int d = 1; d <= K - 2; ++d) run(lb + bptLightVertexJ(d, lo), lb + bptLightVertexJ(d, hi));
-    // Connections, in order: s = 1 at z_{t-1} for t = 2 .. K (light choice and point) and
-    // t = 1 at y_{s-1} for s = 1 .. K (the lens point: a thin lens only).
-    const uint32_t xb = WholeLayout::base(K, kBptConnect);
-    for (int n = 1; n <= K; ++n) {
-        if (n >= 2) run(xb + bptNeeJ(n, 0), xb + bptNeeJ(n, 3));
-        if (mb.lensRead) run(xb + bptLensJ(n, 0), xb + bptLensJ(n, 2));
-    }
-    if (media) {  // camera segments 1 .. K, light segments 1 .. K - 1
-        const uint32_t m = WholeLayout::mediaBase(K);
-        run(m, m + uint32_t(K));
-        run(m + uint32_t(K), m + 2 * uint32_t(K) - 1);
-    }
-    if (WholeLayout::size(K, media) > 65536) throw std::logic_error("PSSMLT: a whole sample's coordinates exceed 16 bits");
-}
+namespace {
 
+// Slot i: both walks to their longest, the path length maxLength.
 void setWholeSample(MmltBatch& mb, uint32_t i) {
     BptBatch& b = mb.bpt;
     b.strategyS[i] = 0;
@@ -46,8 +18,64 @@ void setWholeSample(MmltBatch& mb, uint32_t i) {
     b.light.maxCount[i] = uint8_t(b.light.capacity);
 }
 
+}  // namespace
+
+void fillWholePoolSlots(MmltBatch& mb, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
+    mb.wholeGroup = nullptr;
+    for (uint32_t i = 0; i < n; ++i) {
+        mb.bpt.key[i] = mmltPoolKey(seed, pass, 0, index0 + i);
+        mb.wholeKind[i] = WholeProposal::Fresh;
+        setWholeSample(mb, i);
+    }
+    mb.bpt.numSlots = n;
+}
+
+void fillWholeSeedSlots(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
+    for (const BatchSlice& sl : mb.slices) {
+        const ChainGroup& g = groups[size_t(sl.group)];
+        mb.wholeGroup = &g;
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            mb.chain[i] = c;
+            mb.chainAt[i] = uint32_t(g.at(c, 0));
+            mb.seedKey[i] = g.seed[c];
+            mb.wholeKind[i] = WholeProposal::Replay;
+            setWholeSample(mb, i);
+        }
+    }
+    mb.bpt.numSlots = slotsIn(mb.slices);
+}
+
+void mutateWholeChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
+                       float probLarge) {
+    for (const BatchSlice& sl : mb.slices) {
+        const ChainGroup& g = groups[size_t(sl.group)];
+        mb.wholeGroup = &g;
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
+            const bool large = sampleDimension(key, kDimLarge) < probLarge;
+            mb.bpt.key[i] = key;
+            mb.chain[i] = c;
+            mb.large[i] = large ? 1 : 0;
+            mb.chainAt[i] = uint32_t(g.at(c, 0));
+            mb.seedKey[i] = g.seed[c];
+            mb.slotLastLarge[i] = g.lastLarge[c];
+            mb.slotN[i] = g.accepted[c] + 1;
+            mb.wholeKind[i] = large ? WholeProposal::Fresh : WholeProposal::SmallStep;
+            setWholeSample(mb, i);
+        }
+    }
+    mb.bpt.numSlots = slotsIn(mb.slices);
+}
+
 void evaluateWholeProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters) {
     BptBatch& b = mb.bpt;
+    for (uint32_t i = 0; i < b.numSlots; ++i) {  // the last evaluation's flags, by its lists
+        const size_t row = size_t(i) * mb.wholeDims;
+        for (uint32_t j = 0; j < mb.readCount[i]; ++j) mb.read[row + mb.readList[row + j]] = 0;
+        mb.readCount[i] = 0;
+    }
     const WholeSamples u = mb.wholeSamples();
     b.tally.nonfinite = 0;
     b.slotSplats.clear();
@@ -92,6 +120,15 @@ void splatWhole(const Scene& scene, const ChainGroup& g, uint32_t c, MmltBatch& 
             const size_t at = g.pointAt(c, j);
             mb.addSplat(scene, g.pointX[at], g.pointY[at], g.pointF[at] * scale, 0);
         }
+    }
+}
+
+void commitWhole(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i, uint32_t next) {
+    const size_t at = g.at(c, 0), row = size_t(i) * mb.wholeDims;
+    for (uint32_t j = 0; j < mb.readCount[i]; ++j) {
+        const uint32_t d = mb.readList[row + j];
+        g.value[at + d] = mb.proposed[row + d];
+        g.lastModified[at + d] = next;
     }
 }
 
