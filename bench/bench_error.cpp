@@ -5,7 +5,7 @@
 // With no scene, runs ../shared/scenes/bitterli-cornell/bitterli-cornell-256.xml and
 // seed-room/seed-room.xml (read from the shared folder beside the checkout; says so and
 // exits 0 when it is missing). Options (defaults in brackets):
-//   --tracers pt,bpt          tracers to compare (pt, lt, bpt, mmlt) [pt,bpt]
+//   --tracers pt,bpt          tracers to compare (pt, lt, bpt, mmlt, pssmlt) [pt,bpt]
 //   --budgets 1,2,4,8,16      time budgets in seconds [1,2,4,8,16]
 //   --size WxH                image size [256x256] (the scene's camera, other resolution)
 //   --max-length N            MaxPathLength [the scene's]
@@ -28,13 +28,20 @@
 // mean, <cache>/<scene>-<W>x<H>-L<len>-<spp>spp.pfm, with a .txt beside it (render time and
 // the reference's own noise, estimated as RMSE(half A, half B) / 2). Rendered once, reused.
 //
-// Per run: RMSE over all pixels and RGB channels against the reference, and relative RMSE
-// (RMSE / the reference's mean). With --reps, the figures are over the repetitions
-// (seconds and spp: means; RMSE: sqrt of the mean squared error). Printed as a table with
-// RMSE-refnoise = sqrt(MSE - the reference's noise^2) (the error against the true image,
-// estimated) and ns per sample (seconds / (spp W H); spp counts completed rounds), then the equal-time
-// ratio RMSE(pt) / RMSE(bpt) per budget; written as CSV
-// (scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse) for bench/plot_error.sh.
+// Per run: RMSE over all pixels and RGB channels against the reference, relative RMSE
+// (RMSE / the reference's mean) and relative MSE (the mean over pixels and channels of
+// (x - ref)^2 / (ref^2 + 0.01): dark pixels count as much as bright ones), the speed
+// (samples per second; MMLT and PSSMLT: mutations per second) and, for MMLT and PSSMLT, the
+// acceptance rates of small and large steps. With --reps, the figures are over the
+// repetitions (seconds, spp, speed, acceptance and relMSE: means; RMSE: sqrt of the mean
+// squared error), with the spread of RMSE and relMSE (least and greatest run). Printed as
+// a table with RMSE-refnoise = sqrt(MSE - the reference's noise^2) (the error against the
+// true image, estimated) and ns per sample (seconds / (spp W H); spp counts completed
+// rounds), then the equal-time ratios RMSE(pt) / RMSE(bpt) and RMSE(mmlt) / RMSE(pssmlt)
+// per budget and the tracer with the least error at each; written as CSV
+// (scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse,rmse_min,rmse_max,relmse,
+// relmse_min,relmse_max,samples_per_s,accept_small,accept_large; the acceptance columns
+// empty for PT, LT and BPT) for bench/plot_error.sh.
 #include <unistd.h>
 
 #include <algorithm>
@@ -67,7 +74,7 @@ namespace {
 // takes ~5-10 us per sample (wall) in the seed room and ~2.3-5.7 us in the Cornell box, so
 // these take about 8 minutes each (Cornell: 471 s for 1024 spp); some 20 to 40 times the
 // samples BPT gets in 16 s. Other sizes and scenes: 256 unless --ref-spp says otherwise.
-const std::map<std::string, int> kRefSpp = {{"bitterli-cornell-256", 1024}, {"seed-room", 1536}};
+const std::map<std::string, int> kRefSpp = {{"bitterli-cornell-256", 4096}, {"seed-room", 2048}, {"veach-bidir", 2048}};
 constexpr uint64_t kRefSeedA = 0x5eed0000a, kRefSeedB = 0x5eed0000b;
 
 struct Options {
@@ -180,6 +187,7 @@ bool parseTracer(const std::string& name, TracerKind& t) {
     else if (name == "lt") t = TracerKind::LT;
     else if (name == "bpt") t = TracerKind::BPT;
     else if (name == "mmlt") t = TracerKind::MMLT;
+    else if (name == "pssmlt") t = TracerKind::PSSMLT;
     else return false;
     return true;
 }
@@ -238,6 +246,16 @@ double meanOf(const Image& img) {
     double s = 0;
     for (float v : img.rgb) s += v;
     return img.rgb.empty() ? 0 : s / double(img.rgb.size());
+}
+
+// Relative MSE: the mean over pixels and channels of (a - b)^2 / (b^2 + 0.01), b the reference.
+double relMse(const Image& a, const Image& b) {
+    double s = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+        const double d = double(a.rgb[i]) - double(b.rgb[i]), r = double(b.rgb[i]);
+        s += d * d / (r * r + 0.01);
+    }
+    return a.rgb.empty() ? 0 : s / double(a.rgb.size());
 }
 
 // Mean squared error over all pixels and channels; NaN or Inf in `a` count as errors
@@ -332,7 +350,23 @@ struct Row {
     std::string scene, tracer, param;
     double budget = 0, seconds = 0, spp = 0, rmse = 0, relRmse = 0, nsPerSample = 0;
     double rmseNet = 0;  // with the reference's own noise taken out: sqrt(MSE - noise^2)
+    double rmseMin = INFINITY, rmseMax = 0, relMse = 0, relMseMin = INFINITY, relMseMax = 0;
+    double samplesPerSecond = 0;
+    double acceptSmall = -1, acceptLarge = -1;  // MMLT, PSSMLT (< 0: none)
 };
+
+// Acceptance rates of small and large steps (MMLT, PSSMLT): accepted / proposed in all lengths.
+void acceptanceOf(const RenderStats::Mmlt& m, double& small, double& large) {
+    uint64_t as = 0, ps = 0, al = 0, pl = 0;
+    for (size_t k = 0; k < m.proposedSmall.size(); ++k) {
+        as += m.acceptedSmall[k];
+        ps += m.proposedSmall[k];
+        al += m.acceptedLarge[k];
+        pl += m.proposedLarge[k];
+    }
+    small = ps ? double(as) / double(ps) : 0.0;
+    large = pl ? double(al) / double(pl) : 0.0;
+}
 
 void benchScene(const std::string& path, const Options& o, std::vector<Row>& rows, const std::string& cacheDir) {
     if (!fs::exists(path)) {
@@ -342,7 +376,10 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
     SceneDesc desc = loadScene(path);
     desc.settings.width = o.width;
     desc.settings.height = o.height;
-    const std::string name = fs::path(path).stem().string();
+    // (a Mitsuba scene's file is often scene.xml: then its folder's name)
+    const fs::path sp(path);
+    const std::string name = sp.stem() == "scene" && sp.has_parent_path() ? sp.parent_path().filename().string()
+                                                                          : sp.stem().string();
     std::printf("\n== %s: %dx%d (--size), MaxPathLength %s%d, timed rounds of %d spp, %d rep(s)\n", name.c_str(),
                 o.width, o.height, o.maxLength > 0 ? "" : "(the scene's) ",
                 o.maxLength > 0 ? o.maxLength : desc.settings.maxPathLength, o.roundSpp, o.reps);
@@ -362,12 +399,13 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
         }
         if (!refs.count(v.maxLength)) refs[v.maxLength] = reference(desc, name, v.maxLength, refSpp, o.threads, cacheDir);
         const Reference& ref = refs[v.maxLength];
-        std::printf("%-6s %-16s %8s %9s %9s %11s %9s %11s %10s\n", "tracer", "param", "budget s", "seconds", "spp",
-                    "RMSE", "relRMSE", "RMSE-refnoise", "ns/sample");
+        std::printf("%-6s %-16s %8s %9s %9s %11s %21s %9s %13s %10s %10s %11s %6s %6s\n", "tracer", "param", "budget s",
+                    "seconds", "spp", "RMSE", "(runs: least..most)", "relRMSE", "RMSE-refnoise", "relMSE", "ns/sample",
+                    "samples/s", "acc.S", "acc.L");
         for (const std::string& tname : o.tracers) {
             TracerKind tracer;
             if (!parseTracer(tname, tracer)) {
-                std::printf("%-6s unknown tracer (pt, lt, bpt, mmlt); skipped\n", tname.c_str());
+                std::printf("%-6s unknown tracer (pt, lt, bpt, mmlt, pssmlt); skipped\n", tname.c_str());
                 continue;
             }
             RenderOptions opt = makeOptions(desc, tracer, v, o.threads);
@@ -382,7 +420,23 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                         RenderResult r = render(desc, opt);
                         row.seconds += r.stats.seconds / o.reps;
                         row.spp += double(r.stats.spp) / o.reps;
-                        sumMse += mse(r.image, ref.image);
+                        const double e = mse(r.image, ref.image), re = relMse(r.image, ref.image);
+                        sumMse += e;
+                        row.rmseMin = std::min(row.rmseMin, std::sqrt(e));
+                        row.rmseMax = std::max(row.rmseMax, std::sqrt(e));
+                        row.relMse += re / o.reps;
+                        row.relMseMin = std::min(row.relMseMin, re);
+                        row.relMseMax = std::max(row.relMseMax, re);
+                        const bool mlt = tracer == TracerKind::MMLT || tracer == TracerKind::PSSMLT;
+                        const double samples = mlt ? double(r.stats.mmlt.mutations)
+                                                   : double(r.stats.spp) * o.width * o.height;
+                        row.samplesPerSecond += (r.stats.seconds > 0 ? samples / r.stats.seconds : 0.0) / o.reps;
+                        if (mlt) {
+                            double s = 0, l = 0;
+                            acceptanceOf(r.stats.mmlt, s, l);
+                            row.acceptSmall = std::max(row.acceptSmall, 0.0) + s / o.reps;
+                            row.acceptLarge = std::max(row.acceptLarge, 0.0) + l / o.reps;
+                        }
                     } catch (const std::exception& e) {
                         std::printf("%-6s %-16s %s; skipped\n", tname.c_str(), v.label.c_str(), e.what());
                         failed = true;
@@ -393,36 +447,62 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                 row.relRmse = ref.mean > 0 ? row.rmse / ref.mean : 0;
                 row.rmseNet = std::sqrt(std::max(0.0, sumMse / o.reps - ref.noiseRmse * ref.noiseRmse));
                 row.nsPerSample = row.spp > 0 ? row.seconds / (row.spp * o.width * o.height) * 1e9 : 0;
-                std::printf("%-6s %-16s %8g %9.2f %9.0f %11.4g %9.4f %13.4g %10.1f\n", tname.c_str(), v.label.c_str(),
-                            budget, row.seconds, row.spp, row.rmse, row.relRmse, row.rmseNet, row.nsPerSample);
+                char acc[32] = "     -      -";
+                if (row.acceptSmall >= 0) std::snprintf(acc, sizeof acc, "%6.3f %6.3f", row.acceptSmall, row.acceptLarge);
+                std::printf("%-6s %-16s %8g %9.2f %9.0f %11.4g %10.4g..%-10.4g %9.4f %13.4g %10.4g %10.1f %11.4g %s\n",
+                            tname.c_str(), v.label.c_str(), budget, row.seconds, row.spp, row.rmse, row.rmseMin,
+                            row.rmseMax, row.relRmse, row.rmseNet, row.relMse, row.nsPerSample, row.samplesPerSecond, acc);
                 std::fflush(stdout);
                 sceneRows.push_back(row);
             }
         }
     }
-    // Equal-time ratios: pt against bpt, for each param value and budget both ran.
-    bool header = false;
-    for (const Row& p : sceneRows) {
-        if (p.tracer != "pt") continue;
-        for (const Row& b : sceneRows) {
-            if (b.tracer != "bpt" || b.param != p.param || b.budget != p.budget) continue;
-            if (!header) std::printf("equal-time RMSE(pt) / RMSE(bpt) (%s, %d threads):\n", name.c_str(), threadCount);
-            header = true;
-            std::printf("  %-16s %6gs: %.3f  (without the reference's noise: %.3f)\n", p.param.c_str(), p.budget,
-                        b.rmse > 0 ? p.rmse / b.rmse : 0.0, b.rmseNet > 0 ? p.rmseNet / b.rmseNet : 0.0);
+    // Equal-time ratios: pt against bpt and mmlt against pssmlt, for each param value and
+    // budget both ran.
+    for (const auto& [num, den] : {std::pair<std::string, std::string>{"pt", "bpt"}, {"mmlt", "pssmlt"}}) {
+        bool header = false;
+        for (const Row& p : sceneRows) {
+            if (p.tracer != num) continue;
+            for (const Row& b : sceneRows) {
+                if (b.tracer != den || b.param != p.param || b.budget != p.budget) continue;
+                if (!header)
+                    std::printf("equal-time RMSE(%s) / RMSE(%s) (%s, %d threads):\n", num.c_str(), den.c_str(), name.c_str(),
+                                threadCount);
+                header = true;
+                std::printf("  %-16s %6gs: %.3f  (without the reference's noise: %.3f; relMSE ratio %.3f)\n",
+                            p.param.c_str(), p.budget, b.rmse > 0 ? p.rmse / b.rmse : 0.0,
+                            b.rmseNet > 0 ? p.rmseNet / b.rmseNet : 0.0, b.relMse > 0 ? p.relMse / b.relMse : 0.0);
+            }
         }
     }
+    // The tracer with the least RMSE (and relMSE) at each budget.
+    for (double budget : o.budgets)
+        for (const Variant& v : variants(o, desc.settings.maxPathLength)) {
+            const Row *best = nullptr, *bestRel = nullptr;
+            for (const Row& r : sceneRows) {
+                if (r.budget != budget || r.param != v.label) continue;
+                if (!best || r.rmse < best->rmse) best = &r;
+                if (!bestRel || r.relMse < bestRel->relMse) bestRel = &r;
+            }
+            if (best)
+                std::printf("least error at %gs%s%s: RMSE %s, relMSE %s\n", budget, v.label == "-" ? "" : " ",
+                            v.label == "-" ? "" : v.label.c_str(), best->tracer.c_str(), bestRel->tracer.c_str());
+        }
     rows.insert(rows.end(), sceneRows.begin(), sceneRows.end());
 }
 
 void writeCsv(const std::string& path, const std::vector<Row>& rows) {
     std::ofstream out(path);
     if (!out) throw std::runtime_error("cannot write " + path);
-    out << "scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse\n";
-    char buf[512];
+    out << "scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse,rmse_min,rmse_max,relmse,relmse_min,relmse_max,"
+           "samples_per_s,accept_small,accept_large\n";
+    char buf[1024];
     for (const Row& r : rows) {
-        std::snprintf(buf, sizeof buf, "%s,%s,%s,%g,%.4f,%.2f,%.6g,%.6g\n", r.scene.c_str(), r.tracer.c_str(),
-                      r.param.c_str(), r.budget, r.seconds, r.spp, r.rmse, r.relRmse);
+        char acc[64] = ",";
+        if (r.acceptSmall >= 0) std::snprintf(acc, sizeof acc, "%.4f,%.4f", r.acceptSmall, r.acceptLarge);
+        std::snprintf(buf, sizeof buf, "%s,%s,%s,%g,%.4f,%.2f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n",
+                      r.scene.c_str(), r.tracer.c_str(), r.param.c_str(), r.budget, r.seconds, r.spp, r.rmse, r.relRmse,
+                      r.rmseMin, r.rmseMax, r.relMse, r.relMseMin, r.relMseMax, r.samplesPerSecond, acc);
         out << buf;
     }
 }

@@ -3,10 +3,11 @@
 #
 #   bench/plot_error.sh bench-error.csv OUTDIR
 #
-# Writes OUTDIR/<scene>-rmse.png and OUTDIR/<scene>-relrmse.png: log-log, RMSE (relative RMSE)
-# against the measured seconds, one line per tracer (and param value, when the CSV has
-# a sweep). Needs gnuplot; installs Debian's gnuplot-nox with apt-get when it is missing
-# (sudo when not root), and says so.
+# Writes OUTDIR/<scene>.png: two log-log panels, RMSE and relative MSE against the measured
+# seconds, one line per tracer (and param value, when the CSV has a sweep), with the spread
+# of the repetitions (least and greatest run) as bars when the CSV has it (--reps > 1).
+# Needs gnuplot; installs Debian's gnuplot-nox with apt-get when it is missing (sudo when
+# not root), and says so.
 set -euo pipefail
 
 if [ $# -ne 2 ]; then
@@ -29,15 +30,18 @@ mkdir -p "$outdir"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# One data file per (scene, tracer, param): columns seconds rmse rel_rmse, sorted by seconds.
-# Columns: scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse.
+# One data file per (scene, tracer, param): seconds rmse rmse_min rmse_max relmse relmse_min
+# relmse_max, sorted by seconds (a CSV without the spread columns: the means as their own
+# spread; without relmse: RMSE relative to the mean, squared, in its place).
+# Columns: scene,tracer,param,budget_s,seconds,spp,rmse,rel_rmse[,rmse_min,rmse_max,relmse,relmse_min,relmse_max,...].
 tail -n +2 "$csv" | awk -F, -v dir="$tmp" '
     NF >= 8 {
         key = $2 ($3 == "-" ? "" : " " $3)
         file = dir "/" $1 ".series"
         if (!((file, key) in seen)) { seen[file, key] = 1; print key >> (dir "/" $1 ".keys") }
         gsub(/[^A-Za-z0-9_.=-]/, "_", key)
-        print $5, $7, $8 >> (dir "/" $1 "@" key ".dat")
+        if (NF >= 13) print $5, $7, $9, $10, $11, $12, $13 >> (dir "/" $1 "@" key ".dat")
+        else print $5, $7, $7, $7, $8 * $8, $8 * $8, $8 * $8 >> (dir "/" $1 "@" key ".dat")
     }'
 
 shopt -s nullglob
@@ -49,34 +53,35 @@ if [ ${#scenes[@]} -eq 0 ]; then
 fi
 
 for scene in "${scenes[@]}"; do
-    for metric in rmse relrmse; do
-        col=2; ylabel="RMSE"
-        [ "$metric" = relrmse ] && { col=3; ylabel="relative RMSE (RMSE / mean of the reference)"; }
-        plots=()
-        while IFS= read -r key; do
-            safe=$(printf '%s' "$key" | sed 's/[^A-Za-z0-9_.=-]/_/g')
-            dat="$tmp/$scene@$safe.dat"
-            sort -g -k1,1 "$dat" -o "$dat"
-            plots+=("'$dat' using 1:$col with linespoints lw 2 pt 7 title '$key'")
-        done < "$tmp/$scene.keys"
-        out="$outdir/$scene-$metric.png"
-        {
-            echo "set terminal pngcairo size 900,650 noenhanced font 'sans,11'"
-            echo "set output '$out'"
-            echo "set title '$scene: error against time'"
-            echo "set logscale xy"
-            echo "set xlabel 'render time (s)'"
-            echo "set ylabel '$ylabel'"
-            echo "set grid xtics ytics mxtics mytics"
-            echo "set key top right"
-            printf 'plot '
-            (IFS=,; echo "${plots[*]}")
-        } > "$tmp/plot.gp"
-        if ! gnuplot "$tmp/plot.gp" 2>"$tmp/err"; then
-            # pngcairo is absent from some gnuplot builds: fall back to the gd png terminal.
-            sed -i "1s/.*/set terminal png size 900,650 noenhanced/" "$tmp/plot.gp"
-            gnuplot "$tmp/plot.gp" || { cat "$tmp/err" >&2; exit 1; }
-        fi
-        echo "$out"
-    done
+    rmse=(); rel=()
+    while IFS= read -r key; do
+        safe=$(printf '%s' "$key" | sed 's/[^A-Za-z0-9_.=-]/_/g')
+        dat="$tmp/$scene@$safe.dat"
+        sort -g -k1,1 "$dat" -o "$dat"
+        rmse+=("'$dat' using 1:2:3:4 with yerrorlines lw 2 pt 7 title '$key'")
+        rel+=("'$dat' using 1:5:6:7 with yerrorlines lw 2 pt 7 title '$key'")
+    done < "$tmp/$scene.keys"
+    out="$outdir/$scene.png"
+    {
+        echo "set terminal pngcairo size 1400,600 noenhanced font 'sans,11'"
+        echo "set output '$out'"
+        echo "set multiplot layout 1,2 title '$scene: error against render time (bars: least and greatest run)'"
+        echo "set logscale xy"
+        echo "set xlabel 'render time (s)'"
+        echo "set grid xtics ytics mxtics mytics"
+        echo "set key top right"
+        echo "set ylabel 'RMSE'"
+        printf 'plot '
+        (IFS=,; echo "${rmse[*]}")
+        echo "set ylabel 'relative MSE: mean (x - ref)^2 / (ref^2 + 0.01)'"
+        printf 'plot '
+        (IFS=,; echo "${rel[*]}")
+        echo "unset multiplot"
+    } > "$tmp/plot.gp"
+    if ! gnuplot "$tmp/plot.gp" 2>"$tmp/err"; then
+        # pngcairo is absent from some gnuplot builds: fall back to the gd png terminal.
+        sed -i "1s/.*/set terminal png size 1400,600 noenhanced/" "$tmp/plot.gp"
+        gnuplot "$tmp/plot.gp" || { cat "$tmp/err" >&2; exit 1; }
+    fi
+    echo "$out"
 done
