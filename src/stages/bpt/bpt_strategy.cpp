@@ -181,12 +181,9 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         if (b.light.kind[yi] == BptVertexKind::Surface && isDeltaMaterial(b.light.bsdf[yi].kind)) return false;
         if (s == 1 && b.light.kind[yi] == BptVertexKind::Env) return false;  // at infinity
     }
-    // An end at the very point of its predecessor (a free path shorter than the position's
-    // float rounding: a medium vertex that did not move, about once in 10^7 free paths of
-    // a mutated chain) has no direction towards it: the strategy samples no path there.
-    if (t >= 2 && !(lengthSquared(b.cam.p[zi] - b.cam.p[b.cam.at(slot, t - 2)]) > 0)) return false;
-    if (s >= 2 && !(lengthSquared(b.light.p[b.light.at(slot, s - 1)] - b.light.p[b.light.at(slot, s - 2)]) > 0))
-        return false;
+    // An end at its predecessor's point (a free path below float rounding) has no direction.
+    auto moved = [&](const BptVertices& v, int i) { return lengthSquared(v.p[v.at(slot, i)] - v.p[v.at(slot, i - 1)]) > 0; };
+    if ((t >= 2 && !moved(b.cam, t - 1)) || (s >= 2 && !moved(b.light, s - 1))) return false;
     const size_t i = w.n, ey = 2 * i, ez = 2 * i + 1;
     w.endVertex[ey] = w.endVertex[ez] = kNoEnd;
     auto uc = [&](uint32_t m) { return u(slot, kBptConnect, U::connectJ(s, t, m)); };
