@@ -255,6 +255,17 @@ TEST_CASE("interactive: each setting changed in the panel reaches the render; ba
     CHECK(err.find("refused: MIS beta: 'abc' is not a number") != std::string::npos);
     CHECK(run.process.running());
 
+    // PSSMLT, the panel's last tracer: its chains and ProbLarge reach the command line.
+    run.click("pssmlt");
+    CHECK(run.waitTitle("interactive pssmlt", 10));
+    const std::string pss = run.commandLine();
+    CHECK(pss.find("--tracer pssmlt --") != std::string::npos);
+    CHECK(pss.find("--p-large 0.5 --chains 1024 ") != std::string::npos);
+    REQUIRE(run.waitTitle("interactive pssmlt: done", kLimit));
+    CHECK(shows(run, freshRender(pss, dir + "/pssmlt.png"), 20, worst));
+    run.click("mmlt");
+    CHECK(run.waitTitle("interactive mmlt", 10));
+
     // A thin lens, focused by ctrl-click on the image.
     run.type("aperture radius", "0.05");
     run.xdotool({"mousemove", "--window", run.window, "32", "40", "keydown", "ctrl", "click", "1", "keyup", "ctrl"});

@@ -92,11 +92,16 @@ struct TracerCase {
     const char* name;
     TracerKind kind;
     int spp;
-    std::string spec() const { return std::string(name) + ":" + std::to_string(spp) + (kind == TracerKind::MMLT ? ":1024" : ""); }
+    bool metropolis() const { return kind == TracerKind::MMLT || kind == TracerKind::PSSMLT; }
+    std::string spec() const { return std::string(name) + ":" + std::to_string(spp) + (metropolis() ? ":1024" : ""); }
 };
-// MMLT: 1024 chains make 4 batches of 256, shared out 2 + 2 or 1 + 1 + 2.
-const std::vector<TracerCase> kTracers = {
-    {"pt", TracerKind::PT, 16}, {"lt", TracerKind::LT, 16}, {"bpt", TracerKind::BPT, 4}, {"mmlt", TracerKind::MMLT, 128}};
+// MMLT, PSSMLT: 1024 chains make 4 batches of 256, shared out 2 + 2 or 1 + 1 + 2 (PSSMLT at 64
+// mutations per pixel: its mutations cost about four of MMLT's on this box).
+const std::vector<TracerCase> kTracers = {{"pt", TracerKind::PT, 16},
+                                          {"lt", TracerKind::LT, 16},
+                                          {"bpt", TracerKind::BPT, 4},
+                                          {"mmlt", TracerKind::MMLT, 128},
+                                          {"pssmlt", TracerKind::PSSMLT, 64}};
 
 std::vector<std::string> allSpecs() {
     std::vector<std::string> s;
@@ -113,7 +118,7 @@ SceneDesc cornell() {
 
 RenderResult renderOne(const TracerCase& t, uint64_t seed, int threads = 2) {
     RenderOptions o = rstats::renderOptions(t.kind, t.spp, seed, 1, kMaxLength, threads);
-    if (t.kind == TracerKind::MMLT) o.chains = 1024;
+    if (t.metropolis()) o.chains = 1024;
     return render(cornell(), o);
 }
 
@@ -195,7 +200,7 @@ TEST_CASE("mpirun: N ranks make one process's image from the same samples, for a
                 INFO("largest relative difference to one process " << worst);
                 CHECK(worst <= 1e-6);  // float rounding of the same sums added in another order
             }
-            if (t.kind != TracerKind::MMLT) continue;
+            if (!t.metropolis()) continue;
             // b_k and the pools: the same bits on every rank, and the same as one process's.
             const std::vector<RankRecord> ranks = rankRecords(stem(d, t, seed) + ".txt");
             REQUIRE(ranks.size() == (d == two ? 2u : 3u));
@@ -295,7 +300,7 @@ TEST_CASE("mpirun wavemmlt: a Gaussian-filtered render makes one process's image
                                           std::to_string(kSize), "--max-length", std::to_string(kMaxLength), "--tracer",
                                           t.name, "--spp", std::to_string(t.spp), "--seed", "11", "--threads", "1",
                                           "--filter", "gaussian", "--quiet", "-o", out};
-            if (t.kind == TracerKind::MMLT) a.insert(a.end(), {"--chains", "1024"});
+            if (t.metropolis()) a.insert(a.end(), {"--chains", "1024"});
             return a;
         };
         const std::string one = dir + "/" + t.name + "-np1.pfm", two = dir + "/" + t.name + "-np2.pfm";

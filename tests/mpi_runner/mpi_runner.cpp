@@ -37,7 +37,11 @@ int main(int argc, char** argv) {
             const size_t c1 = spec.find(':'), c2 = spec.find(':', c1 + 1);
             const std::string tracer = spec.substr(0, c1);
             RenderOptions o;
-            o.tracer = tracer == "pt" ? TracerKind::PT : tracer == "lt" ? TracerKind::LT : tracer == "bpt" ? TracerKind::BPT : TracerKind::MMLT;
+            o.tracer = tracer == "pt"       ? TracerKind::PT
+                       : tracer == "lt"     ? TracerKind::LT
+                       : tracer == "bpt"    ? TracerKind::BPT
+                       : tracer == "pssmlt" ? TracerKind::PSSMLT
+                                            : TracerKind::MMLT;
             o.spp = std::atoi(spec.c_str() + c1 + 1);
             if (c2 != std::string::npos) o.chains = std::atoi(spec.c_str() + c2 + 1);
             o.strataPerAxis = strataForSpp(o.spp);

@@ -6,7 +6,8 @@
 //                      large steps into the next pass's pools)
 // A batch holds slices of chains of several lengths (MmltBatch::slices). Pools are traced
 // by evaluateProposals on rows written by fillPoolRows, and seeded chains replayed on rows
-// written by fillSeedRows.
+// written by fillSeedRows. PSSMLT runs the same stages in their whole-sample mode
+// (MmltBatch::whole, chosen once per render: each stage hands over to pssmlt_stages.h).
 #pragma once
 #include <cstdint>
 
