@@ -70,10 +70,11 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// Reference spp per scene at 256 x 256 (BPT). Measured on a shared 2-core machine: BPT
-// takes ~5-10 us per sample (wall) in the seed room and ~2.3-5.7 us in the Cornell box, so
-// these take about 8 minutes each (Cornell: 471 s for 1024 spp); some 20 to 40 times the
-// samples BPT gets in 16 s. Other sizes and scenes: 256 unless --ref-spp says otherwise.
+// Reference spp per scene at 256 x 256 (BPT), some 20 to 40 times the samples BPT gets in
+// 16 s. Measured on a shared 2-core machine (issue 29; builds ran beside them): the seed room
+// 609 s, the Cornell box 589 s, veach-bidir (../shared/scenes/mitsuba/veach-bidir/scene.xml:
+// a Mitsuba file is named by its folder) 336 s. Other sizes and scenes: 256 unless --ref-spp
+// says otherwise.
 const std::map<std::string, int> kRefSpp = {{"bitterli-cornell-256", 4096}, {"seed-room", 2048}, {"veach-bidir", 2048}};
 constexpr uint64_t kRefSeedA = 0x5eed0000a, kRefSeedB = 0x5eed0000b;
 

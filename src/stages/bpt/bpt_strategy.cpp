@@ -181,9 +181,9 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         if (b.light.kind[yi] == BptVertexKind::Surface && isDeltaMaterial(b.light.bsdf[yi].kind)) return false;
         if (s == 1 && b.light.kind[yi] == BptVertexKind::Env) return false;  // at infinity
     }
-    // An end at its predecessor's point (a free path below float rounding) has no direction.
+    // (media) An end at its predecessor's point (a free path below float rounding): no direction.
     auto moved = [&](const BptVertices& v, int i) { return lengthSquared(v.p[v.at(slot, i)] - v.p[v.at(slot, i - 1)]) > 0; };
-    if ((t >= 2 && !moved(b.cam, t - 1)) || (s >= 2 && !moved(b.light, s - 1))) return false;
+    if (b.cam.media && ((t >= 2 && !moved(b.cam, t - 1)) || (s >= 2 && !moved(b.light, s - 1)))) return false;
     const size_t i = w.n, ey = 2 * i, ez = 2 * i + 1;
     w.endVertex[ey] = w.endVertex[ez] = kNoEnd;
     auto uc = [&](uint32_t m) { return u(slot, kBptConnect, U::connectJ(s, t, m)); };
