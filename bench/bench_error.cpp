@@ -356,18 +356,6 @@ struct Row {
     double acceptSmall = -1, acceptLarge = -1;  // MMLT, PSSMLT (< 0: none)
 };
 
-// Acceptance rates of small and large steps (MMLT, PSSMLT): accepted / proposed in all lengths.
-void acceptanceOf(const RenderStats::Mmlt& m, double& small, double& large) {
-    uint64_t as = 0, ps = 0, al = 0, pl = 0;
-    for (size_t k = 0; k < m.proposedSmall.size(); ++k) {
-        as += m.acceptedSmall[k];
-        ps += m.proposedSmall[k];
-        al += m.acceptedLarge[k];
-        pl += m.proposedLarge[k];
-    }
-    small = ps ? double(as) / double(ps) : 0.0;
-    large = pl ? double(al) / double(pl) : 0.0;
-}
 
 void benchScene(const std::string& path, const Options& o, std::vector<Row>& rows, const std::string& cacheDir) {
     if (!fs::exists(path)) {
@@ -432,11 +420,11 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                         const double samples = mlt ? double(r.stats.mmlt.mutations)
                                                    : double(r.stats.spp) * o.width * o.height;
                         row.samplesPerSecond += (r.stats.seconds > 0 ? samples / r.stats.seconds : 0.0) / o.reps;
-                        if (mlt) {
-                            double s = 0, l = 0;
-                            acceptanceOf(r.stats.mmlt, s, l);
-                            row.acceptSmall = std::max(row.acceptSmall, 0.0) + s / o.reps;
-                            row.acceptLarge = std::max(row.acceptLarge, 0.0) + l / o.reps;
+                        if (mlt) {  // acceptance of small and large steps, all lengths
+                            uint64_t acc[2], prop[2];
+                            r.stats.mmlt.stepTotals(acc, prop);
+                            row.acceptSmall = std::max(row.acceptSmall, 0.0) + (prop[0] ? double(acc[0]) / prop[0] : 0.0) / o.reps;
+                            row.acceptLarge = std::max(row.acceptLarge, 0.0) + (prop[1] ? double(acc[1]) / prop[1] : 0.0) / o.reps;
                         }
                     } catch (const std::exception& e) {
                         std::printf("%-6s %-16s %s; skipped\n", tname.c_str(), v.label.c_str(), e.what());

@@ -104,24 +104,26 @@ power::Runs pssmltRuns(const SceneDesc& desc, RenderOptions o, int K, uint64_t s
     return runs;
 }
 
+// K = 32 runs of BPT (bptSpp, seeds seed0 + i) against 32 of PSSMLT (mutations per pixel, 1024
+// chains, seeds seed0 + 1000 + i) on desc's lengths 1..L; `claim`: the brightness error detected.
+void againstBpt(const SceneDesc& desc, int L, int bptSpp, int mutations, uint64_t seed0, double claim,
+                const std::string& what) {
+    const int B = 4, K = 32;
+    const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, bptSpp, 0, 1, L), K, seed0, B)[0];
+    const power::Runs m = pssmltRuns(desc, pssmltOptions(mutations, 0, 1, L, 1024, 1 << 14), K, seed0 + 1000, B);
+    power::compare(m, ref, "PSSMLT vs BPT", what, kP, power::Claims{claim, 0});
+}
+
 }  // namespace
 
 // ---- 2. PSSMLT image = BPT image ------------------------------------------------------------
 
 TEST_CASE("PSSMLT power: Cornell box against BPT", "[pssmlt][stat]") {
-    const int L = 5, B = 4, K = 32;
-    const SceneDesc desc = cornell(16, L);
-    const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 64, 0, 1, L), K, 20000, B)[0];
-    const power::Runs m = pssmltRuns(desc, pssmltOptions(256, 0, 1, L, 1024, 1 << 14), K, 21000, B);
-    power::compare(m, ref, "PSSMLT vs BPT", "Cornell box", kP, power::Claims{0.005, 0});
+    againstBpt(cornell(16, 5), 5, 64, 256, 20000, 0.005, "Cornell box");
 }
 
 TEST_CASE("PSSMLT power: glass and mirror caustics against BPT", "[pssmlt][stat]") {
-    const int L = 6, B = 4, K = 32;
-    const SceneDesc desc = caustic(16, L);
-    const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 256, 0, 1, L), K, 22000, B)[0];
-    const power::Runs m = pssmltRuns(desc, pssmltOptions(1024, 0, 1, L, 1024, 1 << 14), K, 23000, B);
-    power::compare(m, ref, "PSSMLT vs BPT", "caustic scene", kP, power::Claims{0.05, 0});
+    againstBpt(caustic(16, 6), 6, 256, 1024, 22000, 0.05, "caustic scene");
 }
 
 TEST_CASE("PSSMLT: the grid furnace of scattering media is 1 everywhere", "[pssmlt][media][stat]") {

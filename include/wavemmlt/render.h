@@ -110,6 +110,16 @@ struct RenderStats {
         std::vector<uint64_t> poolSamples;        // pool samples of length k, all passes (fresh and large steps)
         std::vector<uint64_t> proposals;          // proposals made by chains of length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
+        // Accepted and proposed steps summed over the lengths: [0] small, [1] large.
+        void stepTotals(uint64_t accepted[2], uint64_t proposed[2]) const {
+            accepted[0] = accepted[1] = proposed[0] = proposed[1] = 0;
+            for (size_t k = 0; k < proposedSmall.size(); ++k) {
+                accepted[0] += acceptedSmall[k];
+                proposed[0] += proposedSmall[k];
+                accepted[1] += acceptedLarge[k];
+                proposed[1] += proposedLarge[k];
+            }
+        }
         std::vector<uint64_t> bootstrapSamples;   // bootstrap samples of length k (the first pass's pool)
         uint64_t mutations = 0;                   // proposals made in total
         uint64_t iterations = 0;                  // proposals each chain made, all passes (the image's divisor)

@@ -115,15 +115,10 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     perLength("mmlt_proposals", [&](size_t k) { return m.proposals[k]; });
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
-    uint64_t acc = 0, prop = 0, accL = 0, propL = 0;
-    for (size_t k = 0; k < m.b.size(); ++k) {
-        acc += m.acceptedSmall[k];
-        prop += m.proposedSmall[k];
-        accL += m.acceptedLarge[k];
-        propL += m.proposedLarge[k];
-    }
-    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc, prop) << ", \"large\": " << rate(accL, propL)
-      << ", \"all\": " << rate(acc + accL, prop + propL) << "}"
+    uint64_t acc[2], prop[2];
+    m.stepTotals(acc, prop);
+    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": "
+      << rate(acc[1], prop[1]) << ", \"all\": " << rate(acc[0] + acc[1], prop[0] + prop[1]) << "}"
       << ",\n  \"" << prefix << "mutations\": " << m.mutations
       << ",\n  \"" << prefix << "mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
       << ",\n  \"" << prefix << "iterations\": " << m.iterations

@@ -185,11 +185,8 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
         // step's are listed for drawSmallSteps).
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
-            const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
-            const bool large = sampleDimension(key, kDimLarge) < probLarge;
-            mb.bpt.key[i] = key;
-            mb.chain[i] = c;
-            mb.large[i] = large ? 1 : 0;
+            const bool large = beginProposal(mb, i, g, c, seed, iteration, probLarge);
+            const uint64_t key = mb.bpt.key[i];
             const size_t at = g.at(c, 0);
             const uint32_t lastLarge = g.lastLarge[c], n = g.accepted[c] + 1;
             float* row = mb.rowOf(i);

@@ -22,6 +22,17 @@ namespace wmlt {
 // The key of a chain's proposal `iteration` (its random numbers: large step, acceptance,
 // two per coordinate) and of fresh pool sample `index` of length k in pass `pass`.
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration);
+// Slot i holds proposal `iteration` of chain c of g: its key, chain and step kind (a large
+// step with probability probLarge); true for a large step (MMLT's and PSSMLT's mutateChains).
+inline bool beginProposal(MmltBatch& mb, uint32_t i, const ChainGroup& g, uint32_t c, uint64_t seed,
+                          uint32_t iteration, float probLarge) {
+    const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
+    const bool large = sampleDimension(key, kDimLarge) < probLarge;
+    mb.bpt.key[i] = key;
+    mb.chain[i] = c;
+    mb.large[i] = large ? 1 : 0;
+    return large;
+}
 uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index);
 
 // Coordinate d of the vector u of a pool entry is poolCoordinate(key, d)

@@ -53,11 +53,7 @@ void mutateWholeChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uin
         mb.wholeGroup = &g;
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
-            const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
-            const bool large = sampleDimension(key, kDimLarge) < probLarge;
-            mb.bpt.key[i] = key;
-            mb.chain[i] = c;
-            mb.large[i] = large ? 1 : 0;
+            const bool large = beginProposal(mb, i, g, c, seed, iteration, probLarge);
             mb.chainAt[i] = uint32_t(g.at(c, 0));
             mb.seedKey[i] = g.seed[c];
             mb.slotLastLarge[i] = g.lastLarge[c];
