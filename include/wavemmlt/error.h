@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "wavemmlt/quote.h"
+
 namespace wmlt {
 
 class InputError : public std::runtime_error {
@@ -11,13 +13,15 @@ public:
     // "file:line: message" (line 0 means "the whole file").
     InputError(const std::string& file, int line, const std::string& message)
         : std::runtime_error(format(file, line, message)) {}
-    explicit InputError(const std::string& message) : std::runtime_error(message) {}
+    explicit InputError(const std::string& message) : std::runtime_error(sanitized(message)) {}
 
 private:
+    // The net under every message: bytes that are not printable (NUL, control characters,
+    // invalid UTF-8) shown as \xNN, so a message is one line of text whatever a file held.
     static std::string format(const std::string& file, int line, const std::string& message) {
-        if (file.empty()) return message;
-        if (line > 0) return file + ":" + std::to_string(line) + ": " + message;
-        return file + ": " + message;
+        if (file.empty()) return sanitized(message);
+        if (line > 0) return sanitized(file + ":" + std::to_string(line) + ": " + message);
+        return sanitized(file + ": " + message);
     }
 };
 

@@ -46,6 +46,7 @@ void checkReadable(const std::string& path) {
     struct stat st;
     if (::stat(path.c_str(), &st) != 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw InputError(path, 0, "cannot open: is a directory");
+    if (!S_ISREG(st.st_mode)) throw InputError(path, 0, "cannot open: not a regular file (a device, FIFO or socket)");
     if (::access(path.c_str(), R_OK) != 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
 }
 

@@ -6,6 +6,8 @@
 #include <cfloat>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <string_view>
 
 namespace wmlt {
@@ -28,6 +30,13 @@ inline bool parseNumber(std::string_view t, bool integer, double& out) {
     if (r.ec != std::errc() || r.ptr != end || p == end || !std::isfinite(v) || std::fabs(v) > FLT_MAX) return false;
     out = v;
     return true;
+}
+
+// A number in a message, as a person writes it: 1e+38, 0.5, 63.
+inline std::string numberText(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
 }
 
 }  // namespace wmlt

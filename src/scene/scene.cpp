@@ -132,13 +132,27 @@ void principledConstants(const MaterialDesc& m, BsdfParams& b, BsdfExtra& x) {
 namespace {
 
 // Whether every edge of the mesh is shared by exactly two of its triangles (it has an
-// inside, as a medium boundary needs).
+// inside, as a medium boundary needs). Vertices at the same position are one vertex: a
+// mesh with split vertices for flat normals or uv seams (Mitsuba's cube has 24) is closed.
 bool closedMesh(const TriangleMesh& m) {
+    std::unordered_map<uint64_t, uint32_t> firstAt;  // position bits -> first vertex there
+    std::vector<uint32_t> weld(m.positions.size());
+    firstAt.reserve(m.positions.size());
+    auto bits = [](float f) { uint32_t b; std::memcpy(&b, &f, 4); return f == 0 ? 0u : b; };  // -0 == +0
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+        const Vec3 p = m.positions[i];
+        const uint64_t h = (uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4Full) ^ bits(p.z);
+        auto [it, fresh] = firstAt.try_emplace(h, uint32_t(i));
+        // a hash collision between different positions: keep the vertex apart (never a false weld)
+        const Vec3 q = m.positions[it->second];
+        weld[i] = fresh || !(q.x == p.x && q.y == p.y && q.z == p.z) ? uint32_t(i) : it->second;
+    }
     std::unordered_map<uint64_t, int> edges;
     edges.reserve(m.indices.size());
     for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
         for (int e = 0; e < 3; ++e) {
-            const uint64_t a = m.indices[t + size_t(e)], b = m.indices[t + size_t((e + 1) % 3)];
+            const uint64_t a = weld[m.indices[t + size_t(e)]], b = weld[m.indices[t + size_t((e + 1) % 3)]];
+            if (a == b) continue;  // a degenerate edge bounds nothing
             ++edges[a < b ? a << 32 | b : b << 32 | a];
         }
     for (const auto& kv : edges)
@@ -403,6 +417,16 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             throw InputError(d.path, 0, "a scale, mix or textured dots texture as a bump map, normal map or opacity is not supported");
     for (const LightDesc& l : d.lights)
         if (composite(l.texture)) throw InputError(d.path, 0, "a scale, mix or textured dots texture as an emitter's radiance is not supported");
+    // The net under every importer's own checks: an emission that is not finite (a product of
+    // finite parameters past a float's range) would light nothing or poison the image.
+    for (size_t i = 0; i < d.lights.size(); ++i) {
+        const Vec3 L = d.lights[i].radiance;
+        if (!(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)))
+            throw InputError(d.path, 0, "light " + std::to_string(i + 1) + " of " + std::to_string(d.lights.size()) +
+                                            ": its emission is not finite (a product of its parameters overflows a float)");
+    }
+    for (float v : d.envMap.rgb)
+        if (!std::isfinite(v)) throw InputError(d.path, 0, "the environment map's emission is not finite (a product of its parameters overflows a float)");
 
     s->bsdfExtras.resize(d.materials.size());  // not resized again: materials point into it
     for (size_t i = 0; i < d.materials.size(); ++i) {

@@ -29,6 +29,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -253,6 +254,7 @@ void ObjParser::build(bool smooth, TriangleMesh& out) {
 }  // namespace
 
 TriangleMesh loadObj(const std::string& path, bool smoothShading) {
+    requireRegularFile(path, "the OBJ file");  // before open(): a FIFO's open waits for a writer
     const int fd = ::open(path.c_str(), O_RDONLY);
     if (fd < 0) throw InputError(path, 0, "cannot open the OBJ file");
     struct stat st;

@@ -9,7 +9,8 @@
 // Problems are InputErrors naming the file and, for the header and ASCII data, the line
 // ("file:line: ..."), for binary data the byte offset ("file: byte N: ..."). Counts are
 // checked against the bytes left before anything is allocated, so a lying header fails
-// fast in bounded memory. Numbers in ASCII data are parsed by scene/number.h.
+// fast in bounded memory; the header is read and checked before the rest of the file (a
+// .ply.gz is inflated as it is read). Numbers in ASCII data are parsed by scene/number.h.
 // Normals: the file's when smoothShading and the file has them, else area-weighted
 // per-vertex normals when smoothShading (Mitsuba computes vertex normals for a mesh
 // without them unless face_normals), none when flat.
@@ -76,6 +77,7 @@ class PlyReader {
 public:
     PlyReader(const std::string& path, const std::string& data) : path_(path), d_(data) {}
     void run(bool smooth, bool computeMissing, TriangleMesh& out);
+    void checkHeader() { header(); }
 
 private:
     const std::string& path_;
@@ -324,7 +326,12 @@ void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
 }  // namespace
 
 TriangleMesh loadPly(const std::string& path, bool smoothShading, bool computeMissingNormals) {
-    const std::string data = readWholeFile(path, "the PLY file");
+    // The header first: a file that is no PLY (a .ply.gz bomb, /dev/zero is refused by
+    // FileStream) fails before the rest is read or inflated.
+    FileStream in(path, "the PLY file");
+    std::string data = readUntil(in, "end_header", size_t(1) << 20);
+    PlyReader(path, data).checkHeader();
+    readRest(in, data);
     TriangleMesh mesh;
     PlyReader(path, data).run(smoothShading, computeMissingNormals, mesh);
     return mesh;

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include "kernels/envmap.h"
 #include "scene/filter_desc.h"
 #include "scene/mitsuba/mitsuba_importer.h"
 #include "scene/mitsuba/mitsuba_shapes.h"
-#include "kernels/envmap.h"
+#include "scene/number.h"
+#include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
@@ -327,7 +329,7 @@ void Importer::emitter(Node n, int shape) {
         if (!p.has("filename")) p.fail(n, "an envmap needs a filename");
         const std::string path = resolve(p.getString("filename", ""));
         Image src;
-        try { src = readImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        try { src = readSceneImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
         if (src.width < 2 || src.height < 3) p.fail(n, "the environment map must be at least 2 x 3 pixels (Mitsuba's rule)");
         const float scale = p.getFloat("scale", 1.0f);
         if (!(scale >= 0)) p.fail(n, "scale must be >= 0");
@@ -341,6 +343,8 @@ void Importer::emitter(Node n, int shape) {
             }
         p.getBool("mis_compensation", false);  // sampling only
         s_.envMap = resampleEnvMap(src, M, scale);
+        for (float v : s_.envMap.rgb)  // finite pixels times a finite scale can overflow a float
+            if (!std::isfinite(v)) p.fail(n, path + ": its pixels times scale (" + numberText(scale) + ") are beyond a float's range");
         s_.settings.envMap = path;
     } else if (t == "constant") {  // a uniform sky: a 2 x 2 map of one colour
         const Vec3 L = p.getColor("radiance", Vec3(1.0f), Props::ColorUse::Emission);
@@ -430,10 +434,11 @@ void Importer::sensor(Node n) {
     }
     for (Node smp : p.nested("sampler")) {
         Props sp = props(smp);
-        const int count = sp.getInt("sample_count", 4);
-        if (count < 1) sp.fail(smp, "sample_count must be >= 1");
-        int k = int(std::ceil(std::sqrt(double(count)) - 1e-9));
-        s_.settings.samples = std::min(k, 4096);
+        const int64_t count = sp.getInt("sample_count", 4);
+        if (count < 1 || count > (int64_t(1) << 24))
+            sp.fail(smp, "sample_count " + std::to_string(count) + " is out of range [1, 16777216] (wavemmlt's limit, as --spp's)");
+        const int64_t k = int64_t(std::ceil(std::sqrt(double(count)) - 1e-9));
+        s_.settings.samples = int(k);
         if (k * k != count) warn(smp, "sample_count " + std::to_string(count) + " is rendered as " + std::to_string(k * k) + " (a square)");
         sp.getInt("seed", 0);
         sp.finish();

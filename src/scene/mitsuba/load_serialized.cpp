@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "scene/meshes/vertex_normals.h"
+#include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -234,10 +235,7 @@ void SerializedReader::run(int shapeIndex, bool smooth, TriangleMesh& out) {
 }  // namespace
 
 TriangleMesh loadSerialized(const std::string& path, int shapeIndex, bool smoothShading) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw InputError(path, 0, "cannot open the serialized file");
-    std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (f.bad()) throw InputError(path, 0, "cannot read the serialized file");
+    const std::string data = readWholeFile(path, "the serialized file");  // a regular file only
     TriangleMesh mesh;
     SerializedReader(path, data).run(shapeIndex, smoothShading, mesh);
     return mesh;

@@ -4,6 +4,7 @@
 
 #include "scene/features.h"
 #include "scene/mitsuba/mitsuba_importer.h"
+#include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 
@@ -65,7 +66,7 @@ int Importer::texture(Node n) {
         tex.kind = TextureKind::Bitmap;
         if (!p.has("filename")) p.fail(n, "a bitmap needs a filename");
         const std::string path = resolve(p.getString("filename", ""));
-        try { tex.image = readImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        try { tex.image = readSceneImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
         const std::string filter = p.getString("filter_type", "bilinear");
         if (filter == "nearest") tex.nearest = true;
         else if (filter != "bilinear") p.fail(n, "filter_type \"" + filter + "\" is not bilinear or nearest");

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "scene/number.h"
+#include "scene/read_file.h"
 #include "scene/spectrum.h"
 #include "scene/xml_nesting.h"
 #include "wavemmlt/error.h"
@@ -43,13 +44,12 @@ Node Files::add(const std::string& xml, const std::string& name) {
 }
 
 Node Files::addFile(const std::string& path, Node from) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) fail(from, "cannot open \"" + path + "\"");
     std::string xml;
-    char buf[1 << 16];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) xml.append(buf, n);
-    std::fclose(f);
+    try {
+        xml = readWholeFile(path, "the included file");  // a regular file only
+    } catch (const InputError& e) {
+        fail(from, e.what());
+    }
     return add(xml, path);
 }
 

@@ -1,9 +1,11 @@
 // pbrt-v4 scene files (docs/pbrt.md): the directives, the graphics state and transforms,
 // objects and instances, and the camera, film, sampler, integrator and filter.
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <filesystem>
 
+#include "scene/number.h"
 #include "scene/pbrt/pbrt_importer.h"
 #include "wavemmlt/error.h"
 
@@ -58,6 +60,12 @@ void Importer::transform(const Directive& d) {
     if (endTimeOnly_) return;  // motion: the end transform is read and not used
     if (d.name == "Transform") g_.ctm = T;
     else g_.ctm = g_.ctm * T;
+    // Finite numbers whose product is not (Scale 1e30 1e30 1e30 twice): every entry must stay
+    // a finite float, or the shapes it places would be NaN and infinities.
+    for (const auto& row : g_.ctm.m)
+        for (double x : row)
+            if (!(std::fabs(x) <= FLT_MAX))
+                fail(d.at, d.name + ": the transform so far has an entry of " + numberText(x) + ", beyond a float's range");
     if (std::fabs(g_.ctm.det3()) < 1e-30) fail(d.at, d.name + ": the transform is singular");
 }
 
@@ -93,15 +101,20 @@ void Importer::directive(Directive& d) {
         g_.reverse = !g_.reverse;
     } else if (n == "AttributeBegin" || n == "TransformBegin") {
         stack_.push_back(g_);
+        opened_.push_back(Directive{n, {}, {}, {}, d.at});
         if (stack_.size() > 10000) fail(d.at, n + " nested too deep");
     } else if (n == "AttributeEnd" || n == "TransformEnd") {
         if (stack_.empty()) fail(d.at, n + " without a matching begin");
+        const std::string& open = opened_.back().name;  // pbrt-v4: "mismatched nesting"
+        if (open != (n == "AttributeEnd" ? "AttributeBegin" : "TransformBegin"))
+            fail(d.at, n + " closes the " + open + " of line " + std::to_string(opened_.back().at.line) + " (mismatched nesting)");
         if (n == "TransformEnd") {
             g_.ctm = stack_.back().ctm;
         } else {
             g_ = stack_.back();
         }
         stack_.pop_back();
+        opened_.pop_back();
     } else if (n == "WorldBegin") {
         if (inWorld_) fail(d.at, "a second WorldBegin");
         inWorld_ = true;
@@ -154,13 +167,17 @@ void Importer::directive(Directive& d) {
         if (currentObject_ >= 0) fail(d.at, "ObjectBegin inside an object (nested objects are not supported)");
         if (objects_.count(d.strings[0])) fail(d.at, "object \"" + d.strings[0] + "\" defined twice");
         stack_.push_back(g_);
+        opened_.push_back(Directive{n, {}, {}, {}, d.at});
         currentObject_ = s_.groups++;
         objects_[d.strings[0]] = currentObject_;
     } else if (n == "ObjectEnd") {
         if (currentObject_ < 0) fail(d.at, "ObjectEnd without ObjectBegin");
+        if (opened_.back().name != "ObjectBegin")
+            fail(d.at, "ObjectEnd closes the " + opened_.back().name + " of line " + std::to_string(opened_.back().at.line) + " (mismatched nesting)");
         currentObject_ = -1;
         g_ = stack_.back();
         stack_.pop_back();
+        opened_.pop_back();
     } else if (n == "ObjectInstance") {
         if (currentObject_ >= 0) fail(d.at, "ObjectInstance inside an object (nested instancing is not supported)");
         auto it = objects_.find(d.strings[0]);
@@ -316,13 +333,13 @@ void Importer::camera() {
 void Importer::options() {
     // Sampler: pixelsamples, rounded up to a square n x n
     Params& sp = sampler_.params;
-    const int spp = sp.getInt("pixelsamples", 16);
-    if (spp < 1) fail(sampler_.at, "pixelsamples must be >= 1");
-    int n = int(std::ceil(std::sqrt(double(spp)) - 1e-9));
+    constexpr int64_t kMaxSpp = int64_t(1) << 24;  // --spp's limit: 4096 x 4096
+    const int64_t spp = sp.getInt("pixelsamples", 16, 1, kMaxSpp, "wavemmlt's limit, as --spp's");
+    const int64_t n = int64_t(std::ceil(std::sqrt(double(spp)) - 1e-9));
     if (n * n != spp) warn(sampler_.at, "pixelsamples " + std::to_string(spp) + " rounded up to " + std::to_string(n * n) + " (" + std::to_string(n) + " x " + std::to_string(n) + ")");
     for (const char* k : {"seed", "randomization", "jitter", "xsamples", "ysamples"})
         if (sp.has(k)) sp.find(k);
-    s_.settings.samples = n;
+    s_.settings.samples = int(n);
     if (!sampler_.name.empty()) done(sampler_);
     // Integrator: the tracer and pbrt's maxdepth (bounces) as path segments
     Params& ip = integrator_.params;
@@ -332,15 +349,13 @@ void Importer::options() {
     else if (type == "lightpath") s_.settings.tracer = TracerKind::LT;
     else if (type == "mlt") s_.settings.tracer = TracerKind::MMLT;
     else fail(integrator_.at, "Integrator \"" + type + "\" is not supported (path, volpath, bdpt, lightpath, mlt are)");
-    const int maxDepth = ip.getInt("maxdepth", 5);
-    if (maxDepth < 0) fail(integrator_.at, "maxdepth must be >= 0");
-    s_.settings.maxPathLength = std::min(maxDepth + 1, 64);
-    if (maxDepth + 1 > 64) warn(integrator_.at, "maxdepth above 63 becomes 63");
+    const int64_t maxDepth = ip.getInt("maxdepth", 5, 0, INT32_MAX);
+    s_.settings.maxPathLength = int(std::min<int64_t>(maxDepth + 1, 64));
+    if (maxDepth + 1 > 64) warn(ip.has("maxdepth") ? ip.find("maxdepth")->at : integrator_.at, "maxdepth above 63 becomes 63");
     if (ip.getBool("regularize", false)) fail(ip.find("regularize")->at, "regularize is not supported");
     if (type == "mlt") {
         s_.settings.probLarge = float(ip.getFloat("largestepprobability", 0.3));
-        const int mpp = ip.getInt("mutationsperpixel", 100);
-        if (mpp < 1) fail(integrator_.at, "mutationsperpixel must be >= 1");
+        const int64_t mpp = ip.getInt("mutationsperpixel", 100, 1, kMaxSpp, "wavemmlt's limit, as --spp's");
         s_.settings.samples = int(std::ceil(std::sqrt(double(mpp)) - 1e-9));
         for (const char* k : {"sigma", "bootstrapsamples", "chains"})
             if (ip.has(k)) warn(ip.find(k)->at, std::string(k) + " is read and not used (wavemmlt's MMLT chooses its own)");
@@ -381,15 +396,27 @@ void Importer::options() {
 }
 
 void Importer::finish() {
-    if (!stack_.empty()) warn(Loc{&path_, 0}, "AttributeBegin without AttributeEnd at the end of the file");
-    if (currentObject_ >= 0) fail(Loc{&path_, 0}, "ObjectBegin without ObjectEnd at the end of the file");
+    // pbrt-v4 refuses a file that ends inside a block, and so does wavemmlt: the block's line.
+    if (!opened_.empty()) {
+        const Directive& b = opened_.back();
+        const std::string end = b.name == "ObjectBegin" ? "ObjectEnd" : b.name == "TransformBegin" ? "TransformEnd" : "AttributeEnd";
+        fail(b.at, b.name + " without " + end + " (the file ends inside it)");
+    }
     film();
     camera();
     resolveMedia();
     options();
-    if (imagingRatio_ != 1) {
-        for (LightDesc& l : s_.lights) l.radiance = l.radiance * imagingRatio_;
-        for (float& v : s_.envMap.rgb) v *= imagingRatio_;
+    if (imagingRatio_ != 1) {  // each product checked: iso 1e30 on a light of 1e30 overflows a float
+        const Loc at = film_.name.empty() ? camera_.at : film_.at;
+        auto times = [&](float& v) {
+            const double x = double(v) * imagingRatio_;
+            if (!(std::fabs(x) <= FLT_MAX))
+                fail(at, "the film's imaging ratio (iso / 100 times the shutter time, " + numberText(imagingRatio_) +
+                             ") times an emitter's value (" + numberText(v) + ") is beyond a float's range");
+            v = float(x);
+        };
+        for (LightDesc& l : s_.lights) times(l.radiance.x), times(l.radiance.y), times(l.radiance.z);
+        for (float& v : s_.envMap.rgb) times(v);
     }
     if (s_.lights.empty() && s_.envMap.width == 0) fail(Loc{&path_, 0}, "the scene has no light");
     if (s_.shapes.empty()) fail(Loc{&path_, 0}, "the scene has no shape");

@@ -49,6 +49,7 @@ private:
     SceneDesc s_;
     State g_;
     std::vector<State> stack_;
+    std::vector<Directive> opened_;  // the AttributeBegin, TransformBegin or ObjectBegin of each stack_ entry
     std::map<std::string, Matrix> namedCoords_;
     std::map<std::string, int> namedMaterials_;
     std::map<std::string, int> textures_;       // spectrum and float textures by name (SceneDesc::textures)

@@ -3,17 +3,44 @@
 // Spectra of emitters are pbrt's: an rgb value as it is, any other spectrum scaled to a
 // luminance of 1 (Importer::spectrum, SpectrumUse::Illuminant).
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 #include "kernels/envmap.h"
+#include "scene/number.h"
 #include "scene/pbrt/equal_area.h"
 #include "scene/pbrt/pbrt_importer.h"
+#include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 
 namespace wmlt::pbrt {
 
 namespace {
+
+// A light's value times its scale (and its power or illuminance normalisation), each product
+// in double and checked: finite numbers whose product is not (rgb L 1e38 with scale 1e38,
+// power 1e38 on a sphere of radius 1e-10) would light nothing or poison the image with NaN.
+Vec3 scaled(const Loc& at, Vec3 L, double scale, const std::string& what) {
+    Vec3 out;
+    for (int i = 0; i < 3; ++i) {
+        const double v = double(L[i]) * scale;
+        if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+            fail(at, what + " times scale (" + numberText(L[i]) + " x " + numberText(scale) + ") is " +
+                         (std::isnan(v) ? "not a number" : "beyond a float's range"));
+        if (!(v >= 0)) fail(at, what + " times scale must be >= 0");
+        out[i] = float(v);
+    }
+    return out;
+}
+void scaleImage(const Loc& at, Image& im, double scale, const std::string& what) {
+    for (float& v : im.rgb) {
+        const double x = double(v) * scale;
+        if (!std::isfinite(x) || std::fabs(x) > FLT_MAX)
+            fail(at, what + ": a pixel (" + numberText(v) + ") times scale (" + numberText(scale) + ") is beyond a float's range");
+        v = float(x);
+    }
+}
 
 float luminanceOf(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
@@ -114,7 +141,7 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
         TextureDesc t;
         t.kind = TextureKind::Bitmap;
         try {
-            t.image = readImage(resolve(p.getString("filename", "")));
+            t.image = readSceneImage(resolve(p.getString("filename", "")));
         } catch (const InputError& e) {
             fail(f->at, e.what());
         }
@@ -150,8 +177,7 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
              : isParallelogram(sh.mesh) && !twoSided && image < 0 ? LightKind::Rect : LightKind::Mesh;
     l.twoSided = twoSided;
     l.texture = image;
-    l.radiance = L * float(scale);
-    if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "L times scale must be >= 0");
+    l.radiance = scaled(d.at, L, scale, power > 0 ? "L (normalised to its power)" : "L");
     l.shape = int(&sh - s_.shapes.data());
     sh.light = int(s_.lights.size());
     s_.lights.push_back(l);
@@ -184,7 +210,7 @@ void Importer::lightSource(Directive& d) {
         }
         const double power = p.getFloat("power", -1);
         if (power > 0) scale *= power / (ke * luminanceOf(I));
-        l.radiance = I * float(scale);
+        l.radiance = scaled(d.at, I, scale, power > 0 ? "I (normalised to its power)" : "I");
     } else if (type == "distant") {
         const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
         const Vec3 from = p.getPoint3("from", Vec3(0.0f)), to = p.getPoint3("to", Vec3(0, 0, 1));
@@ -194,7 +220,7 @@ void Importer::lightSource(Directive& d) {
         if (E > 0) scale *= E / luminanceOf(L);  // pbrt-v4: the illuminance on a facing surface
         l.kind = LightKind::Directional;
         l.direction = normalize(dir);
-        l.radiance = L * float(scale);
+        l.radiance = scaled(d.at, L, scale, E > 0 ? "L (normalised to its illuminance)" : "L");
     } else if (type == "infinite") {
         if (p.has("portal")) warn(p.find("portal")->at, "portal is read and not used");
         if (s_.envMap.width > 0) fail(d.at, "a second infinite light is not supported");
@@ -204,7 +230,7 @@ void Importer::lightSource(Directive& d) {
             const std::string path = resolve(p.getString("filename", ""));
             Image src;
             try {
-                src = readImage(path);
+                src = readSceneImage(path);
             } catch (const InputError& e) {
                 fail(d.at, e.what());
             }
@@ -216,12 +242,12 @@ void Importer::lightSource(Directive& d) {
                 if (!(e > 0)) fail(d.at, "illuminance: the map is black above the horizon");
                 scale *= E / e;
             }
-            for (float& v : s_.envMap.rgb) v *= float(scale);
+            scaleImage(d.at, s_.envMap, scale, path);
             return;
         }
         const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
         if (E > 0) scale *= E / (M_PI * luminanceOf(L));  // a constant sky: E = pi L on an upward surface
-        const Vec3 c = L * float(scale);
+        const Vec3 c = scaled(d.at, L, scale, E > 0 ? "L (normalised to its illuminance)" : "L");
         s_.envMap = Image(2, 2);
         for (int y = 0; y < 2; ++y)
             for (int x = 0; x < 2; ++x) s_.envMap.set(x, y, c);
@@ -232,7 +258,6 @@ void Importer::lightSource(Directive& d) {
     } else {
         fail(d.at, "unknown LightSource \"" + type + "\"");
     }
-    if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) fail(d.at, "the light's value times scale must be >= 0");
     s_.lights.push_back(l);
 }
 

@@ -9,8 +9,9 @@
 #include <filesystem>
 
 #include "kernels/texture.h"
-#include "scene/pbrt/pbrt_importer.h"
 #include "scene/number.h"
+#include "scene/pbrt/pbrt_importer.h"
+#include "scene/read_file.h"
 #include "scene/spectrum.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
@@ -356,7 +357,7 @@ int Importer::material(const std::string& type, Directive& d) {
         t.kind = TextureKind::Bitmap;
         const std::string path = resolve(p.getString("normalmap", ""));
         try {
-            t.image = readImage(path);
+            t.image = readSceneImage(path);
         } catch (const InputError& e) {
             fail(q->at, e.what());
         }
@@ -439,7 +440,7 @@ void Importer::texture(Directive& d) {
         if (f.empty()) fail(d.at, "imagemap needs \"string filename\"");
         const std::string path = resolve(f);
         try {
-            t.image = readImage(path);
+            t.image = readSceneImage(path);
         } catch (const InputError& e) {
             fail(d.at, e.what());
         }

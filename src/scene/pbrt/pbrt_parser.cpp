@@ -8,6 +8,7 @@
 #include "scene/number.h"
 #include "scene/read_file.h"
 #include "wavemmlt/error.h"
+#include "wavemmlt/quote.h"
 
 namespace wmlt::pbrt {
 
@@ -43,10 +44,10 @@ void expectType(const Param& p, std::initializer_list<const char*> types) {
         if (p.type == t) return;
     std::string want;
     for (const char* t : types) want += std::string(want.empty() ? "" : " or ") + t;
-    fail(p.at, "\"" + p.type + " " + p.name + "\": expected a " + want + " parameter");
+    fail(p.at, quoteToken(p.type + " " + p.name) + ": expected a " + want + " parameter");
 }
 void expectOne(const Param& p, size_t n) {
-    if (n != 1) fail(p.at, "\"" + p.type + " " + p.name + "\": expected one value, found " + std::to_string(n));
+    if (n != 1) fail(p.at, quoteToken(p.type + " " + p.name) + ": expected one value, found " + std::to_string(n));
 }
 }  // namespace
 
@@ -63,6 +64,13 @@ int Params::getInt(const std::string& name, int def) {
     expectType(*p, {"integer"});
     expectOne(*p, p->numbers.size());
     return int(p->numbers[0]);
+}
+int Params::getInt(const std::string& name, int def, int64_t lo, int64_t hi, const std::string& why) {
+    const int v = getInt(name, def);
+    if (const Param* p = find(name); p && (v < lo || v > hi))
+        fail(p->at, quoteToken(p->type + " " + p->name) + ": " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+                        std::to_string(hi) + "]" + (why.empty() ? "" : " (" + why + ")"));
+    return v;
 }
 bool Params::getBool(const std::string& name, bool def) {
     const Param* p = find(name);
@@ -81,9 +89,9 @@ std::string Params::getString(const std::string& name, const std::string& def) {
 std::vector<double> Params::getNumbers(const std::string& name, int count) {
     const Param* p = find(name);
     if (!p) return {};
-    if (!isNumeric(p->type)) fail(p->at, "\"" + p->type + " " + p->name + "\": expected numbers");
+    if (!isNumeric(p->type)) fail(p->at, quoteToken(p->type + " " + p->name) + ": expected numbers");
     if (count > 0 && p->numbers.size() % size_t(count) != 0)
-        fail(p->at, "\"" + p->type + " " + p->name + "\": " + std::to_string(p->numbers.size()) +
+        fail(p->at, quoteToken(p->type + " " + p->name) + ": " + std::to_string(p->numbers.size()) +
                         " values, not a multiple of " + std::to_string(count));
     return p->numbers;
 }
@@ -97,23 +105,40 @@ Vec3 Params::getPoint3(const std::string& name, Vec3 def) {
     const Param* p = find(name);
     if (!p) return def;
     expectType(*p, {"point3", "point", "vector3", "vector", "normal", "normal3"});
-    if (p->numbers.size() != 3) fail(p->at, "\"" + p->type + " " + p->name + "\": expected three values");
+    if (p->numbers.size() != 3) fail(p->at, quoteToken(p->type + " " + p->name) + ": expected three values");
     return Vec3(float(p->numbers[0]), float(p->numbers[1]), float(p->numbers[2]));
 }
 void Params::warnUnused(std::vector<std::string>& warnings) const {
     for (const Param& p : list)
         if (!p.used)
-            warnings.push_back(*p.at.file + ":" + std::to_string(p.at.line) + ": \"" + p.type + " " + p.name +
-                               "\": parameter not used by wavemmlt (ignored)");
+            warnings.push_back(*p.at.file + ":" + std::to_string(p.at.line) + ": " + quoteToken(p.type + " " + p.name) +
+                               ": parameter not used by wavemmlt (ignored)");
 }
 
 // ---- Tokens ---------------------------------------------------------------------------
 
+// The file is read in chunks (scene/read_file.h: a .gz inflated as it is read), so a binary
+// file or a gzip bomb fails at its first bad byte, and a token longer than kMaxToken (no
+// name, number or file name is) stops the reading where it starts.
+constexpr size_t kMaxToken = 4096;
+
 struct Parser::File {
-    std::string text, dir;
+    std::unique_ptr<FileStream> in;
+    std::string buf, dir;
     const std::string* name = nullptr;
     size_t pos = 0;
     int line = 1;
+    bool atEnd = false;
+    // The next byte (-1 at the end of the file), read on when the chunk is used up.
+    int peek() {
+        if (pos < buf.size()) return (unsigned char)buf[pos];
+        if (atEnd) return -1;
+        buf.resize(1 << 16);
+        buf.resize(in->read(buf.data(), buf.size()));
+        pos = 0;
+        if (buf.empty()) atEnd = true;
+        return atEnd ? -1 : (unsigned char)buf[0];
+    }
 };
 
 Parser::Parser(const std::string& path) { push(path, Loc{}); }
@@ -123,12 +148,12 @@ void Parser::push(const std::string& path, const Loc& from) {
     if (stack_.size() > 32) fail(from, "Include nested more than 32 deep (a recursive Include?)");
     const std::string norm = std::filesystem::path(path).lexically_normal().string();
     for (const auto& f : stack_)
-        if (*f->name == norm) fail(from, "\"" + path + "\" includes itself (a recursive Include)");
+        if (*f->name == norm) fail(from, quoteToken(path) + " includes itself (a recursive Include)");
     auto f = std::make_unique<File>();
     names_.push_back(std::make_unique<std::string>(norm));
     f->name = names_.back().get();
     try {
-        f->text = readWholeFile(norm, from.file ? "the included file" : "the scene file");
+        f->in = std::make_unique<FileStream>(norm, from.file ? "the included file" : "the scene file");
     } catch (const InputError& e) {
         if (!from.file) throw;
         fail(from, e.what());
@@ -136,6 +161,18 @@ void Parser::push(const std::string& path, const Loc& from) {
     f->dir = std::filesystem::path(norm).parent_path().string();
     stack_.push_back(std::move(f));
 }
+
+namespace {
+// A byte no pbrt text holds outside a quoted string: NUL and the control characters other
+// than white space.
+bool binaryByte(int c) { return c == 0 || (c < 32 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v') || c == 127; }
+std::string byteName(int c) {
+    if (c == 0) return "a NUL byte (a binary file?)";
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", c);
+    return std::string("a control byte ") + hex + " (a binary file?)";
+}
+}  // namespace
 
 bool Parser::read(Token& t) {
     if (peeked_) {
@@ -145,49 +182,73 @@ bool Parser::read(Token& t) {
     }
     while (!stack_.empty()) {
         File& f = *stack_.back();
-        const std::string& s = f.text;
-        while (f.pos < s.size()) {  // white space and comments
-            const char c = s[f.pos];
+        int c;
+        while ((c = f.peek()) >= 0) {  // white space and comments
             if (c == '\n') {
                 ++f.line;
                 ++f.pos;
-            } else if (std::isspace((unsigned char)c)) {
+            } else if (std::isspace(c)) {
                 ++f.pos;
             } else if (c == '#') {
-                while (f.pos < s.size() && s[f.pos] != '\n') ++f.pos;
+                while ((c = f.peek()) >= 0 && c != '\n') {
+                    if (c == 0) fail(Loc{f.name, f.line}, byteName(c));
+                    ++f.pos;
+                }
             } else {
                 break;
             }
         }
-        if (f.pos >= s.size()) {
+        if (c < 0) {
             if (stack_.size() == 1) return false;
             stack_.pop_back();
             continue;
         }
-        t = Token{};
+        t.text.clear();
+        t.quoted = false;
         t.at = Loc{f.name, f.line};
-        const char c = s[f.pos];
+        auto add = [&](char d) {
+            if (t.text.size() >= kMaxToken)
+                fail(t.at, std::string(t.quoted ? "a string" : "a token") + " longer than " + std::to_string(kMaxToken) +
+                               " bytes, starting " + quoteToken(t.text));
+            t.text += d;
+        };
+        if (binaryByte(c)) fail(t.at, byteName(c));
         if (c == '[' || c == ']') {
-            t.text = std::string(1, c);
+            t.text = std::string(1, char(c));
             ++f.pos;
         } else if (c == '"') {
+            // pbrt-v4's escapes: \b \f \n \r \t \\ \' \"; any other is an error, as in pbrt.
             t.quoted = true;
             ++f.pos;
             for (;;) {
-                if (f.pos >= s.size() || s[f.pos] == '\n') fail(t.at, "unterminated string");
-                char d = s[f.pos++];
+                int d = f.peek();
+                if (d < 0 || d == '\n') fail(t.at, "unterminated string");
+                if (d == 0) fail(t.at, byteName(d));
+                ++f.pos;
                 if (d == '"') break;
                 if (d == '\\') {
-                    if (f.pos >= s.size()) fail(t.at, "unterminated string");
-                    d = s[f.pos++];
-                    d = d == 'n' ? '\n' : d == 't' ? '\t' : d;
+                    const int e = f.peek();
+                    if (e < 0 || e == '\n') fail(t.at, "unterminated string");
+                    ++f.pos;
+                    switch (e) {
+                        case 'b': d = '\b'; break;
+                        case 'f': d = '\f'; break;
+                        case 'n': d = '\n'; break;
+                        case 'r': d = '\r'; break;
+                        case 't': d = '\t'; break;
+                        case '\\': case '\'': case '"': d = e; break;
+                        default:
+                            fail(t.at, "unexpected escaped character " + quoteToken(std::string("\\") + char(e)) + " in the string " +
+                                           quoteToken(t.text) + " (pbrt-v4 takes \\b \\f \\n \\r \\t \\\\ \\' \\\")");
+                    }
                 }
-                t.text += d;
+                add(char(d));
             }
         } else {
-            while (f.pos < s.size() && !std::isspace((unsigned char)s[f.pos]) && s[f.pos] != '"' && s[f.pos] != '[' &&
-                   s[f.pos] != ']' && s[f.pos] != '#')
-                t.text += s[f.pos++];
+            for (int d; (d = f.peek()) >= 0 && !std::isspace(d) && d != '"' && d != '[' && d != ']' && d != '#'; ++f.pos) {
+                if (binaryByte(d)) fail(t.at, byteName(d) + " after " + quoteToken(t.text));
+                add(char(d));
+            }
         }
         return true;
     }
@@ -238,9 +299,15 @@ const Shape kDirectives[] = {
     {"Texture", 3, 0, true, false},         {"Include", 1, 0, false, false},
     {"Import", 1, 0, false, false}};
 
+// A bare token as the file has it (cut and escaped as quoteToken() does, without the quotes).
+std::string shownBare(const std::string& text) {
+    const std::string q = quoteToken(text);
+    return q.substr(1, q.rfind('"') - 1) + q.substr(q.rfind('"') + 1);
+}
+
 double toNumber(const std::string& text, const Loc& at, const std::string& what) {
     double v = 0;
-    if (!parseNumber(text, false, v)) fail(at, "\"" + text + "\" is not a number (" + what + ")");
+    if (!parseNumber(text, false, v)) fail(at, quoteToken(text) + " is not a number (" + quoteToken(what) + ")");
     return v;
 }
 
@@ -254,41 +321,43 @@ void Parser::param(Directive& d, const Token& decl) {
     const size_t b = s.find_first_not_of(" \t"), m = s.find_first_of(" \t", b == std::string::npos ? 0 : b);
     const size_t c = m == std::string::npos ? m : s.find_first_not_of(" \t", m);
     if (b == std::string::npos || c == std::string::npos)
-        fail(decl.at, "\"" + s + "\" is not a parameter declaration (\"type name\")");
+        fail(decl.at, quoteToken(s) + " is not a parameter declaration (\"type name\")");
     p.type = s.substr(b, m - b);
     p.name = s.substr(c, s.find_last_not_of(" \t") + 1 - c);
-    if (p.name.find_first_of(" \t") != std::string::npos) fail(decl.at, "\"" + s + "\" is not a parameter declaration (\"type name\")");
-    if (std::find(kTypes.begin(), kTypes.end(), p.type) == kTypes.end()) fail(decl.at, "unknown parameter type \"" + p.type + "\"");
-    if (d.params.has(p.name)) fail(decl.at, "parameter \"" + p.name + "\" given twice");
-    // Values: one bare value or a bracketed list.
-    std::vector<Token> values;
-    Token t;
-    if (!read(t)) fail(decl.at, "\"" + s + "\": missing value");
-    if (t.text == "[" && !t.quoted) {
-        for (;;) {
-            if (!read(t)) fail(decl.at, "\"" + s + "\": unterminated [");
-            if (t.text == "]" && !t.quoted) break;
-            if (t.text == "[" && !t.quoted) fail(t.at, "\"" + s + "\": [ inside [");
-            values.push_back(t);
-        }
-    } else {
-        values.push_back(t);
-    }
-    const bool spectrumNames = p.type == "spectrum" && !values.empty() && values[0].quoted;
-    for (const Token& v : values) {
+    if (p.name.find_first_of(" \t") != std::string::npos) fail(decl.at, quoteToken(s) + " is not a parameter declaration (\"type name\")");
+    if (std::find(kTypes.begin(), kTypes.end(), p.type) == kTypes.end()) fail(decl.at, "unknown parameter type " + quoteToken(p.type));
+    if (d.params.has(p.name)) fail(decl.at, "parameter " + quoteToken(p.name) + " given twice");
+    // Values: one bare value or a bracketed list, each converted as it is read (a token is
+    // not kept: a mesh's million numbers take 8 bytes each).
+    const std::string what = quoteToken(s);
+    bool first = true, spectrumNames = false;
+    auto value = [&](const Token& v) {
+        if (first) spectrumNames = p.type == "spectrum" && v.quoted, first = false;
         if (p.type == "bool") {
-            if (v.text != "true" && v.text != "false") fail(v.at, "\"" + s + "\": \"" + v.text + "\" is not true or false");
+            if (v.text != "true" && v.text != "false") fail(v.at, what + ": " + quoteToken(v.text) + " is not true or false");
             p.bools.push_back(v.text == "true");
         } else if (isStringy(p.type) || spectrumNames) {
-            if (!v.quoted) fail(v.at, "\"" + s + "\": expected a quoted string, found " + v.text);
+            if (!v.quoted) fail(v.at, what + ": expected a quoted string, found " + quoteToken(v.text));
             p.strings.push_back(v.text);
         } else {
-            if (v.quoted) fail(v.at, "\"" + s + "\": expected a number, found \"" + v.text + "\"");
+            if (v.quoted) fail(v.at, what + ": expected a number, found " + quoteToken(v.text));
             const double x = toNumber(v.text, v.at, s);
             if (p.type == "integer" && (x != std::floor(x) || std::fabs(x) > 2147483647.0))
-                fail(v.at, "\"" + s + "\": " + v.text + " is not an integer (of 32 bits)");
+                fail(v.at, what + ": " + quoteToken(v.text) + " is not an integer (of 32 bits)");
             p.numbers.push_back(x);
         }
+    };
+    Token t;
+    if (!read(t)) fail(decl.at, what + ": missing value");
+    if (t.text == "[" && !t.quoted) {
+        for (;;) {
+            if (!read(t)) fail(decl.at, what + ": unterminated [");
+            if (t.text == "]" && !t.quoted) break;
+            if (t.text == "[" && !t.quoted) fail(t.at, what + ": [ inside [");
+            value(t);
+        }
+    } else {
+        value(t);
     }
     d.params.list.push_back(std::move(p));
 }
@@ -300,12 +369,12 @@ bool Parser::next(Directive& d) {
         if (!read(t)) return false;
         double number = 0;
         if (t.quoted || t.text == "[" || t.text == "]" || parseNumber(t.text, false, number))
-            fail(t.at, "expected a directive, found " + (t.quoted ? "\"" + t.text + "\"" : t.text) +
+            fail(t.at, "expected a directive, found " + (t.quoted ? quoteToken(t.text) : shownBare(t.text)) +
                            (t.text == "[" || t.quoted ? "" : " (a value outside a parameter's brackets?)"));
         const Shape* shape = nullptr;
         for (const Shape& k : kDirectives)
             if (t.text == k.name) shape = &k;
-        if (!shape) fail(t.at, "unknown directive \"" + t.text + "\"");
+        if (!shape) fail(t.at, "unknown directive " + quoteToken(t.text));
         d.name = t.text;
         d.at = t.at;
         const int strings = shape->strings < 0 ? 1 : shape->strings;

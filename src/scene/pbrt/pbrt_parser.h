@@ -2,10 +2,13 @@
 // (quoted strings, numbers, bare words, brackets; '#' comments), each directive with its
 // positional arguments and its parameter list ("type name" value | [values]). Include and
 // Import are followed here (relative to the scene file's folder, as pbrt-v4 resolves every
-// file name; .gz inflated), so the
-// importer sees one stream. Every error is an InputError naming the file (the included one
-// where it is) and the line.
+// file name), so the importer sees one stream. Files are read in chunks, a .gz inflated as it
+// is read, and each value converted as it is read: memory is what the parsed scene holds,
+// and a binary file or a gzip bomb fails at its first bad byte. pbrt-v4's strictness:
+// unknown escapes are errors. Every error is an InputError naming the file (the included
+// one where it is) and the line, quoting at most 60 characters of a token.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +42,9 @@ public:
     bool has(const std::string& name) const;
     double getFloat(const std::string& name, double def);
     int getInt(const std::string& name, int def);
+    // An integer in [lo, hi]: else an InputError at the parameter's line that names the range
+    // (`why` says where the bound comes from).
+    int getInt(const std::string& name, int def, int64_t lo, int64_t hi, const std::string& why = "");
     bool getBool(const std::string& name, bool def);
     std::string getString(const std::string& name, const std::string& def);
     // All of a parameter's numbers, `count` per item when count > 0 (checked).

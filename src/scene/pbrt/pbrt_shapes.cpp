@@ -2,11 +2,12 @@
 // patch), sphere (wavemmlt's sphere when whole and uniformly scaled, else a mesh), disk and
 // cylinder (meshes), each with its area light and alpha; inside ObjectBegin, a group's
 // triangle meshes.
+#include <algorithm>
 #include <cmath>
 
-#include "scene/pbrt/pbrt_importer.h"
 #include "scene/features.h"
 #include "scene/meshes/loop_subdivision.h"
+#include "scene/pbrt/pbrt_importer.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt::pbrt {
@@ -197,6 +198,11 @@ void Importer::shape(Directive& d) {
             orient(m, reverse != (g_.ctm.det3() < 0));
         }
     }
+    // Finite numbers whose product is not: coordinates times the transform past a float's range.
+    auto finite = [](Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    if (analyticSphere ? !(finite(sh.center) && std::isfinite(sh.radius) && sh.radius > 0)
+                       : !std::all_of(m.positions.begin(), m.positions.end(), finite))
+        fail(d.at, "Shape \"" + type + "\": its coordinates times the transform are beyond a float's range (or a radius underflows to 0)");
     // alpha: pbrt's cut-out, as the material's opacity on a copy for this shape
     int alphaTex = -1;
     const float alpha = floatParam(p, "alpha", 1, alphaTex);

@@ -14,6 +14,7 @@
 
 #include "scene/filter_desc.h"
 #include "scene/number.h"
+#include "scene/read_file.h"
 #include "scene/transform.h"
 #include "scene/xml_nesting.h"
 #include "wavemmlt/error.h"
@@ -219,20 +220,13 @@ private:
     }
     Image image(Node n, const std::string& path) {
         Image img;
-        try { img = readImage(path); } catch (const InputError& e) { fail(n, e.what()); }
+        try { img = readSceneImage(path); } catch (const InputError& e) { fail(n, e.what()); }
         if (img.width <= 0 || img.height <= 0) fail(n, path + ": the image is empty (0 x 0)");
-        // (choice) NaN or infinite pixels are an error (they would poison every sample
-        // that sees them); negative ones (filtering ringing in EXR files) are set to 0.
+        // (choice) NaN or infinite pixels are an error (readSceneImage); negative ones
+        // (filtering ringing in EXR files) are set to 0.
         size_t negative = 0;
-        for (size_t i = 0; i < img.rgb.size(); ++i) {
-            float& v = img.rgb[i];
-            if (!std::isfinite(v)) {
-                const size_t px = i / 3;
-                fail(n, path + ": pixel (" + std::to_string(px % size_t(img.width)) + ", " +
-                            std::to_string(px / size_t(img.width)) + ") is " + (std::isnan(v) ? "NaN" : "infinite"));
-            }
+        for (float& v : img.rgb)
             if (v < 0) { v = 0; ++negative; }
-        }
         if (negative)
             warn(n, path + ": " + std::to_string(negative) + " negative pixel values set to 0");
         return img;
@@ -696,15 +690,7 @@ SceneDesc loadScene(const std::string& path, const Defines& defines) {
         if (!defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
         return loadPbrt(path);
     }
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) throw InputError(path, 0, "cannot open the scene file");
-    std::string xml;
-    char buf[1 << 16];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) xml.append(buf, n);
-    const bool bad = std::ferror(f);
-    std::fclose(f);
-    if (bad) throw InputError(path, 0, "cannot read the scene file");
+    const std::string xml = readWholeFile(path, "the scene file");  // a regular file only
     const std::string base = std::filesystem::path(path).parent_path().string();
     const bool mitsuba = isMitsubaXml(xml);
     if (!mitsuba && !defines.empty())
