@@ -5,13 +5,13 @@
 # Prints the inputs each target ran; exits non-zero on any finding (crash, sanitizer report,
 # uncaught exception other than wmlt::InputError, timeout, out-of-memory) and keeps the input
 # in build-fuzz/findings/<target>/ (copy it to tests/fuzz/regressions/<target>/ once fixed).
-#   FUZZ_SECONDS   fuzzing time per target (default 8; 11 targets: about a minute and a half in all)
-#   FUZZ_TARGETS   the targets to run (default: scene pbrt obj ply serialized png jpeg tga exr hdr pfm)
+#   FUZZ_SECONDS   fuzzing time per target (default 8; 12 targets: about a minute and a half in all)
+#   FUZZ_TARGETS   the targets to run (default: scene pbrt pbrtgz obj ply serialized png jpeg tga exr hdr pfm)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=${FUZZ_SECONDS:-8}
-targets=(${FUZZ_TARGETS:-scene pbrt obj ply serialized png jpeg tga exr hdr pfm})
+targets=(${FUZZ_TARGETS:-scene pbrt pbrtgz obj ply serialized png jpeg tga exr hdr pfm})
 out=build-fuzz
 
 if ! command -v clang++ >/dev/null; then

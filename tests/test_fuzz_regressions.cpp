@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../fuzz/gzip_members.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/scene_desc.h"
@@ -119,6 +120,34 @@ TEST_CASE("fuzz corpus and regressions: pbrt-v4 importer", "[fuzz][pbrt]") {
             if (run(f, [&] { loadPbrt(f.string()); }) == Outcome::Loaded) ++loaded;
         }
     CHECK(loaded >= 3);  // the Cornell boxes
+}
+
+TEST_CASE("fuzz corpus and regressions: pbrt-v4 .pbrt.gz files", "[fuzz][pbrt]") {
+    // As fuzz_pbrt_gz feeds them: text gzipped in two members, gzip files as they are (two
+    // members, truncated, NULs); in a temporary folder (the files they name are absent).
+    const auto seeds = inputs("corpus", "pbrtgz");
+    REQUIRE(seeds.size() >= 5);
+    int loaded = 0;
+    for (const auto& kind : {"corpus", "regressions"})
+        for (const fs::path& f : inputs(kind, "pbrtgz")) {
+            INFO(f.string());
+            std::FILE* in = std::fopen(f.c_str(), "rb");
+            REQUIRE(in);
+            std::string bytes;
+            char buf[4096];
+            for (size_t n; (n = std::fread(buf, 1, sizeof buf, in)) > 0;) bytes.append(buf, n);
+            std::fclose(in);
+            const std::string gz = fuzz::asGzip(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+            const fs::path path = fs::temp_directory_path() / ("wavemmlt-fuzz-regression-" + std::to_string(::getpid()) + ".pbrt.gz");
+            std::FILE* out = std::fopen(path.c_str(), "wb");
+            REQUIRE(out);
+            std::fwrite(gz.data(), 1, gz.size(), out);
+            std::fclose(out);
+            const Outcome o = run(f, [&] { loadPbrt(path.string()); });
+            fs::remove(path);
+            if (o == Outcome::Loaded) ++loaded;
+        }
+    CHECK(loaded >= 2);  // the Cornell box (its meshes are inline) and smallpt in two members
 }
 
 TEST_CASE("fuzz corpus and regressions: OBJ loader", "[fuzz]") {
