@@ -41,7 +41,9 @@ inline std::string cube(wmlt::Vec3 c, float h, bool inward) {
 }
 
 // A furnace: `medium` (pbrt text making a medium named `name`) around the camera, in a
-// closed box [-2, 2]^3 of black walls emitting 1 inwards, 8 x 8.
+// closed box [-2, 2]^3 of black walls emitting 1 inwards, 8 x 8. The walls are no boundary
+// (inside and outside the same medium) and their lights are in the medium: pbrt-v4's rule, a
+// light's medium is the MediumInterface in force at its directive.
 inline std::string furnace(const std::string& medium, const std::string& name) {
     return medium + R"(
 LookAt 0 0 -1.5  0 0 0  0 1 0
@@ -50,7 +52,7 @@ Camera "perspective" "float fov" [ 60 ]
 Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
 PixelFilter "box"
 WorldBegin
-MediumInterface "" ""
+MediumInterface ")" + name + R"(" ")" + name + R"("
 AttributeBegin
 Material "diffuse" "rgb reflectance" [ 0 0 0 ]
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]

@@ -195,7 +195,8 @@ TEST_CASE("media in PT: single scattering of a point light in an infinite medium
 TEST_CASE("media in PT: white furnaces, the camera in the medium and the medium behind boundaries", "[media][render]") {
     // A closed box emitting L = 1 inwards from black walls, filled with a medium of albedo 1
     // (sigma_s 1.3, g 0.5): every ray ends on a wall, so the radiance is 1 everywhere. First
-    // the camera in the medium (the walls are no boundaries); then a smaller box of it
+    // the camera in the medium (the walls are no boundaries, their lights in the medium as
+    // pbrt-v4's rule needs them declared); then a smaller box of it
     // inside, bounded by the interface material, the camera outside it in vacuum (paths
     // leave the medium through boundaries, and light reaches it through them).
     const std::string head = R"(LookAt 0 0 -1.5  0 0 0  0 1 0
@@ -207,7 +208,7 @@ MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0 0 0 ] "rgb s
 Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
 PixelFilter "box"
 )";
-    const SceneDesc inMedium = loadText("furnace-a.pbrt", head + "MediumInterface \"\" \"fog\"\n" + film + "WorldBegin\nMediumInterface \"\" \"\"\n" + walls);
+    const SceneDesc inMedium = loadText("furnace-a.pbrt", head + "MediumInterface \"\" \"fog\"\n" + film + "WorldBegin\nMediumInterface \"fog\" \"fog\"\n" + walls);
     const SceneDesc boxed = loadText("furnace-b.pbrt", head + film + "WorldBegin\n" + walls +
                                                         "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"fog\" \"\"\n" +
                                                         media_scenes::cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
@@ -578,13 +579,21 @@ TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
                Catch::Contains("m3.pbrt:5") && Catch::Contains("no medium named \"nope\""));
     CHECK_THAT(errorOf("m4.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"uniformgrid\"\nShape \"sphere\"\n"),
                Catch::Contains("m4.pbrt:4") && Catch::Contains("uniformgrid"));
-    // an open mesh as a pass-through boundary: it has no inside (checked when the scene is built)
+    // an open mesh as a pass-through boundary: legal in pbrt's files (a ray's medium is set by
+    // the side it leaves through), refused in the thesis format's (it has no inside)
     const SceneDesc open = loadText("m5.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nMediumInterface \"f\" \"\"\n"
                                                       "Material \"interface\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n");
+    CHECK(open.mediaAsDeclared);
+    CHECK_NOTHROW(render(open, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2)));
+    const SceneDesc plane = loadText("m5.xml", R"(<Scene><Camera><Position x="0" y="0" z="-1"/><LookAt x="0" y="0" z="0"/><FOV value="60"/></Camera>
+<Medium Type="Homogeneous" ID="1"><SigmaS r="1" g="1" b="1"/></Medium><Shader Type="Interface" ID="0"/>
+<Light Type="Sphere" ID="l"><Position x="0" y="2" z="0"/><Radius value="0.1"/><Intensity value="1"/></Light>
+<Geometry Type="Plane" ID="p" Medium="1"><Position x="0" y="0" z="0"/><Width value="1"/><Depth value="1"/><Shader value="0"/></Geometry>
+</Scene>)");
     try {
-        render(open, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2));
-        FAIL("rendered an open boundary");
+        render(plane, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2));
+        FAIL("rendered an open boundary of the thesis format");
     } catch (const InputError& e) {
-        CHECK_THAT(std::string(e.what()), Catch::Contains("m5.pbrt:7") && Catch::Contains("open mesh"));
+        CHECK_THAT(std::string(e.what()), Catch::Contains("m5.xml:4") && Catch::Contains("open mesh"));
     }
 }

@@ -39,7 +39,8 @@ void checkAgree(const std::vector<rstats::RunStats>& a, const std::vector<rstats
 }
 
 // A closed diffuse box [-2, 2]^3 lit by an area light under its ceiling, the camera inside
-// in `medium` (a MakeNamedMedium named "m").
+// in `medium` (a MakeNamedMedium named "m"); the walls no boundary ("m" on both sides) and
+// the light in "m" (pbrt-v4's rule: the MediumInterface in force at its directive).
 std::string box(const std::string& medium) {
     return medium + R"(
 LookAt 0 0 -1.8  0 0 0  0 1 0
@@ -48,7 +49,7 @@ Camera "perspective" "float fov" [ 70 ]
 Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
 PixelFilter "box"
 WorldBegin
-MediumInterface "" ""
+MediumInterface "m" "m"
 Material "diffuse" "rgb reflectance" [ 0.7 0.6 0.5 ]
 Shape "trianglemesh" "point3 P" [ -2 -2 -2  2 -2 -2  2 -2 2  -2 -2 2  -2 2 -2  2 2 -2  2 2 2  -2 2 2 ]
   "integer indices" [ 0 2 1 0 3 2  4 5 6 4 6 7  3 6 2 3 7 6  0 4 7 0 7 3  1 2 6 1 6 5  0 1 5 0 5 4 ]

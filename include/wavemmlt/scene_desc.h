@@ -317,6 +317,11 @@ struct LightDesc {
     // Mesh: emits alike from both faces (pbrt-v4's `twosided` area light), each face as a
     // one-sided emitter would; else from the front face only.
     bool twoSided = false;
+    // The media its light leaves into from its front and back (index into SceneDesc::media,
+    // -1: vacuum), as the file declares them (pbrt-v4: the MediumInterface in force at its
+    // directive); kMediumUndeclared: found by the scene model's rule (docs/media.md).
+    static constexpr int kMediumUndeclared = -2;
+    int mediumFront = kMediumUndeclared, mediumBack = kMediumUndeclared;
 };
 
 struct SceneDesc {
@@ -332,6 +337,11 @@ struct SceneDesc {
     std::vector<InstanceDesc> instances;  // their placements
     std::vector<MediumDesc> media;
     int cameraMedium = -1;  // the medium the camera is in (index into media, -1: vacuum)
+    // pbrt-v4's and Mitsuba's rules (their importers set it): a pass-through boundary may be an
+    // open mesh (a ray's medium is set by the side it leaves through), and the camera's medium
+    // is not checked against a closed boundary around it: what the file declares is rendered,
+    // as their renderers do. The thesis format keeps both checks.
+    bool mediaAsDeclared = false;
     Image envMap;  // empty (0 x 0) when none
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };

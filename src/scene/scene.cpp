@@ -260,8 +260,8 @@ void buildMedia(const SceneDesc& d, Scene& s) {
         // A surface that scatters decides a ray's medium by the side the ray leaves on, open or
         // not (pbrt-v4's walls between "" and fog); a ray crossing an open pass-through
         // boundary could end up "inside" something with no inside.
-        if (sh.passThrough && sh.mediumBoundary && sh.mediumInside != sh.mediumOutside && sh.kind == ShapeKind::Mesh &&
-            !closedMesh(sh.mesh))
+        if (!d.mediaAsDeclared && sh.passThrough && sh.mediumBoundary && sh.mediumInside != sh.mediumOutside &&
+            sh.kind == ShapeKind::Mesh && !closedMesh(sh.mesh))
             throw InputError(d.path, sh.line, "a pass-through medium boundary on an open mesh (it has no inside): close it");
     }
 }
@@ -303,7 +303,7 @@ std::string mediumName(const SceneDesc& d, int m) { return m < 0 ? "vacuum" : "m
 // A camera at `position` inside a closed boundary whose inside is not the camera's medium:
 // refused, naming the boundary.
 void checkCameraMedium(const SceneDesc& d, Scene& s, Vec3 position) {
-    if (!s.features.media) return;
+    if (!s.features.media || d.mediaAsDeclared) return;
     if (const int e = enclosingBoundary(s, d, position, s.closedShapes); e >= 0 && d.shapes[size_t(e)].mediumInside != s.cameraMedium)
         throw InputError(d.path, d.shapes[size_t(e)].line,
                          "the camera is inside this closed boundary, whose inside is " + mediumName(d, d.shapes[size_t(e)].mediumInside) +
@@ -323,7 +323,12 @@ void placeLightsInMedia(const SceneDesc& d, Scene& s) {
     for (const LightDesc& ld : d.lights) {
         const ShapeDesc* sh = ld.shape >= 0 ? &d.shapes[size_t(ld.shape)] : nullptr;
         int front = s.cameraMedium, back = s.cameraMedium;
-        if (sh && sh->mediumBoundary) {  // an emitter on a boundary: its sides' media
+        if (ld.mediumFront != LightDesc::kMediumUndeclared) {  // as the file declares (pbrt-v4)
+            if (ld.mediumFront < -1 || ld.mediumFront >= int(d.media.size()) || ld.mediumBack < -1 || ld.mediumBack >= int(d.media.size()))
+                throw InputError(d.path, 0, "a light names an unknown medium");
+            front = ld.mediumFront;
+            back = ld.mediumBack;
+        } else if (sh && sh->mediumBoundary) {  // an emitter on a boundary: its sides' media
             front = sh->mediumOutside;
             back = sh->mediumInside;
         } else if (ld.kind != LightKind::Directional) {  // inside a closed boundary: its inside medium

@@ -533,6 +533,7 @@ SceneDesc Importer::run(const std::string& xml, const std::string& name) {
     s_.settings.tracer = TracerKind::PT;  // Mitsuba's default integrator is `path`
     s_.settings.maxPathLength = kMaxPathLength;
     s_.settings.output = std::filesystem::path(name).stem().string() + ".exr";
+    s_.mediaAsDeclared = true;  // interior and exterior as pbrt-v4's MediumInterface: open boundaries are legal
     collect(root, 0);
     substitute(files_, root, params_);
     topLevel(root);

@@ -375,6 +375,7 @@ void Importer::options() {
             sh.mediumBoundary = false;
             sh.mediumInside = sh.mediumOutside = -1;
         }
+        for (LightDesc& l : s_.lights) l.mediumFront = l.mediumBack = -1;
     }
     // PixelFilter (pbrt's default: gaussian, radius 1.5, sigma 0.5)
     FilterDesc& f = s_.filter;

@@ -58,6 +58,7 @@ private:
     std::map<std::string, int> objects_;        // ObjectBegin name -> group
     std::map<std::string, int> namedMedia_;     // MakeNamedMedium name -> SceneDesc::media
     std::vector<PendingMedia> pendingMedia_;
+    std::vector<PendingMedia> pendingLightMedia_;  // (shape: the light's index) its front (outside) and back (inside) media
     std::string cameraMedium_;
     Loc cameraAt_;
     int currentObject_ = -1;

@@ -180,6 +180,7 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
     l.radiance = scaled(d.at, L, scale, power > 0 ? "L (normalised to its power)" : "L");
     l.shape = int(&sh - s_.shapes.data());
     sh.light = int(s_.lights.size());
+    pendingLightMedia_.push_back({sh.light, g_.insideMedium, g_.outsideMedium, d.at});  // the shape's MediumInterface
     s_.lights.push_back(l);
     d.params.warnUnused(s_.warnings);
 }
@@ -258,6 +259,8 @@ void Importer::lightSource(Directive& d) {
     } else {
         fail(d.at, "unknown LightSource \"" + type + "\"");
     }
+    // pbrt-v4: a light is in the outside medium of the MediumInterface in force at its directive
+    pendingLightMedia_.push_back({int(s_.lights.size()), g_.outsideMedium, g_.outsideMedium, d.at});
     s_.lights.push_back(l);
 }
 

@@ -104,6 +104,14 @@ void Importer::resolveMedia() {
         sh.mediumOutside = index(pm.outside, pm.at);
     }
     s_.cameraMedium = index(cameraMedium_, cameraAt_);
+    // pbrt-v4's rules: the media are what the file declares (an open pass-through boundary is
+    // legal; a light's media are the MediumInterface in force at its directive)
+    s_.mediaAsDeclared = true;
+    for (const PendingMedia& pm : pendingLightMedia_) {
+        LightDesc& l = s_.lights[size_t(pm.shape)];
+        l.mediumFront = index(pm.outside, pm.at);
+        l.mediumBack = index(pm.inside, pm.at);
+    }
 }
 
 }  // namespace wmlt::pbrt
