@@ -155,8 +155,6 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
     const Vec3 L = image >= 0 ? Vec3(1.0f) : spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
     double scale = p.getFloat("scale", 1);
     const bool twoSided = p.getBool("twosided", false);
-    if (twoSided && sh.kind == ShapeKind::Sphere)
-        fail(p.find("twosided")->at, "a two-sided sphere light is not supported (its inside is never seen from outside)");
     const double power = p.getFloat("power", -1);
     if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L, twice from two faces;
                       // an image's: its pixels' mean luminance for L)

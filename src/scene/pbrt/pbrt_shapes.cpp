@@ -128,7 +128,11 @@ void Importer::shape(Directive& d) {
                                  std::fabs(dot(ay, az)) < 1e-5f * s * s;
             const bool whole = zmin <= -r && zmax >= r && phiMax >= 2 * M_PI;
             const double thMin = std::acos(zmin / r), thMax = std::acos(zmax / r);
-            if (whole && similar && currentObject_ < 0 && !(g_.areaLight && reverse) &&
+            // A two-sided light is a mesh (wavemmlt's analytic sphere light emits outwards only):
+            // seen from inside too, as in a furnace around the camera.
+            Params light = g_.areaLightDirective.params;
+            const bool twoSidedLight = g_.areaLight && light.getBool("twosided", false);
+            if (whole && similar && currentObject_ < 0 && !(g_.areaLight && reverse) && !twoSidedLight &&
                 (sh.material < 0 || !readsTexture(s_, s_.materials[size_t(sh.material)]))) {
                 analyticSphere = true;
                 sh.kind = ShapeKind::Sphere;
