@@ -169,6 +169,15 @@ TEST_CASE("Mitsuba import: integrator max_depth and the tracer", "[mitsuba][impo
     SceneDesc u = load(scene(kSensor + R"(<integrator type="path"><integer name="max_depth" value="-1"/></integrator>)"));
     CHECK(u.settings.maxPathLength == 64);
     CHECK(u.warnings.size() == 1);
+    // An integrator wavemmlt lacks: refused, unless the command line gives the tracer (a
+    // warning naming its line, its parameters ignored)
+    const std::string aov = scene(kSensor + R"(<integrator type="aov"><string name="aovs" value="dd.y:depth"/></integrator>)");
+    CHECK(errorOf(aov).find("t.xml:6:") == 0);
+    CHECK(errorOf(aov).find("--tracer") != std::string::npos);
+    const SceneDesc a = loadMitsubaFromString(aov, "t.xml", ".", {}, LoadOptions{true});
+    REQUIRE(a.warnings.size() == 1);
+    CHECK(a.warnings[0].find("t.xml:6") != std::string::npos);
+    CHECK(a.warnings[0].find("\"aov\" is not one of wavemmlt's") != std::string::npos);
 }
 
 TEST_CASE("Mitsuba import: bad inputs name file, line and plugin", "[mitsuba][import][bad-input]") {

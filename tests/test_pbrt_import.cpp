@@ -110,6 +110,25 @@ Shape "sphere"
     CHECK(e.camera.fovDegrees == 90.0f);
 }
 
+TEST_CASE("pbrt import: an integrator wavemmlt lacks is replaced by the command line's tracer", "[pbrt][import]") {
+    const std::string text = "Integrator \"sppm\" \"integer maxdepth\" 4 \"float radius\" 0.1\n" + kHead + kFloor + "LightSource \"point\"\n";
+    CHECK_THAT(errorOf(text, "sppm.pbrt"), Catch::Contains("sppm.pbrt:1:") && Catch::Contains("--tracer"));
+    const SceneDesc d = loadScene(write("sppm.pbrt", text), {}, LoadOptions{true});
+    REQUIRE(d.warnings.size() == 1);
+    CHECK_THAT(d.warnings[0], Catch::Contains("sppm.pbrt:1") && Catch::Contains("\"sppm\" is not one of wavemmlt's"));
+    CHECK(d.settings.maxPathLength == 5);  // maxdepth, pbrt's meaning for every integrator
+}
+
+TEST_CASE("pbrt import: regularize renders without it, with a warning naming its line", "[pbrt][import]") {
+    for (const char* integrator : {"path", "bdpt", "mlt"}) {
+        const std::string text = std::string("Integrator \"") + integrator + "\"\n  \"bool regularize\" true\n" + kHead + kFloor + "LightSource \"point\"\n";
+        const SceneDesc d = loadScene(write("reg.pbrt", text));
+        INFO(integrator);
+        REQUIRE(d.warnings.size() == 1);
+        CHECK_THAT(d.warnings[0], Catch::Contains("reg.pbrt:2") && Catch::Contains("regularize is not"));
+    }
+}
+
 TEST_CASE("pbrt import: Include, gzip, and the same scene either way", "[pbrt][import]") {
     write("inc-geom.pbrt", kFloor);
     const SceneDesc a = load("Include \"inc-geom.pbrt\"\nLightSource \"point\" \"point3 from\" [0 1 0]\n", "inc.pbrt");

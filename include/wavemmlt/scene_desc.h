@@ -350,10 +350,16 @@ struct SceneDesc {
 // <scene version="...">, load_mitsuba.cpp) with `defines` overriding its <default>s
 // (-D name=value). Throws InputError("file:line: problem").
 using Defines = std::vector<std::pair<std::string, std::string>>;
-SceneDesc loadScene(const std::string& path, const Defines& defines = {});
+// What the command line decides that an importer must know: with a tracer given (--tracer),
+// a pbrt or Mitsuba file's integrator that wavemmlt lacks is replaced by it, with a warning
+// naming the integrator's line, instead of refused.
+struct LoadOptions {
+    bool tracerGiven = false;
+};
+SceneDesc loadScene(const std::string& path, const Defines& defines = {}, const LoadOptions& options = {});
 bool isMitsubaXml(const std::string& xml);
 SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
-                                const Defines& defines = {});
+                                const Defines& defines = {}, const LoadOptions& options = {});
 // The same from XML text in memory; `name` is used in messages, `baseDir` resolves
 // relative file names (OBJ, images).
 SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
@@ -366,7 +372,7 @@ std::string thesisSceneWithView(const std::string& xml, const std::string& name,
                                 const Settings& st);
 // Loads a pbrt-v4 scene file (.pbrt, or gzipped .pbrt.gz; docs/pbrt.md). loadScene calls
 // it for those names. Throws InputError("file:line: problem").
-SceneDesc loadPbrt(const std::string& path);
+SceneDesc loadPbrt(const std::string& path, const LoadOptions& options = {});
 
 // Loads a Wavefront OBJ (triangulating polygons) in its own coordinates.
 // Throws InputError("file:line: problem") on a missing file, bad data, indices out

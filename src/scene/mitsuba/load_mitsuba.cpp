@@ -510,7 +510,10 @@ void Importer::integrator(Node n) {
     else if (t == "ptracer") st.tracer = TracerKind::LT;
     else if (t == "pssmlt") st.tracer = TracerKind::PSSMLT;
     else if (t == "mlt") st.tracer = TracerKind::MMLT;
-    else p.fail(n, "integrator not supported (path, volpath, bdpt, ptracer, pssmlt, mlt are)");
+    else if (options_.tracerGiven) {  // the command line's tracer renders the scene; the plugin's parameters mean nothing to it
+        warn(n, "integrator \"" + t + "\" is not one of wavemmlt's: replaced by the tracer the command line gives (its parameters are ignored)");
+        return;
+    } else p.fail(n, "integrator not supported (path, volpath, bdpt, ptracer, pssmlt, mlt are; or choose one with --tracer)");
     const int depth = p.getInt("max_depth", -1);
     if (depth == 0 || depth < -1) p.fail(n, "max_depth must be -1 (unlimited) or >= 1");
     st.maxPathLength = depth;  // Mitsuba counts segments, as wavemmlt does
@@ -552,8 +555,8 @@ bool isMitsubaXml(const std::string& xml) {
 }
 
 SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
-                                const Defines& defines) {
-    return mitsuba::Importer(baseDir, defines).run(xml, name);
+                                const Defines& defines, const LoadOptions& options) {
+    return mitsuba::Importer(baseDir, defines, options).run(xml, name);
 }
 
 }  // namespace wmlt

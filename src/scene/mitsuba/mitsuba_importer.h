@@ -11,7 +11,7 @@ namespace wmlt::mitsuba {
 
 class Importer {
 public:
-    Importer(const std::string& base, const Defines& defines) : base_(base) {
+    Importer(const std::string& base, const Defines& defines, const LoadOptions& options = {}) : base_(base), options_(options) {
         for (const auto& d : defines) params_[d.first] = d.second;
         for (const auto& d : defines) overridden_.insert(d.first);
     }
@@ -20,6 +20,7 @@ public:
 private:
     Files files_;
     std::string base_;
+    LoadOptions options_;
     std::map<std::string, std::string> params_;
     std::set<std::string> overridden_;
     std::map<std::string, Node> ids_;

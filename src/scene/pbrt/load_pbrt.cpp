@@ -11,12 +11,12 @@
 
 namespace wmlt {
 
-SceneDesc loadPbrt(const std::string& path) { return pbrt::Importer(path).run(); }
+SceneDesc loadPbrt(const std::string& path, const LoadOptions& options) { return pbrt::Importer(path, options).run(); }
 
 namespace pbrt {
 
-Importer::Importer(const std::string& path)
-    : parser_(path), path_(path), base_(std::filesystem::path(path).parent_path().string()) {}
+Importer::Importer(const std::string& path, const LoadOptions& options)
+    : parser_(path), options_(options), path_(path), base_(std::filesystem::path(path).parent_path().string()) {}
 
 std::string Importer::resolve(const std::string& f) const {
     std::filesystem::path p(f);
@@ -348,11 +348,20 @@ void Importer::options() {
     else if (type == "bdpt") s_.settings.tracer = TracerKind::BPT;
     else if (type == "lightpath") s_.settings.tracer = TracerKind::LT;
     else if (type == "mlt") s_.settings.tracer = TracerKind::MMLT;
-    else fail(integrator_.at, "Integrator \"" + type + "\" is not supported (path, volpath, bdpt, lightpath, mlt are)");
+    else if (options_.tracerGiven) {  // the command line's tracer renders the scene; the integrator's parameters mean nothing to it
+        warn(integrator_.at, "Integrator \"" + type + "\" is not one of wavemmlt's: replaced by the tracer the command line gives (its parameters are ignored)");
+        for (Param& q : ip.list) q.used = true;
+    } else fail(integrator_.at, "Integrator \"" + type + "\" is not supported (path, volpath, bdpt, lightpath, mlt are; or choose one with --tracer)");
     const int64_t maxDepth = ip.getInt("maxdepth", 5, 0, INT32_MAX);
     s_.settings.maxPathLength = int(std::min<int64_t>(maxDepth + 1, 64));
     if (maxDepth + 1 > 64) warn(ip.has("maxdepth") ? ip.find("maxdepth")->at : integrator_.at, "maxdepth above 63 becomes 63");
-    if (ip.getBool("regularize", false)) fail(ip.find("regularize")->at, "regularize is not supported");
+    // pbrt's path regularisation (roughened near-specular vertices after the first non-specular
+    // bounce) is a rendering option, not the scene: rendered without it, with a warning
+    if (ip.getBool("regularize", false))
+        warn(ip.find("regularize")->at, s_.settings.tracer == TracerKind::MMLT
+                                            ? "regularize is not applied: it would bias the Markov chains' target (rendered without it)"
+                                            : "regularize is not implemented in wavemmlt yet: rendered without it (an unbiased image, "
+                                              "noisier where it would have blurred caustics)");
     if (type == "mlt") {
         s_.settings.probLarge = float(ip.getFloat("largestepprobability", 0.3));
         const int64_t mpp = ip.getInt("mutationsperpixel", 100, 1, kMaxSpp, "wavemmlt's limit, as --spp's");

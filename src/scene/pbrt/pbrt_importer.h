@@ -22,7 +22,7 @@ enum class SpectrumUse { Albedo, Unbounded, Illuminant };
 
 class Importer {
 public:
-    explicit Importer(const std::string& path);
+    Importer(const std::string& path, const LoadOptions& options);
     SceneDesc run();
 
 private:
@@ -45,6 +45,7 @@ private:
         Loc at;
     };
     Parser parser_;
+    LoadOptions options_;
     std::string path_, base_;
     SceneDesc s_;
     State g_;
