@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "kernels/bump.h"
 #include "kernels/texture.h"
@@ -241,6 +242,48 @@ LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.2 1.3 -0.1 ]
             return rho / M_PI * 2 * c.y / std::sqrt(r2) / r2;
         },
         "pbrt-textured-floor", {});
+}
+
+// Textured roughness (issue 43): a coated material's interface roughness and, with pbrt's
+// remaproughness (alpha = sqrt(roughness)), a conductor's. A checkerboard of 0.3 and 0.3 is
+// the constant 0.3 seen through the texture stage: the floor under a point light renders as
+// with the constant roughness (6 PT runs a side, p = 1e-4, with their own seeds). A
+// checkerboard of 0.02 and 0.6 is not (the same test fails on it), so the texture is read.
+TEST_CASE("pbrt textures: textured roughness on a coated material and with remaproughness", "[pbrt][texture][render]") {
+    auto floorOf = [](const std::string& file, const std::string& material, const std::string& roughness) {
+        return loadText(file, "Texture \"r\" \"float\" \"checkerboard\" \"float uscale\" 8 \"float vscale\" 8 " + roughness + "\n" + material + R"(
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "point2 uv" [ 0 0 1 0 1 1 0 1 ] "integer indices" [ 0 1 2 0 2 3 ]
+LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.2 1.3 -0.1 ]
+)");
+    };
+    const std::string same = "\"float tex1\" 0.3 \"float tex2\" 0.3", differ = "\"float tex1\" 0.02 \"float tex2\" 0.6";
+    struct Case { const char* what; std::string textured, constant; };
+    const std::vector<Case> cases = {
+        {"coateddiffuse", "Material \"coateddiffuse\" \"texture roughness\" \"r\" \"rgb reflectance\" [ 0.5 0.4 0.3 ]",
+         "Material \"coateddiffuse\" \"float roughness\" 0.3 \"rgb reflectance\" [ 0.5 0.4 0.3 ]"},
+        {"conductor, remapped", "Material \"conductor\" \"texture roughness\" \"r\"", "Material \"conductor\" \"float roughness\" 0.3"},
+    };
+    auto runs = [](const SceneDesc& d, uint64_t seed) {
+        rstats::RunStats r;
+        for (int k = 0; k < 6; ++k) r.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 64, seed + uint64_t(k), 1, 8)).image, 4, 1));
+        return r;
+    };
+    for (const Case& c : cases) {
+        DYNAMIC_SECTION(c.what) {
+            const SceneDesc textured = floorOf("rough-t.pbrt", c.textured, same), constant = floorOf("rough-c.pbrt", c.constant, same);
+            const MaterialDesc& m = textured.materials.back();
+            REQUIRE(m.alphaTexture >= 0);
+            CHECK(m.alphaRemap);
+            const rstats::RunStats a = runs(textured, 100), b = runs(constant, 200);
+            double ratio = 0;
+            const rstats::ZTestResult z = rstats::compareRuns(a, b, 1e-4, &ratio);
+            INFO(c.what << ", the constant texture: " << z.describe() << ", ratio of means " << ratio);
+            CHECK(z.pass);
+            const rstats::ZTestResult w = rstats::compareRuns(runs(floorOf("rough-d.pbrt", c.textured, differ), 300), b, 1e-4, &ratio);
+            INFO(c.what << ", a checkerboard of 0.02 and 0.6: " << w.describe() << ", ratio of means " << ratio);
+            CHECK_FALSE(w.pass);
+        }
+    }
 }
 
 TEST_CASE("pbrt textures: normalmap tilts a floor's shading normal, in PT, LT and BPT", "[pbrt][texture][render][bump]") {

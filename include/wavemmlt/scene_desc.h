@@ -104,10 +104,13 @@ struct MaterialDesc {
     MicrofacetType distribution = MicrofacetType::Beckmann;
     float alpha = 0.1f;                      // rough kinds (anisotropic: the roughness along u, alpha_u)
     float alphaV = -1;                       // rough kinds: the roughness along v (alpha_v); < 0: alpha
-    // Rough conductors and dielectrics: a texture's luminance at the hit scales alpha
-    // (alpha_u) and alphaV (index into SceneDesc::textures, -1: none); a textured `alpha`
+    // Rough conductors and dielectrics, and a coated material's interface: a texture's
+    // luminance r at the hit scales alpha (alpha_u) and alphaV (index into
+    // SceneDesc::textures, -1: none), by r itself, or by sqrt(r) with alphaRemap (pbrt's
+    // remaproughness: the texture is a roughness, alpha = sqrt(roughness)); a textured `alpha`
     // sets both to the same texture (isotropic).
     int alphaTexture = -1, alphaVTexture = -1;
+    bool alphaRemap = false;
     Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
     bool nonlinear = false;                  // Plastic, RoughPlastic
     bool twoSided = true;                    // false: black seen from below the shading normal

@@ -4,6 +4,7 @@
 // parts where its kernel needs them (textureBlendParts). Pure: no allocation, no state.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <initializer_list>
 #include <vector>
 
@@ -23,7 +24,8 @@ constexpr bool isAny(MaterialKind k, std::initializer_list<MaterialKind> ks) {
 
 // Kind K's textured parameters at (u, v, p, n) on material m, into out (which holds the
 // constants): a colour parameter's texture scales its constant (MaterialDesc::colourTexture),
-// a roughness texture's luminance scales alpha (at least 1e-4), a blend's weight is its
+// a roughness texture's luminance (or its square root: MaterialDesc::alphaRemap) scales
+// alpha (at least 1e-4; a coated material's interface too), a blend's weight is its
 // texture's luminance in [0, 1] (and a blend with textured parts keeps (u, v) and p for
 // them: BsdfExtra::blendTextures), a principled's weights each their constant times a
 // texture's luminance in [0, 1] (the alphas made again from them).
@@ -44,13 +46,17 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
         scale(ColourParam::Reflect, out.reflect);
     if constexpr (isAny(K, {M::Dielectric, M::RoughDielectric, M::ThinDielectric, M::DiffuseTransmission}))
         scale(ColourParam::Refract, out.refract);
-    if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric})) {
+    if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric, M::Coated})) {
         if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {
             auto alpha = [&](int i, float a) {
-                return i < 0 ? a : std::max(a * luminance(evalTextureOf(tex, size_t(i), u, v, p, n)), 1e-4f);
+                if (i < 0) return a;
+                const float r = luminance(evalTextureOf(tex, size_t(i), u, v, p, n));
+                return std::max(a * (m.alphaRemap ? std::sqrt(std::max(r, 0.0f)) : r), 1e-4f);
             };
-            out.alphaX = alpha(m.alphaTexture, out.x->dist.alphaX);
-            out.alphaY = alpha(m.alphaVTexture, out.x->dist.alphaY);
+            // (a coated interface's constants ride in out itself; a rough kind's in x->dist)
+            const float ax = K == M::Coated ? out.alphaX : out.x->dist.alphaX, ay = K == M::Coated ? out.alphaY : out.x->dist.alphaY;
+            out.alphaX = alpha(m.alphaTexture, ax);
+            out.alphaY = alpha(m.alphaVTexture, ay);
         }
     }
     if constexpr (K == M::Blend) {

@@ -8,7 +8,8 @@
 namespace wmlt {
 
 // Whether m's kind reads a parameter that has a texture (a texture on a parameter the kind
-// does not read costs nothing): its colours, a rough conductor's or dielectric's alphas.
+// does not read costs nothing): its colours, a rough conductor's or dielectric's or a coated
+// interface's alphas.
 bool readsTexturedColour(const MaterialDesc& m) {
     auto has = [&](ColourParam c) { return m.colourTexture[int(c)] >= 0; };
     switch (m.kind) {
@@ -28,7 +29,7 @@ bool readsTexturedColour(const MaterialDesc& m) {
             for (int t : m.principledTexture)
                 if (t >= 0) return true;
             return has(ColourParam::Diffuse);
-        case MaterialKind::Coated: return has(ColourParam::Diffuse);
+        case MaterialKind::Coated: return has(ColourParam::Diffuse) || m.alphaTexture >= 0 || m.alphaVTexture >= 0;
         case MaterialKind::DiffuseTransmission: return has(ColourParam::Diffuse) || has(ColourParam::Refract);
         case MaterialKind::Phase: return false;
     }

@@ -194,32 +194,29 @@ int Importer::material(const std::string& type, Directive& d) {
     // pbrt's roughness (Trowbridge-Reitz = GGX): roughness or u/vroughness, remapped to
     // alpha = sqrt(r) unless remaproughness is false; effectively smooth below 1e-3.
     const bool remap = p.getBool("remaproughness", true);
-    // A roughness pair (prefix "": roughness, uroughness, vroughness) as alphas, untextured.
-    auto alphas = [&](const std::string& prefix, float& au, float& av) {
-        int t = -1;
-        const float r = floatParam(p, prefix + "roughness", 0, t);
-        const float ur = p.has(prefix + "uroughness") ? floatParam(p, prefix + "uroughness", r, t) : r;
-        const float vr = p.has(prefix + "vroughness") ? floatParam(p, prefix + "vroughness", r, t) : r;
-        if (t >= 0) fail(d.at, "a textured " + prefix + "roughness on a coated material is not supported");
+    // A roughness pair (prefix "": roughness, uroughness, vroughness) as alphas: constants, or
+    // textures (tu, tv >= 0) whose value at a hit is the roughness there (remapped or not:
+    // MaterialDesc::alphaRemap); the constant of a textured one is 1.
+    auto alphas = [&](const std::string& prefix, float& au, float& av, int& tu, int& tv) {
+        int tr = -1;
+        tu = tv = -1;
+        const float r = floatParam(p, prefix + "roughness", 0, tr);
+        const float ur = p.has(prefix + "uroughness") ? floatParam(p, prefix + "uroughness", r, tu) : (tu = tr, r);
+        const float vr = p.has(prefix + "vroughness") ? floatParam(p, prefix + "vroughness", r, tv) : (tv = tr, r);
         if (!(ur >= 0 && vr >= 0)) fail(d.at, "roughness must be >= 0");
-        au = remap ? std::sqrt(ur) : ur;
-        av = remap ? std::sqrt(vr) : vr;
+        au = tu >= 0 ? 1.0f : remap ? std::sqrt(ur) : ur;
+        av = tv >= 0 ? 1.0f : remap ? std::sqrt(vr) : vr;
     };
+    // The material's own roughness (m.alpha, alphaV and their textures); whether it is rough.
     auto rough = [&]() {
-        int tr = -1, tu = -1, tv = -1;
-        const float r = floatParam(p, "roughness", 0, tr);
-        const float ur = p.has("uroughness") ? floatParam(p, "uroughness", r, tu) : (tu = tr, r);
-        const float vr = p.has("vroughness") ? floatParam(p, "vroughness", r, tv) : (tv = tr, r);
-        if ((tu >= 0 || tv >= 0) && remap)
-            fail(d.at, "a textured roughness needs \"bool remaproughness\" false (wavemmlt scales alpha by the texture)");
-        if (!(ur >= 0 && vr >= 0)) fail(d.at, "roughness must be >= 0");
-        const float au = remap ? std::sqrt(ur) : ur, av = remap ? std::sqrt(vr) : vr;
+        float au, av;
+        alphas("", au, av, m.alphaTexture, m.alphaVTexture);
         m.distribution = MicrofacetType::GGX;
-        m.alpha = tu >= 0 ? 1.0f : au;
-        m.alphaV = tv >= 0 ? 1.0f : av;
-        m.alphaTexture = tu;
-        m.alphaVTexture = tv;
-        return tu >= 0 || tv >= 0 || std::max(au, av) >= 1e-3f;
+        m.alpha = au;
+        m.alphaV = av;
+        m.alphaRemap = remap;
+        const bool textured = m.alphaTexture >= 0 || m.alphaVTexture >= 0;
+        return textured || std::max(au, av) >= 1e-3f;
     };
     if (type == "diffuse") {
         m.kind = MaterialKind::Matte;
@@ -279,10 +276,11 @@ int Importer::material(const std::string& type, Directive& d) {
         const bool conductor = type == "coatedconductor";
         const std::string ip = conductor ? "interface." : "";
         float au, av;
-        alphas(ip, au, av);
+        alphas(ip, au, av, m.alphaTexture, m.alphaVTexture);  // the interface's: per hit, textured or not
         m.distribution = MicrofacetType::GGX;
         m.alpha = au;
         m.alphaV = av;
+        m.alphaRemap = remap;
         double eta = 1.5;
         if (const Param* q = p.find(ip + "eta")) {
             if (q->type != "float") fail(q->at, "\"" + q->type + " " + q->name + "\": give the coating's index as a float");
@@ -305,7 +303,11 @@ int Importer::material(const std::string& type, Directive& d) {
             m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
         } else {
             c.conductorBase = true;
-            alphas("conductor.", c.baseAlpha, c.baseAlphaV);
+            int tu, tv;
+            alphas("conductor.", c.baseAlpha, c.baseAlphaV, tu, tv);
+            if (tu >= 0 || tv >= 0)
+                fail(p.find(p.has("conductor.roughness") ? "conductor.roughness" : tu >= 0 ? "conductor.uroughness" : "conductor.vroughness")->at,
+                     "a textured conductor.roughness is not supported yet (the interface's roughness may be textured)");
             if (p.has("reflectance")) {
                 if (p.has("conductor.eta") || p.has("conductor.k")) fail(d.at, "give either conductor.eta and conductor.k or reflectance, not both");
                 int t = -1;
