@@ -59,6 +59,7 @@ private:
     std::map<std::string, int> objects_;        // ObjectBegin name -> group
     std::map<std::string, int> namedMedia_;     // MakeNamedMedium name -> SceneDesc::media
     std::vector<PendingMedia> pendingMedia_;
+    std::map<int, std::string> subsurfaceMedium_;  // a subsurface material (its index) -> the name of its interior medium
     std::vector<PendingMedia> pendingLightMedia_;  // (shape: the light's index) its front (outside) and back (inside) media
     std::string cameraMedium_;
     Loc cameraAt_;

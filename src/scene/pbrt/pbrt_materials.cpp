@@ -347,7 +347,35 @@ int Importer::material(const std::string& type, Directive& d) {
         m.refract = colourParam(p, "transmittance", Vec3(0.25f), m.colourTexture[int(ColourParam::Refract)]) * scale;
     } else if (type == "interface") {  // no surface: rays cross it (ShapeDesc::passThrough)
         return kInterfaceMaterial;
-    } else if (type == "measured" || type == "subsurface" || type == "hair") {
+    } else if (type == "subsurface") {
+        // pbrt-v4's subsurface as what it describes: a dielectric boundary (eta 1.33, rough
+        // as a dielectric's) over a homogeneous scattering interior, rendered by a volumetric
+        // random walk (the media code: exact for that medium, where pbrt's diffusion BSSRDF
+        // is an approximation). sigma_a and sigma_s (pbrt's defaults, per mm) times scale, g.
+        for (const char* k : {"reflectance", "mfp", "name"})
+            if (const Param* q = p.find(k))
+                fail(q->at, std::string("subsurface: \"") + k + "\" is not supported yet (pbrt derives sigma_a and sigma_s from it with "
+                            "its diffusion tables): give sigma_a and sigma_s");
+        const double eta = p.getFloat("eta", 1.33);
+        if (!(eta > 0) || eta == 1) fail(p.has("eta") ? p.find("eta")->at : d.at, "subsurface: eta must be > 0 and not 1");
+        m.iorInside = float(eta);
+        m.iorOutside = 1;
+        m.reflect = m.refract = Vec3(1.0f);
+        m.kind = rough() ? MaterialKind::RoughDielectric : MaterialKind::Dielectric;
+        MediumDesc md;
+        md.line = d.at.line;
+        md.name = "the subsurface material of " + *d.at.file + ":" + std::to_string(d.at.line);
+        const float scale = float(p.getFloat("scale", 1));
+        md.sigmaA = spectrum(p, "sigma_a", Vec3(0.0011f, 0.0024f, 0.014f), SpectrumUse::Unbounded) * scale;
+        md.sigmaS = spectrum(p, "sigma_s", Vec3(2.55f, 3.21f, 3.77f), SpectrumUse::Unbounded) * scale;
+        md.g = float(p.getFloat("g", 0));
+        auto bad = [](Vec3 v) { return !isFinite(v) || v.x < 0 || v.y < 0 || v.z < 0; };
+        if (bad(md.sigmaA) || bad(md.sigmaS)) fail(d.at, "subsurface: sigma_a and sigma_s (times scale) must be finite and >= 0");
+        if (!(md.g > -1 && md.g < 1)) fail(p.has("g") ? p.find("g")->at : d.at, "subsurface: g must be in (-1, 1)");
+        namedMedia_[md.name] = int(s_.media.size());
+        subsurfaceMedium_[int(s_.materials.size())] = md.name;  // (this material's index, below)
+        s_.media.push_back(std::move(md));
+    } else if (type == "measured" || type == "hair") {
         fail(d.at, "Material \"" + type + "\" is not supported yet (docs/pbrt.md)");
     } else {
         fail(d.at, "unknown Material \"" + type + "\"");

@@ -66,7 +66,9 @@ void Importer::shape(Directive& d) {
         sh.passThrough = true;
         if (g_.areaLight) fail(d.at, "an area light on a shape with the interface material (it has no surface)");
     }
-    if (g_.insideMedium != g_.outsideMedium)
+    if (auto ss = subsurfaceMedium_.find(sh.material); ss != subsurfaceMedium_.end())  // its interior, in the medium around it
+        pendingMedia_.push_back({int(s_.shapes.size()), ss->second, g_.outsideMedium, d.at});
+    else if (g_.insideMedium != g_.outsideMedium)
         pendingMedia_.push_back({int(s_.shapes.size()), g_.insideMedium, g_.outsideMedium, d.at});
     sh.toWorld = g_.ctm.affine();
     sh.toLocal = g_.ctm.inverse().affine();
