@@ -218,25 +218,9 @@ int Importer::material(const std::string& type, Directive& d) {
         const bool textured = m.alphaTexture >= 0 || m.alphaVTexture >= 0;
         return textured || std::max(au, av) >= 1e-3f;
     };
-    if (type == "diffuse") {
-        m.kind = MaterialKind::Matte;
-        m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
-    } else if (type == "conductor") {
-        m.kind = rough() ? MaterialKind::RoughConductor : MaterialKind::Conductor;
-        m.reflect = Vec3(1.0f);
-        if (p.has("reflectance")) {  // pbrt-v4: eta 1, k = 2 sqrt(r) / sqrt(1 - r)
-            if (p.has("eta") || p.has("k")) fail(d.at, "give either eta and k or reflectance, not both");
-            int t = -1;
-            const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
-            if (t >= 0) fail(p.find("reflectance")->at, "a textured conductor reflectance is not supported");
-            auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(x) / std::sqrt(1 - x); };
-            m.conductorEta = Vec3(1.0f);
-            m.conductorK = Vec3(k(r.x), k(r.y), k(r.z));
-        } else {
-            conductorIndices(p, "", m);
-        }
-    } else if (type == "dielectric" || type == "thindielectric") {
-        double eta = 1.5;
+    // A dielectric's eta: a float, or a spectrum whose value at 550 nm is used (no dispersion).
+    auto dielectricEta = [&](double def) {
+        double eta = def;
         if (const Param* q = p.find("eta")) {
             if (q->type == "float") {
                 eta = p.getFloat("eta", 1.5);
@@ -263,6 +247,27 @@ int Importer::material(const std::string& type, Directive& d) {
                 fail(q->at, "\"" + q->type + " eta\": expected a float or a spectrum");
             }
         }
+        return eta;
+    };
+    if (type == "diffuse") {
+        m.kind = MaterialKind::Matte;
+        m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
+    } else if (type == "conductor") {
+        m.kind = rough() ? MaterialKind::RoughConductor : MaterialKind::Conductor;
+        m.reflect = Vec3(1.0f);
+        if (p.has("reflectance")) {  // pbrt-v4: eta 1, k = 2 sqrt(r) / sqrt(1 - r)
+            if (p.has("eta") || p.has("k")) fail(d.at, "give either eta and k or reflectance, not both");
+            int t = -1;
+            const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
+            if (t >= 0) fail(p.find("reflectance")->at, "a textured conductor reflectance is not supported");
+            auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(x) / std::sqrt(1 - x); };
+            m.conductorEta = Vec3(1.0f);
+            m.conductorK = Vec3(k(r.x), k(r.y), k(r.z));
+        } else {
+            conductorIndices(p, "", m);
+        }
+    } else if (type == "dielectric" || type == "thindielectric") {
+        const double eta = dielectricEta(1.5);
         if (!(eta > 0) || eta == 1) fail(d.at, type + ": eta must be > 0 and not 1");
         m.iorInside = float(eta);
         m.iorOutside = 1;
@@ -356,7 +361,7 @@ int Importer::material(const std::string& type, Directive& d) {
             if (const Param* q = p.find(k))
                 fail(q->at, std::string("subsurface: \"") + k + "\" is not supported yet (pbrt derives sigma_a and sigma_s from it with "
                             "its diffusion tables): give sigma_a and sigma_s");
-        const double eta = p.getFloat("eta", 1.33);
+        const double eta = dielectricEta(1.33);
         if (!(eta > 0) || eta == 1) fail(p.has("eta") ? p.find("eta")->at : d.at, "subsurface: eta must be > 0 and not 1");
         m.iorInside = float(eta);
         m.iorOutside = 1;
