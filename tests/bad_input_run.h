@@ -155,4 +155,11 @@ inline void requireBad(const Proc& p, const std::vector<std::string>& fragments,
     CHECK_FALSE(fs::exists(out));
     CHECK(dir.temporaries() == 0);
 }
+// A PFM of w x h pixels, all `v`.
+inline std::string pfm(int w, int h, float v) {
+    std::string s = "PF\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
+    for (int i = 0; i < 3 * w * h; ++i) s.append(reinterpret_cast<const char*>(&v), 4);
+    return s;
+}
+
 }  // namespace badinput

@@ -75,13 +75,6 @@ std::string objGeom(const std::string& file) {
     return "<Geometry Type=\"ObjFile\" ID=\"m\"><File name=\"" + file + "\"/><SmoothShading value=\"1\"/><Shader value=\"0\"/></Geometry>";
 }
 
-// A PFM of w x h pixels, all `v`.
-std::string pfm(int w, int h, float v) {
-    std::string s = "PF\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
-    for (int i = 0; i < 3 * w * h; ++i) s.append(reinterpret_cast<const char*>(&v), 4);
-    return s;
-}
-
 }  // namespace
 
 // ---- scene XML ------------------------------------------------------------------------------
