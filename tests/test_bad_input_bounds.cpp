@@ -163,9 +163,15 @@ TEST_CASE("badinput bounds: finite parameters whose product overflows a float ar
         {"coordinates times the transform", "WorldBegin\nLightSource \"point\"\nScale 1e30 1e30 1e30\n"
                                             "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1e30 0 0 0 1e30 0] \"integer indices\" [0 1 2]\n", 4,
          "its coordinates times the transform are beyond a float's range"},
+        {"an imagemap's texels times its scale", kPbrtHead + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"ten.pfm\"\n  \"float scale\" 1e38\n",
+         3, "Texture \"t\": its values times its scale reach 1e+39, beyond a float's range"},
+        {"a scale texture over an image", kPbrtHead + "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"ten.pfm\"\n"
+                                          "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"i\" \"float scale\" 1e38\n", 4,
+         "Texture \"s\": its values times its scale reach 1e+39"},
         {"the film's iso times a light", "Film \"rgb\" \"float iso\" 1e30\nWorldBegin\nLightSource \"point\" \"rgb I\" [1e30 1 1]\n" + sphere, 1,
          "the film's imaging ratio"},
     };
+    dir.write("ten.pfm", pfm(2, 2, 10.0f));
     for (const Bad& b : cases) {
         DYNAMIC_SECTION(b.what) {
             const std::string s = dir.write("s.pbrt", b.body);

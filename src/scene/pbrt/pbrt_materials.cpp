@@ -5,6 +5,7 @@
 // parameters as linear sRGB (scene/spectrum.h).
 #include <algorithm>
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <filesystem>
 
@@ -15,6 +16,7 @@
 #include "scene/spectrum.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
+#include "wavemmlt/quote.h"
 
 namespace wmlt::pbrt {
 
@@ -419,6 +421,31 @@ int Importer::material(const std::string& type, Directive& d) {
     return m.id;
 }
 
+namespace {
+
+// An upper bound of the magnitude a texture's value can take: an image's largest texel, its
+// constants, the product of a scale's operands, the larger of a mix's or checkerboard's. A
+// texture whose bound passes a float's range (an imagemap of texels up to 10 with scale 1e38)
+// would make infinities wherever it is read: finite parameters whose product is not.
+double textureBound(const std::vector<TextureDesc>& tex, const TextureDesc& t) {
+    auto maxOf = [](Vec3 c) { return double(std::max({std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)})); };
+    auto operand = [&](int k, Vec3 c) { return t.operand[k] >= 0 ? textureBound(tex, tex[size_t(t.operand[k])]) : maxOf(c); };
+    switch (t.kind) {
+        case TextureKind::Bitmap: {
+            double m = 0;
+            for (float v : t.image.rgb) m = std::max(m, double(std::fabs(v)));  // (a non-finite texel: infinite)
+            return m;
+        }
+        case TextureKind::Scale: return operand(0, t.colour1) * operand(1, t.colour2);
+        case TextureKind::Mix:
+        case TextureKind::DirectionMix:
+        case TextureKind::Checkerboard: return std::max(operand(0, t.colour1), operand(1, t.colour2));
+        default: return std::max({1.0, maxOf(t.colour1), maxOf(t.colour2)});  // the procedurals: their colours, values near [0, 1]
+    }
+}
+
+}  // namespace
+
 void Importer::texture(Directive& d) {
     Params& p = d.params;
     const std::string& name = d.strings[0];
@@ -581,6 +608,8 @@ void Importer::texture(Directive& d) {
     } else {
         fail(d.at, "Texture class \"" + cls + "\" is not supported yet (docs/pbrt.md)");
     }
+    if (const double bound = textureBound(s_.textures, t); !(bound <= FLT_MAX))
+        fail(d.at, "Texture " + quoteToken(name) + ": its values times its scale reach " + numberText(bound) + ", beyond a float's range");
     t.id = int(s_.textures.size());
     textures_[name] = t.id;
     floatTexture_[name] = isFloat;
