@@ -16,6 +16,7 @@
 #include "kernels/medium.h"
 #include "media_scenes.h"
 #include "render_stats.h"
+#include "scene/pbrt/subsurface_albedo.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
@@ -612,11 +613,43 @@ AttributeBegin
         for (size_t i = 0; i < a.rgb.size(); ++i) meanA += a.rgb[i], meanC += c.rgb[i];
         CHECK(std::fabs(meanA - meanC) > 0.05 * meanC);
     }
-    // bad input: what needs pbrt's diffusion tables; eta 1
-    CHECK_THAT(errorOf("sss1.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\nShape \"sphere\"\n"),
-               Catch::Contains("sss1.pbrt:3") && Catch::Contains("\"reflectance\" is not supported yet"));
+    // bad input: pbrt's measured media by name; reflectance with sigma_a; eta 1
+    CHECK_THAT(errorOf("sss1.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"string name\" \"Skin1\"\nShape \"sphere\"\n"),
+               Catch::Contains("sss1.pbrt:3") && Catch::Contains("\"name\" (pbrt's measured media) is not supported yet"));
+    CHECK_THAT(errorOf("sss3.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 1 1 1 ]\nShape \"sphere\"\n"),
+               Catch::Contains("sss3.pbrt:3") && Catch::Contains("not both"));
     CHECK_THAT(errorOf("sss2.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"float eta\" 1\nShape \"sphere\"\n"),
                Catch::Contains("sss2.pbrt:3") && Catch::Contains("eta"));
+}
+
+// pbrt's subsurface given by a diffuse reflectance: the albedo from pbrt's photon-beam-
+// diffusion table (subsurface_albedo.h), inverted. The splines are exact on linear data; the
+// table rises from 0 (measured at eta 1.33, g 0: rho_eff 0.079 at rho 0.554, 0.593 at 0.983,
+// 1.019 at 1, as pbrt's model gives slightly over 1); the inversion returns each sampled albedo
+// at its own rho_eff; the importer makes sigma_s = rho / (mfp scale), sigma_a = (1 - rho) / (mfp scale).
+TEST_CASE("media: pbrt's subsurface by reflectance: the diffusion albedo table, inverted", "[media][import]") {
+    using namespace wmlt::pbrt;
+    const std::vector<double> x = {0, 1, 3, 4}, f = {1, 3, 7, 9};  // f = 2x + 1
+    CHECK(integrateCatmullRom(x, f) == Approx(20.0).epsilon(1e-12));
+    CHECK(invertCatmullRom(x, f, 5.0) == Approx(2.0).epsilon(1e-8));
+    const DiffusionAlbedo t = diffusionAlbedo(0, 1.33);
+    REQUIRE(t.rho.size() == 100);
+    CHECK(t.rhoEff.front() == 0);
+    for (size_t i = 1; i < t.rhoEff.size(); ++i) CHECK(t.rhoEff[i] > t.rhoEff[i - 1]);
+    CHECK(t.rhoEff.back() > 0.95);
+    CHECK(t.rhoEff.back() < 1.05);
+    for (size_t i = 1; i + 1 < t.rho.size(); i += 7) CHECK(albedoOf(t, t.rhoEff[i]) == Approx(t.rho[i]).epsilon(1e-6));
+    const SceneDesc d = loadText("sss-r.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.1 0.5 0.8 ] "
+                                               "\"rgb mfp\" [ 1 2 4 ] \"float scale\" 0.5\nShape \"sphere\"\n");
+    REQUIRE(d.media.size() == 1);
+    const MediumDesc& m = d.media[0];
+    const double r[3] = {0.1, 0.5, 0.8}, mfp[3] = {0.5, 1, 2};
+    for (int c = 0; c < 3; ++c) {
+        const double rho = albedoOf(t, r[c]);
+        INFO("channel " << c << ": rho " << rho);
+        CHECK(m.sigmaS[c] + m.sigmaA[c] == Approx(1 / mfp[c]).epsilon(1e-6));
+        CHECK(m.sigmaS[c] * mfp[c] == Approx(rho).epsilon(1e-6));
+    }
 }
 
 TEST_CASE("media: bad input names file and line", "[media][bad-input]") {

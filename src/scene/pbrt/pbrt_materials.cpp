@@ -12,6 +12,7 @@
 #include "kernels/texture.h"
 #include "scene/number.h"
 #include "scene/pbrt/pbrt_importer.h"
+#include "scene/pbrt/subsurface_albedo.h"
 #include "scene/read_file.h"
 #include "scene/spectrum.h"
 #include "wavemmlt/error.h"
@@ -358,11 +359,13 @@ int Importer::material(const std::string& type, Directive& d) {
         // pbrt-v4's subsurface as what it describes: a dielectric boundary (eta 1.33, rough
         // as a dielectric's) over a homogeneous scattering interior, rendered by a volumetric
         // random walk (the media code: exact for that medium, where pbrt's diffusion BSSRDF
-        // is an approximation). sigma_a and sigma_s (pbrt's defaults, per mm) times scale, g.
-        for (const char* k : {"reflectance", "mfp", "name"})
-            if (const Param* q = p.find(k))
-                fail(q->at, std::string("subsurface: \"") + k + "\" is not supported yet (pbrt derives sigma_a and sigma_s from it with "
-                            "its diffusion tables): give sigma_a and sigma_s");
+        // is an approximation). sigma_a and sigma_s (pbrt's defaults, per mm) times scale, g;
+        // or a diffuse `reflectance` and mean free path `mfp` (1) times scale, from which pbrt's
+        // diffusion table gives them (subsurface_albedo.h).
+        if (const Param* q = p.find("name"))
+            fail(q->at, "subsurface: \"name\" (pbrt's measured media) is not supported yet: give sigma_a and sigma_s, or reflectance");
+        if (p.has("reflectance") && (p.has("sigma_a") || p.has("sigma_s")))
+            fail(p.find("reflectance")->at, "subsurface: give reflectance (and mfp) or sigma_a and sigma_s, not both");
         const double eta = dielectricEta(1.33);
         if (!(eta > 0) || eta == 1) fail(p.has("eta") ? p.find("eta")->at : d.at, "subsurface: eta must be > 0 and not 1");
         m.iorInside = float(eta);
@@ -373,12 +376,26 @@ int Importer::material(const std::string& type, Directive& d) {
         md.line = d.at.line;
         md.name = "the subsurface material of " + *d.at.file + ":" + std::to_string(d.at.line);
         const float scale = float(p.getFloat("scale", 1));
-        md.sigmaA = spectrum(p, "sigma_a", Vec3(0.0011f, 0.0024f, 0.014f), SpectrumUse::Unbounded) * scale;
-        md.sigmaS = spectrum(p, "sigma_s", Vec3(2.55f, 3.21f, 3.77f), SpectrumUse::Unbounded) * scale;
         md.g = float(p.getFloat("g", 0));
+        if (!(md.g > -1 && md.g < 1)) fail(p.has("g") ? p.find("g")->at : d.at, "subsurface: g must be in (-1, 1)");
+        if (p.has("reflectance")) {
+            int t = -1;
+            const Vec3 r = colourParam(p, "reflectance", Vec3(1.0f), t);
+            if (t >= 0) fail(p.find("reflectance")->at, "subsurface: a textured reflectance is not supported (a medium has one albedo)");
+            const Vec3 mfp = spectrum(p, "mfp", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
+            if (!(mfp.x > 0 && mfp.y > 0 && mfp.z > 0) || !isFinite(mfp)) fail(p.has("mfp") ? p.find("mfp")->at : d.at, "subsurface: mfp times scale must be > 0");
+            const DiffusionAlbedo table = diffusionAlbedo(md.g, eta);
+            for (int c = 0; c < 3; ++c) {
+                const double rho = albedoOf(table, std::clamp(double(r[c]), 0.0, 1.0));
+                md.sigmaS[c] = float(rho / mfp[c]);
+                md.sigmaA[c] = float((1 - rho) / mfp[c]);
+            }
+        } else {
+            md.sigmaA = spectrum(p, "sigma_a", Vec3(0.0011f, 0.0024f, 0.014f), SpectrumUse::Unbounded) * scale;
+            md.sigmaS = spectrum(p, "sigma_s", Vec3(2.55f, 3.21f, 3.77f), SpectrumUse::Unbounded) * scale;
+        }
         auto bad = [](Vec3 v) { return !isFinite(v) || v.x < 0 || v.y < 0 || v.z < 0; };
         if (bad(md.sigmaA) || bad(md.sigmaS)) fail(d.at, "subsurface: sigma_a and sigma_s (times scale) must be finite and >= 0");
-        if (!(md.g > -1 && md.g < 1)) fail(p.has("g") ? p.find("g")->at : d.at, "subsurface: g must be in (-1, 1)");
         namedMedia_[md.name] = int(s_.media.size());
         subsurfaceMedium_[int(s_.materials.size())] = md.name;  // (this material's index, below)
         s_.media.push_back(std::move(md));
