@@ -32,6 +32,10 @@ inline bool parseNumber(std::string_view t, bool integer, double& out) {
     return true;
 }
 
+// Whether a product computed in double still fits a float (finite, at most FLT_MAX in
+// magnitude): finite parameters whose product is not are refused where they are multiplied.
+inline bool fitsFloat(double x) { return std::fabs(x) <= FLT_MAX; }  // (false for NaN)
+
 // A number in a message, as a person writes it: 1e+38, 0.5, 63.
 inline std::string numberText(double v) {
     char b[32];

@@ -26,13 +26,17 @@ const char* kindOf(mode_t m) {
 
 }  // namespace
 
-void requireRegularFile(const std::string& path, const std::string& what) {
+std::string regularFileProblem(const std::string& path, const std::string& what) {
     struct stat st;
     if (::stat(path.c_str(), &st) != 0)
-        throw InputError(path, 0, "cannot open " + what + (errno == ENOENT ? std::string() : std::string(": ") + std::strerror(errno)));
-    if (S_ISDIR(st.st_mode)) throw InputError(path, 0, "cannot read " + what + ": it is a folder");
-    if (!S_ISREG(st.st_mode))
-        throw InputError(path, 0, what + " is not a regular file (" + kindOf(st.st_mode) + "; it may never end)");
+        return "cannot open " + what + (errno == ENOENT ? std::string() : std::string(": ") + std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) return "cannot read " + what + ": it is a folder";
+    if (!S_ISREG(st.st_mode)) return what + " is not a regular file (" + kindOf(st.st_mode) + "; it may never end)";
+    return "";
+}
+
+void requireRegularFile(const std::string& path, const std::string& what) {
+    if (const std::string why = regularFileProblem(path, what); !why.empty()) throw InputError(path, 0, why);
 }
 
 FileStream::FileStream(const std::string& path, const std::string& what) : path_(path), what_(what) {
@@ -141,9 +145,7 @@ void readRest(FileStream& in, std::string& data) {
 }
 
 Image readSceneImage(const std::string& path) {
-    struct stat st;  // a device or FIFO (readImage reports a missing file or a folder itself)
-    if (::stat(path.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) requireRegularFile(path, "the image");
-    Image img = readImage(path);
+    Image img = readImage(path);  // (which refuses what is not a regular file)
     for (size_t i = 0; i < img.rgb.size(); ++i)
         if (!std::isfinite(img.rgb[i])) {
             const size_t px = i / 3;

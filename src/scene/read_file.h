@@ -19,6 +19,9 @@ namespace wmlt {
 // ("cannot open <what>", "cannot read <what>: a folder", "<what> is not a regular file
 // (a character device: /dev/zero?)"). `what` names the file ("the PLY file").
 void requireRegularFile(const std::string& path, const std::string& what);
+// The same problem as text without the path ("" when there is none), for readers that report
+// their own way (a spectrum file).
+std::string regularFileProblem(const std::string& path, const std::string& what);
 
 // A file's bytes in order, inflated when its name ends in ".gz" (every gzip member, each
 // member's CRC and length checked). read() returns 0 only at the end.

@@ -9,7 +9,6 @@
 #include "kernels/fresnel.h"
 #include "scene/number.h"
 #include "scene/read_file.h"
-#include "wavemmlt/error.h"
 
 namespace wmlt {
 
@@ -78,12 +77,7 @@ std::string parseSpectrumPairs(const std::string& text, SampledSpectrum& out) {
 
 std::string readSpectrumFile(const std::string& path, SampledSpectrum& out) {
     out = {};
-    try {
-        requireRegularFile(path, "the spectrum file");  // /dev/zero would be read for ever
-    } catch (const InputError& e) {
-        const std::string m = e.what();
-        return m.substr(m.find(": ") + 2);
-    }
+    if (std::string why = regularFileProblem(path, "the spectrum file"); !why.empty()) return why;  // /dev/zero would be read for ever
     std::ifstream in(path);
     if (!in) return "cannot open the spectrum file";
     std::string line;

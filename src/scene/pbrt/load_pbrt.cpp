@@ -1,7 +1,6 @@
 // pbrt-v4 scene files (docs/pbrt.md): the directives, the graphics state and transforms,
 // objects and instances, and the camera, film, sampler, integrator and filter.
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
 #include <filesystem>
 
@@ -64,9 +63,18 @@ void Importer::transform(const Directive& d) {
     // a finite float, or the shapes it places would be NaN and infinities.
     for (const auto& row : g_.ctm.m)
         for (double x : row)
-            if (!(std::fabs(x) <= FLT_MAX))
+            if (!fitsFloat(x))
                 fail(d.at, d.name + ": the transform so far has an entry of " + numberText(x) + ", beyond a float's range");
     if (std::fabs(g_.ctm.det3()) < 1e-30) fail(d.at, d.name + ": the transform is singular");
+}
+
+Importer::State Importer::closeBlock(const Directive& d, const std::string& begin) {
+    if (stack_.empty()) fail(d.at, d.name + " without a matching begin");
+    const Block& b = stack_.back();
+    if (b.begin != begin) fail(d.at, d.name + " closes the " + b.begin + " of line " + std::to_string(b.at.line) + " (mismatched nesting)");
+    const State saved = b.state;
+    stack_.pop_back();
+    return saved;
 }
 
 void Importer::withAttributes(Directive& d, const std::string& target) const {
@@ -100,21 +108,15 @@ void Importer::directive(Directive& d) {
     } else if (n == "ReverseOrientation") {
         g_.reverse = !g_.reverse;
     } else if (n == "AttributeBegin" || n == "TransformBegin") {
-        stack_.push_back(g_);
-        opened_.push_back(Directive{n, {}, {}, {}, d.at});
+        stack_.push_back({g_, n, d.at});
         if (stack_.size() > 10000) fail(d.at, n + " nested too deep");
     } else if (n == "AttributeEnd" || n == "TransformEnd") {
-        if (stack_.empty()) fail(d.at, n + " without a matching begin");
-        const std::string& open = opened_.back().name;  // pbrt-v4: "mismatched nesting"
-        if (open != (n == "AttributeEnd" ? "AttributeBegin" : "TransformBegin"))
-            fail(d.at, n + " closes the " + open + " of line " + std::to_string(opened_.back().at.line) + " (mismatched nesting)");
+        const State saved = closeBlock(d, n == "AttributeEnd" ? "AttributeBegin" : "TransformBegin");
         if (n == "TransformEnd") {
-            g_.ctm = stack_.back().ctm;
+            g_.ctm = saved.ctm;
         } else {
-            g_ = stack_.back();
+            g_ = saved;
         }
-        stack_.pop_back();
-        opened_.pop_back();
     } else if (n == "WorldBegin") {
         if (inWorld_) fail(d.at, "a second WorldBegin");
         inWorld_ = true;
@@ -166,18 +168,13 @@ void Importer::directive(Directive& d) {
         if (!inWorld_) fail(d.at, "ObjectBegin before WorldBegin");
         if (currentObject_ >= 0) fail(d.at, "ObjectBegin inside an object (nested objects are not supported)");
         if (objects_.count(d.strings[0])) fail(d.at, "object \"" + d.strings[0] + "\" defined twice");
-        stack_.push_back(g_);
-        opened_.push_back(Directive{n, {}, {}, {}, d.at});
+        stack_.push_back({g_, n, d.at});
         currentObject_ = s_.groups++;
         objects_[d.strings[0]] = currentObject_;
     } else if (n == "ObjectEnd") {
         if (currentObject_ < 0) fail(d.at, "ObjectEnd without ObjectBegin");
-        if (opened_.back().name != "ObjectBegin")
-            fail(d.at, "ObjectEnd closes the " + opened_.back().name + " of line " + std::to_string(opened_.back().at.line) + " (mismatched nesting)");
+        g_ = closeBlock(d, "ObjectBegin");
         currentObject_ = -1;
-        g_ = stack_.back();
-        stack_.pop_back();
-        opened_.pop_back();
     } else if (n == "ObjectInstance") {
         if (currentObject_ >= 0) fail(d.at, "ObjectInstance inside an object (nested instancing is not supported)");
         auto it = objects_.find(d.strings[0]);
@@ -407,10 +404,10 @@ void Importer::options() {
 
 void Importer::finish() {
     // pbrt-v4 refuses a file that ends inside a block, and so does wavemmlt: the block's line.
-    if (!opened_.empty()) {
-        const Directive& b = opened_.back();
-        const std::string end = b.name == "ObjectBegin" ? "ObjectEnd" : b.name == "TransformBegin" ? "TransformEnd" : "AttributeEnd";
-        fail(b.at, b.name + " without " + end + " (the file ends inside it)");
+    if (!stack_.empty()) {
+        const Block& b = stack_.back();
+        const std::string end = b.begin == "ObjectBegin" ? "ObjectEnd" : b.begin == "TransformBegin" ? "TransformEnd" : "AttributeEnd";
+        fail(b.at, b.begin + " without " + end + " (the file ends inside it)");
     }
     film();
     camera();
@@ -420,7 +417,7 @@ void Importer::finish() {
         const Loc at = film_.name.empty() ? camera_.at : film_.at;
         auto times = [&](float& v) {
             const double x = double(v) * imagingRatio_;
-            if (!(std::fabs(x) <= FLT_MAX))
+            if (!fitsFloat(x))
                 fail(at, "the film's imaging ratio (iso / 100 times the shutter time, " + numberText(imagingRatio_) +
                              ") times an emitter's value (" + numberText(v) + ") is beyond a float's range");
             v = float(x);

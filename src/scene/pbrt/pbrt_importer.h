@@ -37,10 +37,10 @@ private:
         std::map<std::string, std::vector<Param>> attributes;
         std::string insideMedium, outsideMedium;  // MediumInterface ("": vacuum)
     };
-    // A shape's medium names, resolved when the file has been read (media may be defined
-    // after their use, as pbrt-v4 allows).
+    // A shape's or a light's medium names, resolved when the file has been read (media may be
+    // defined after their use, as pbrt-v4 allows).
     struct PendingMedia {
-        int shape;
+        int index;  // into s_.shapes (pendingMedia_) or s_.lights (pendingLightMedia_)
         std::string inside, outside;
         Loc at;
     };
@@ -49,8 +49,13 @@ private:
     std::string path_, base_;
     SceneDesc s_;
     State g_;
-    std::vector<State> stack_;
-    std::vector<Directive> opened_;  // the AttributeBegin, TransformBegin or ObjectBegin of each stack_ entry
+    // An open AttributeBegin, TransformBegin or ObjectBegin: the state it saved, its name and line.
+    struct Block {
+        State state;
+        std::string begin;
+        Loc at;
+    };
+    std::vector<Block> stack_;
     std::map<std::string, Matrix> namedCoords_;
     std::map<std::string, int> namedMaterials_;
     std::map<std::string, int> textures_;       // spectrum and float textures by name (SceneDesc::textures)
@@ -60,7 +65,7 @@ private:
     std::map<std::string, int> namedMedia_;     // MakeNamedMedium name -> SceneDesc::media
     std::vector<PendingMedia> pendingMedia_;
     std::map<int, std::string> subsurfaceMedium_;  // a subsurface material (its index) -> the name of its interior medium
-    std::vector<PendingMedia> pendingLightMedia_;  // (shape: the light's index) its front (outside) and back (inside) media
+    std::vector<PendingMedia> pendingLightMedia_;  // a light's front (outside) and back (inside) media
     std::string cameraMedium_;
     Loc cameraAt_;
     int currentObject_ = -1;
@@ -82,6 +87,9 @@ private:
     void done(Directive& d) { d.params.warnUnused(s_.warnings); }
     // Adds the Attribute defaults of class `target` that d does not give itself.
     void withAttributes(Directive& d, const std::string& target) const;
+    // The innermost block, which d (an End) closes: its saved state. pbrt-v4's rule: it must be
+    // `begin`'s, else "mismatched nesting".
+    State closeBlock(const Directive& d, const std::string& begin);
 
     // pbrt_shapes.cpp
     void shape(Directive& d);

@@ -3,7 +3,6 @@
 // Spectra of emitters are pbrt's: an rgb value as it is, any other spectrum scaled to a
 // luminance of 1 (Importer::spectrum, SpectrumUse::Illuminant).
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
 
 #include "kernels/envmap.h"
@@ -25,7 +24,7 @@ Vec3 scaled(const Loc& at, Vec3 L, double scale, const std::string& what) {
     Vec3 out;
     for (int i = 0; i < 3; ++i) {
         const double v = double(L[i]) * scale;
-        if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+        if (!fitsFloat(v))
             fail(at, what + " times scale (" + numberText(L[i]) + " x " + numberText(scale) + ") is " +
                          (std::isnan(v) ? "not a number" : "beyond a float's range"));
         if (!(v >= 0)) fail(at, what + " times scale must be >= 0");
@@ -36,7 +35,7 @@ Vec3 scaled(const Loc& at, Vec3 L, double scale, const std::string& what) {
 void scaleImage(const Loc& at, Image& im, double scale, const std::string& what) {
     for (float& v : im.rgb) {
         const double x = double(v) * scale;
-        if (!std::isfinite(x) || std::fabs(x) > FLT_MAX)
+        if (!fitsFloat(x))
             fail(at, what + ": a pixel (" + numberText(v) + ") times scale (" + numberText(scale) + ") is beyond a float's range");
         v = float(x);
     }

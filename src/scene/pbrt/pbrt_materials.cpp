@@ -5,7 +5,6 @@
 // parameters as linear sRGB (scene/spectrum.h).
 #include <algorithm>
 #include <cctype>
-#include <cfloat>
 #include <cmath>
 #include <filesystem>
 
@@ -625,7 +624,7 @@ void Importer::texture(Directive& d) {
     } else {
         fail(d.at, "Texture class \"" + cls + "\" is not supported yet (docs/pbrt.md)");
     }
-    if (const double bound = textureBound(s_.textures, t); !(bound <= FLT_MAX))
+    if (const double bound = textureBound(s_.textures, t); !fitsFloat(bound))
         fail(d.at, "Texture " + quoteToken(name) + ": its values times its scale reach " + numberText(bound) + ", beyond a float's range");
     t.id = int(s_.textures.size());
     textures_[name] = t.id;

@@ -98,7 +98,7 @@ void Importer::resolveMedia() {
         return it->second;
     };
     for (const PendingMedia& pm : pendingMedia_) {
-        ShapeDesc& sh = s_.shapes[size_t(pm.shape)];
+        ShapeDesc& sh = s_.shapes[size_t(pm.index)];
         sh.mediumBoundary = true;
         sh.mediumInside = index(pm.inside, pm.at);
         sh.mediumOutside = index(pm.outside, pm.at);
@@ -108,7 +108,7 @@ void Importer::resolveMedia() {
     // legal; a light's media are the MediumInterface in force at its directive)
     s_.mediaAsDeclared = true;
     for (const PendingMedia& pm : pendingLightMedia_) {
-        LightDesc& l = s_.lights[size_t(pm.shape)];
+        LightDesc& l = s_.lights[size_t(pm.index)];
         l.mediumFront = index(pm.outside, pm.at);
         l.mediumBack = index(pm.inside, pm.at);
     }
