@@ -70,6 +70,23 @@ Proc runBad(const TempDir& dir, const std::string& scene, const std::vector<std:
     return p;
 }
 
+// A bad pbrt file (its text), the line its message names and a fragment of it.
+struct Bad {
+    const char* what;
+    std::string body;
+    int line;
+    const char* fragment;
+};
+// Each case written as s.pbrt and run, a section of its own.
+void requireEachBad(const TempDir& dir, const std::vector<Bad>& cases) {
+    for (const Bad& b : cases) {
+        DYNAMIC_SECTION(b.what) {
+            const std::string s = dir.write("s.pbrt", b.body);
+            runBad(dir, s, {s + ":" + std::to_string(b.line) + ": ", b.fragment});
+        }
+    }
+}
+
 }  // namespace
 
 // ---- unbounded reading -------------------------------------------------------------------------
@@ -143,7 +160,6 @@ TEST_CASE("badinput bounds: a bomb of numbers in one array costs what the number
 
 TEST_CASE("badinput bounds: finite parameters whose product overflows a float are refused", "[badinput][bounds]") {
     TempDir dir;
-    struct Bad { const char* what; std::string body; int line; const char* fragment; };
     const std::string sphere = "Shape \"sphere\"\n";
     const std::vector<Bad> cases = {
         {"point light", "WorldBegin\nLightSource \"point\" \"rgb I\" [1e38 1e38 1e38] \"float scale\" 1e38\n" + sphere, 2,
@@ -172,12 +188,7 @@ TEST_CASE("badinput bounds: finite parameters whose product overflows a float ar
          "the film's imaging ratio"},
     };
     dir.write("ten.pfm", pfm(2, 2, 10.0f));
-    for (const Bad& b : cases) {
-        DYNAMIC_SECTION(b.what) {
-            const std::string s = dir.write("s.pbrt", b.body);
-            runBad(dir, s, {s + ":" + std::to_string(b.line) + ": ", b.fragment});
-        }
-    }
+    requireEachBad(dir, cases);
     SECTION("Mitsuba: an envmap's pixels times scale") {
         dir.write("big.pfm", pfm(4, 3, 1e38f));
         const std::string m = dir.write("m.xml", "<scene version=\"3.0.0\">\n<emitter type=\"envmap\"><string name=\"filename\" value=\"big.pfm\"/>"
@@ -193,7 +204,6 @@ TEST_CASE("badinput bounds: images with NaN or infinite pixels are refused by ev
     dir.write("nan.pfm", pfm(2, 2, std::nanf("")));
     dir.write("inf.pfm", pfm(2, 2, INFINITY));
     const std::string tri = "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"point2 uv\" [0 0 1 0 0 1] \"integer indices\" [0 1 2]\n";
-    struct Bad { const char* what; std::string body; int line; const char* fragment; };
     const std::vector<Bad> cases = {
         {"pbrt imagemap", kPbrtHead + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"nan.pfm\"\n" + tri, 3,
          "nan.pfm: pixel (0, 0) is NaN"},
@@ -202,12 +212,7 @@ TEST_CASE("badinput bounds: images with NaN or infinite pixels are refused by ev
         {"pbrt area light's image", "WorldBegin\nAreaLightSource \"diffuse\" \"string filename\" \"nan.pfm\"\n" + tri, 2,
          "nan.pfm: pixel (0, 0) is NaN"},
     };
-    for (const Bad& b : cases) {
-        DYNAMIC_SECTION(b.what) {
-            const std::string s = dir.write("s.pbrt", b.body);
-            runBad(dir, s, {s + ":" + std::to_string(b.line) + ": ", b.fragment});
-        }
-    }
+    requireEachBad(dir, cases);
     SECTION("Mitsuba bitmap and envmap") {
         const std::string bitmap = dir.write(
             "m.xml", "<scene version=\"3.0.0\">\n<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\">\n"
@@ -255,7 +260,6 @@ TEST_CASE("badinput bounds: counts from a file are range-checked in a wide type,
 
 TEST_CASE("badinput bounds: what pbrt-v4 refuses, wavemmlt refuses", "[badinput][bounds][pbrt]") {
     TempDir dir;
-    struct Bad { const char* what; std::string body; int line; const char* fragment; };
     const std::vector<Bad> cases = {
         {"an unknown escape", kPbrtHead + "Shape \"sphere\"\nMaterial \"diff\\use\"\n", 4, "unexpected escaped character \"\\u\""},
         {"AttributeBegin without AttributeEnd", kPbrtHead + "AttributeBegin\nShape \"sphere\"\n", 3,
@@ -267,12 +271,7 @@ TEST_CASE("badinput bounds: what pbrt-v4 refuses, wavemmlt refuses", "[badinput]
         {"TransformEnd closing an AttributeBegin", kPbrtHead + "Shape \"sphere\"\nAttributeBegin\nTransformEnd\n", 5,
          "TransformEnd closes the AttributeBegin of line 4 (mismatched nesting)"},
     };
-    for (const Bad& b : cases) {
-        DYNAMIC_SECTION(b.what) {
-            const std::string s = dir.write("s.pbrt", b.body);
-            runBad(dir, s, {s + ":" + std::to_string(b.line) + ": ", b.fragment});
-        }
-    }
+    requireEachBad(dir, cases);
     SECTION("every escape pbrt-v4 takes is read") {
         const std::string s = dir.write("s.pbrt", kPbrtHead + "MakeNamedMaterial \"a\\\"b\\\\c\\'d\\te\\bf\\fg\\rh\\ni\" \"string type\" \"diffuse\"\n"
                                                               "NamedMaterial \"a\\\"b\\\\c'd\\te\\bf\\fg\\rh\\ni\"\nShape \"sphere\"\n");
