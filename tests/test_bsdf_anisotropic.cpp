@@ -82,9 +82,9 @@ struct Material {
     BsdfParams p;
     Material(MaterialKind k, const Microfacet& d, float eta = 1.5f) {
         x.dist = d;
-        x.etaC = Vec3(0.200438f, 0.924033f, 1.10221f);  // copper (veach-mis)
-        x.kC = Vec3(3.91295f, 2.45285f, 2.14219f);
         p.kind = k;
+        if (k == MaterialKind::Conductor || k == MaterialKind::RoughConductor)  // copper (veach-mis)
+            setConductorIndex(p, Vec3(0.200438f, 0.924033f, 1.10221f), Vec3(3.91295f, 2.45285f, 2.14219f));
         p.eta = eta;
         p.reflect = Vec3(1.0f);
         p.refract = Vec3(1.0f);

@@ -23,13 +23,12 @@ struct Coat {
     BsdfParams m;
     Coat(bool conductor, float coatAlpha, float baseAlpha, float thickness, Vec3 R = Vec3(1.0f), int maxDepth = 10) {
         x.coating.conductorBase = conductor;
-        x.coating.baseAlpha = x.coating.baseAlphaV = baseAlpha;
         x.coating.thickness = thickness;
         x.coating.maxDepth = maxDepth;
-        x.etaC = Vec3(0.2f, 0.5f, 1.1f) / 1.5f;
-        x.kC = Vec3(3.5f, 2.5f, 1.8f) / 1.5f;
         m.kind = MaterialKind::Coated;
         m.diffuse = R;
+        if (conductor) setConductorIndex(m, Vec3(0.2f, 0.5f, 1.1f) / 1.5f, Vec3(3.5f, 2.5f, 1.8f) / 1.5f);
+        setCoatBaseAlphas(m, baseAlpha, baseAlpha);
         m.eta = 1.5f;
         m.alphaX = m.alphaY = coatAlpha;
         m.x = &x;

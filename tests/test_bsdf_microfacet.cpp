@@ -25,13 +25,13 @@ struct Material {
     BsdfParams p;
     Material(MaterialKind k, MicrofacetType t, float alpha, float eta = 1.5f) {
         x.dist = Microfacet{t, alpha};
-        x.etaC = Vec3(0.200438f, 0.924033f, 1.10221f);  // copper (veach-mis)
-        x.kC = Vec3(3.91295f, 2.45285f, 2.14219f);
         p.kind = k;
         p.eta = eta;
         p.reflect = Vec3(1.0f);
         p.refract = Vec3(1.0f);
         p.diffuse = Vec3(0.5f, 0.3f, 0.8f);
+        if (k == MaterialKind::Conductor || k == MaterialKind::RoughConductor)  // copper (veach-mis)
+            setConductorIndex(p, Vec3(0.200438f, 0.924033f, 1.10221f), Vec3(3.91295f, 2.45285f, 2.14219f));
         x.specularWeight = 0.5f;
         if (k == MaterialKind::Plastic || k == MaterialKind::RoughPlastic) preparePlastic(x, eta, k == MaterialKind::RoughPlastic);
         p.x = &x;
@@ -259,7 +259,7 @@ TEST_CASE("Delta Mitsuba kinds: conductor and thin dielectric weights and direct
         BsdfSample s;
         REQUIRE(bsdfSample(cu.p, wo, 0.5f, 0.5f, 0.5f, TransportMode::Radiance, s));
         CHECK((s.delta && s.wi.x == -wo.x && s.wi.z == wo.z));
-        Vec3 F = fresnelConductor(std::fabs(wo.z), cu.x.etaC, cu.x.kC), w = s.f * absCosTheta(s.wi) / s.pdf;
+        Vec3 F = fresnelConductor(std::fabs(wo.z), conductorEta(cu.p), conductorK(cu.p)), w = s.f * absCosTheta(s.wi) / s.pdf;
         for (int c = 0; c < 3; ++c) CHECK(w[c] == Approx(F[c]).epsilon(1e-5));
         double Fd = fresnelDielectric(std::fabs(wo.z), 1.5f), R = 2 * Fd / (1 + Fd);
         int nRefl = 0;

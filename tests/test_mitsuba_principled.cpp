@@ -79,10 +79,10 @@ TEST_CASE("Mitsuba principled: import", "[mitsuba][import][principled]") {
   <texture type="checkerboard" name="base_color"/><texture type="checkerboard" name="metallic"/>
   <texture type="checkerboard" name="spec_trans"/></bsdf></shape>)");
         const MaterialDesc& m = materialOf(d);
-        CHECK(m.colourTexture[int(ColourParam::Diffuse)] >= 0);
-        CHECK(m.principledTexture[int(P::Metallic)] >= 0);
+        CHECK(m.texture[MaterialParam::Diffuse] >= 0);
+        CHECK(m.texture[principledParam(P::Metallic)] >= 0);
         CHECK(m.principled[int(P::Metallic)] == 1.0f);
-        CHECK(m.principledTexture[int(P::Roughness)] < 0);
+        CHECK(m.texture[principledParam(P::Roughness)] < 0);
         CHECK(principledTransmits(m));  // a texture on spec_trans: it may transmit
     }
     const std::pair<std::string, std::string> bad[] = {

@@ -188,10 +188,10 @@ MakeNamedMaterial "h" "string type" "diffuse" "texture reflectance" "half"
     CHECK(d.materials[size_t(mat(5).blendPart[1])].kind == MaterialKind::Dielectric);
     // the checkerboard: tex1 where floor(4u) + floor(2v) is even, times 0.5
     const MaterialDesc& h = mat(6);
-    REQUIRE(h.colourTexture[int(ColourParam::Diffuse)] >= 0);
+    REQUIRE(h.texture[MaterialParam::Diffuse] >= 0);
     for (const auto& [u, v] : std::vector<std::pair<float, float>>{{0.1f, 0.1f}, {0.3f, 0.1f}, {0.3f, 0.6f}, {0.9f, 0.9f}, {0.6f, 0.3f}}) {
         const bool even = (int(std::floor(4 * u)) + int(std::floor(2 * v))) % 2 == 0;
-        const Vec3 c = evalTextureOf(d.textures, size_t(h.colourTexture[int(ColourParam::Diffuse)]), u, v, Vec3(0.0f), Vec3(0, 0, 1));
+        const Vec3 c = evalTextureOf(d.textures, size_t(h.texture[MaterialParam::Diffuse]), u, v, Vec3(0.0f), Vec3(0, 0, 1));
         INFO("u " << u << " v " << v);
         CHECK(c.x == (even ? 0.5f : 0.0f));
         CHECK(c.z == (even ? 0.0f : 0.5f));
@@ -469,7 +469,7 @@ LightSource "point" "rgb I" [ 1 1 1 ]
     CHECK(d.materials[size_t(d.shapes[0].material)].diffuse.z == Approx(0.4f));
     CHECK(d.lights[0].radiance.x == Approx(3.0f));
     CHECK(d.lights[1].radiance.x == Approx(1.0f));
-    const TextureDesc& t = d.textures[size_t(d.materials[size_t(d.shapes[2].material)].colourTexture[0])];
+    const TextureDesc& t = d.textures[size_t(d.materials[size_t(d.shapes[2].material)].texture[MaterialParam::Diffuse])];
     CHECK(t.uvTransform[0] == Approx(4.0f));  // uscale
     CHECK(d.warnings.empty());  // defaults a directive does not read (the texture's uscale on a sphere) are no mistake
 }

@@ -276,11 +276,11 @@ TEST_CASE("Shaders and textures: fields and Texture and Bump resolved to indices
     CHECK(near(g.diffuse, Vec3(0.15f, 0.2f, 0.3f)));
     CHECK(near(g.specular, Vec3(0.85f, 0.5f, 0.1f)));
     CHECK(g.shininess == 100.0f);
-    REQUIRE(g.colourTexture[0] >= 0);
+    REQUIRE(g.texture[MaterialParam::Diffuse] >= 0);
     REQUIRE(g.bump >= 0);
-    CHECK(d.textures[g.colourTexture[0]].id == 7);
-    CHECK(d.textures[g.colourTexture[0]].kind == TextureKind::Marble);
-    CHECK(near(d.textures[g.colourTexture[0]].colour3, Vec3(0.06f, 0.04f, 0.02f)));
+    CHECK(d.textures[g.texture[MaterialParam::Diffuse]].id == 7);
+    CHECK(d.textures[g.texture[MaterialParam::Diffuse]].kind == TextureKind::Marble);
+    CHECK(near(d.textures[g.texture[MaterialParam::Diffuse]].colour3, Vec3(0.06f, 0.04f, 0.02f)));
     CHECK(d.textures[g.bump].id == 2);
     CHECK(d.textures[g.bump].kind == TextureKind::Checker);
     CHECK(d.textures[g.bump].repeatU == 4.0f);
@@ -292,7 +292,7 @@ TEST_CASE("Shaders and textures: fields and Texture and Bump resolved to indices
     CHECK(d.materials[3].iorInside == 1.5f);
     CHECK(d.materials[3].iorOutside == 1.33f);
     CHECK(near(d.materials[3].refract, Vec3(0.9f)));
-    CHECK(d.materials[4].colourTexture[0] == -1);
+    CHECK(d.materials[4].texture[MaterialParam::Diffuse] == -1);
     const TextureDesc& img = d.textures[2];
     CHECK(img.kind == TextureKind::ImageFile);
     CHECK(img.image.width == 64);

@@ -38,16 +38,16 @@ SceneDesc floorScene() {
 TEST_CASE("Texture stage: a Scale texture renders as its constant folded in, in every tracer", "[texture][render]") {
     SceneDesc constant = floorScene(), scaled = floorScene();
     MaterialDesc& mc = constant.materials[size_t(constant.shapes[0].material)];
-    REQUIRE(mc.colourTexture[int(ColourParam::Diffuse)] >= 0);
+    REQUIRE(mc.texture[MaterialParam::Diffuse] >= 0);
     mc.diffuse = mc.diffuse * 0.5f;  // 0.5 x the checkerboard
     MaterialDesc& ms = scaled.materials[size_t(scaled.shapes[0].material)];
     TextureDesc s;  // the checkerboard times 0.5, as pbrt's "scale" texture
     s.kind = TextureKind::Scale;
-    s.operand[0] = ms.colourTexture[int(ColourParam::Diffuse)];
+    s.operand[0] = ms.texture[MaterialParam::Diffuse];
     s.colour2 = Vec3(0.5f);
     s.id = int(scaled.textures.size());
     scaled.textures.push_back(s);
-    ms.colourTexture[int(ColourParam::Diffuse)] = s.id;
+    ms.texture[MaterialParam::Diffuse] = s.id;
     for (TracerKind t : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
         RenderOptions o = rstats::renderOptions(t, 16, 11, 1, 3);
         if (t == TracerKind::MMLT) o.chains = 256;
@@ -69,13 +69,18 @@ TEST_CASE("Texture stage: combining textures only where it evaluates them", "[te
     SceneDesc d = floorScene();
     TextureDesc s;
     s.kind = TextureKind::Mix;
-    s.operand[0] = d.materials[size_t(d.shapes[0].material)].colourTexture[int(ColourParam::Diffuse)];
+    s.operand[0] = d.materials[size_t(d.shapes[0].material)].texture[MaterialParam::Diffuse];
     s.id = int(d.textures.size());
     d.textures.push_back(s);
-    {  // as a bump map: refused
+    {  // as a bump map (the thesis' and pbrt's heights are any texture's luminance): accepted
         SceneDesc b = d;
         b.materials[size_t(b.shapes[0].material)].bump = s.id;
-        CHECK(errorOf(b).find("bump map, normal map or opacity") != std::string::npos);
+        CHECK(errorOf(b).empty());
+    }
+    {  // as a normal map or a Mitsuba bump map (a bitmap's own gradient): refused
+        SceneDesc b = d;
+        b.materials[size_t(b.shapes[0].material)].normalMap = s.id;
+        CHECK(errorOf(b).find("a normal map or an opacity") != std::string::npos);
     }
     {  // an operand after the texture itself: refused
         SceneDesc b = d;
@@ -84,7 +89,7 @@ TEST_CASE("Texture stage: combining textures only where it evaluates them", "[te
     }
     {  // on the reflectance: accepted
         SceneDesc b = d;
-        b.materials[size_t(b.shapes[0].material)].colourTexture[int(ColourParam::Diffuse)] = s.id;
+        b.materials[size_t(b.shapes[0].material)].texture[MaterialParam::Diffuse] = s.id;
         CHECK(errorOf(b).empty());
     }
 }

@@ -72,18 +72,39 @@ constexpr int kMaterialKinds = 15;
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
-// The colour parameters a texture may scale (MaterialDesc::colourTexture): Kd (Matte,
-// Glossy, the plastics' diffuse_reflectance), Ks (Glossy), reflect (specular_reflectance),
-// refract (specular_transmittance).
-enum class ColourParam : uint8_t { Diffuse, Specular, Reflect, Refract };
-constexpr int kColourParams = 4;
-
 // The principled BSDF's float parameters (Mitsuba 3's names: roughness, anisotropic,
 // metallic, spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss).
 enum class PrincipledParam : uint8_t {
     Roughness, Anisotropic, Metallic, SpecTrans, SpecTint, Sheen, SheenTint, Flatness, Clearcoat, ClearcoatGloss
 };
 constexpr int kPrincipledParams = 10;
+
+// Every material parameter a texture may drive (MaterialDesc::texture), and what the
+// texture's value at a hit does to the parameter's constant there (kernels/textured_params.h;
+// which kinds read which: readsParam, scene/features.h):
+enum class MaterialParam : uint8_t {
+    Diffuse, Specular, Reflect, Refract,  // colours (Kd, Ks, specular reflectance, transmittance): RGB times them
+    AlphaU, AlphaV,                       // roughness (rough kinds, a coat's interface): luminance (sqrt: alphaRemap) times it
+    BaseAlphaU, BaseAlphaV,               // a coated conductor's base roughness: the same
+    ConductorEta, ConductorK,             // a conductor's complex index (a coated one's base): RGB times it
+    ConductorReflectance,                 // pbrt's conductor reflectance r: k = 2 sqrt(r) / sqrt(1 - r) times k
+    Albedo,                               // a coating's medium albedo: RGB times it
+    Scale,                                // pbrt's diffusetransmission scale: luminance times Kd and transmittance
+    BlendWeight,                          // a blend's weight: luminance times it, in [0, 1]
+    Principled                            // the first of kPrincipledParams: luminance times each, in [0, 1]
+};
+constexpr int kMaterialParams = int(MaterialParam::Principled) + kPrincipledParams;
+constexpr MaterialParam principledParam(PrincipledParam q) { return MaterialParam(int(MaterialParam::Principled) + int(q)); }
+
+// A material's textures by parameter: an index into SceneDesc::textures, -1: a constant.
+struct ParamTextures {
+    int index[kMaterialParams];
+    constexpr ParamTextures() : index{} {
+        for (int& i : index) i = -1;
+    }
+    int& operator[](MaterialParam q) { return index[int(q)]; }
+    int operator[](MaterialParam q) const { return index[int(q)]; }
+};
 
 struct MaterialDesc {
     int id = 0;
@@ -94,22 +115,20 @@ struct MaterialDesc {
     Vec3 reflect{1.0f};   // Reflective, Dielectric
     Vec3 refract{1.0f};   // Dielectric; DiffuseTransmission: its transmittance (diffuse its reflectance)
     float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
-    // A texture on a colour parameter multiplies its constant at the hit (index into
-    // SceneDesc::textures by ColourParam, -1: none): the thesis' <Texture> is the Diffuse
-    // one; an importer that maps a texture alone sets the constant to 1.
-    int colourTexture[kColourParams] = {-1, -1, -1, -1};
+    // The textures of its parameters (MaterialParam): each drives its constant at a hit; the
+    // thesis' <Texture> is the Diffuse one; an importer that maps a texture alone sets the
+    // constant to 1 (a roughness's too: alpha 1, scaled by the texture).
+    ParamTextures texture;
     int bump = -1;        // index into SceneDesc::textures, -1: none
     // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
     // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.
     MicrofacetType distribution = MicrofacetType::Beckmann;
     float alpha = 0.1f;                      // rough kinds (anisotropic: the roughness along u, alpha_u)
     float alphaV = -1;                       // rough kinds: the roughness along v (alpha_v); < 0: alpha
-    // Rough conductors and dielectrics, and a coated material's interface: a texture's
-    // luminance r at the hit scales alpha (alpha_u) and alphaV (index into
-    // SceneDesc::textures, -1: none), by r itself, or by sqrt(r) with alphaRemap (pbrt's
+    // A textured roughness (texture[AlphaU], [AlphaV], [BaseAlphaU], [BaseAlphaV]): its
+    // luminance r at the hit scales alpha by r itself, or by sqrt(r) with alphaRemap (pbrt's
     // remaproughness: the texture is a roughness, alpha = sqrt(roughness)); a textured `alpha`
     // sets both to the same texture (isotropic).
-    int alphaTexture = -1, alphaVTexture = -1;
     bool alphaRemap = false;
     Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
     bool nonlinear = false;                  // Plastic, RoughPlastic
@@ -127,16 +146,14 @@ struct MaterialDesc {
     int opacityTexture = -1;                 // index into SceneDesc::textures, -1: none
     // Blend: its two parts (indices into SceneDesc::materials: kinds other than Blend, with
     // constant parameters and no bump, normal map or mask) and the weight w of part 1,
-    // a constant in [0, 1] or (blendWeightTexture >= 0) that texture's luminance at the hit.
+    // a constant in [0, 1] or (texture[BlendWeight]) that texture's luminance at the hit.
     int blendPart[2] = {-1, -1};
     float blendWeight = 0.5f;
-    int blendWeightTexture = -1;
     // Principled (Mitsuba's `principled`): base_color is `diffuse` (its texture the Diffuse
     // one), eta iorInside / iorOutside; its float parameters below, each a constant or
-    // (principledTexture >= 0) that texture's luminance at the hit; sampling rates of the
-    // diffuse, main specular and clearcoat lobes.
+    // (texture[principledParam(q)]) that texture's luminance at the hit; sampling rates of
+    // the diffuse, main specular and clearcoat lobes.
     float principled[kPrincipledParams] = {0.5f, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    int principledTexture[kPrincipledParams] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     float samplingRate[3] = {1, 1, 1};
     // Coated (pbrt-v4's coateddiffuse and coatedconductor, kernels/bsdf_coated.cpp): the
     // interface's index iorInside / iorOutside and GGX alphas alpha, alphaV; the base a
@@ -156,7 +173,7 @@ struct MaterialDesc {
 // unless wrapped in twosided.
 inline bool principledTransmits(const MaterialDesc& m) {
     const int t = int(PrincipledParam::SpecTrans);
-    return m.kind == MaterialKind::Principled && (m.principled[t] > 0 || m.principledTexture[t] >= 0);
+    return m.kind == MaterialKind::Principled && (m.principled[t] > 0 || m.texture[principledParam(PrincipledParam::SpecTrans)] >= 0);
 }
 
 // A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it
@@ -167,9 +184,9 @@ inline bool isAnisotropic(const MaterialDesc& m) {
     const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric ||
                        m.kind == MaterialKind::RoughPlastic;
     const int a = int(PrincipledParam::Anisotropic);
-    if (m.kind == MaterialKind::Principled) return m.principled[a] != 0 || m.principledTexture[a] >= 0;
+    if (m.kind == MaterialKind::Principled) return m.principled[a] != 0 || m.texture[principledParam(PrincipledParam::Anisotropic)] >= 0;
     if (m.kind == MaterialKind::Coated) return alphaVOf(m) != m.alpha || m.coating.baseAlpha != m.coating.baseAlphaV;
-    return rough && (alphaVOf(m) != m.alpha || m.alphaTexture != m.alphaVTexture);
+    return rough && (alphaVOf(m) != m.alpha || m.texture[MaterialParam::AlphaU] != m.texture[MaterialParam::AlphaV]);
 }
 
 // The thesis' three textures, Mitsuba's bitmap and checkerboard (docs/mitsuba.md), and two

@@ -35,14 +35,14 @@ struct BlendTextures {
     const std::vector<TextureDesc>* textures = nullptr;
     const MaterialDesc* part[2] = {nullptr, nullptr};
 };
-// Coated: the slab and the base as the description gives them (bsdf_coated.cpp).
+// Coated: the slab and the base as the description gives them (bsdf_coated.cpp; its albedo
+// and the base's alphas, which textures may drive, are read from the hit's BsdfParams).
 struct CoatingExtra : MaterialDesc::Coating {
     Vec3 baseScale{1.0f};  // the conductor base's Fresnel times this (MaterialDesc::reflect)
 };
 struct BsdfExtra {
     Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)
     bool anisotropic = false;          // rough kinds: isAnisotropic (the frame follows dp/du)
-    Vec3 etaC{0.0f}, kC{1.0f};         // conductors: complex index relative to the outside
     float specularWeight = 0.5f;       // plastics: mean(Ks) / (mean(Kd) + mean(Ks))
     float fdrInt = 0;                  // plastics: diffuse reflectance of the coating from inside
     bool nonlinear = false;            // plastics: Mitsuba's `nonlinear`
@@ -73,6 +73,25 @@ struct BsdfParams {
     // (0: x->dist's; materialAt writes them). Principled: always its GGX alphas here.
     float alphaX = 0, alphaY = 0;
 };
+
+// Conductors and a coated conductor's base: the complex index eta + i k relative to the
+// outside at the hit, eta in `diffuse` and k in `specular` (slots these kinds have no other
+// use for). Coated: the slab's albedo in `refract`, the conductor base's GGX alphas in
+// `shininess` and `blendWeight`. Written by the scene (constants) and the texture stage.
+inline Vec3 conductorEta(const BsdfParams& m) { return m.diffuse; }
+inline Vec3 conductorK(const BsdfParams& m) { return m.specular; }
+inline void setConductorIndex(BsdfParams& m, Vec3 eta, Vec3 k) {
+    m.diffuse = eta;
+    m.specular = k;
+}
+inline Vec3 coatingAlbedo(const BsdfParams& m) { return m.refract; }
+inline void setCoatingAlbedo(BsdfParams& m, Vec3 a) { m.refract = a; }
+inline float coatBaseAlphaU(const BsdfParams& m) { return m.shininess; }
+inline float coatBaseAlphaV(const BsdfParams& m) { return m.blendWeight; }
+inline void setCoatBaseAlphas(BsdfParams& m, float au, float av) {
+    m.shininess = au;
+    m.blendWeight = av;
+}
 
 // A blend with textured parts keeps its hit's (u, v), point and geometric normal, for its
 // parts' textures, in slots it has no other use for (diffuse, specular, reflect). Written by

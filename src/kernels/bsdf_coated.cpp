@@ -190,12 +190,12 @@ struct Layers {
     explicit Layers(const BsdfParams& m)
         : top{m.eta, Microfacet(MicrofacetType::GGX, m.alphaX, m.alphaY)},
           diffuse{m.diffuse},
-          conductor{m.x->etaC, m.x->kC, m.x->coating.baseScale,
-                    Microfacet(MicrofacetType::GGX, m.x->coating.baseAlpha, m.x->coating.baseAlphaV)},
+          conductor{conductorEta(m), conductorK(m), m.x->coating.baseScale,
+                    Microfacet(MicrofacetType::GGX, coatBaseAlphaU(m), coatBaseAlphaV(m))},
           conductorBase(m.x->coating.conductorBase),
           thickness(m.x->coating.thickness),
           g(m.x->coating.g),
-          albedo(m.x->coating.albedo),
+          albedo(coatingAlbedo(m)),
           maxDepth(m.x->coating.maxDepth),
           nSamples(m.x->coating.nSamples) {}
 

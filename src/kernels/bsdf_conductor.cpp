@@ -7,7 +7,7 @@ namespace wmlt {
 bool conductorSample(const BsdfParams& m, Vec3 wo, BsdfSample& s) {
     if (wo.z == 0) return false;
     s.wi = Vec3(-wo.x, -wo.y, wo.z);
-    s.f = m.reflect * fresnelConductor(wo.z, m.x->etaC, m.x->kC) / absCosTheta(wo);
+    s.f = m.reflect * fresnelConductor(wo.z, conductorEta(m), conductorK(m)) / absCosTheta(wo);
     s.pdf = 1.0f;
     s.delta = true;
     return true;
@@ -31,7 +31,7 @@ Vec3 roughConductorF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     const Microfacet d = distributionAt(m);
     const float DG = microfacetD(d, h) * microfacetG(d, wo, wi, h);
     if (!(DG > 0)) return Vec3(0.0f);
-    return m.reflect * fresnelConductor(dot(wo, h), m.x->etaC, m.x->kC) * (DG / (4.0f * wo.z * wi.z));
+    return m.reflect * fresnelConductor(dot(wo, h), conductorEta(m), conductorK(m)) * (DG / (4.0f * wo.z * wi.z));
 }
 
 float roughConductorPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {

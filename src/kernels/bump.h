@@ -12,13 +12,16 @@ namespace wmlt {
 constexpr float kBumpScale = 0.01f;
 constexpr float kBumpDelta = 1.0f / 1024.0f;  // finite-difference step in (u, v)
 
-inline Vec3 bumpedNormal(const TextureDesc& tex, Vec3 p, float u, float v, Vec3 ns, Vec3 dpdu, Vec3 dpdv) {
+// (height(u, v, p): the texture's luminance there; a texture of the scene's table, combined
+// ones too, by heightOf)
+template <class Height>
+inline Vec3 bumpedNormalBy(Height&& height, Vec3 p, float u, float v, Vec3 ns, Vec3 dpdu, Vec3 dpdv) {
     float patch = std::sqrt(length(cross(dpdu, dpdv)));
     if (!(patch > 0)) return ns;
     float scale = kBumpScale * patch;
-    float h0 = textureHeight(tex, u, v, p);
-    float hu = textureHeight(tex, u + kBumpDelta, v, p + dpdu * kBumpDelta);
-    float hv = textureHeight(tex, u, v + kBumpDelta, p + dpdv * kBumpDelta);
+    float h0 = height(u, v, p);
+    float hu = height(u + kBumpDelta, v, p + dpdu * kBumpDelta);
+    float hv = height(u, v + kBumpDelta, p + dpdv * kBumpDelta);
     Vec3 dpu = dpdu + ns * ((hu - h0) / kBumpDelta * scale);
     Vec3 dpv = dpdv + ns * ((hv - h0) / kBumpDelta * scale);
     Vec3 n = cross(dpu, dpv);
@@ -26,6 +29,15 @@ inline Vec3 bumpedNormal(const TextureDesc& tex, Vec3 p, float u, float v, Vec3 
     if (!(len > 0) || !std::isfinite(len)) return ns;
     n = n / len;
     return dot(n, ns) < 0 ? -n : n;
+}
+
+inline Vec3 bumpedNormal(const TextureDesc& tex, Vec3 p, float u, float v, Vec3 ns, Vec3 dpdu, Vec3 dpdv) {
+    return bumpedNormalBy([&](float su, float sv, Vec3 sp) { return textureHeight(tex, su, sv, sp); }, p, u, v, ns, dpdu, dpdv);
+}
+// The height field of texture i of the scene's table (a scale, mix or directionmix of
+// others too: evalTextureOf, with the hit's geometric normal n).
+inline auto heightOf(const std::vector<TextureDesc>& all, size_t i, Vec3 n) {
+    return [&all, i, n](float u, float v, Vec3 p) { return luminance(evalTextureOf(all, i, u, v, p, n)); };
 }
 
 // Mitsuba's bumpmap: height h = scale * the bitmap's luminance, its exact gradient in
@@ -49,11 +61,12 @@ inline Vec3 bumpedNormalMitsuba(const TextureDesc& tex, float scale, float u, fl
 // differentials), dp/du' = dp/du + ns (d(u + du) - d) / du (pbrt adds d dn/du: left out,
 // second order for small displacements), the normal theirs, on ng's side.
 constexpr float kPbrtBumpDelta = 0.0005f;
-inline Vec3 bumpedNormalPbrt(const TextureDesc& tex, Vec3 p, float u, float v, Vec3 ns, Vec3 ng, Vec3 dpdu, Vec3 dpdv) {
+template <class Height>
+inline Vec3 bumpedNormalPbrt(Height&& height, Vec3 p, float u, float v, Vec3 ns, Vec3 ng, Vec3 dpdu, Vec3 dpdv) {
     const float d = kPbrtBumpDelta;
-    const float h0 = textureHeight(tex, u, v, p);
-    const float hu = textureHeight(tex, u + d, v, p + dpdu * d);
-    const float hv = textureHeight(tex, u, v + d, p + dpdv * d);
+    const float h0 = height(u, v, p);
+    const float hu = height(u + d, v, p + dpdu * d);
+    const float hv = height(u, v + d, p + dpdv * d);
     Vec3 n = cross(dpdu + ns * ((hu - h0) / d), dpdv + ns * ((hv - h0) / d));
     const float len = length(n);
     if (!(len > 0) || !std::isfinite(len)) return ns;

@@ -1,11 +1,13 @@
-// A material's textured parameters at one point: kind K's constants (a hit's BsdfParams,
-// written by materialAt) finished with its textures there. The texture stage runs it kind by
-// kind over a round's hits (stages/core/textures.h); a blend with textured parts runs it on its
-// parts where its kernel needs them (textureBlendParts). Pure: no allocation, no state.
+// A material's textured parameters at one point: its constants (a hit's BsdfParams, written
+// by materialAt) finished with its textures there, one rule per parameter (MaterialParam),
+// the same for every kind: a kind reads the parameters readsParam lists, each where
+// BsdfParams keeps it for that kind (bsdf.h: conductorEta, coatingAlbedo, ...). The texture
+// stage runs it over a round's hits (stages/core/textures.h); a blend with textured parts
+// runs it on its parts where its kernel needs them (textureBlendPart). Pure: no allocation,
+// no state.
 #pragma once
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <vector>
 
 #include "kernels/bsdf.h"
@@ -13,73 +15,105 @@
 
 namespace wmlt {
 
-namespace textured_detail {
-constexpr bool isAny(MaterialKind k, std::initializer_list<MaterialKind> ks) {
-    for (MaterialKind x : ks)
-        if (x == k) return true;
+// Whether kind k reads parameter q: a texture on a parameter the kind does not read costs
+// nothing (roughplastic's alpha is not among them: its tables are made for one alpha, and
+// Mitsuba 3 reads a number there too).
+constexpr bool readsParam(MaterialKind k, MaterialParam q) {
+    using M = MaterialKind;
+    using P = MaterialParam;
+    if (int(q) >= int(P::Principled)) return k == M::Principled;
+    switch (q) {
+        case P::Diffuse:
+            return k == M::Matte || k == M::Glossy || k == M::Plastic || k == M::RoughPlastic || k == M::Principled || k == M::Coated ||
+                   k == M::DiffuseTransmission;
+        case P::Specular: return k == M::Glossy;
+        case P::Reflect:
+            return k == M::Reflective || k == M::Dielectric || k == M::Conductor || k == M::RoughConductor || k == M::RoughDielectric ||
+                   k == M::ThinDielectric || k == M::Plastic || k == M::RoughPlastic;
+        case P::Refract: return k == M::Dielectric || k == M::RoughDielectric || k == M::ThinDielectric || k == M::DiffuseTransmission;
+        case P::AlphaU:
+        case P::AlphaV: return k == M::RoughConductor || k == M::RoughDielectric || k == M::Coated;
+        case P::ConductorEta:
+        case P::ConductorK:
+        case P::ConductorReflectance: return k == M::Conductor || k == M::RoughConductor || k == M::Coated;
+        case P::BaseAlphaU:
+        case P::BaseAlphaV:
+        case P::Albedo: return k == M::Coated;
+        case P::Scale: return k == M::DiffuseTransmission;
+        case P::BlendWeight: return k == M::Blend;  // (its parts' own: the blend's kernel)
+        case P::Principled: break;
+    }
     return false;
 }
 
-}  // namespace textured_detail
+// pbrt-v4's conductor from a reflectance r (eta 1): k = 2 sqrt(r) / sqrt(1 - r), per channel
+// (r >= 1: a large k, a perfect mirror).
+inline Vec3 conductorKOfReflectance(Vec3 r) {
+    auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(std::max(x, 0.0f)) / std::sqrt(1 - x); };
+    return Vec3(k(r.x), k(r.y), k(r.z));
+}
 
-// Kind K's textured parameters at (u, v, p, n) on material m, into out (which holds the
-// constants): a colour parameter's texture scales its constant (MaterialDesc::colourTexture),
-// a roughness texture's luminance (or its square root: MaterialDesc::alphaRemap) scales
-// alpha (at least 1e-4; a coated material's interface too), a blend's weight is its
-// texture's luminance in [0, 1] (and a blend with textured parts keeps (u, v) and p for
-// them: BsdfExtra::blendTextures), a principled's weights each their constant times a
-// texture's luminance in [0, 1] (the alphas made again from them).
-
-template <MaterialKind K>
-void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out) {
-    using M = MaterialKind;
-    using textured_detail::isAny;
-    const int* t = m.colourTexture;
-    auto scale = [&](ColourParam c, Vec3& x) {
-        if (t[int(c)] >= 0) x = x * evalTextureOf(tex, size_t(t[int(c)]), u, v, p, n);
+// Parameter q's texture value t at a hit applied to its constant in out (MaterialParam's
+// rules); a principled parameter goes to principled[] (setPrincipled makes the lobes).
+inline void applyParamTexture(const MaterialDesc& m, MaterialParam q, Vec3 t, BsdfParams& out, float* principled) {
+    using P = MaterialParam;
+    // a roughness: luminance r, or sqrt(r) for pbrt's remapped roughness, times alpha (>= 1e-4)
+    auto alpha = [&](float a) {
+        const float r = luminance(t);
+        return std::max(a * (m.alphaRemap ? std::sqrt(std::max(r, 0.0f)) : r), 1e-4f);
     };
-    if constexpr (isAny(K, {M::Matte, M::Glossy, M::Plastic, M::RoughPlastic, M::Principled, M::Coated, M::DiffuseTransmission}))
-        scale(ColourParam::Diffuse, out.diffuse);
-    if constexpr (K == M::Glossy) scale(ColourParam::Specular, out.specular);
-    if constexpr (isAny(K, {M::Reflective, M::Dielectric, M::Conductor, M::RoughConductor, M::RoughDielectric,
-                            M::ThinDielectric, M::Plastic, M::RoughPlastic}))
-        scale(ColourParam::Reflect, out.reflect);
-    if constexpr (isAny(K, {M::Dielectric, M::RoughDielectric, M::ThinDielectric, M::DiffuseTransmission}))
-        scale(ColourParam::Refract, out.refract);
-    if constexpr (isAny(K, {M::RoughConductor, M::RoughDielectric, M::Coated})) {
-        if (m.alphaTexture >= 0 || m.alphaVTexture >= 0) {
-            auto alpha = [&](int i, float a) {
-                if (i < 0) return a;
-                const float r = luminance(evalTextureOf(tex, size_t(i), u, v, p, n));
-                return std::max(a * (m.alphaRemap ? std::sqrt(std::max(r, 0.0f)) : r), 1e-4f);
-            };
-            // (a coated interface's constants ride in out itself; a rough kind's in x->dist)
-            const float ax = K == M::Coated ? out.alphaX : out.x->dist.alphaX, ay = K == M::Coated ? out.alphaY : out.x->dist.alphaY;
-            out.alphaX = alpha(m.alphaTexture, ax);
-            out.alphaY = alpha(m.alphaVTexture, ay);
+    // a rough kind's constant alphas are x->dist's (0 in out: distributionAt), a coat's ride in
+    // out: both into out before either is textured
+    auto alphas = [&]() {
+        if (!(out.alphaX > 0) && out.x) {
+            out.alphaX = out.x->dist.alphaX;
+            out.alphaY = out.x->dist.alphaY;
         }
+    };
+    if (int(q) >= int(P::Principled)) {
+        const int i = int(q) - int(P::Principled);
+        principled[i] = std::clamp(principled[i] * luminance(t), 0.0f, 1.0f);
+        return;
     }
-    if constexpr (K == M::Blend) {
-        if (m.blendWeightTexture >= 0)
-            out.blendWeight = std::clamp(luminance(evalTextureOf(tex, size_t(m.blendWeightTexture), u, v, p, n)), 0.0f, 1.0f);
-        if (out.x->blendTextures) setBlendPoint(out, u, v, p, n);
-    }
-    if constexpr (K == M::Principled) {
-        float value[kPrincipledParams];
-        bool any = false;
-        for (int i = 0; i < kPrincipledParams; ++i) {
-            const int ti = m.principledTexture[i];
-            value[i] = m.principled[i];
-            if (ti < 0) continue;
-            any = true;
-            value[i] = std::clamp(value[i] * luminance(evalTextureOf(tex, size_t(ti), u, v, p, n)), 0.0f, 1.0f);
+    switch (q) {
+        case P::Diffuse: out.diffuse = out.diffuse * t; break;
+        case P::Specular: out.specular = out.specular * t; break;
+        case P::Reflect: out.reflect = out.reflect * t; break;
+        case P::Refract: out.refract = out.refract * t; break;
+        case P::AlphaU: alphas(), out.alphaX = alpha(out.alphaX); break;
+        case P::AlphaV: alphas(), out.alphaY = alpha(out.alphaY); break;
+        case P::BaseAlphaU: setCoatBaseAlphas(out, alpha(coatBaseAlphaU(out)), coatBaseAlphaV(out)); break;
+        case P::BaseAlphaV: setCoatBaseAlphas(out, coatBaseAlphaU(out), alpha(coatBaseAlphaV(out))); break;
+        case P::ConductorEta: setConductorIndex(out, conductorEta(out) * t, conductorK(out)); break;
+        case P::ConductorK: setConductorIndex(out, conductorEta(out), conductorK(out) * t); break;
+        case P::ConductorReflectance: setConductorIndex(out, conductorEta(out), conductorK(out) * conductorKOfReflectance(t)); break;
+        case P::Albedo: setCoatingAlbedo(out, coatingAlbedo(out) * t); break;
+        case P::Scale: {
+            const float s = luminance(t);
+            out.diffuse = out.diffuse * s;
+            out.refract = out.refract * s;
+            break;
         }
-        if (any) setPrincipled(out, value);
+        case P::BlendWeight: out.blendWeight = std::clamp(out.blendWeight * luminance(t), 0.0f, 1.0f); break;
+        case P::Principled: break;
     }
 }
 
-
-// The same for any kind (a switch: for a blend's parts, not for a stage's loop).
-void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out);
+// m's textured parameters at (u, v, p, n) into out (which holds the constants); a blend with
+// textured parts keeps (u, v) and p for them (BsdfExtra::blendTextures).
+inline void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out) {
+    float principled[kPrincipledParams];
+    std::copy(m.principled, m.principled + kPrincipledParams, principled);
+    bool anyPrincipled = false;
+    for (int i = 0; i < kMaterialParams; ++i) {
+        const MaterialParam q = MaterialParam(i);
+        const int t = m.texture.index[i];
+        if (t < 0 || !readsParam(m.kind, q)) continue;
+        applyParamTexture(m, q, evalTextureOf(tex, size_t(t), u, v, p, n), out, principled);
+        anyPrincipled = anyPrincipled || i >= int(MaterialParam::Principled);
+    }
+    if (anyPrincipled) setPrincipled(out, principled);
+    if (m.kind == MaterialKind::Blend && out.x->blendTextures) setBlendPoint(out, u, v, p, n);
+}
 
 }  // namespace wmlt

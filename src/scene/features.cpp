@@ -3,44 +3,22 @@
 #include <sstream>
 
 #include "kernels/bsdf.h"
+#include "kernels/textured_params.h"
 #include "scene/filter_desc.h"
 
 namespace wmlt {
 
-// Whether m's kind reads a parameter that has a texture (a texture on a parameter the kind
-// does not read costs nothing): its colours, a rough conductor's or dielectric's or a coated
-// interface's alphas.
-bool readsTexturedColour(const MaterialDesc& m) {
-    auto has = [&](ColourParam c) { return m.colourTexture[int(c)] >= 0; };
-    switch (m.kind) {
-        case MaterialKind::Matte: return has(ColourParam::Diffuse);
-        case MaterialKind::Glossy: return has(ColourParam::Diffuse) || has(ColourParam::Specular);
-        case MaterialKind::Reflective:
-        case MaterialKind::Conductor: return has(ColourParam::Reflect);
-        case MaterialKind::RoughConductor: return has(ColourParam::Reflect) || m.alphaTexture >= 0 || m.alphaVTexture >= 0;
-        case MaterialKind::RoughDielectric:
-            return has(ColourParam::Reflect) || has(ColourParam::Refract) || m.alphaTexture >= 0 || m.alphaVTexture >= 0;
-        case MaterialKind::Dielectric:
-        case MaterialKind::ThinDielectric: return has(ColourParam::Reflect) || has(ColourParam::Refract);
-        case MaterialKind::Plastic:
-        case MaterialKind::RoughPlastic: return has(ColourParam::Diffuse) || has(ColourParam::Reflect);
-        case MaterialKind::Blend: return m.blendWeightTexture >= 0;  // (its parts are constant)
-        case MaterialKind::Principled:
-            for (int t : m.principledTexture)
-                if (t >= 0) return true;
-            return has(ColourParam::Diffuse);
-        case MaterialKind::Coated: return has(ColourParam::Diffuse) || m.alphaTexture >= 0 || m.alphaVTexture >= 0;
-        case MaterialKind::DiffuseTransmission: return has(ColourParam::Diffuse) || has(ColourParam::Refract);
-        case MaterialKind::Phase: return false;
-    }
+bool readsParamTexture(const MaterialDesc& m) {
+    for (int q = 0; q < kMaterialParams; ++q)
+        if (m.texture.index[q] >= 0 && readsParam(m.kind, MaterialParam(q))) return true;
     return false;
 }
 
 bool readsTexture(const SceneDesc& d, const MaterialDesc& m) {
-    if (readsTexturedColour(m)) return true;
+    if (readsParamTexture(m)) return true;
     if (m.kind == MaterialKind::Blend)
         for (int part : m.blendPart)
-            if (part >= 0 && readsTexturedColour(d.materials[size_t(part)])) return true;
+            if (part >= 0 && readsParamTexture(d.materials[size_t(part)])) return true;
     return false;
 }
 
@@ -56,10 +34,19 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (isAnisotropic(m)) f.anisotropic = true;
-        if (m.kind == MaterialKind::Blend)  // a part's delta lobes count as the blend's
+        if (m.kind == MaterialKind::Blend)  // a part's delta lobes, bump and anisotropy count as the blend's
             for (int part : m.blendPart) {
-                const MaterialKind k = d.materials[size_t(part)].kind;
-                if (isDeltaMaterial(k) || k == MaterialKind::Plastic) f.delta = true;
+                const MaterialDesc& q = d.materials[size_t(part)];
+                if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic) f.delta = true;
+                if (isAnisotropic(q)) f.anisotropic = true;
+            }
+        // a blend of bump- or normal-mapped parts is one of them at each hit (Scene::choosesPart)
+        if (m.kind == MaterialKind::Blend)
+            for (int part : m.blendPart) {
+                const MaterialDesc& q = d.materials[size_t(part)];
+                if (q.bump < 0 && q.normalMap < 0) continue;
+                f.bump = true;
+                for (int other : m.blendPart) f.material[int(d.materials[size_t(other)].kind)] = true;
             }
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;

@@ -35,8 +35,9 @@ struct SceneFeatures {
 };
 
 SceneFeatures deriveFeatures(const SceneDesc& desc);
-// Whether m's kind reads one of its textured parameters (MaterialDesc::colourTexture, alphaTexture).
-bool readsTexturedColour(const MaterialDesc& m);
+// Whether m's kind reads one of its textured parameters (MaterialDesc::texture; which it
+// reads: readsParam, kernels/textured_params.h).
+bool readsParamTexture(const MaterialDesc& m);
 // That, or a blend one of whose parts reads a texture.
 bool readsTexture(const SceneDesc& d, const MaterialDesc& m);
 

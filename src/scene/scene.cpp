@@ -418,8 +418,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             if (composite(int(i)) && (o < -1 || o >= int(i)))
                 throw InputError(d.path, 0, "texture " + std::to_string(i) + ": an operand must be an earlier texture");
     for (const MaterialDesc& m : d.materials)
-        if (composite(m.bump) || composite(m.normalMap) || composite(m.opacityTexture))
-            throw InputError(d.path, 0, "a scale, mix or textured dots texture as a bump map, normal map or opacity is not supported");
+        if ((m.bumpMitsuba && composite(m.bump)) || composite(m.normalMap) || composite(m.opacityTexture))
+            throw InputError(d.path, 0, "a scale, mix or textured dots texture as a Mitsuba bump map, a normal map or an opacity is not supported");
     for (const LightDesc& l : d.lights)
         if (composite(l.texture)) throw InputError(d.path, 0, "a scale, mix or textured dots texture as an emitter's radiance is not supported");
     // The net under every importer's own checks: an emission that is not finite (a product of
@@ -448,31 +448,35 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             BsdfExtra& x = s->bsdfExtras[i];
             x.dist = Microfacet(m.distribution, m.alpha, alphaVOf(m));  // alphaX along u (the frame's x)
             x.anisotropic = isAnisotropic(m);
-            x.etaC = m.conductorEta;
-            x.kC = m.conductorK;
             x.nonlinear = m.nonlinear;
             // Mitsuba's specular sampling weight: mean(Ks) / (mean(Kd) + mean(Ks)), each
             // parameter with its texture's mean (as Mitsuba's roughplastic takes it); a
             // sampling choice only, so an approximate mean costs noise, never bias.
-            auto withMean = [&](ColourParam c, Vec3 v) {
-                const int t = m.colourTexture[int(c)];
+            auto withMean = [&](MaterialParam c, Vec3 v) {
+                const int t = m.texture[c];
                 return t >= 0 ? v * textureMeanOf(d.textures, size_t(t)) : v;
             };
-            const Vec3 Ks = withMean(ColourParam::Reflect, m.reflect), Kd = withMean(ColourParam::Diffuse, m.diffuse);
+            const Vec3 Ks = withMean(MaterialParam::Reflect, m.reflect), Kd = withMean(MaterialParam::Diffuse, m.diffuse);
             const float ks = (Ks.x + Ks.y + Ks.z) / 3, kd = (Kd.x + Kd.y + Kd.z) / 3;
             x.specularWeight = ks + kd > 0 ? ks / (ks + kd) : 0.5f;
             if (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic)
                 preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
             if (m.kind == MaterialKind::Principled) principledConstants(m, b, x);
-            if (m.kind == MaterialKind::Coated) {  // the interface's alphas ride in b; the slab in x
-                b.alphaX = m.alpha;
-                b.alphaY = alphaVOf(m);
-                static_cast<MaterialDesc::Coating&>(x.coating) = m.coating;
-                x.coating.baseScale = m.reflect;
-            }
+            if (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::RoughConductor)
+                setConductorIndex(b, m.conductorEta, m.conductorK);
             b.x = &x;
         }
         b.blendWeight = m.blendWeight;
+        if (m.kind == MaterialKind::Coated) {  // the interface's alphas, the albedo and the base in b; the slab in x
+            BsdfExtra& x = s->bsdfExtras[i];
+            b.alphaX = m.alpha;
+            b.alphaY = alphaVOf(m);
+            if (m.coating.conductorBase) setConductorIndex(b, m.conductorEta, m.conductorK);
+            setCoatingAlbedo(b, m.coating.albedo);
+            setCoatBaseAlphas(b, m.coating.baseAlpha, m.coating.baseAlphaV);
+            static_cast<MaterialDesc::Coating&>(x.coating) = m.coating;
+            x.coating.baseScale = m.reflect;
+        }
         s->materials.push_back(b);
         s->texturedMaterial.push_back(readsTexture(d, m) ? 1 : 0);
     }
@@ -490,12 +494,21 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         t.textures = &s->desc.textures;
         for (int k = 0; k < 2; ++k) {
             const MaterialDesc& q = s->desc.materials[size_t(m.blendPart[k])];
-            if (readsTexturedColour(q)) t.part[k] = &q;
+            if (readsParamTexture(q)) t.part[k] = &q;
         }
         if (t.part[0] || t.part[1]) {
             s->blendTextures.push_back(t);
             s->bsdfExtras[i].blendTextures = &s->blendTextures.back();
         }
+        // anisotropic parts: the blend's frame follows dp/du for them (shadingFrame)
+        for (int part : m.blendPart) s->bsdfExtras[i].anisotropic |= isAnisotropic(d.materials[size_t(part)]);
+    }
+    s->choosesPart.assign(d.materials.size(), 0);
+    for (size_t i = 0; i < d.materials.size(); ++i) {
+        const MaterialDesc& m = d.materials[i];
+        if (m.kind != MaterialKind::Blend) continue;
+        for (int part : m.blendPart)
+            if (d.materials[size_t(part)].bump >= 0 || d.materials[size_t(part)].normalMap >= 0) s->choosesPart[i] = 1;
     }
 
     Vec3 lo(INFINITY), hi(-INFINITY);

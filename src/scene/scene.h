@@ -82,6 +82,9 @@ public:
     uint64_t meshBytes = 0;               // the triangle meshes' arrays (a group's once)
     std::vector<BsdfParams> materials;  // by material index, before textures
     std::vector<uint8_t> texturedMaterial;  // by material index: it reads a texture (the texture stage)
+    // By material index: a blend whose parts perturb the normal (bump or normal maps), resolved
+    // to one part per hit as pbrt-v4 resolves every mix (surface.cpp, choosePart).
+    std::vector<uint8_t> choosesPart;
     std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
     std::vector<BsdfParams> blendParts; // each Blend's two parts (BsdfExtra::blendParts)
     std::vector<BlendTextures> blendTextures;  // each Blend with textured parts (BsdfExtra::blendTextures)

@@ -249,7 +249,7 @@ void Importer::shape(Node n) {
         const MaterialDesc& m = s_.materials[sh.material];
         if (m.opacity < 1 || m.opacityTexture >= 0)
             p.fail(bsdfs[0], "a mask on an emitting shape is not supported (its light would be partly there)");
-        if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.colourTexture[int(ColourParam::Diffuse)] < 0)
+        if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.texture[MaterialParam::Diffuse] < 0)
             sh.material = -1;
         s_.shapes.push_back(std::move(sh));
         emitter(emitters[0], int(s_.shapes.size()) - 1);

@@ -125,7 +125,7 @@ void Importer::principledParams(Props& p, MaterialDesc& m) {
                                                     "sheen", "sheen_tint", "flatness", "clearcoat", "clearcoat_gloss"};
     for (int i = 0; i < kPrincipledParams; ++i) {
         if (Node tx = textureParam(p, kNames[i])) {
-            m.principledTexture[i] = texture(tx);
+            m.texture[principledParam(PrincipledParam(i))] = texture(tx);
             m.principled[i] = 1;
             continue;
         }
@@ -163,15 +163,10 @@ void Importer::principledParams(Props& p, MaterialDesc& m) {
 void Importer::materialParams(Props& p, MaterialDesc& m) {
     const std::string t = p.type();
     // A colour parameter: a constant, or a texture that scales a constant 1 (the parameter
-    // it is, `param`; -1: one that takes no texture, such as a conductor's eta and k).
-    auto colour = [&](const char* name, Vec3 def, int param = -1, Props::ColorUse use = Props::ColorUse::Reflectance) {
+    // it is, `param`).
+    auto colour = [&](const char* name, Vec3 def, MaterialParam param, Props::ColorUse use = Props::ColorUse::Reflectance) {
         if (Node tx = textureParam(p, name)) {
-            if (param < 0)
-                p.fail(p.node().find_child_by_attribute("name", name),
-                       std::string("a texture on \"") + name +
-                           "\" is not supported (on reflectance, diffuse_reflectance, specular_reflectance and "
-                           "specular_transmittance it is; eta and k are constants, or a named material)");
-            m.colourTexture[param] = texture(tx);
+            m.texture[param] = texture(tx);
             return Vec3(1.0f);
         }
         Vec3 c = p.getColor(name, def, use);
@@ -208,8 +203,8 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
             if (a != av && !anisotropic)
                 p.fail(p.node(), "anisotropic roughness (alpha_u != alpha_v) is not supported by roughplastic (as in Mitsuba 3)");
         }
-        m.alphaTexture = ta;
-        m.alphaVTexture = tav;
+        m.texture[MaterialParam::AlphaU] = ta;
+        m.texture[MaterialParam::AlphaV] = tav;
         for (float x : {a, av})
             if (!(x > 0 && x <= 10)) p.fail(p.node(), "alpha must be in (0, 10]");
         m.alpha = std::max(a, 1e-4f);
@@ -223,13 +218,13 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
     m.twoSided = false;
     if (t == "diffuse") {
         m.kind = MaterialKind::Matte;
-        m.diffuse = colour("reflectance", Vec3(0.5f), int(ColourParam::Diffuse));
+        m.diffuse = colour("reflectance", Vec3(0.5f), MaterialParam::Diffuse);
     } else if (t == "dielectric" || t == "thindielectric" || t == "roughdielectric") {
         m.kind = t == "dielectric" ? MaterialKind::Dielectric : t == "thindielectric" ? MaterialKind::ThinDielectric : MaterialKind::RoughDielectric;
         iors(1.5046f);
         if (t == "roughdielectric") rough(true);
-        m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
-        m.refract = colour("specular_transmittance", Vec3(1.0f), int(ColourParam::Refract));
+        m.reflect = colour("specular_reflectance", Vec3(1.0f), MaterialParam::Reflect);
+        m.refract = colour("specular_transmittance", Vec3(1.0f), MaterialParam::Refract);
         m.twoSided = true;  // both sides scatter by definition
     } else if (t == "conductor" || t == "roughconductor") {
         m.kind = t == "conductor" ? MaterialKind::Conductor : MaterialKind::RoughConductor;
@@ -237,8 +232,8 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
         // Mitsuba 3: eta and k, or a named material; "none" (the default) is eta 0, k 1.
         const std::string mat = p.getString("material", "none");
         if (mat == "none") {
-            m.conductorEta = colour("eta", Vec3(0.0f), -1, Props::ColorUse::Unbounded);
-            m.conductorK = colour("k", Vec3(1.0f), -1, Props::ColorUse::Unbounded);
+            m.conductorEta = colour("eta", Vec3(0.0f), MaterialParam::ConductorEta, Props::ColorUse::Unbounded);
+            m.conductorK = colour("k", Vec3(1.0f), MaterialParam::ConductorK, Props::ColorUse::Unbounded);
         } else {
             if (p.has("eta") || p.has("k")) p.fail(p.node(), "give either eta and k or material, not both");
             auto it = kConductors.find(mat);
@@ -251,17 +246,17 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
             m.conductorEta = it->second.eta;
             m.conductorK = it->second.k;
         }
-        m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
+        m.reflect = colour("specular_reflectance", Vec3(1.0f), MaterialParam::Reflect);
     } else if (t == "plastic" || t == "roughplastic") {
         m.kind = t == "plastic" ? MaterialKind::Plastic : MaterialKind::RoughPlastic;
         iors(1.49f);
         if (t == "roughplastic") rough(false);
-        m.diffuse = colour("diffuse_reflectance", Vec3(0.5f), int(ColourParam::Diffuse));
-        m.reflect = colour("specular_reflectance", Vec3(1.0f), int(ColourParam::Reflect));
+        m.diffuse = colour("diffuse_reflectance", Vec3(0.5f), MaterialParam::Diffuse);
+        m.reflect = colour("specular_reflectance", Vec3(1.0f), MaterialParam::Reflect);
         m.nonlinear = p.getBool("nonlinear", false);
     } else if (t == "principled") {
         principledParams(p, m);
-        m.diffuse = colour("base_color", Vec3(0.5f), int(ColourParam::Diffuse));
+        m.diffuse = colour("base_color", Vec3(0.5f), MaterialParam::Diffuse);
     } else {
         p.fail(p.node(), "BSDF not supported by wavemmlt's Mitsuba importer (docs/mitsuba.md lists what is)");
     }
@@ -329,11 +324,10 @@ int Importer::material(Node bsdf) {
         for (int k = 0; k < 2; ++k) {
             const int part = material(b[size_t(k)]);
             const MaterialDesc& q = s_.materials[size_t(part)];
-            const char* why = q.kind == MaterialKind::Blend ? "a blendbsdf inside a blendbsdf"
-                              : q.bump >= 0 || q.normalMap >= 0                           ? "a bump- or normal-mapped BSDF"
-                              : q.opacity < 1 || q.opacityTexture >= 0                    ? "a mask"
-                              : isAnisotropic(q)                                          ? "anisotropic roughness"
-                                                                                          : nullptr;
+            // (bump- or normal-mapped parts: one of them per hit, Scene::choosesPart)
+            const char* why = q.kind == MaterialKind::Blend                 ? "a blendbsdf inside a blendbsdf"
+                              : q.opacity < 1 || q.opacityTexture >= 0 ? "a mask"
+                                                                       : nullptr;
             if (why) p.fail(b[size_t(k)], std::string(why) + " inside a blendbsdf is not supported");
             m.blendPart[k] = part;
         }
@@ -341,7 +335,7 @@ int Importer::material(Node bsdf) {
             p.fail(bsdf, "a blendbsdf of a twosided and a one-sided BSDF is not supported (wrap the blendbsdf in twosided)");
         m.twoSided = s_.materials[size_t(m.blendPart[0])].twoSided;
         if (Node tx = textureParam(p, "weight")) {
-            m.blendWeightTexture = texture(tx);
+            m.texture[MaterialParam::BlendWeight] = texture(tx);
             m.blendWeight = 1;
         } else {
             m.blendWeight = p.getFloat("weight", 0.5f);

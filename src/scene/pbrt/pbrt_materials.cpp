@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "kernels/texture.h"
+#include "kernels/textured_params.h"
 #include "scene/number.h"
 #include "scene/pbrt/pbrt_importer.h"
 #include "scene/pbrt/subsurface_albedo.h"
@@ -168,11 +169,14 @@ void Importer::conductorIndices(Params& p, const std::string& prefix, MaterialDe
     Vec3 eta, kk;
     namedSpectrumRgb("metal-Cu-eta", eta);
     namedSpectrumRgb("metal-Cu-k", kk);
-    for (const std::string& n : {prefix + "eta", prefix + "k"})
-        if (const Param* q = p.find(n); q && q->type == "texture") fail(q->at, "a textured conductor " + n + " is not supported");
     SampledSpectrum se, sk;
-    m.conductorEta = spectrum(p, prefix + "eta", eta, SpectrumUse::Unbounded, &se) / outside;
-    m.conductorK = spectrum(p, prefix + "k", kk, SpectrumUse::Unbounded, &sk) / outside;
+    // a spectrum, or a texture whose value at a hit is the index there (MaterialParam::ConductorEta, K)
+    auto index = [&](const std::string& n, Vec3 def, MaterialParam q, SampledSpectrum& s) {
+        if (const Param* x = p.find(n); x && x->type == "texture") return colourParam(p, n, def, m.texture[q]) / outside;
+        return spectrum(p, n, def, SpectrumUse::Unbounded, &s) / outside;
+    };
+    m.conductorEta = index(prefix + "eta", eta, MaterialParam::ConductorEta, se);
+    m.conductorK = index(prefix + "k", kk, MaterialParam::ConductorK, sk);
     m.reflect = Vec3(1.0f);
     if (!se.lambda.empty() && !sk.lambda.empty()) {  // both sampled (pairs, files)
         for (double& v : se.value) v /= outside;
@@ -212,12 +216,12 @@ int Importer::material(const std::string& type, Directive& d) {
     // The material's own roughness (m.alpha, alphaV and their textures); whether it is rough.
     auto rough = [&]() {
         float au, av;
-        alphas("", au, av, m.alphaTexture, m.alphaVTexture);
+        alphas("", au, av, m.texture[MaterialParam::AlphaU], m.texture[MaterialParam::AlphaV]);
         m.distribution = MicrofacetType::GGX;
         m.alpha = au;
         m.alphaV = av;
         m.alphaRemap = remap;
-        const bool textured = m.alphaTexture >= 0 || m.alphaVTexture >= 0;
+        const bool textured = m.texture[MaterialParam::AlphaU] >= 0 || m.texture[MaterialParam::AlphaV] >= 0;
         return textured || std::max(au, av) >= 1e-3f;
     };
     // A dielectric's eta: a float, or a spectrum whose value at 550 nm is used (no dispersion).
@@ -251,20 +255,24 @@ int Importer::material(const std::string& type, Directive& d) {
         }
         return eta;
     };
+    // pbrt-v4's conductor by reflectance r: eta 1, k = 2 sqrt(r) / sqrt(1 - r), relative to a
+    // medium of index `outside`; a textured r per hit (MaterialParam::ConductorReflectance).
+    auto reflectanceConductor = [&](float outside) {
+        int t = -1;
+        const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
+        m.texture[MaterialParam::ConductorReflectance] = t;
+        m.conductorEta = Vec3(1.0f / outside);
+        m.conductorK = (t >= 0 ? Vec3(1.0f) : conductorKOfReflectance(r)) / outside;
+    };
     if (type == "diffuse") {
         m.kind = MaterialKind::Matte;
-        m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
+        m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.texture[MaterialParam::Diffuse]);
     } else if (type == "conductor") {
         m.kind = rough() ? MaterialKind::RoughConductor : MaterialKind::Conductor;
         m.reflect = Vec3(1.0f);
-        if (p.has("reflectance")) {  // pbrt-v4: eta 1, k = 2 sqrt(r) / sqrt(1 - r)
+        if (p.has("reflectance")) {
             if (p.has("eta") || p.has("k")) fail(d.at, "give either eta and k or reflectance, not both");
-            int t = -1;
-            const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
-            if (t >= 0) fail(p.find("reflectance")->at, "a textured conductor reflectance is not supported");
-            auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(x) / std::sqrt(1 - x); };
-            m.conductorEta = Vec3(1.0f);
-            m.conductorK = Vec3(k(r.x), k(r.y), k(r.z));
+            reflectanceConductor(1);
         } else {
             conductorIndices(p, "", m);
         }
@@ -283,7 +291,7 @@ int Importer::material(const std::string& type, Directive& d) {
         const bool conductor = type == "coatedconductor";
         const std::string ip = conductor ? "interface." : "";
         float au, av;
-        alphas(ip, au, av, m.alphaTexture, m.alphaVTexture);  // the interface's: per hit, textured or not
+        alphas(ip, au, av, m.texture[MaterialParam::AlphaU], m.texture[MaterialParam::AlphaV]);  // the interface's: per hit, textured or not
         m.distribution = MicrofacetType::GGX;
         m.alpha = au;
         m.alphaV = av;
@@ -302,27 +310,16 @@ int Importer::material(const std::string& type, Directive& d) {
         c.nSamples = p.getInt("nsamples", 1);
         if (!(c.thickness > 0) || !(c.g > -1 && c.g < 1) || c.maxDepth < 1 || c.maxDepth > 1000 || c.nSamples < 1 || c.nSamples > 1000)
             fail(d.at, type + ": thickness must be > 0, g in (-1, 1), maxdepth and nsamples 1 to 1000");
-        int ta = -1;
-        c.albedo = colourParam(p, "albedo", Vec3(0.0f), ta);
-        if (ta >= 0) fail(p.find("albedo")->at, "a textured albedo is not supported");
+        c.albedo = colourParam(p, "albedo", Vec3(0.0f), m.texture[MaterialParam::Albedo]);
         m.reflect = Vec3(1.0f);
         if (!conductor) {
-            m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.colourTexture[int(ColourParam::Diffuse)]);
+            m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.texture[MaterialParam::Diffuse]);
         } else {
             c.conductorBase = true;
-            int tu, tv;
-            alphas("conductor.", c.baseAlpha, c.baseAlphaV, tu, tv);
-            if (tu >= 0 || tv >= 0)
-                fail(p.find(p.has("conductor.roughness") ? "conductor.roughness" : tu >= 0 ? "conductor.uroughness" : "conductor.vroughness")->at,
-                     "a textured conductor.roughness is not supported yet (the interface's roughness may be textured)");
+            alphas("conductor.", c.baseAlpha, c.baseAlphaV, m.texture[MaterialParam::BaseAlphaU], m.texture[MaterialParam::BaseAlphaV]);
             if (p.has("reflectance")) {
                 if (p.has("conductor.eta") || p.has("conductor.k")) fail(d.at, "give either conductor.eta and conductor.k or reflectance, not both");
-                int t = -1;
-                const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
-                if (t >= 0) fail(p.find("reflectance")->at, "a textured conductor reflectance is not supported");
-                auto k = [](float x) { return x >= 1 ? 1e4f : 2 * std::sqrt(x) / std::sqrt(1 - x); };
-                m.conductorEta = Vec3(1.0f / m.iorInside);
-                m.conductorK = Vec3(k(r.x), k(r.y), k(r.z)) / m.iorInside;
+                reflectanceConductor(m.iorInside);
             } else {  // pbrt-v4: the base's index relative to the coating's
                 conductorIndices(p, "conductor.", m, m.iorInside);
             }
@@ -337,21 +334,17 @@ int Importer::material(const std::string& type, Directive& d) {
             if (it->second == kInterfaceMaterial) fail(q->at, "mix: the interface material cannot be a part");
             const MaterialDesc& part = s_.materials[size_t(it->second)];
             if (part.kind == MaterialKind::Blend) fail(q->at, "a mix inside a mix is not supported");
-            if (part.opacity < 1 || part.opacityTexture >= 0 || isAnisotropic(part))
-                fail(q->at, "mix: a masked or anisotropic part is not supported");
             m.blendPart[k] = it->second;
         }
         // pbrt chooses material 1 with probability amount per hit; the mean is this blend
-        m.blendWeight = floatParam(p, "amount", 0.5f, m.blendWeightTexture);
-        if (m.blendWeightTexture >= 0) m.blendWeight = 1;
+        m.blendWeight = floatParam(p, "amount", 0.5f, m.texture[MaterialParam::BlendWeight]);
+        if (m.texture[MaterialParam::BlendWeight] >= 0) m.blendWeight = 1;
         if (!(m.blendWeight >= 0 && m.blendWeight <= 1)) fail(d.at, "mix: amount must be in [0, 1]");
     } else if (type == "diffusetransmission") {  // R / pi on the side of wo, T / pi through
         m.kind = MaterialKind::DiffuseTransmission;
-        int ts = -1;
-        const float scale = floatParam(p, "scale", 1, ts);
-        if (ts >= 0) fail(p.find("scale")->at, "a textured scale is not supported");
-        m.diffuse = colourParam(p, "reflectance", Vec3(0.25f), m.colourTexture[int(ColourParam::Diffuse)]) * scale;
-        m.refract = colourParam(p, "transmittance", Vec3(0.25f), m.colourTexture[int(ColourParam::Refract)]) * scale;
+        const float scale = floatParam(p, "scale", 1, m.texture[MaterialParam::Scale]);
+        m.diffuse = colourParam(p, "reflectance", Vec3(0.25f), m.texture[MaterialParam::Diffuse]) * scale;
+        m.refract = colourParam(p, "transmittance", Vec3(0.25f), m.texture[MaterialParam::Refract]) * scale;
     } else if (type == "interface") {  // no surface: rays cross it (ShapeDesc::passThrough)
         return kInterfaceMaterial;
     } else if (type == "subsurface") {
@@ -424,8 +417,6 @@ int Importer::material(const std::string& type, Directive& d) {
     if (const Param* q = p.find("displacement")) {
         int tex = -1;
         const float d = floatParam(p, "displacement", 0, tex);
-        if (tex >= 0 && combinesTextures(s_.textures[size_t(tex)]))
-            fail(q->at, "displacement: a scale, mix or directionmix texture is not supported (give an image or a noise)");
         if (tex < 0 && d != 0) warn(q->at, "a constant displacement does not bump the surface: ignored");
         if (tex >= 0 && m.normalMap < 0) {
             m.bump = tex;

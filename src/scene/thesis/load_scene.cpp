@@ -509,7 +509,7 @@ void Loader::shader(Node n) {
     }
     if (Node a = k["Ambient"])
         if (!isBlack(colour(a))) warn(a, "Ambient is not black: ignored (it is not physical)");
-    if (Node tx = k["Texture"]) textureRef(tx, m.colourTexture[int(ColourParam::Diffuse)]);
+    if (Node tx = k["Texture"]) textureRef(tx, m.texture[MaterialParam::Diffuse]);
     if (Node b = k["Bump"]) textureRef(b, m.bump);
     shaderIndex_[m.id] = int(s_.materials.size());
     s_.materials.push_back(m);

@@ -1,6 +1,9 @@
 #include "stages/core/surface.h"
 
+#include <cstring>
+
 #include "kernels/bump.h"
+#include "kernels/rng.h"
 
 namespace wmlt {
 
@@ -43,7 +46,24 @@ void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpd
     dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), cosT * std::sin(phi), -sinT) * kPi);
 }
 
+// A blend of bump- or normal-mapped parts (Scene::choosesPart) is part 1 where a hash of the
+// hit point is below its weight there, else part 0: pbrt-v4's mix, which chooses one
+// material per hit for every mix, by a hash of the point (and wo: here the point alone, so
+// that a camera and a light subpath see the same part at a point).
+int choosePart(const Scene& scene, const SurfacePoint& sp) {
+    const MaterialDesc& m = scene.desc.materials[size_t(sp.material)];
+    float w = m.blendWeight;
+    if (const int t = m.texture[MaterialParam::BlendWeight]; t >= 0)
+        w = std::clamp(w * luminance(evalTextureOf(scene.desc.textures, size_t(t), sp.u, sp.v, sp.p, sp.ng)), 0.0f, 1.0f);
+    uint32_t bits[3];
+    std::memcpy(bits, &sp.p, sizeof bits);
+    const uint64_t h = mix64(mix64(mix64(uint64_t(bits[0]) << 32 | bits[1]) ^ bits[2]) ^ uint64_t(sp.material));
+    const float u = float(h >> 40) * 0x1p-24f;
+    return m.blendPart[u < w ? 1 : 0];
+}
+
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
+    if (scene.choosesPart[size_t(sp.material)]) sp.material = choosePart(scene, sp);
     const MaterialDesc& m = scene.desc.materials[sp.material];
     if (m.normalMap >= 0) {
         sp.ns = normalMapped(scene.desc.textures[m.normalMap], sp.u, sp.v, sp.p, sp.ns, sp.ng, dpdu);
@@ -53,9 +73,9 @@ void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
     if (m.bumpMitsuba)
         sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
     else if (m.bumpPbrt)
-        sp.ns = bumpedNormalPbrt(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+        sp.ns = bumpedNormalPbrt(heightOf(scene.desc.textures, size_t(m.bump), sp.ng), sp.p, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
     else
-        sp.ns = bumpedNormal(scene.desc.textures[m.bump], sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
+        sp.ns = bumpedNormalBy(heightOf(scene.desc.textures, size_t(m.bump), sp.ng), sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
 }
 
 }  // namespace wmlt

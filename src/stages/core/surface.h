@@ -58,7 +58,10 @@ void withSurfaceFeatures(const SceneFeatures& f, Fn&& fn) {
 void triangleDerivatives(const TriangleMesh& m, const uint32_t* tri, Vec3 ns, Vec3& dpdu, Vec3& dpdv);
 void sphereDerivatives(const GeomRecord& g, Vec3 local, Vec3& dpdu, Vec3& dpdv);
 void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpdv);
+// (applyBump first resolves a blend of bump- or normal-mapped parts to the part choosePart
+// gives at the hit: Scene::choosesPart.)
 void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv);
+int choosePart(const Scene& scene, const SurfacePoint& sp);
 
 // Called by a stage resolving hits i = 0 .. n - 1 of rays before it resolves hit i: starts
 // loading what surfaceAt will read of hit i + 8 that is not in cache after traversal, its
