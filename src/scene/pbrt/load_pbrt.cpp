@@ -166,7 +166,7 @@ void Importer::directive(Directive& d) {
         g_.outsideMedium = d.strings.size() > 1 ? d.strings[1] : d.strings[0];
     } else if (n == "ObjectBegin") {
         if (!inWorld_) fail(d.at, "ObjectBegin before WorldBegin");
-        if (currentObject_ >= 0) fail(d.at, "ObjectBegin inside an object (nested objects are not supported)");
+        if (currentObject_ >= 0) fail(d.at, "ObjectBegin inside an object (nested objects are not supported; pbrt-v4 refuses them too)");
         if (objects_.count(d.strings[0])) fail(d.at, "object \"" + d.strings[0] + "\" defined twice");
         stack_.push_back({g_, n, d.at});
         currentObject_ = s_.groups++;
@@ -176,7 +176,7 @@ void Importer::directive(Directive& d) {
         g_ = closeBlock(d, "ObjectBegin");
         currentObject_ = -1;
     } else if (n == "ObjectInstance") {
-        if (currentObject_ >= 0) fail(d.at, "ObjectInstance inside an object (nested instancing is not supported)");
+        if (currentObject_ >= 0) fail(d.at, "ObjectInstance inside an object (nested instancing is not supported; pbrt-v4 refuses it too)");
         auto it = objects_.find(d.strings[0]);
         if (it == objects_.end()) fail(d.at, "ObjectInstance of an unknown object \"" + d.strings[0] + "\"");
         InstanceDesc in;
