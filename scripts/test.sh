@@ -29,7 +29,7 @@ sanitizers() {
   local dir=build-asan flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
   # -O1 -g1 (line tables: enough for the sanitizers' stack traces) builds in about half the
   # time of -O2 -g, and ASan recommends -O1.
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG -DWMLT_DCHECKS" \
         -DWAVEMMLT_BENCH=OFF -DWAVEMMLT_TEST_SPEC="~[stat]" \
         -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null &&
   cmake --build "$dir" -j"$jobs" &&

@@ -33,6 +33,7 @@
 
 #include "power.h"
 #include "render_stats.h"
+#include "kernels/check.h"
 #include "stages/mmlt/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
@@ -587,4 +588,27 @@ TEST_CASE("MMLT --chains auto under --time: chosen after the bootstrap, from its
         CHECK(m.chainsRun % 256 == 0);
     }
     CHECK(m.chainsRun <= kAutoChainsMost);
+}
+
+// A replay mismatch (issue 47) is an estimator bug: planted (RenderOptions::
+// plantReplayMismatch), it is counted and reported by renderWarnings, which the application
+// prints even with --quiet; where WMLT_DCHECKs are on (debug and sanitizer builds) it fails
+// the render with an InvariantError. Without the plant, the same render reports nothing.
+TEST_CASE("MMLT: a replay mismatch is reported, and fails the render where invariants are checked", "[mmlt]") {
+    const SceneDesc desc = cornell(16, 4);
+    RenderOptions o = mmltOptions(4, 1, 1, 4, 64);
+    const RenderResult clean = render(desc, o);
+    CHECK(clean.stats.mmlt.replayMismatches == 0);
+    CHECK(renderWarnings(clean).empty());
+    o.plantReplayMismatch = true;
+#if WMLT_DCHECKS_ON
+    CHECK_THROWS_AS(render(desc, o), InvariantError);
+#else
+    const RenderResult r = render(desc, o);
+    CHECK(r.stats.mmlt.replayMismatches == 1);
+    const std::vector<std::string> w = renderWarnings(r);
+    REQUIRE(w.size() == 1);
+    CHECK_THAT(w[0], Catch::StartsWith("1 of ") && Catch::Contains("replayed MMLT seeds evaluated differently") &&
+                         Catch::Contains("estimator bug"));
+#endif
 }

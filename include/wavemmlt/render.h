@@ -75,6 +75,10 @@ struct RenderOptions {
     // the same options and its own Distributed; the ranks share out the work, and rank 0's
     // result holds the job's image and statistics. nullptr: this process renders alone.
     Distributed* ranks = nullptr;
+    // Tests only: MMLT's first replay of a seed is made to differ from its pool entry, so that
+    // the report of a replay mismatch (renderWarnings; an InvariantError where WMLT_DCHECKs
+    // are on, src/kernels/check.h) can be tested. Never set by the application.
+    bool plantReplayMismatch = false;
 };
 
 struct RenderStats {
@@ -158,6 +162,11 @@ struct RenderResult {
 // Throws InputError for settings it cannot render (and "not implemented yet" for the
 // tracers a later version adds).
 RenderResult render(SceneDesc scene, const RenderOptions& options);
+
+// What a finished render should tell its user (one line each, without "warning: "): samples
+// that were NaN or infinite, MMLT chains fewer than asked, replayed MMLT seeds that differed
+// from their pool entries (an estimator bug: the image may be biased).
+std::vector<std::string> renderWarnings(const RenderResult& r);
 
 // The largest n with n * n dividing spp: the stratification grid for spp samples.
 int strataForSpp(int spp);

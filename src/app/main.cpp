@@ -362,14 +362,8 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
                      (unsigned long long)r.stats.spp, r.stats.seconds, across.c_str(), r.stats.mraysPerSecond(),
                      r.stats.cancelled ? " (interrupted: image so far saved)" : "");
     }
-    if (r.stats.samplesNonfiniteDiscarded && !cl.quiet)
-        std::fprintf(stderr, "warning: %llu samples were NaN or infinite and were discarded\n",
-                     (unsigned long long)r.stats.samplesNonfiniteDiscarded);
-    if (r.stats.mmlt.chainsRun < r.stats.mmlt.chainsAsked && !cl.quiet)
-        std::fprintf(stderr,
-                     "warning: ran %u chains, not %u: one iteration of them all costs at most 2%% of --time "
-                     "(a longer budget runs them all)\n",
-                     r.stats.mmlt.chainsRun, r.stats.mmlt.chainsAsked);
+    for (const std::string& w : renderWarnings(r))  // (an estimator's replay mismatch even with --quiet)
+        if (!cl.quiet || r.stats.mmlt.replayMismatches) std::fprintf(stderr, "warning: %s\n", w.c_str());
     // With --view: until the window is closed, or the i key asks for the interactive mode.
     if (watchers.finish(r)) return interactive(loadJobScene(cl));
     return r.stats.cancelled ? 130 : 0;

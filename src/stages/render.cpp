@@ -99,6 +99,21 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
     return r;
 }
 
+std::vector<std::string> renderWarnings(const RenderResult& r) {
+    std::vector<std::string> w;
+    const RenderStats& s = r.stats;
+    if (s.samplesNonfiniteDiscarded)
+        w.push_back(std::to_string(s.samplesNonfiniteDiscarded) + " samples were NaN or infinite and were discarded");
+    if (s.mmlt.chainsRun < s.mmlt.chainsAsked)
+        w.push_back("ran " + std::to_string(s.mmlt.chainsRun) + " chains, not " + std::to_string(s.mmlt.chainsAsked) +
+                    ": one iteration of them all costs at most 2% of --time (a longer budget runs them all)");
+    if (s.mmlt.replayMismatches)
+        w.push_back(std::to_string(s.mmlt.replayMismatches) + " of " + std::to_string(s.mmlt.replayed) +
+                    " replayed MMLT seeds evaluated differently from their pool entries (F, target or film point): an estimator "
+                    "bug, the image may be biased; please report it with the scene and the command line");
+    return w;
+}
+
 RenderResult render(SceneDesc desc, const RenderOptions& opt) {
     // Films that would not fit are refused before the scene is built.
     checkOptions(opt, desc.settings.width, desc.settings.height);

@@ -2,6 +2,8 @@
 // systematic resampling, replayed, and planned into batches.
 #include "stages/mmlt/mmlt_render.h"
 
+#include "kernels/check.h"
+
 namespace wmlt::mmlt_detail {
 
 // Chains per length: C b_k / sum b by largest remainders over the lengths whose pool has
@@ -136,6 +138,7 @@ void MmltRender::replaySeeds() {
             for (uint32_t j = 0; j < sl.n; ++j) {
                 const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
                 Vec3 F = contributionOf(mb, i);
+                if (opt_.plantReplayMismatch && ti == 0 && i == 0) F = F + Vec3(1.0f);  // (tests only)
                 float cc = targetOf(F);
                 if (whole_) {
                     cc = wholeTarget(mb, i, F);
@@ -150,6 +153,7 @@ void MmltRender::replaySeeds() {
     });
     for (uint64_t m : mismatches) stats_.replayMismatches += m;
     for (size_t ti = p0; ti < p1; ++ti) stats_.replayed += slotsIn(plan[ti]);
+    WMLT_DCHECK(stats_.replayMismatches == 0, std::to_string(stats_.replayMismatches) + " replayed seeds evaluated differently from their pool entries");
 }
 
 // Batch j holds chains [C_k j' / B, C_k (j' + 1) / B) of every length k, j' = (j + first_k)

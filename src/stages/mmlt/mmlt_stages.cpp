@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "kernels/check.h"
 #include "kernels/gaussian.h"
 #include "kernels/mutation.h"
 #include "stages/bpt/bpt_stages.h"
@@ -240,6 +241,10 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
             Vec3 F;  // PSSMLT: the camera side's (the t = 1 contributions are in slotSplats)
             const float cP = evaluatedTarget(mb, i, F);
             const float a = acceptance(cP, g.c[c]);
+            // a chain's state is always a sample the target sees (seeded from lit pool entries,
+            // moved only to proposals with cP > 0): else its splats would divide by 0
+            WMLT_DCHECK(g.c[c] > 0 && std::isfinite(g.c[c]), "chain " + std::to_string(c) + " of length " + std::to_string(g.k) + " has target " + std::to_string(g.c[c]));
+            WMLT_DCHECK(std::isfinite(g.weight) && g.weight >= 0, "length " + std::to_string(g.k) + "'s splat weight " + std::to_string(g.weight));
             const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
             if (mb.whole) {
                 splatWhole(scene, g, c, mb, i, a, cP);
