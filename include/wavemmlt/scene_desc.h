@@ -57,18 +57,30 @@ struct CameraDesc {
     float window[4] = {0, 1, 0, 1};
 };
 
-// The thesis' four materials, then the Mitsuba 3 materials (docs/mitsuba.md): smooth and
-// rough conductor, rough and thin dielectric, smooth and rough plastic, and the blend of
-// two of those (blendbsdf: f = (1 - w) f_0 + w f_1).
-enum class MaterialKind : uint8_t {
-    Matte, Glossy, Reflective, Dielectric,
-    Conductor, RoughConductor, RoughDielectric, ThinDielectric, Plastic, RoughPlastic, Blend, Principled, Coated,
-    DiffuseTransmission,
-    // Not a material of any file: the phase function of a scattering event in a medium, run
-    // by the stages as the BSDF of a medium vertex (kernels/medium.h).
-    Phase
-};
-constexpr int kMaterialKinds = 15;
+// Every material kind, once: X(Kind, "name for --describe"). The enum, the kind count, the
+// names, the dispatch by kind (kernels/bsdf.h, bsdfF/Pdf/Sample through BsdfOf<Kind>,
+// kernels/bsdf_kinds.h) and the stages' loop over kinds (forEachMaterialKind) are made from
+// it (docs/adding-a-material-kind.md). The thesis' four materials, then the Mitsuba 3 ones
+// (docs/mitsuba.md: smooth and rough conductor, rough and thin dielectric, smooth and rough
+// plastic, the blend of two (blendbsdf: f = (1 - w) f_0 + w f_1), principled), pbrt-v4's
+// coated and diffusetransmission (docs/pbrt.md), and Phase: not a material of any file, the
+// phase function of a scattering event in a medium, run by the stages as the BSDF of a
+// medium vertex (kernels/medium.h).
+#define WMLT_MATERIAL_KINDS(X)                                                                               \
+    X(Matte, "matte") X(Glossy, "glossy") X(Reflective, "reflective") X(Dielectric, "dielectric")             \
+    X(Conductor, "conductor") X(RoughConductor, "rough-conductor") X(RoughDielectric, "rough-dielectric")     \
+    X(ThinDielectric, "thin-dielectric") X(Plastic, "plastic") X(RoughPlastic, "rough-plastic") X(Blend, "blend") \
+    X(Principled, "principled") X(Coated, "coated") X(DiffuseTransmission, "diffuse-transmission") X(Phase, "phase")
+
+#define WMLT_KIND_ENUM(K, name) K,
+enum class MaterialKind : uint8_t { WMLT_MATERIAL_KINDS(WMLT_KIND_ENUM) };
+#undef WMLT_KIND_ENUM
+#define WMLT_KIND_COUNT(K, name) +1
+constexpr int kMaterialKinds = 0 WMLT_MATERIAL_KINDS(WMLT_KIND_COUNT);
+#undef WMLT_KIND_COUNT
+#define WMLT_KIND_NAME(K, name) name,
+inline constexpr const char* kMaterialKindNames[kMaterialKinds] = {WMLT_MATERIAL_KINDS(WMLT_KIND_NAME)};
+#undef WMLT_KIND_NAME
 
 enum class MicrofacetType : uint8_t { Beckmann, GGX };
 

@@ -254,65 +254,39 @@ Vec3 coatedF(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode = Transpo
 float coatedPdf(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode = TransportMode::Radiance);
 bool coatedSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
 
-// ---- Blend (blendbsdf): f = (1 - w) f_0 + w f_1, the parts by the switches below ----
+// ---- Blend (blendbsdf): f = (1 - w) f_0 + w f_1, the parts by the dispatch below ----
 inline Vec3 blendF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
 inline bool blendSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
 
+}  // namespace wmlt
+
+#include "kernels/bsdf_kinds.h"  // BsdfOf<Kind>: each kind's kernels
+
+namespace wmlt {
+
 // ---- Dispatch by kind (tests, rare paths and a blend's parts; stages call the kind's function) ----
+#define WMLT_KIND_F(K, name) \
+    case MaterialKind::K: return BsdfOf<MaterialKind::K>::f(m, wo, wi);
+#define WMLT_KIND_PDF(K, name) \
+    case MaterialKind::K: return BsdfOf<MaterialKind::K>::pdf(m, wo, wi);
+#define WMLT_KIND_SAMPLE(K, name) \
+    case MaterialKind::K: return BsdfOf<MaterialKind::K>::sample(m, wo, uLobe, u1, u2, mode, s);
 inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
-    switch (m.kind) {
-        case MaterialKind::Matte: return matteF(m, wo, wi);
-        case MaterialKind::Glossy: return glossyF(m, wo, wi);
-        case MaterialKind::RoughConductor: return roughConductorF(m, wo, wi);
-        case MaterialKind::RoughDielectric: return roughDielectricF(m, wo, wi);
-        case MaterialKind::Plastic: return plasticF(m, wo, wi);
-        case MaterialKind::RoughPlastic: return roughPlasticF(m, wo, wi);
-        case MaterialKind::Blend: return blendF(m, wo, wi);
-        case MaterialKind::Principled: return principledF(m, wo, wi);
-        case MaterialKind::Coated: return coatedF(m, wo, wi);
-        case MaterialKind::DiffuseTransmission: return diffuseTransmissionF(m, wo, wi);
-        case MaterialKind::Phase: return phaseF(m, wo, wi);
-        default: return Vec3(0.0f);  // delta lobes
-    }
+    switch (m.kind) { WMLT_MATERIAL_KINDS(WMLT_KIND_F) }
+    return Vec3(0.0f);
 }
 inline float bsdfPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
-    switch (m.kind) {
-        case MaterialKind::Matte: return mattePdf(m, wo, wi);
-        case MaterialKind::Glossy: return glossyPdf(m, wo, wi);
-        case MaterialKind::RoughConductor: return roughConductorPdf(m, wo, wi);
-        case MaterialKind::RoughDielectric: return roughDielectricPdf(m, wo, wi);
-        case MaterialKind::Plastic: return plasticPdf(m, wo, wi);
-        case MaterialKind::RoughPlastic: return roughPlasticPdf(m, wo, wi);
-        case MaterialKind::Blend: return blendPdf(m, wo, wi);
-        case MaterialKind::Principled: return principledPdf(m, wo, wi);
-        case MaterialKind::Coated: return coatedPdf(m, wo, wi);
-        case MaterialKind::DiffuseTransmission: return diffuseTransmissionPdf(m, wo, wi);
-        case MaterialKind::Phase: return phasePdf(m, wo, wi);
-        default: return 0.0f;
-    }
+    switch (m.kind) { WMLT_MATERIAL_KINDS(WMLT_KIND_PDF) }
+    return 0.0f;
 }
-inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2,
-                       TransportMode mode, BsdfSample& s) {
-    switch (m.kind) {
-        case MaterialKind::Matte: return matteSample(m, wo, uLobe, u1, u2, s);
-        case MaterialKind::Glossy: return glossySample(m, wo, uLobe, u1, u2, s);
-        case MaterialKind::Reflective: return mirrorSample(m, wo, s);
-        case MaterialKind::Dielectric: return dielectricSample(m, wo, uLobe, mode, s);
-        case MaterialKind::Conductor: return conductorSample(m, wo, s);
-        case MaterialKind::RoughConductor: return roughConductorSample(m, wo, u1, u2, s);
-        case MaterialKind::RoughDielectric: return roughDielectricSample(m, wo, uLobe, u1, u2, mode, s);
-        case MaterialKind::ThinDielectric: return thinDielectricSample(m, wo, uLobe, s);
-        case MaterialKind::Plastic: return plasticSample(m, wo, uLobe, u1, u2, s);
-        case MaterialKind::RoughPlastic: return roughPlasticSample(m, wo, uLobe, u1, u2, s);
-        case MaterialKind::Blend: return blendSample(m, wo, uLobe, u1, u2, mode, s);
-        case MaterialKind::Principled: return principledSample(m, wo, uLobe, u1, u2, mode, s);
-        case MaterialKind::Coated: return coatedSample(m, wo, uLobe, u1, u2, mode, s);
-        case MaterialKind::DiffuseTransmission: return diffuseTransmissionSample(m, wo, uLobe, u1, u2, s);
-        case MaterialKind::Phase: return phaseSample(m, u1, u2, s);
-    }
+inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s) {
+    switch (m.kind) { WMLT_MATERIAL_KINDS(WMLT_KIND_SAMPLE) }
     return false;
 }
+#undef WMLT_KIND_F
+#undef WMLT_KIND_PDF
+#undef WMLT_KIND_SAMPLE
 
 // The parts are never blends (the importer refuses that), so these recurse one level.
 inline Vec3 blendFOf(const BsdfParams* part, float w, Vec3 wo, Vec3 wi) {

@@ -75,16 +75,11 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
     return f;
 }
 
-static const char* kMaterialNames[kMaterialKinds] = {
-    "matte", "glossy", "reflective", "dielectric", "conductor", "rough-conductor",
-    "rough-dielectric", "thin-dielectric", "plastic", "rough-plastic", "blend", "principled", "coated",
-    "diffuse-transmission", "phase"};
-
 std::string SceneFeatures::describe() const {
     std::ostringstream o;
     o << "materials:";
     for (int k = 0; k < kMaterialKinds; ++k)
-        if (material[k]) o << ' ' << kMaterialNames[k];
+        if (material[k]) o << ' ' << kMaterialKindNames[k];
     o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "") << (meshLights ? " mesh" : "")
       << (pointLights ? " point" : "") << (directionalLights ? " directional" : "") << (envMap ? " environment-map" : "") << "\n";
     o << "textures: " << (textures ? "yes" : "no") << "\n";
@@ -107,7 +102,7 @@ std::string SceneFeatures::json() const {
     o << "{\"materials\": [";
     bool first = true;
     for (int k = 0; k < kMaterialKinds; ++k)
-        if (material[k]) { o << (first ? "" : ", ") << '"' << kMaterialNames[k] << '"'; first = false; }
+        if (material[k]) { o << (first ? "" : ", ") << '"' << kMaterialKindNames[k] << '"'; first = false; }
     auto b = [](bool v) { return v ? "true" : "false"; };
     o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
       << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights)
