@@ -217,8 +217,8 @@ TEST_CASE("Mitsuba textures: importer (bitmap, checkerboard, ref, to_uv) and bad
                  dir, [](const std::string& b) { return "<shape type=\"cube\"><bsdf type=\"diffuse\">" + b + "</bsdf></shape>"; });
     // A conductor's complex index may be a texture (Mitsuba 3's eta and k are textures).
     const SceneDesc cu = load(scene(R"(<shape type="cube"><bsdf type="roughconductor"><texture type="checkerboard" name="eta"/></bsdf></shape>)"), dir);
-    CHECK(cu.materials.back().texture[MaterialParam::ConductorEta] >= 0);
-    CHECK(cu.materials.back().conductorEta.x == 1.0f);
+    CHECK(cu.materials[size_t(cu.shapes[0].material)].texture[MaterialParam::ConductorEta] >= 0);
+    CHECK(cu.materials[size_t(cu.shapes[0].material)].conductorEta.x == 1.0f);
     std::filesystem::remove_all(dir);
 }
 
