@@ -345,6 +345,12 @@ struct SceneDesc {
     // is not checked against a closed boundary around it: what the file declares is rendered,
     // as their renderers do. The thesis format keeps both checks.
     bool mediaAsDeclared = false;
+    // pbrt-v4's path regularisation (Integrator "bool regularize", docs/pbrt.md): after a
+    // path's first non-specular bounce its BSDFs are roughened (scene/regularize.h). Applied by
+    // the PT and BPT renders; the light tracer and the Metropolis tracers render without it.
+    // regularizeAt: where the file asks for it ("file:line" of the parameter).
+    bool regularize = false;
+    std::string regularizeAt;
     Image envMap;  // empty (0 x 0) when none
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };

@@ -27,6 +27,13 @@ struct Microfacet {
     bool isotropic() const { return alphaX == alphaY; }
 };
 
+// Path regularisation (pbrt-v4's "bool regularize", TrowbridgeReitzDistribution::Regularize):
+// a roughness below 0.3 is doubled into [0.1, 0.3], so a smooth surface (alpha 0) becomes
+// one of alpha 0.1; 0.3 and above are kept.
+inline float regularizedAlpha(float alpha) {
+    return alpha < 0.3f ? std::fmin(std::fmax(2.0f * alpha, 0.1f), 0.3f) : alpha;
+}
+
 // D(m), normalised so that the projected area int D(m) m.z dm = 1 (Walter 2007, eqs. 25, 33;
 // anisotropic: Heitz 2014's anisotropic forms, pbrt-v4 9.6: tan^2 / alpha^2 ->
 // (m.x^2 / ax^2 + m.y^2 / ay^2) / m.z^2 and alpha^2 -> ax ay).

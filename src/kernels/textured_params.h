@@ -25,7 +25,8 @@ constexpr bool isAny(MaterialKind k, std::initializer_list<MaterialKind> ks) {
 // Kind K's textured parameters at (u, v, p, n) on material m, into out (which holds the
 // constants): a colour parameter's texture scales its constant (MaterialDesc::colourTexture),
 // a roughness texture's luminance (or its square root: MaterialDesc::alphaRemap) scales
-// alpha (at least 1e-4; a coated material's interface too), a blend's weight is its
+// alpha (at least 1e-4; a coated material's interface too; then regularized for a material
+// of the regularized table, BsdfExtra::regularized), a blend's weight is its
 // texture's luminance in [0, 1] (and a blend with textured parts keeps (u, v) and p for
 // them: BsdfExtra::blendTextures), a principled's weights each their constant times a
 // texture's luminance in [0, 1] (the alphas made again from them).
@@ -57,6 +58,10 @@ void texturedParamsOf(const std::vector<TextureDesc>& tex, const MaterialDesc& m
             const float ax = K == M::Coated ? out.alphaX : out.x->dist.alphaX, ay = K == M::Coated ? out.alphaY : out.x->dist.alphaY;
             out.alphaX = alpha(m.alphaTexture, ax);
             out.alphaY = alpha(m.alphaVTexture, ay);
+            if (out.x->regularized) {  // pbrt's regularize: the rule on the alphas at this hit
+                out.alphaX = regularizedAlpha(out.alphaX);
+                out.alphaY = regularizedAlpha(out.alphaY);
+            }
         }
     }
     if constexpr (K == M::Blend) {

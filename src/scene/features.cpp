@@ -1,8 +1,12 @@
+// The feature set of a scene (deriveFeatures: the material kinds its shapes use, and those
+// of their regularized versions under pbrt's regularize; lights, textures, media...) and its
+// listing for --describe and --stats.
 #include "scene/features.h"
 
 #include <sstream>
 
 #include "kernels/bsdf.h"
+#include "scene/regularize.h"
 #include "scene/filter_desc.h"
 
 namespace wmlt {
@@ -51,6 +55,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (s.material < 0) continue;
         const MaterialDesc& m = d.materials[s.material];
         f.material[int(m.kind)] = true;
+        if (d.regularize) f.material[int(regularizedMaterial(m).kind)] = true;  // its regularized version's (Scene::regularizedOffset)
         if (readsTexture(d, m)) f.textures = true;
         if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
