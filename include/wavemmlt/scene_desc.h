@@ -361,9 +361,11 @@ struct SceneDesc {
 using Defines = std::vector<std::pair<std::string, std::string>>;
 // What the command line decides that an importer must know: with a tracer given (--tracer),
 // a pbrt or Mitsuba file's integrator that wavemmlt lacks is replaced by it, with a warning
-// naming the integrator's line, instead of refused.
+// naming the integrator's line, instead of refused; and what a pbrt file's integrator asks
+// for is judged by that tracer (regularize: applied by PT and BPT, else a warning).
 struct LoadOptions {
     bool tracerGiven = false;
+    TracerKind tracer = TracerKind::MMLT;  // the tracer given (when tracerGiven)
 };
 SceneDesc loadScene(const std::string& path, const Defines& defines = {}, const LoadOptions& options = {});
 bool isMitsubaXml(const std::string& xml);
