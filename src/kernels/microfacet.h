@@ -4,7 +4,8 @@
 // the shading tangent, alphaY along y), with the exact Smith Lambda of each, the separable
 // shadowing-masking G = G1(wo, m) G1(wi, m) (as Mitsuba 3 uses), and sampling of the
 // visible normals D_wo(m) = G1(wo, m) max(0, wo.m) D(m) / wo.z (Heitz 2018 for GGX; Heitz
-// and d'Eon 2014 for Beckmann, inverting the slope CDF numerically).
+// and d'Eon 2014 for Beckmann, inverting the slope CDF numerically); and pbrt-v4's path
+// regularisation of a roughness (regularizedAlpha).
 // Directions are in the local frame, z = the macro-surface normal; m.z > 0.
 // An isotropic distribution (alphaX == alphaY) computes D and Lambda with the isotropic
 // arithmetic, chosen per call: the same bits as before anisotropy existed.
