@@ -119,14 +119,44 @@ TEST_CASE("pbrt import: an integrator wavemmlt lacks is replaced by the command 
     CHECK(d.settings.maxPathLength == 5);  // maxdepth, pbrt's meaning for every integrator
 }
 
-TEST_CASE("pbrt import: regularize renders without it, with a warning naming its line", "[pbrt][import]") {
-    for (const char* integrator : {"path", "bdpt", "mlt"}) {
-        const std::string text = std::string("Integrator \"") + integrator + "\"\n  \"bool regularize\" true\n" + kHead + kFloor + "LightSource \"point\"\n";
-        const SceneDesc d = loadScene(write("reg.pbrt", text));
-        INFO(integrator);
-        REQUIRE(d.warnings.size() == 1);
-        CHECK_THAT(d.warnings[0], Catch::Contains("reg.pbrt:2") && Catch::Contains("regularize is not"));
+TEST_CASE("pbrt import: regularize is applied by PT and BPT; the others warn, naming its line", "[pbrt][import][regularize]") {
+    // (tests/test_regularize.cpp renders it)
+    struct Case {
+        const char* integrator;
+        bool tracerGiven;
+        TracerKind tracer;
+        const char* warning;  // nullptr: applied, no warning
+    };
+    const Case cases[] = {
+        {"path", false, TracerKind::PT, nullptr},
+        {"volpath", false, TracerKind::PT, nullptr},
+        {"bdpt", false, TracerKind::BPT, nullptr},
+        {"mlt", false, TracerKind::MMLT, "bias the Markov chains' target"},
+        {"lightpath", false, TracerKind::LT, "not applied by the light tracer"},
+        // the command line's tracer decides
+        {"path", true, TracerKind::MMLT, "bias the Markov chains' target"},
+        {"path", true, TracerKind::PSSMLT, "bias the Markov chains' target"},
+        {"bdpt", true, TracerKind::LT, "not applied by the light tracer"},
+        {"mlt", true, TracerKind::PT, nullptr},
+        {"lightpath", true, TracerKind::BPT, nullptr},
+    };
+    for (const Case& c : cases) {
+        const std::string text = std::string("Integrator \"") + c.integrator + "\"\n  \"bool regularize\" true\n" + kHead + kFloor + "LightSource \"point\"\n";
+        const SceneDesc d = loadScene(write("reg.pbrt", text), {}, LoadOptions{c.tracerGiven, c.tracer});
+        INFO(c.integrator << (c.tracerGiven ? " with --tracer " + std::to_string(int(c.tracer)) : std::string()));
+        CHECK(d.regularize);  // the scene's request: the render applies it by its tracer
+        CHECK_THAT(d.regularizeAt, Catch::EndsWith("reg.pbrt:2"));
+        if (!c.warning) {
+            CHECK(d.warnings.empty());
+        } else {
+            REQUIRE(d.warnings.size() == 1);
+            CHECK_THAT(d.warnings[0], Catch::Contains("reg.pbrt:2") && Catch::Contains("regularize is not applied") &&
+                                          Catch::Contains(c.warning));
+        }
     }
+    const SceneDesc off = loadScene(write("noreg.pbrt", "Integrator \"path\" \"bool regularize\" false\n" + kHead + kFloor + "LightSource \"point\"\n"));
+    CHECK_FALSE(off.regularize);
+    CHECK(off.warnings.empty());
 }
 
 TEST_CASE("pbrt import: Include, gzip, and the same scene either way", "[pbrt][import]") {

@@ -374,6 +374,12 @@ struct SceneDesc {
     // is not checked against a closed boundary around it: what the file declares is rendered,
     // as their renderers do. The thesis format keeps both checks.
     bool mediaAsDeclared = false;
+    // pbrt-v4's path regularisation (Integrator "bool regularize", docs/pbrt.md): after a
+    // path's first non-specular bounce its BSDFs are roughened (scene/regularize.h). Applied by
+    // the PT and BPT renders; the light tracer and the Metropolis tracers render without it.
+    // regularizeAt: where the file asks for it ("file:line" of the parameter).
+    bool regularize = false;
+    std::string regularizeAt;
     Image envMap;  // empty (0 x 0) when none
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };
@@ -384,9 +390,11 @@ struct SceneDesc {
 using Defines = std::vector<std::pair<std::string, std::string>>;
 // What the command line decides that an importer must know: with a tracer given (--tracer),
 // a pbrt or Mitsuba file's integrator that wavemmlt lacks is replaced by it, with a warning
-// naming the integrator's line, instead of refused.
+// naming the integrator's line, instead of refused; and what a pbrt file's integrator asks
+// for is judged by that tracer (regularize: applied by PT and BPT, else a warning).
 struct LoadOptions {
     bool tracerGiven = false;
+    TracerKind tracer = TracerKind::MMLT;  // the tracer given (when tracerGiven)
 };
 SceneDesc loadScene(const std::string& path, const Defines& defines = {}, const LoadOptions& options = {});
 bool isMitsubaXml(const std::string& xml);

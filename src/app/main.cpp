@@ -219,7 +219,7 @@ struct Job {
 wmlt::SceneDesc loadJobScene(const wmlt::CommandLine& cl) {
     using namespace wmlt;
     SceneDesc scene = cl.scenePath.empty() ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
-                                           : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value()});
+                                           : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value(), cl.tracer.value_or(TracerKind::MMLT)});
     applyCommandLine(cl, scene.settings);
     applyCamera(cl, scene.camera);
     if (cl.filter) scene.filter = *cl.filter;

@@ -56,6 +56,9 @@ struct BsdfExtra {
     bool transmits = false;
     float samplingRate[3] = {1, 1, 1};
     CoatingExtra coating;  // Coated
+    // A material of the regularized table (scene/regularize.h): a textured roughness is
+    // regularized at each hit after its texture (texturedParamsOf).
+    bool regularized = false;
 };
 
 // A material at one hit, with its texture already applied to `diffuse`.

@@ -4,7 +4,8 @@
 // the shading tangent, alphaY along y), with the exact Smith Lambda of each, the separable
 // shadowing-masking G = G1(wo, m) G1(wi, m) (as Mitsuba 3 uses), and sampling of the
 // visible normals D_wo(m) = G1(wo, m) max(0, wo.m) D(m) / wo.z (Heitz 2018 for GGX; Heitz
-// and d'Eon 2014 for Beckmann, inverting the slope CDF numerically).
+// and d'Eon 2014 for Beckmann, inverting the slope CDF numerically); and pbrt-v4's path
+// regularisation of a roughness (regularizedAlpha).
 // Directions are in the local frame, z = the macro-surface normal; m.z > 0.
 // An isotropic distribution (alphaX == alphaY) computes D and Lambda with the isotropic
 // arithmetic, chosen per call: the same bits as before anisotropy existed.
@@ -26,6 +27,13 @@ struct Microfacet {
     Microfacet(MicrofacetType t, float ax, float ay) : type(t), alphaX(ax), alphaY(ay) {}
     bool isotropic() const { return alphaX == alphaY; }
 };
+
+// Path regularisation (pbrt-v4's "bool regularize", TrowbridgeReitzDistribution::Regularize):
+// a roughness below 0.3 is doubled into [0.1, 0.3], so a smooth surface (alpha 0) becomes
+// one of alpha 0.1; 0.3 and above are kept.
+inline float regularizedAlpha(float alpha) {
+    return alpha < 0.3f ? std::fmin(std::fmax(2.0f * alpha, 0.1f), 0.3f) : alpha;
+}
 
 // D(m), normalised so that the projected area int D(m) m.z dm = 1 (Walter 2007, eqs. 25, 33;
 // anisotropic: Heitz 2014's anisotropic forms, pbrt-v4 9.6: tan^2 / alpha^2 ->

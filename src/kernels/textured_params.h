@@ -99,6 +99,20 @@ inline void applyParamTexture(const MaterialDesc& m, MaterialParam q, Vec3 t, Bs
     }
 }
 
+// pbrt's regularize on a material of the regularized table (BsdfExtra::regularized,
+// scene/regularize.h): a textured roughness keeps its constants there, and the rule
+// (regularizedAlpha) applies to the alphas at the hit once the texture has scaled them.
+inline void regularizeTexturedAlphas(const MaterialDesc& m, BsdfParams& out) {
+    using P = MaterialParam;
+    auto textured = [&](P q) { return m.texture[q] >= 0 && readsParam(m.kind, q); };
+    if (textured(P::AlphaU) || textured(P::AlphaV)) {
+        out.alphaX = regularizedAlpha(out.alphaX);
+        out.alphaY = regularizedAlpha(out.alphaY);
+    }
+    if (textured(P::BaseAlphaU) || textured(P::BaseAlphaV))
+        setCoatBaseAlphas(out, regularizedAlpha(coatBaseAlphaU(out)), regularizedAlpha(coatBaseAlphaV(out)));
+}
+
 // m's textured parameters at (u, v, p, n) into out (which holds the constants); a blend with
 // textured parts keeps (u, v) and p for them (BsdfExtra::blendTextures).
 inline void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDesc& m, float u, float v, Vec3 p, Vec3 n, BsdfParams& out) {
@@ -113,6 +127,7 @@ inline void texturedParams(const std::vector<TextureDesc>& tex, const MaterialDe
         anyPrincipled = anyPrincipled || i >= int(MaterialParam::Principled);
     }
     if (anyPrincipled) setPrincipled(out, principled);
+    if (out.x && out.x->regularized) regularizeTexturedAlphas(m, out);
     if (m.kind == MaterialKind::Blend && out.x->blendTextures) setBlendPoint(out, u, v, p, n);
 }
 

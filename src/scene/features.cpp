@@ -1,9 +1,13 @@
+// The feature set of a scene (deriveFeatures: the material kinds its shapes use, and those
+// of their regularized versions under pbrt's regularize; lights, textures, media...) and its
+// listing for --describe and --stats.
 #include "scene/features.h"
 
 #include <sstream>
 
 #include "kernels/bsdf.h"
 #include "kernels/textured_params.h"
+#include "scene/regularize.h"
 #include "scene/filter_desc.h"
 
 namespace wmlt {
@@ -29,6 +33,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (s.material < 0) continue;
         const MaterialDesc& m = d.materials[s.material];
         f.material[int(m.kind)] = true;
+        if (d.regularize) f.material[int(regularizedMaterial(m).kind)] = true;  // its regularized version's (Scene::regularizedOffset)
         if (readsTexture(d, m)) f.textures = true;
         if (!m.twoSided) f.oneSided = true;
         if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
@@ -46,7 +51,10 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
                 const MaterialDesc& q = d.materials[size_t(part)];
                 if (q.bump < 0 && q.normalMap < 0) continue;
                 f.bump = true;
-                for (int other : m.blendPart) f.material[int(d.materials[size_t(other)].kind)] = true;
+                for (int other : m.blendPart) {
+                    f.material[int(d.materials[size_t(other)].kind)] = true;
+                    if (d.regularize) f.material[int(regularizedMaterial(d.materials[size_t(other)]).kind)] = true;
+                }
             }
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;

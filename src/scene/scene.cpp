@@ -1,3 +1,5 @@
+// Scene::build: the renderable scene from its description (materials as kernel data, and
+// their regularized table for pbrt's regularize; the Embree BVH; lights; media; the camera).
 #include "scene/scene.h"
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 
 #include "kernels/rng.h"
 #include "kernels/texture.h"
+#include "scene/regularize.h"
 #include "scene/transform.h"
 #include "stages/core/trace.h"  // (the scene's own queries once it is built: the media around a point)
 #include "wavemmlt/error.h"
@@ -433,9 +436,18 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     for (float v : d.envMap.rgb)
         if (!std::isfinite(v)) throw InputError(d.path, 0, "the environment map's emission is not finite (a product of its parameters overflows a float)");
 
-    s->bsdfExtras.resize(d.materials.size());  // not resized again: materials point into it
-    for (size_t i = 0; i < d.materials.size(); ++i) {
-        const MaterialDesc& m = d.materials[i];
+    // The materials, then (pbrt's regularize) each one's regularized version, built alike:
+    // index n + i is material i's (Scene::regularizedOffset).
+    const size_t n = d.materials.size();
+    std::vector<MaterialDesc> regularized;
+    if (d.regularize)
+        for (const MaterialDesc& m : d.materials) regularized.push_back(regularizedMaterial(m));
+    s->regularizedOffset = regularized.empty() ? 0 : uint32_t(n);
+    const size_t tables = n + regularized.size();
+    auto descOf = [&](size_t i) -> const MaterialDesc& { return i < n ? d.materials[i] : regularized[i - n]; };
+    s->bsdfExtras.resize(tables);  // not resized again: materials point into it
+    for (size_t i = 0; i < tables; ++i) {
+        const MaterialDesc& m = descOf(i);
         BsdfParams b;
         b.kind = m.kind;
         b.diffuse = m.diffuse;
@@ -464,6 +476,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             if (m.kind == MaterialKind::Principled) principledConstants(m, b, x);
             if (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::RoughConductor)
                 setConductorIndex(b, m.conductorEta, m.conductorK);
+            x.regularized = i >= n;
             b.x = &x;
         }
         b.blendWeight = m.blendWeight;
@@ -478,18 +491,20 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             x.coating.baseScale = m.reflect;
         }
         s->materials.push_back(b);
-        s->texturedMaterial.push_back(readsTexture(d, m) ? 1 : 0);
+        // (by the material's index: the regularized table reads the same textures)
+        if (i < n) s->texturedMaterial.push_back(readsTexture(d, m) ? 1 : 0);
     }
-    // Blends: their parts' constants side by side (reserved once: the extras point into it).
+    // Blends: their parts' constants side by side (reserved once: the extras point into it),
+    // a regularized blend's from the regularized table.
     size_t blends = 0;
-    for (const MaterialDesc& m : d.materials) blends += m.kind == MaterialKind::Blend ? 1 : 0;
+    for (size_t i = 0; i < tables; ++i) blends += descOf(i).kind == MaterialKind::Blend ? 1 : 0;
     s->blendParts.reserve(2 * blends);
     s->blendTextures.reserve(blends);
-    for (size_t i = 0; i < d.materials.size(); ++i) {
-        const MaterialDesc& m = d.materials[i];
+    for (size_t i = 0; i < tables; ++i) {
+        const MaterialDesc& m = descOf(i);
         if (m.kind != MaterialKind::Blend) continue;
         s->bsdfExtras[i].blendParts = s->blendParts.data() + s->blendParts.size();
-        for (int part : m.blendPart) s->blendParts.push_back(s->materials[size_t(part)]);
+        for (int part : m.blendPart) s->blendParts.push_back(s->materials[size_t(part) + (i < n ? 0 : n)]);
         BlendTextures t;  // the textured parts, read where the blend's kernel needs them
         t.textures = &s->desc.textures;
         for (int k = 0; k < 2; ++k) {

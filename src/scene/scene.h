@@ -81,11 +81,15 @@ public:
     std::atomic<int64_t> embreeBytes{0};  // Embree's memory now (its memory monitor)
     uint64_t meshBytes = 0;               // the triangle meshes' arrays (a group's once)
     std::vector<BsdfParams> materials;  // by material index, before textures
+    // pbrt's regularize (SceneDesc::regularize): materials[m + regularizedOffset] is material
+    // m's regularized version (scene/regularize.h), which the PT and BPT renders use after a
+    // path's first non-specular bounce; 0: no such table.
+    uint32_t regularizedOffset = 0;
     std::vector<uint8_t> texturedMaterial;  // by material index: it reads a texture (the texture stage)
     // By material index: a blend whose parts perturb the normal (bump or normal maps), resolved
     // to one part per hit as pbrt-v4 resolves every mix (surface.cpp, choosePart).
     std::vector<uint8_t> choosesPart;
-    std::vector<BsdfExtra> bsdfExtras;  // by material index: the Mitsuba kinds' constants
+    std::vector<BsdfExtra> bsdfExtras;  // by index into materials: the Mitsuba kinds' constants
     std::vector<BsdfParams> blendParts; // each Blend's two parts (BsdfExtra::blendParts)
     std::vector<BlendTextures> blendTextures;  // each Blend with textured parts (BsdfExtra::blendTextures)
     std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)

@@ -352,13 +352,20 @@ void Importer::options() {
     const int64_t maxDepth = ip.getInt("maxdepth", 5, 0, INT32_MAX);
     s_.settings.maxPathLength = int(std::min<int64_t>(maxDepth + 1, 64));
     if (maxDepth + 1 > 64) warn(ip.has("maxdepth") ? ip.find("maxdepth")->at : integrator_.at, "maxdepth above 63 becomes 63");
-    // pbrt's path regularisation (roughened near-specular vertices after the first non-specular
-    // bounce) is a rendering option, not the scene: rendered without it, with a warning
-    if (ip.getBool("regularize", false))
-        warn(ip.find("regularize")->at, s_.settings.tracer == TracerKind::MMLT
-                                            ? "regularize is not applied: it would bias the Markov chains' target (rendered without it)"
-                                            : "regularize is not implemented in wavemmlt yet: rendered without it (an unbiased image, "
-                                              "noisier where it would have blurred caustics)");
+    // pbrt's path regularisation (roughened BSDFs after a path's first non-specular bounce,
+    // scene/regularize.h): the PT and BPT renders apply it, as pbrt-v4's path, volpath and
+    // bdpt do; judged by the tracer that renders (the command line's, else the integrator's),
+    // the others render without it, with a warning
+    if (ip.getBool("regularize", false)) {
+        const Loc& at = ip.find("regularize")->at;
+        s_.regularize = true;
+        s_.regularizeAt = (at.file ? *at.file : path_) + ":" + std::to_string(at.line);
+        const TracerKind tracer = options_.tracerGiven ? options_.tracer : s_.settings.tracer;
+        if (tracer == TracerKind::MMLT || tracer == TracerKind::PSSMLT)
+            warn(at, "regularize is not applied: it would bias the Markov chains' target (rendered without it)");
+        else if (tracer == TracerKind::LT)
+            warn(at, "regularize is not applied by the light tracer (nor by pbrt-v4's lightpath): rendered without it");
+    }
     if (type == "mlt") {
         s_.settings.probLarge = float(ip.getFloat("largestepprobability", 0.3));
         const int64_t mpp = ip.getInt("mutationsperpixel", 100, 1, kMaxSpp, "wavemmlt's limit, as --spp's");

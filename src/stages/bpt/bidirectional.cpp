@@ -105,6 +105,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
         BptBatch b;
         b.reserve(schedule.pathsPerBatch(), opt.maxPathLength, batchNeeds(scene));
+        b.regularizedOffset = scene.regularizedOffset;  // pbrt's BDPT regularizes both subpaths
         b.strategyFilms = strategyFilms.get();
         return b;
     });

@@ -1,3 +1,7 @@
+// BPT's walk stages (bpt_stages.h), shared with MMLT and PSSMLT: the camera and light
+// subpaths' starts, their hits resolved into vertices (with pbrt's regularize, BPT only: the
+// regularized materials after a subpath's first non-specular bounce), BSDF sampling with
+// both densities, and the compaction of the surviving paths.
 #include "stages/bpt/bpt_stages.h"
 
 #include "kernels/mis.h"
@@ -57,6 +61,7 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int 
             if (b.cam.media) b.medium[i] = scene.cameraMedium;
             b.pathPdf[i] = cameraPdfOfRay(scene.camera, d);
             b.pathBeta[i] = Vec3(1.0f);
+            b.pathNonSpecular[i] = 0;
         });
     b.numPaths = b.numSlots;
 }
@@ -83,6 +88,7 @@ void generateChainCameraPaths(const Scene& scene, BptBatch& b, const U& u) {
         setRayHit(b.ray[n], o, d);
         b.pathPdf[n] = cameraPdfOfRay(cam, d);
         b.pathBeta[n] = Vec3(1.0f);
+        b.pathNonSpecular[n] = 0;
         if (b.cam.media) b.medium[n] = scene.cameraMedium;
         ++n;
     }
@@ -128,6 +134,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         setRayHit(b.ray[n], infinite ? e.p : scene.offsetRayOrigin(e.p, e.n, e.dir), e.dir);
         b.pathPdf[n] = infinite ? e.pdfPos : e.pdfDir;  // resolveBptHits projects the disc's
         b.pathBeta[n] = beta;
+        b.pathNonSpecular[n] = 0;  // (emission is no bounce)
         if (b.light.media) b.medium[n] = b.light.mediumFront[y0];
         ++n;
     };
@@ -263,7 +270,7 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
             continue;
         }
         v.kind[cur] = BptVertexKind::Surface;
-        materialAt<F>(scene, sp, -rayDir(rh), v.bsdf[cur], b.textureJobs);
+        materialAt<F>(scene, sp, -rayDir(rh), v.bsdf[cur], b.textureJobs, b.pathNonSpecular[i] ? b.regularizedOffset : 0);
         const MaterialKind kind = v.bsdf[cur].kind;
         v.delta[cur] = isDeltaMaterial(kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
@@ -338,6 +345,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             b.nextDir[h] = wi;
             b.pathBeta[path] = beta;  // read back by advanceBptPaths (path >= h)
             b.pathPdf[path] = pdfFwd;
+            b.pathNonSpecular[path] |= uint8_t(!s.delta);
         }
     });
 }
@@ -374,6 +382,7 @@ void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v) {
         [&](size_t n, uint32_t path, size_t h) {
             b.pathBeta[n] = b.pathBeta[path];
             b.pathPdf[n] = b.pathPdf[path];
+            b.pathNonSpecular[n] = b.pathNonSpecular[path];
             if (v.media) {  // the side the next ray leaves into (a medium vertex: its own medium)
                 const uint32_t slot = b.pathSlot[path];
                 b.medium[n] = v.mediumTowards(v.at(slot, v.count[slot] - 1), b.nextDir[h]);

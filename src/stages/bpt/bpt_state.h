@@ -140,13 +140,15 @@ struct StrategyWave {
 // the light subpath's initial throughput scale (roulette), the density of its y_0 under
 // next-event estimation from y_1 (cacheMisSums; the MIS weights of s >= 2); per live path
 // (compacted with the wave): the throughput carried to the next vertex and the solid-angle
-// density of the sampled direction; per hit: its material's kind, for the kind sort; per
+// density of the sampled direction and whether some bounce of its walk so far was not a
+// delta lobe (pbrt-v4's anyNonSpecularBounces, each subpath its own: its later vertices take
+// the regularized table, BptBatch::regularizedOffset); per hit: its material's kind, for the kind sort; per
 // light subpath started (a scene whose one light is a rectangle): its slot, numbers and
 // emission sample (generateBptLightPaths' flat loop; the first two numbers in sortedU1/U2,
 // the direction in localX/Y/Z).
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
-    X(Vec3, pathBeta) X(float, pathPdf) X(MaterialKind, hitKind)
+    X(Vec3, pathBeta) X(float, pathPdf) X(uint8_t, pathNonSpecular) X(MaterialKind, hitKind)
 // Allocated only for a scene with media (docs/media.md): per path its medium, this round's
 // free-path sample (traverseBptMedia: a scattering event and where) and its densities.
 #define WMLT_BPT_MEDIA_ARRAYS(X)                                                             \
@@ -191,6 +193,10 @@ struct BptBatch : PathWave {
     WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_ARRAY)
     std::vector<uint32_t> cameraSampleOf;  // per light vertex
     bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
+    // pbrt's regularize, chosen once per render: Scene::regularizedOffset in BPT's batches
+    // (renderBidirectional), the table a subpath's vertices take once pathNonSpecular; 0 in
+    // MMLT's and PSSMLT's (it would bias their chains' target) and without regularize.
+    uint32_t regularizedOffset = 0;
     int minLength = 1, maxLength = kMaxPathLength;  // BPT: the path lengths rendered (emitting media's, bpt_media.cpp)
 
     BptVertices cam, light;

@@ -1,5 +1,6 @@
 // The surface stage: turns Embree hits into shading data (position, normals, frame,
-// material with its texture applied). Shared by every tracer.
+// material with its texture applied, from the normal or the regularized table). Shared by
+// every tracer.
 #pragma once
 #include <embree3/rtcore.h>
 
@@ -164,7 +165,8 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     return sp;
 }
 
-// The material of a hit, written into out (a vertex's or hit's record): its constants;
+// The material of a hit, written into out (a vertex's or hit's record): its constants
+// (`table`: 0, or Scene::regularizedOffset for its regularized version, pbrt's regularize);
 // seen from below its shading normal (wo, world, towards the previous vertex) a one-sided
 // (Mitsuba) material is black. A material with textures is queued in jobs for the texture
 // stage (textures.h, evaluateTextures), which finishes the record once the round's
@@ -172,8 +174,8 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
 // stored to the stack piece by piece, then copied out as one 64-byte load, stalled on
 // store forwarding (24% of resolveBptHits on the seed room).
 template <class F>
-void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams& out, TextureJobs& jobs) {
-    out = scene.materials[sp.material];
+void materialAt(const Scene& scene, const SurfacePoint& sp, Vec3 wo, BsdfParams& out, TextureJobs& jobs, uint32_t table) {
+    out = scene.materials[size_t(sp.material) + table];
     if constexpr (F::oneSided) {
         if (!scene.desc.materials[sp.material].twoSided && !(dot(wo, sp.ns) > 0)) {
             out = BsdfParams{};  // a black Matte: f = 0, every sample ends the path
@@ -199,15 +201,15 @@ inline Frame shadingFrame(const Scene& scene, const SurfacePoint& sp) {
 }
 
 // Writes hit h of a batch (PT, LT: the same hit arrays) from path i's surface point:
-// position, geometric normal, wo, shading frame and material.
+// position, geometric normal, wo, shading frame and material (of `table`, as materialAt).
 template <class F, class Batch>
-inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const SurfacePoint& sp, Vec3 wo) {
+inline void recordHit(const Scene& scene, Batch& b, size_t h, size_t i, const SurfacePoint& sp, Vec3 wo, uint32_t table) {
     b.hitPath[h] = uint32_t(i);
     b.p[h] = sp.p;
     b.ng[h] = sp.ng;
     b.wo[h] = wo;
     b.shading[h] = shadingFrame<F>(scene, sp);
-    materialAt<F>(scene, sp, wo, b.bsdf[h], b.textureJobs);
+    materialAt<F>(scene, sp, wo, b.bsdf[h], b.textureJobs, table);
 }
 
 }  // namespace wmlt

@@ -1,3 +1,5 @@
+// The light tracer's wavefront stages (lt_stages.h): light paths from the emitters, each
+// vertex connected to the camera (t = 1).
 #include "stages/lt/lt_stages.h"
 
 #include "kernels/rng.h"
@@ -151,7 +153,7 @@ void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
             b.hitMediumIn[h] = g.mediumBoundary ? g.mediumInside : b.medium[i];
             b.hitMediumOut[h] = g.mediumBoundary ? g.mediumOutside : b.medium[i];
         }
-        recordHit<F>(scene, b, h++, i, sp, -rayDir(rh));
+        recordHit<F>(scene, b, h++, i, sp, -rayDir(rh), 0);  // (pbrt-v4's lightpath does not regularize)
     }
     b.numHits = h;
     if constexpr (F::textures) evaluateTextures(scene, b.textureJobs);

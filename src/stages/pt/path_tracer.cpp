@@ -1,3 +1,5 @@
+// The path-tracing driver: passes of batches (a tile of pixels times a sample range), every
+// bounce of a batch run as wavefront stages (pt_stages.h), each pixel's samples added in order.
 #include "stages/pt/path_tracer.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -46,6 +48,7 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<PtBatch> batches([&] {
         PtBatch b;
         b.reserve(schedule.pathsPerBatch(), batchNeeds(scene));
+        b.regularizedOffset = scene.regularizedOffset;  // pbrt's path integrator regularizes
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;

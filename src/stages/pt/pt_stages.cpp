@@ -1,3 +1,6 @@
+// The path tracer's stages (pt_stages.h): camera rays, hits resolved into surfaces (with
+// pbrt's regularize: the regularized materials after a path's first non-specular bounce),
+// next-event estimation, BSDF sampling and the compaction of the surviving paths.
 #include "stages/pt/pt_stages.h"
 
 #include "kernels/rng.h"
@@ -36,6 +39,7 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, ui
             b.beta[i] = Vec3(1.0f);
             b.prevPdf[i] = 0;
             b.prevDelta[i] = 1;  // the camera vertex: what it sees directly has weight 1
+            b.anyNonSpecular[i] = 0;
             if (media) {
                 b.medium[i] = scene.cameraMedium;
                 b.vertexP[i] = o;
@@ -99,7 +103,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
             if (sp.material < 0) continue;
         }
         if (depth >= maxLength) continue;  // no longer path can count
-        recordHit<F>(scene, b, h, i, sp, -d);
+        recordHit<F>(scene, b, h, i, sp, -d, b.anyNonSpecular[i] ? b.regularizedOffset : 0);
         b.hitKey[h] = b.key[slot];
         if (media) {
             const GeomRecord& g = scene.geoms[rh.hit.geomID];
@@ -306,6 +310,7 @@ void advancePaths(const Scene& scene, PtBatch& b) {
             b.beta[n] = b.nextBeta[h];
             b.prevPdf[n] = b.nextPdf[h];
             b.prevDelta[n] = b.nextDelta[h];
+            b.anyNonSpecular[n] = uint8_t(b.anyNonSpecular[path] | (b.nextDelta[h] ^ 1));
             if (media) {  // the side the next ray leaves into (a medium vertex: its own medium)
                 b.medium[n] = dot(b.nextDir[h], b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
                 b.vertexP[n] = b.p[h];

@@ -18,7 +18,9 @@
 namespace wmlt {
 
 // prevPdf: solid-angle pdf of the BSDF sample that made the path's ray; prevDelta: it was
-// a delta lobe (no MIS on what it hits). nextBeta, nextPdf, nextDelta: the same for the
+// a delta lobe (no MIS on what it hits); anyNonSpecular: some bounce of the path so far was
+// not a delta lobe (pbrt-v4's anyNonSpecularBounces: its later hits take the regularized
+// table, PtBatch::regularizedOffset). nextBeta, nextPdf, nextDelta: the same for the
 // next bounce, written by BSDF sampling at the hit's index. hitKey: the hit's sample key
 // (read by the flat loops in hit order). hitNs, hitKd, hitBeta: per hit
 // (a scene with matte surfaces), its shading normal, Kd and its path's throughput, for the
@@ -32,7 +34,7 @@ namespace wmlt {
 // neeTfar), its contribution neeL and whether its f is not black.
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
-    X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta)                                  \
+    X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta) X(uint8_t, anyNonSpecular)       \
     WMLT_HIT_SURFACE_ARRAYS(X) X(uint64_t, hitKey) X(Vec3, nextBeta) X(float, nextPdf)     \
     X(uint8_t, nextDelta) X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
 // Allocated only for a scene with matte surfaces.
@@ -57,6 +59,9 @@ struct PtBatch : PathWave {
     WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numShadow = 0;
     ContributionTally tally;  // per batch
+    // pbrt's regularize, chosen once per render (renderPathTracing): Scene::regularizedOffset,
+    // the table a path's hits take once anyNonSpecular; 0: the render does not regularize.
+    uint32_t regularizedOffset = 0;
 
     WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
