@@ -294,7 +294,7 @@ TEST_CASE("pbrt import: point, spot and distant lights on a diffuse floor, in PT
     // spot along -y, cone 40, delta 15: pbrt's smoothstep in the cosine between 25 and 40 degrees
     const double cosEnd = std::cos(40 * M_PI / 180), cosStart = std::cos(25 * M_PI / 180);
     floorRadianceOf(load(kFloor + "LightSource \"spot\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0.2 1.3 -0.1 ] \"point3 to\" [ 0.2 0 -0.1 ]"
-                                  " \"float coneangle\" 40 \"float conedelta\" 15\n",
+                                  " \"float coneangle\" 40 \"float conedeltaangle\" 15\n",
                          "spot.pbrt"),
                     [&](Vec3 p, Vec3) {
                         const double cosT = c.y / std::sqrt(r2(p));

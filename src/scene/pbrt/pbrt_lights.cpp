@@ -193,12 +193,12 @@ void Importer::lightSource(Directive& d) {
         l.kind = LightKind::Point;
         l.position = g_.ctm.point(from);
         double ke = 4 * M_PI;
-        if (type == "spot") {  // pbrt-v4: full intensity within coneangle - conedelta, smoothstep to coneangle
+        if (type == "spot") {  // pbrt-v4: full intensity within coneangle - conedeltaangle, smoothstep to coneangle
             const Vec3 to = p.getPoint3("to", Vec3(0, 0, 1));
             const Vec3 axis = g_.ctm.vector(to - from);
             if (!(length(axis) > 0)) fail(d.at, "spot: from equals to");
-            const double cone = p.getFloat("coneangle", 30), delta = p.getFloat("conedelta", 5);
-            if (!(cone > 0 && cone <= 180) || delta < 0 || delta > cone) fail(d.at, "spot: coneangle must be in (0, 180] and conedelta in [0, coneangle]");
+            const double cone = p.getFloat("coneangle", 30), delta = p.getFloat("conedeltaangle", 5);
+            if (!(cone > 0 && cone <= 180) || delta < 0 || delta > cone) fail(d.at, "spot: coneangle must be in (0, 180] and conedeltaangle in [0, coneangle]");
             l.spotAxis = normalize(axis);
             l.spotCutoff = float(cone * M_PI / 180);
             l.spotBeam = float((cone - delta) * M_PI / 180);
