@@ -131,25 +131,9 @@ void MmltRender::replaySeeds() {
     tbb::parallel_for(p0, p1, [&](size_t ti) {
         MmltBatch& mb = batches_.local();
         mb.slices = plan[ti];
-        fillSeedRows(groups_, mb);
-        evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
-        for (const BatchSlice& sl : mb.slices) {
-            ChainGroup& g = groups_[size_t(sl.group)];
-            for (uint32_t j = 0; j < sl.n; ++j) {
-                const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
-                Vec3 F = contributionOf(mb, i);
-                if (opt_.plantReplayMismatch && ti == 0 && i == 0) F = F + Vec3(1.0f);  // (tests only)
-                float cc = targetOf(F);
-                if (whole_) {
-                    cc = wholeTarget(mb, i, F);
-                    keepWholePoints(g, c, mb, i);
-                }
-                if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0 || std::memcmp(&F, &g.F[c], sizeof F) != 0 ||
-                    std::memcmp(&mb.bpt.filmX[i], &g.filmX[c], sizeof(float)) != 0 ||
-                    std::memcmp(&mb.bpt.filmY[i], &g.filmY[c], sizeof(float)) != 0)
-                    ++mismatches[ti];
-            }
-        }
+        stages_.fillSeedRows(groups_, mb);
+        stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
+        mismatches[ti] = stages_.countReplayMismatches(groups_, mb, opt_.plantReplayMismatch && ti == 0);
     });
     for (uint64_t m : mismatches) stats_.replayMismatches += m;
     for (size_t ti = p0; ti < p1; ++ti) stats_.replayed += slotsIn(plan[ti]);

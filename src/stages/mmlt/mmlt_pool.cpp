@@ -39,13 +39,9 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
             const PoolTask& t = tasks[ti];
             MmltBatch& mb = batches_.local();
             mb.counters.nonfinite = 0;
-            fillPoolRows(mb, t.k, pass_, t.i0, t.n, opt_.seed);
-            evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
-            for (uint32_t i = 0; i < t.n; ++i) {
-                Vec3 F;
-                const float c = evaluatedTarget(mb, i, F);
-                out[ti].addSample(mb.bpt.key[i], c, F, mb.bpt.filmX[i], mb.bpt.filmY[i]);
-            }
+            stages_.fillPoolRows(mb, t.k, pass_, t.i0, t.n, opt_.seed);
+            stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
+            stages_.addPoolSamples(mb, t.n, out[ti]);
             nonfinite[ti] = mb.counters.nonfinite;
         });
         exchangePools(out, t0, t1 - t0);

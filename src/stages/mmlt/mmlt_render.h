@@ -1,8 +1,9 @@
 // MmltRender: the MMLT driver's state and its phases (docs/architecture.md, "The
-// Metropolis wavefront"; the algorithm in mmlt.cpp's opening comment). Defined in three
-// files: mmlt.cpp (construction, the passes, the rounds, the image and the stats),
-// mmlt_pool.cpp (tracing the pools and exchanging them between ranks) and mmlt_chains.cpp
-// (allocating chains to lengths, seeding and replaying them, planning the batches).
+// Metropolis wavefront"; the algorithm in mmlt.cpp's opening comment). Defined in five
+// files: mmlt.cpp (construction and the render's phases: bootstrap figures, chain count,
+// passes), mmlt_rounds.cpp (a pass's rounds), mmlt_pool.cpp (tracing the pools and
+// exchanging them between ranks), mmlt_chains.cpp (allocating chains to lengths, seeding and
+// replaying them, planning the batches) and mmlt_resolve.cpp (the image and the stats).
 // Internal to src/stages.
 #pragma once
 #include "stages/mmlt/mmlt.h"
@@ -34,6 +35,8 @@ constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB
 
 using Clock = std::chrono::steady_clock;
 
+struct TaskOutput;  // a batch's part of a round (mmlt.cpp)
+
 // One pool-tracing task: samples [i0, i0 + n) of length k.
 struct PoolTask {
     int k;
@@ -55,7 +58,23 @@ private:
     void seedChains();
     void planBatches();
     void replaySeeds();
+    // The phases of a render (run): the bootstrap's figures, the chain count's cap, the
+    // passes' plan, and after each pass the decision and the next pools.
+    void keepBootstrap();
+    void capChainsToBudget();
+    InputError noLight() const;
+    void planPasses();
+    enum class NextPass : uint64_t { New, End, GoOn };
+    NextPass decideNextPass(double restartSeconds);
+    bool refillPools();
+    void skipDarkPass();
+    // A pass's rounds (runRounds), each sized (roundSize), run batch by batch (runBatch:
+    // mutate, evaluate, accept and splat), merged (mergeRound) and accounted (accountRound).
     void runRounds(uint64_t passEnd);
+    uint32_t roundSize(uint32_t perRound, uint64_t passEnd);
+    void runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutput& o);
+    void mergeRound(std::vector<TaskOutput>& outputs, std::vector<SamplePool>& roundPools, bool parallelMerge, uint32_t stripeShift);
+    void accountRound(const std::vector<TaskOutput>& outputs, uint32_t r, double roundStart);
     RenderResult resolve();
     // Render time: paused time (a viewer's) is left out.
     double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count() - paused_; }
@@ -100,6 +119,7 @@ private:
     Clock::time_point t0_;
     int kMin_, kMax_;                      // the path lengths rendered
     bool whole_;                           // PSSMLT
+    const ChainStages& stages_;            // MMLT's or PSSMLT's (whole_), chosen once
     int lo_, hi_;                          // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
     // Bytes of state per chain of group k.
     uint64_t chainBytesOf(int k) const {
@@ -111,6 +131,7 @@ private:
     std::string chainsReason_;             // how C was chosen (--stats, the notice)
     uint64_t target_ = 0;                  // iterations per chain (spp renders)
     uint32_t passLength_ = 1;
+    uint32_t fresh_ = 64;                  // fresh pool samples per length and pass (planPasses)
     uint32_t pass_ = 0;
     uint64_t iteration_ = 0;               // iterations of every chain so far
     double passWeight_ = 1;                // f_p of this pass (allocateChains)

@@ -1,6 +1,7 @@
 #include "stages/mmlt/mmlt_stages.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "kernels/check.h"
 #include "kernels/gaussian.h"
@@ -101,10 +102,6 @@ float targetOf(const Vec3& F) {
 }
 
 void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
-    if (mb.whole) {
-        fillWholePoolSlots(mb, pass, index0, n, seed);
-        return;
-    }
     const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media);
     for (uint32_t i = 0; i < n; ++i) {
         const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
@@ -121,10 +118,6 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
 }
 
 void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
-    if (mb.whole) {
-        fillWholeSeedSlots(groups, mb);
-        return;
-    }
     packRows(groups, mb);
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
@@ -172,10 +165,6 @@ void drawSmallSteps(MmltBatch& mb) {
 
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
                   float probLarge) {
-    if (mb.whole) {
-        mutateWholeChains(groups, mb, seed, iteration, probLarge);
-        return;
-    }
     SmallStepChunk& st = *mb.steps;
     st.count = 0;
     packRows(groups, mb);
@@ -216,10 +205,6 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
 }
 
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters) {
-    if (mb.whole) {
-        evaluateWholeProposals(scene, mb, misBeta, counters);
-        return;
-    }
     BptBatch& b = mb.bpt;
     const StoredSamples u = mb.samples();
     b.tally.nonfinite = 0;
@@ -231,7 +216,49 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCoun
     mb.counters.nonfinite += b.tally.nonfinite;
 }
 
-void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb) {
+namespace {
+
+// A slot's target and F: MMLT's (evaluatedTarget) or PSSMLT's whole sample's (wholeTarget).
+template <bool Whole>
+float targetOfSlot(MmltBatch& mb, uint32_t i, Vec3& F) {
+    if constexpr (Whole) return wholeTarget(mb, i, F);
+    else return evaluatedTarget(mb, i, F);
+}
+
+template <bool Whole>
+void addPoolSamplesOf(MmltBatch& mb, uint32_t n, SamplePool& pool) {
+    for (uint32_t i = 0; i < n; ++i) {
+        Vec3 F;
+        const float c = targetOfSlot<Whole>(mb, i, F);
+        pool.addSample(mb.bpt.key[i], c, F, mb.bpt.filmX[i], mb.bpt.filmY[i]);
+    }
+}
+
+template <bool Whole>
+uint64_t countReplayMismatchesOf(std::vector<ChainGroup>& groups, MmltBatch& mb, bool plant) {
+    uint64_t mismatches = 0;
+    for (const BatchSlice& sl : mb.slices) {
+        ChainGroup& g = groups[size_t(sl.group)];
+        for (uint32_t j = 0; j < sl.n; ++j) {
+            const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
+            Vec3 F = contributionOf(mb, i);
+            if (plant && i == 0) F = F + Vec3(1.0f);  // (tests only)
+            float cc = targetOf(F);
+            if constexpr (Whole) {
+                cc = wholeTarget(mb, i, F);
+                keepWholePoints(g, c, mb, i);
+            }
+            if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0 || std::memcmp(&F, &g.F[c], sizeof F) != 0 ||
+                std::memcmp(&mb.bpt.filmX[i], &g.filmX[c], sizeof(float)) != 0 ||
+                std::memcmp(&mb.bpt.filmY[i], &g.filmY[c], sizeof(float)) != 0)
+                ++mismatches;
+        }
+    }
+    return mismatches;
+}
+
+template <bool Whole>
+void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb) {
     for (const BatchSlice& sl : mb.slices) {
         ChainGroup& g = groups[size_t(sl.group)];
         const uint8_t k = uint8_t(g.k);
@@ -239,14 +266,14 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
         for (uint32_t j = 0; j < sl.n; ++j) {
             const uint32_t i = sl.slot0 + j, c = mb.chain[i];
             Vec3 F;  // PSSMLT: the camera side's (the t = 1 contributions are in slotSplats)
-            const float cP = evaluatedTarget(mb, i, F);
+            const float cP = targetOfSlot<Whole>(mb, i, F);
             const float a = acceptance(cP, g.c[c]);
             // a chain's state is always a sample the target sees (seeded from lit pool entries,
             // moved only to proposals with cP > 0): else its splats would divide by 0
             WMLT_DCHECK(g.c[c] > 0 && std::isfinite(g.c[c]), "chain " + std::to_string(c) + " of length " + std::to_string(g.k) + " has target " + std::to_string(g.c[c]));
             WMLT_DCHECK(std::isfinite(g.weight) && g.weight >= 0, "length " + std::to_string(g.k) + "'s splat weight " + std::to_string(g.weight));
             const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
-            if (mb.whole) {
+            if constexpr (Whole) {
                 splatWhole(scene, g, c, mb, i, a, cP);
             } else {
                 if (a > 0) mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
@@ -260,7 +287,7 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
             ++mb.counters.accepted[kind][k];
             // Commit: the coordinates the proposal read (the chain's block is contiguous).
             const uint32_t next = g.accepted[c] + 1;
-            if (mb.whole) {
+            if constexpr (Whole) {
                 commitWhole(g, c, mb, i, next);
             } else {
                 const float* row = mb.rowOf(i);
@@ -279,10 +306,29 @@ void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBat
             g.c[c] = cP;
             g.filmX[c] = filmX;
             g.filmY[c] = filmY;
-            if (mb.whole) keepWholePoints(g, c, mb, i);
+            if constexpr (Whole) keepWholePoints(g, c, mb, i);
         }
     }
 }
+
+}  // namespace
+
+void addPoolSamples(MmltBatch& mb, uint32_t n, SamplePool& pool) { addPoolSamplesOf<false>(mb, n, pool); }
+void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb) { acceptAndSplatOf<false>(scene, groups, mb); }
+uint64_t countReplayMismatches(std::vector<ChainGroup>& groups, MmltBatch& mb, bool plant) {
+    return countReplayMismatchesOf<false>(groups, mb, plant);
+}
+
+const ChainStages kMmltStages = {fillPoolRows, fillSeedRows, mutateChains, evaluateProposals,
+                                 addPoolSamples, acceptAndSplat, countReplayMismatches};
+const ChainStages kPssmltStages = {
+    [](MmltBatch& mb, int, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) { fillWholePoolSlots(mb, pass, index0, n, seed); },
+    fillWholeSeedSlots,
+    mutateWholeChains,
+    evaluateWholeProposals,
+    addPoolSamplesOf<true>,
+    acceptAndSplatOf<true>,
+    countReplayMismatchesOf<true>};
 
 // thinPool's tau: with the v = w c in decreasing order and f(m) = (the sum of all but the
 // m largest) / (keep - m), tau = f(m) for the least m with v_(m) < f(m) (the m largest are

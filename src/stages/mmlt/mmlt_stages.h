@@ -6,8 +6,8 @@
 //                      large steps into the next pass's pools)
 // A batch holds slices of chains of several lengths (MmltBatch::slices). Pools are traced
 // by evaluateProposals on rows written by fillPoolRows, and seeded chains replayed on rows
-// written by fillSeedRows. PSSMLT runs the same stages in their whole-sample mode
-// (MmltBatch::whole, chosen once per render: each stage hands over to pssmlt_stages.h).
+// written by fillSeedRows. PSSMLT runs its own whole-sample stages (pssmlt_stages.h) in
+// the same driver: ChainStages, chosen once per render, holds one tracer's set.
 #pragma once
 #include <cstdint>
 
@@ -61,17 +61,35 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCoun
 inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }
 float targetOf(const Vec3& F);
 inline float evaluatedTarget(MmltBatch& mb, size_t i, Vec3& F) {
-    if (mb.whole) return wholeTarget(mb, uint32_t(i), F);
     F = contributionOf(mb, i);
     const float c = targetOf(F);
     if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
     return c;
 }
+// Slots [0, n) of evaluated pool rows into pool (their keys, targets, F and film points).
+void addPoolSamples(MmltBatch& mb, uint32_t n, SamplePool& pool);
 // Accepts or rejects each slot's proposal (a = min(1, c'/c)), splats a F'/c' at the
 // proposal's film point and (1 - a) F/c at the current one's (spread over the filter's
 // footprint: MmltBatch::addSplat), both times the group's weight, to
 // mb.splats, and commits accepted proposals. Large-step proposals join mb.pools.
 void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb);
+// Replayed seeds (evaluated rows of fillSeedRows): how many differ from their chain's
+// F, c or film point (an estimator bug); `plant` makes the first slot's differ (tests).
+uint64_t countReplayMismatches(std::vector<ChainGroup>& groups, MmltBatch& mb, bool plant);
+
+// One tracer's stages over a batch of chains, chosen once per render by the driver
+// (MmltRender): MMLT's above (kMmltStages) or PSSMLT's whole-sample ones (kPssmltStages,
+// pssmlt_stages.h). One call per stage and batch: no per-slot choice of the mode.
+struct ChainStages {
+    void (*fillPoolRows)(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed);
+    void (*fillSeedRows)(const std::vector<ChainGroup>& groups, MmltBatch& mb);
+    void (*mutateChains)(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float probLarge);
+    void (*evaluateProposals)(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
+    void (*addPoolSamples)(MmltBatch& mb, uint32_t n, SamplePool& pool);
+    void (*acceptAndSplat)(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb);
+    uint64_t (*countReplayMismatches)(std::vector<ChainGroup>& groups, MmltBatch& mb, bool plant);
+};
+extern const ChainStages kMmltStages, kPssmltStages;
 // Thins a pool to about `keep` entries, keeping each with probability min(1, w c / tau)
 // (tau chosen for `keep` in expectation) and dividing its weight by that probability: an
 // unbiased thinning (systematic: one comb over the entries, its offset from (seed, round)).

@@ -3,11 +3,11 @@
 // chains (ChainGroup::k = 0) whose every proposal is a whole BPT sample: the camera and light
 // walks at the longest length (with BPT's roulette) and every strategy of every length,
 // MIS-weighted (connectBpt on WholeSamples, which proposes each coordinate when it is first
-// read). MMLT's stages take this mode per batch (MmltBatch::whole): fillPoolRows,
-// fillSeedRows and mutateChains set each slot's proposal up (fillWholePoolSlots,
-// fillWholeSeedSlots, mutateWholeChains), evaluateProposals calls evaluateWholeProposals,
-// acceptAndSplat takes the target from wholeTarget, splats with splatWhole and commits with
-// commitWhole. A sample's contributions: the camera side's sum L at its raster point
+// read). These are PSSMLT's stages of the driver (kPssmltStages, mmlt_stages.h, chosen
+// once per render): fillWholePoolSlots, fillWholeSeedSlots and mutateWholeChains set each
+// slot's proposal up, evaluateWholeProposals traces it, and MMLT's acceptance (its
+// whole-sample instantiation) takes the target from wholeTarget, splats with splatWhole and
+// commits with commitWhole. A sample's contributions: the camera side's sum L at its raster point
 // (filmX, filmY) and each t = 1 strategy's at its own film point; its target c = the
 // luminance of their sum.
 #pragma once
