@@ -20,6 +20,7 @@
 #include "kernels/bsdf.h"
 #include "kernels/chain_numbers.h"
 #include "kernels/rng.h"
+#include "stages/bpt/bpt_samples.h"  // the sample sources the stages are templates on
 #include "stages/core/film.h"
 #include "stages/core/strategy_films.h"
 #include "stages/core/wave.h"
@@ -36,23 +37,33 @@ enum class BptVertexKind : uint8_t { Camera, Light, Surface, Env, Medium };
 inline bool hasCosine(BptVertexKind k) { return k != BptVertexKind::Camera && k != BptVertexKind::Medium; }
 
 // The vertices of one kind of subpath for every slot of a batch, at index
-// first[slot] + i (slot * capacity, or packed): position, geometric normal (lights: emitting side), shading frame
-// (n = shading normal), material, throughput up to and including the vertex, area density
-// from the subpath's own walk (pdfFwd) and if the other side's walk produced it (pdfRev),
-// scattering by a delta lobe (mirror, glass), kind, for a Light its index into
-// Scene::lights, and the partial sum of the MIS weights' ratios up to the vertex
-// (kernels/mis.h, bptSubpathMisSum; written by cacheMisSums after the walks).
+// first[slot] + i (slot * capacity, or packed):
+//   p: the position
+//   ng: the geometric normal (lights: the emitting side)
+//   shading: the shading frame (n = the shading normal)
+//   bsdf: the material
+//   beta: the throughput up to and including the vertex
+//   pdfFwd: the area density from the subpath's own walk
+//   pdfRev: the area density if the other side's walk produced it
+//   delta: scattering here is by a delta lobe (mirror, glass)
+//   kind: BptVertexKind
+//   light: for a Light, its index into Scene::lights
+//   misSum: the MIS weights' ratios summed up to the vertex (kernels/mis.h,
+//     bptSubpathMisSum; written by cacheMisSums after the walks)
 #define WMLT_BPT_VERTEX_ARRAYS(X)                                                            \
     X(Vec3, p) X(Vec3, ng) X(Frame, shading) X(BsdfParams, bsdf) X(Vec3, beta)             \
     X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light) \
     X(double, misSum)
-// Scenes with a textured emitter (BatchNeeds::texturedEmitter): at an emitter vertex, T and
-// the area density of light sampling there (camera walk: s = 0; y_0: emission's).
+// Scenes with a textured emitter (BatchNeeds::texturedEmitter); at an emitter vertex:
+//   emitTex: the texture's value T there
+//   emitPdfA: the area density of light sampling there (camera walk: s = 0; y_0: emission's)
 #define WMLT_BPT_EMITTER_ARRAYS(X) X(Vec3, emitTex) X(float, emitPdfA)
-// Scenes with media (BatchNeeds::media; docs/media.md): the media on the vertex's +ng and
-// -ng sides (a medium vertex, the camera: its medium on both), and the free-path density of
-// the segment that reached it sampled the other way (ending at the previous vertex:
-// SegmentDensities::rev), which its pdfRev-side densities take; pdfFwd has the walk's own.
+// Scenes with media (BatchNeeds::media; docs/media.md):
+//   mediumFront: the medium on the vertex's +ng side (a medium vertex, the camera: its medium)
+//   mediumBack: the medium on its -ng side (likewise)
+//   rhoRev: the free-path density of the segment that reached it, sampled the other way
+//     (ending at the previous vertex: SegmentDensities::rev), which its pdfRev-side
+//     densities take; pdfFwd has the walk's own
 #define WMLT_BPT_MEDIA_VERTEX_ARRAYS(X) X(int32_t, mediumFront) X(int32_t, mediumBack) X(float, rhoRev)
 
 struct BptVertices {
@@ -98,21 +109,32 @@ struct BptVertices {
 // The strategies being connected (bpt_connect.cpp), in the order the tracer lists them:
 // set up (the new endpoint, the directions at the connection's ends), their ends' BSDFs
 // evaluated kind by kind, then weighted and added or queued in that same order.
-// Per strategy: slot, s, t, the light (s <= 1), the unweighted contribution or the factors
-// it is finished from once the ends' f are known (setUpStrategy), the new endpoint (s = 1,
-// t >= 2: the light point and its normal, `infinite` for the environment; t = 1: the lens
-// point) and the film point it lands on (t = 1; with a pinhole camera also the area density at
-// x_{s-1} of the camera ray through it, from pinholeCameraSamples).
+// Per strategy (setUpStrategy writes them):
+//   slot: the slot whose subpaths it connects
+//   s, t: its light and camera vertex counts
+//   light: the light (s <= 1)
+//   value: the unweighted contribution, or its part known before the ends' f
+//   scale, tail: the factors it is finished from once the ends' f are known
+//   endP, endN: the new endpoint and its normal (s = 1, t >= 2: the light point; t = 1:
+//     the lens point)
+//   endPdfA: the light point's area density (s = 1)
+//   infinite: the endpoint is the environment's
+//   filmX, filmY: the film point it lands on (t = 1)
+//   cameraPdfArea: with a pinhole camera, the area density at x_{s-1} of the camera ray
+//     through that point (pinholeCameraSamples)
 #define WMLT_STRATEGY_ARRAYS(X)                                                              \
     X(uint32_t, slot) X(uint8_t, s) X(uint8_t, t) X(int16_t, light) X(Vec3, value)          \
     X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(float, endPdfA) X(uint8_t, infinite)       \
     X(float, filmX) X(float, filmY) X(float, cameraPdfArea)
 // Per end (2 i: y = x_{s-1}, a light subpath vertex; 2 i + 1: z = x_s, a camera subpath
-// vertex): the vertex (kNoEnd: strategy i has no surface there), f's directions and the
-// densities' directions in its shading frame (wo on the camera side, wi on the light
-// side; s = 1 and t = 1 sample f towards the new endpoint, which the densities reach from
-// the stored positions), and the results: f(wo, wi), pdf(wo, wi) (the camera walk's),
-// pdf(wi, wo) (the light walk's).
+// vertex), directions in the vertex's shading frame, wo on the camera side, wi on the light
+// side (s = 1 and t = 1: f towards the new endpoint, the densities from the stored positions):
+//   endVertex: the vertex (kNoEnd: strategy i has no surface there)
+//   fWo, fWi: f's directions
+//   wo, wi: the densities' directions
+//   f: f(wo, wi)
+//   pdfCam: pdf(wo, wi) (the camera walk's)
+//   pdfLight: pdf(wi, wo) (the light walk's)
 #define WMLT_STRATEGY_END_ARRAYS(X)                                                          \
     X(uint32_t, endVertex) X(Vec3, fWo) X(Vec3, fWi) X(Vec3, wo) X(Vec3, wi) X(Vec3, f)      \
     X(float, pdfCam) X(float, pdfLight)
@@ -136,43 +158,72 @@ struct StrategyWave {
     }
 };
 
-// Per slot: pixel, random key, the camera-side radiance L (t >= 2: the pixel's own film),
-// the light subpath's initial throughput scale (roulette), the density of its y_0 under
-// next-event estimation from y_1 (cacheMisSums; the MIS weights of s >= 2); per live path
-// (compacted with the wave): the throughput carried to the next vertex and the solid-angle
-// density of the sampled direction and whether some bounce of its walk so far was not a
-// delta lobe (pbrt-v4's anyNonSpecularBounces, each subpath its own: its later vertices take
-// the regularized table, BptBatch::regularizedOffset); per hit: its material's kind, for the kind sort; per
-// light subpath started (a scene whose one light is a rectangle): its slot, numbers and
-// emission sample (generateBptLightPaths' flat loop; the first two numbers in sortedU1/U2,
-// the direction in localX/Y/Z).
+// Per slot:
+//   pixel: the sample's pixel
+//   key: its random key (dimensions: bptDim, bpt_samples.h)
+//   L: the camera-side radiance (t >= 2: the pixel's own film)
+//   betaScale: the light subpath's initial throughput scale (roulette)
+//   lightNee: the density of its y_0 under next-event estimation from y_1 (cacheMisSums;
+//     the MIS weights of s >= 2)
+// Per live path (compacted with the wave):
+//   pathBeta: the throughput carried to the next vertex
+//   pathPdf: the solid-angle density of the sampled direction
+//   pathNonSpecular: some bounce of its walk so far was not a delta lobe (pbrt-v4's
+//     anyNonSpecularBounces, each subpath its own: later vertices take the regularized
+//     table, BptBatch::regularizedOffset)
+// Per hit:
+//   hitKind: its material's kind, for the kind sort
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
     X(Vec3, pathBeta) X(float, pathPdf) X(uint8_t, pathNonSpecular) X(MaterialKind, hitKind)
-// Allocated only for a scene with media (docs/media.md): per path its medium, this round's
-// free-path sample (traverseBptMedia: a scattering event and where) and its densities.
+// Allocated only for a scene with media (docs/media.md); per path:
+//   medium: its medium
+//   mediumEvent: this round's free-path sample is a scattering event (traverseBptMedia)
+//   mediumT: where
+//   rhoFwd, rhoRev: the sample's free-path densities, forward and reverse
 #define WMLT_BPT_MEDIA_ARRAYS(X)                                                             \
     X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(float, rhoFwd) X(float, rhoRev)
-// Allocated only for a scene whose one light is a rectangle (soleRectLight).
+// Allocated only for a scene whose one light is a rectangle (soleRectLight); per light
+// subpath started, for generateBptLightPaths' flat loop (the first two numbers in
+// sortedU1/U2, the direction in localX/Y/Z):
+//   emitSlot: its slot
+//   emitU3, emitU4: its direction's numbers
+//   emitP: the emission sample's point
+//   emitPdfDir: its direction's density
+//   emitOk: the sample is valid
 #define WMLT_BPT_RECT_LIGHT_ARRAYS(X)                                                        \
     X(uint32_t, emitSlot) X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) \
     X(uint8_t, emitOk)
-// MMLT only (reserve's `oneStrategyPerSlot`): one strategy per slot, its s and path length k,
-// and the film point its path lands on (filmX, filmY: raster coordinates).
+// MMLT's (reserve's `oneStrategyPerSlot`) and PSSMLT's (its film point); per slot:
+//   strategyS: the one strategy's s
+//   pathLength: its path length k
+//   filmX, filmY: the film point its path lands on (raster coordinates)
 #define WMLT_BPT_STRATEGY_ARRAYS(X) X(uint8_t, strategyS) X(uint8_t, pathLength) X(float, filmX) X(float, filmY)
 // A pinhole camera's samples (allocated only for one) from the light vertices that t = 1
-// strategies end at, for a chunk of kCameraSampleSlots slots at a time (sampleCameraFromLightVertices): per light
-// vertex, its index j in the chunk's list (cameraSampleOf); per j, the vertex's position
-// and normal (gathered), the sample (pinholeCameraSamples: direction, raster point, We,
-// pdf, valid) and the reverse area density.
+// strategies end at, for a chunk of kCameraSampleSlots slots at a time
+// (sampleCameraFromLightVertices; per light vertex, its index j in the chunk's list:
+// cameraSampleOf). Per j:
+//   csRef, csRefN: the vertex's position and normal (gathered)
+//   csWi: the sample's direction (pinholeCameraSamples)
+//   csPx, csPy: its raster point
+//   csWe: its importance We
+//   csPdf: its density
+//   csPdfArea: the reverse area density at the vertex
+//   csValid: the sample is valid
 #define WMLT_BPT_CAMERA_SAMPLE_ARRAYS(X)                                                     \
     X(Vec3, csRef) X(Vec3, csRefN) X(Vec3, csWi) X(float, csPx) X(float, csPy) X(float, csWe) \
     X(float, csPdf) X(float, csPdfArea) X(uint32_t, csValid)
 constexpr uint32_t kCameraSampleSlots = 256;
 
-// Connection shadow rays (index c < numConn; flushed when full): the slot (t = 1: the
-// raster pixel, or kFilmPoint and the film point (connX, connY) to spread it about), whether it is a t = 1 splat, its path length, unweighted unoccluded
-// value, MIS weight and strategy's s (strategy images).
+// Connection shadow rays (index c < numConn; flushed when full):
+//   conn: the ray
+//   connSlot: its slot (t = 1: the raster pixel, or kFilmPoint)
+//   connX, connY: the film point to spread a kFilmPoint splat about
+//   connSplat: it is a t = 1 splat
+//   connLength: its path length
+//   connValue: the unweighted unoccluded value
+//   connWeight: the MIS weight
+//   connS: the strategy's s (strategy images)
 #define WMLT_BPT_CONN_ARRAYS(X)                                                              \
     X(RTCRay, conn) X(uint32_t, connSlot) X(float, connX) X(float, connY) X(uint8_t, connSplat)  \
     X(uint8_t, connLength) X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
@@ -240,152 +291,6 @@ struct BptBatch : PathWave {
     void resizeConnections(size_t n) { WMLT_BPT_CONN_ARRAYS(WMLT_SOA_RESIZE) }
     // The per-slot strategy and film point (MMLT's; PSSMLT's film point).
     void reserveStrategies(size_t n) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
-};
-
-// Primary sample layout of a BPT sample (keys: bptSampleKey, a stream apart from the PT's
-// and LT's). Three interleaved streams: number j of stream c is dimension 3 j + c, so the
-// light subpath reads the same dimensions whatever the camera subpath and the
-// connections use (MMLT replays them with another t).
-//   stream 0, camera subpath: j = 0-1 pixel jitter, 2-3 lens point, then camera vertex
-//     d >= 1 (after d segments) reads j = 4 + 4 (d - 1) + (0: BSDF lobe, 1-2: BSDF
-//     direction, 3: Russian roulette);
-//   stream 1, light subpath: j = 0 light choice, 1-2 point on the light, 3-4 emitted
-//     direction, then light vertex d >= 1 reads j = 5 + 4 (d - 1) + (0: lobe, 1-2:
-//     direction, 3: roulette);
-//   stream 2, connections: s = 1 at camera vertex z_{t-1} reads j = 5 t + (0: light
-//     choice, 1-2: light point); t = 1 at light vertex y_{s-1} reads j = 5 s + 3 + (0-1:
-//     lens point).
-enum BptStream : uint32_t { kBptCamera = 0, kBptLight = 1, kBptConnect = 2 };
-constexpr uint32_t bptDim(BptStream stream, uint32_t j) { return 3 * j + uint32_t(stream); }
-inline uint32_t bptCamVertexJ(int d, uint32_t m) { return 4 + 4 * uint32_t(d - 1) + m; }
-inline uint32_t bptLightVertexJ(int d, uint32_t m) { return 5 + 4 * uint32_t(d - 1) + m; }
-inline uint32_t bptNeeJ(int t, uint32_t m) { return 5 * uint32_t(t) + m; }
-inline uint32_t bptLensJ(int s, uint32_t m) { return 5 * uint32_t(s) + 3 + m; }
-
-// Where a batch's primary samples come from: number j of stream c of slot i. Chosen once
-// per tracer (the stages are templates on it), never per number.
-// BPT: hashed from the slot's key at dimension 3 j + c (the layout above); every
-// strategy reads its own connection numbers.
-struct HashedSamples {
-    const uint64_t* key;
-    float operator()(uint32_t slot, BptStream c, uint32_t j) const {
-        return sampleDimension(key[slot], bptDim(c, j));
-    }
-    static uint32_t connectJ(int s, int t, uint32_t m) { return s == 1 && t >= 2 ? bptNeeJ(t, m) : bptLensJ(s, m); }
-};
-
-// One strategy's primary sample vector u of a path of length k (MMLT's chains), stored
-// as a row per slot: u[0] picks the strategy, then a block per stream holding its
-// numbers j = 0, 1, ... in the layout above (so a change of t leaves the light
-// subpath's numbers where they are), the connection's block holding the one
-// connection's numbers (j = 0-2). Block sizes: the most any strategy of length k reads.
-struct StrategyLayout {
-    static uint32_t cameraSize(int k) { return 4 * uint32_t(k); }                   // t = k + 1
-    static uint32_t lightSize(int k) { return std::max<uint32_t>(5, 4 * uint32_t(k) - 3); }  // s = k
-    static constexpr uint32_t kConnectSize = 3;
-    static uint32_t base(int k, BptStream c) {
-        return c == kBptCamera ? 1 : c == kBptLight ? 1 + cameraSize(k) : 1 + cameraSize(k) + lightSize(k);
-    }
-    // Scenes with media: one more block, each walk segment's free-path number (the camera
-    // walk's segment d = 1 .. t - 1 at j = d - 1, the light walk's d = 1 .. s - 1 at j = k + d - 1).
-    static uint32_t mediaBase(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
-    static uint32_t mediaSize(int k) { return 2 * uint32_t(k); }
-    static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? mediaSize(k) : 0); }
-    static uint32_t blockSize(int k, BptStream c) {
-        return c == kBptCamera ? cameraSize(k) : c == kBptLight ? lightSize(k) : kConnectSize;
-    }
-    // The numbers strategy (s, t) reads from each block (a prefix of it).
-    static uint32_t cameraUsed(int t) { return t >= 2 ? 4 * uint32_t(t) - 4 : 0; }
-    static uint32_t lightUsed(int s, int t) { return s >= 2 ? 4 * uint32_t(s) - 3 : s == 1 && t == 1 ? 5 : 0; }
-    static uint32_t connectUsed(int s, int t) { return (s == 1 && t >= 2) || t == 1 ? kConnectSize : 0; }
-    static uint32_t cameraMediaUsed(int t) { return uint32_t(std::max(t - 1, 0)); }
-    static uint32_t lightMediaUsed(int s) { return uint32_t(std::max(s - 1, 0)); }
-};
-
-struct StoredSamples {
-    const float* u;      // slot i's row at u + row[i]
-    const uint32_t* row;
-    const uint8_t* length;  // slot i's path length k
-    float operator()(uint32_t slot, BptStream c, uint32_t j) const {
-        return u[row[slot] + StrategyLayout::base(length[slot], c) + j];
-    }
-    static uint32_t connectJ(int, int, uint32_t m) { return m; }
-    // The free-path number of walk segment d (media block).
-    float medium(uint32_t slot, BptStream c, int d) const {
-        const int k = length[slot];
-        return u[row[slot] + StrategyLayout::mediaBase(k) + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1)];
-    }
-};
-
-// PSSMLT's primary sample vector (Kelemen et al. 2002 over BPT): one whole BPT sample per
-// chain, every strategy of every length up to k (the walks' longest: k + 1 camera vertices,
-// k light vertices). Blocks of the camera stream (StrategyLayout::cameraSize(k): the raster
-// point over the whole image at j = 0-1), the light stream (lightSize(k)), the connections
-// (each strategy its own numbers, as BPT's: s = 1 at z_{t-1}, t <= k, reads j = 5 t + 0-2;
-// t = 1 at y_{s-1}, s <= k, j = 5 s + 3-4) and, with media, the walks' free-path numbers
-// (StrategyLayout's media block at length k).
-struct WholeLayout {
-    static uint32_t connectSize(int k) { return 5 * uint32_t(k) + 5; }
-    static uint32_t base(int k, BptStream c) {
-        return c == kBptCamera ? 0 : c == kBptLight ? StrategyLayout::cameraSize(k)
-                                                    : StrategyLayout::cameraSize(k) + StrategyLayout::lightSize(k);
-    }
-    static uint32_t mediaBase(int k) { return base(k, kBptConnect) + connectSize(k); }
-    static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? StrategyLayout::mediaSize(k) : 0); }
-};
-
-// PSSMLT's proposals, each coordinate made when it is first read (Kelemen et al.'s lazy
-// mutation, as pbrt's MLTSampler): a walk that ends early reads, proposes and commits
-// none of the numbers of the vertices it did not reach (a whole sample has 132 coordinates
-// at MaxPathLength 10, 834 at 64, of which a Cornell box sample reads 27; proposing all
-// that the scene's walks could read made a Cornell box render 1.5 times as long: docs/pssmlt.md).
-// Per slot: its proposal's kind, key, and its chain's coordinates (value, lastModified at
-// chainAt, the chain's last large step and the proposal's number n, mutation.h). A chain's
-// coordinate never written since its seed (lastModified 0) is its seed's,
-// poolCoordinate(seed, d): seeding writes nothing. A read of coordinate d: a fresh proposal
-// (a large step, a pool sample) poolCoordinate(key, d); a small step smallStepOf the
-// chain's coordinate; a replay the chain's coordinate itself. The value is kept in
-// proposed and flagged in read (slot * dims + d), and d listed in the slot's readList
-// (readCount of them), so that a second read gives the same number and the commit (and
-// the next evaluation's clearing of the flags) visits exactly the coordinates read.
-enum class WholeProposal : uint8_t { Replay, SmallStep, Fresh };
-struct WholeSamples {
-    const WholeProposal* kind;
-    const uint64_t *key, *seed;               // per slot: the proposal's key, its chain's seed
-    const uint32_t *chainAt, *lastLarge, *n;  // per slot
-    const float* value;                        // the chains' coordinates (ChainGroup::value, lastModified)
-    const uint32_t* lastModified;
-    float* proposed;                           // per slot and coordinate: the value read
-    uint8_t* read;                             // per slot and coordinate: read yet
-    uint16_t* readList;                        // per slot, dims of them: the coordinates read, in order
-    uint16_t* readCount;                       // per slot
-    uint32_t dims;
-    int k;                                     // the longest path length
-    uint32_t base[3] = {WholeLayout::base(k, kBptCamera), WholeLayout::base(k, kBptLight), WholeLayout::base(k, kBptConnect)};
-    uint32_t mediaBase = WholeLayout::mediaBase(k);
-
-    float coordinate(uint32_t slot, uint32_t d) const {
-        const size_t at = size_t(slot) * dims + d;
-        if (read[at]) return proposed[at];
-        float v;
-        if (kind[slot] == WholeProposal::Fresh) {
-            v = poolCoordinate(key[slot], d);
-        } else {
-            const size_t c = size_t(chainAt[slot]) + d;
-            const uint32_t lm = lastModified[c];
-            v = lm == 0 ? poolCoordinate(seed[slot], d) : value[c];
-            if (kind[slot] == WholeProposal::SmallStep) v = smallStepOf(key[slot], d, v, lm, lastLarge[slot], n[slot]);
-        }
-        read[at] = 1;
-        proposed[at] = v;
-        readList[at - d + readCount[slot]++] = uint16_t(d);
-        return v;
-    }
-    float operator()(uint32_t slot, BptStream c, uint32_t j) const { return coordinate(slot, base[c] + j); }
-    static uint32_t connectJ(int s, int t, uint32_t m) { return HashedSamples::connectJ(s, t, m); }
-    float medium(uint32_t slot, BptStream c, int d) const {
-        return coordinate(slot, mediaBase + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1));
-    }
 };
 
 }  // namespace wmlt

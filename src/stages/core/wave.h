@@ -57,15 +57,25 @@ struct RayCounters {
     uint64_t raysIntersect = 0, raysOccluded = 0;
 };
 
-// Per live path (index i < numPaths): its slot and ray. Per hit (index h < numHits, in
-// path order): the path it belongs to, the material order, whether the path goes on and
-// in which direction. Per hit in material order (index r of order): the slot's key or two
-// of its numbers, and a direction in the shading frame, for the flat loops of the scatter
-// stages (scatterHits, sampleBptBsdfs). Per camera sample, before the first intersect
-// (forEachCameraRay): its strata permutation's key and index, and a key of the walks; per
-// camera sample, the weight its pixel gives it (filmWeight: 1 with the box filter; else
-// kernels/filter.h's f / pdf, the density restricted to the film, times the pixel's
-// normalisation).
+// The path wave's arrays. Per live path (index i < numPaths, compacted each round):
+//   pathSlot: the slot (sample) the path belongs to
+//   ray: its ray; after intersect also its hit (Embree's RTCRayHit)
+// Per hit (index h < numHits, in path order):
+//   hitPath: the path that made the hit
+//   order: the hits in material order (groupByMaterial; kindStart bounds each kind)
+//   alive: whether the path goes on after the hit
+//   nextDir: the direction it goes on in
+// Per hit in material order (index r of order), for the scatter stages' flat loops
+// (scatterHits, sampleBptBsdfs); forEachCameraRay uses them as scratch too:
+//   sortedKey: the slot's key
+//   sortedU1, sortedU2: two of its numbers
+//   localX, localY, localZ: a direction in the shading frame
+// Per camera sample, before the first intersect (forEachCameraRay):
+//   permKey: its strata permutation's key
+//   permValue: its index in that permutation
+//   walkKey: scratch of the permutations' walks (permuteWalks, rng.h)
+//   filmWeight: the weight its pixel gives it: 1 with the box filter, else f / pdf
+//     (kernels/filter.h, the density restricted to the film) times the pixel's normalisation
 #define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
     X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
     X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, sortedU1) X(float, sortedU2)  \
@@ -85,9 +95,13 @@ struct PathWave {
     }
 };
 
-// The surface a hit h found, for tracers that keep it per hit (PT, LT; BPT keeps it in
-// its subpaths' vertices): position, geometric normal (outward), wo (towards the previous
-// vertex), shading frame (n = shading normal) and material. Written by recordHit.
+// The surface a hit h found, for the tracers that keep it per hit (PT, LT; BPT keeps it in
+// its subpaths' vertices), written by recordHit:
+//   p: the hit's position
+//   ng: its geometric normal (outward)
+//   wo: the direction towards the previous vertex
+//   shading: the shading frame (n = the shading normal)
+//   bsdf: the material at the hit (its constants, then the texture stage's values)
 #define WMLT_HIT_SURFACE_ARRAYS(X) X(Vec3, p) X(Vec3, ng) X(Vec3, wo) X(Frame, shading) X(BsdfParams, bsdf)
 
 // Calls f(i, x, y, pixel, s) for the tile's samples in order: rows, pixels, then samples

@@ -19,16 +19,30 @@
 
 namespace wmlt {
 
-// betaScale: max component of the slot's initial beta (Russian roulette). beta: flux-like
-// throughput, Le |cos| / (pmf pdfPos pdfDir) ... connValue: the connection's unoccluded splat,
-// at connPixel or, for kFilmPoint, spread about the film point (connX, connY) (pushSplat).
+// Per slot (one per light subpath):
+//   key: its random key (ltSampleKey; dimensions: ltVertexDim below)
+//   betaScale: the max component of its initial beta (Russian roulette)
+// Per live path:
+//   beta: its flux-like throughput: Le |cos| / (pmf pdfPos pdfDir), times f |cos| / pdf per bounce
+// Per hit:
+//   WMLT_HIT_SURFACE_ARRAYS: the surface (wave.h; wo points to the light side)
+//   nextBeta: the throughput after the hit's BSDF sample
+// Per camera connection (t = 1):
+//   conn: its shadow ray to the lens
+//   connPixel: the pixel it lands in, or kFilmPoint
+//   connX, connY: its film point (kFilmPoint: spread about it, pushSplat)
+//   connValue: its unoccluded splat
 #define WMLT_LT_ARRAYS(X)                                                                    \
     X(uint64_t, key) X(float, betaScale) X(Vec3, beta) WMLT_HIT_SURFACE_ARRAYS(X)          \
     X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(float, connX) X(float, connY) X(Vec3, connValue)
 
-// Allocated only for a scene with media (docs/media.md): per path its medium and this
-// round's scattering event (traverseMediaOf); per hit the media on its two sides; per
-// connection the medium it starts in and its sample's key (a grid's ratio tracking).
+// Allocated only for a scene with media (docs/media.md):
+//   medium: per path, its medium
+//   mediumEvent: this round's scattering event (traverseMediaOf)
+//   mediumT: where
+//   hitMediumIn, hitMediumOut: per hit, the media on its two sides
+//   connMedium: per connection, the medium it starts in
+//   connKey: its sample's key (a grid's ratio tracking)
 #define WMLT_LT_MEDIA_ARRAYS(X)                                                              \
     X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(int32_t, hitMediumIn)   \
     X(int32_t, hitMediumOut) X(int32_t, connMedium) X(uint64_t, connKey)

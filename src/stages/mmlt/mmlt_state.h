@@ -59,21 +59,29 @@ struct SamplePool {
     }
 };
 
-// The chains of one path length k in the current pass. Per chain and coordinate,
-// at(chain, coordinate): a chain's coordinates side by side, so that a proposal reads one
-// contiguous block: its value and the accepted proposal that last wrote it. Per chain: its
-// accepted proposals (the lazy step's clock), its last accepted large step, the current
-// state's contribution F = (k + 1) L_w, target c = luminance(F) and film point, and the key of
-// the pool entry it started from.
+// The chains of one path length k in the current pass (ChainGroup). Per chain and
+// coordinate, at(chain, coordinate): a chain's coordinates side by side, so that a proposal
+// reads one contiguous block:
+//   value: the coordinate's value
+//   lastModified: the accepted proposal that last wrote it (mutation.h's lazy small step)
+// Per chain:
+//   accepted: its accepted proposals (the lazy step's clock)
+//   lastLarge: its last accepted large step
+//   F: the current state's contribution, (k + 1) L_w
+//   c: its target, luminance(F)
+//   filmX, filmY: its film point
+//   seed: the key of the pool entry it started from
 #define WMLT_CHAIN_COORDINATE_ARRAYS(X) X(float, value) X(uint32_t, lastModified)
 #define WMLT_CHAIN_ARRAYS(X)                                                                 \
     X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(float, filmX)      \
     X(float, filmY) X(uint64_t, seed)
 
 // PSSMLT (a group of whole BPT samples, k = 0): F and the film point are the camera side's
-// contribution and its raster point, c the luminance of the whole sample, and each chain
-// also keeps its t = 1 contributions, up to `points` of them side by side
-// (pointAt(chain, j)), pointCount per chain.
+// contribution and its raster point, c the luminance of the whole sample; each chain also
+// keeps its t = 1 contributions, up to `points` side by side (pointAt(chain, j); how many:
+// pointCount):
+//   pointX, pointY: a contribution's film point
+//   pointF: its value
 #define WMLT_CHAIN_POINT_ARRAYS(X) X(float, pointX) X(float, pointY) X(Vec3, pointF)
 
 struct ChainGroup {
@@ -150,9 +158,10 @@ struct MmltBatch {
     BptBatch bpt;
     // Slot i's proposal: u[row[i] + coordinate], rows packed at their lengths' sizes
     // (StrategyLayout::size(k, media)), so that a batch's numbers stay in cache (rows of the
-    // longest length's size were 2 KB apart at MaxPathLength 64).
-    // Per slot: row[i] as above, the chain (its index within its group), whether the
-    // proposal is a large step.
+    // longest length's size were 2 KB apart at MaxPathLength 64). Per slot:
+    //   row: where its row starts in u
+    //   chain: its chain (its index within its group)
+    //   large: the proposal is a large step
     std::vector<float> u;
 #define WMLT_MMLT_SLOT_ARRAYS(X) X(uint32_t, row) X(uint32_t, chain) X(uint8_t, large)
     WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_ARRAY)
@@ -214,14 +223,21 @@ struct MmltBatch {
     std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
     // PSSMLT (pssmlt_stages.h): every slot a whole BPT sample of paths up to maxLength
     // (WholeLayout, wholeDims coordinates) whose coordinates are proposed as they are read
-    // (WholeSamples: per slot the proposal's kind, its chain's first coordinate, last large
-    // step and proposal number; per slot and coordinate the value read and whether it was),
-    // the chains' group (null for pool samples), and after an evaluation slot i's t = 1
-    // contributions bpt.slotSplats[splatStart[i], splatStart[i + 1]).
+    // (WholeSamples), the chains' group (null for pool samples), and after an evaluation
+    // slot i's t = 1 contributions bpt.slotSplats[splatStart[i], splatStart[i + 1]).
     bool whole = false;
     int maxLength = 0;
     uint32_t wholeDims = 0;
     const ChainGroup* wholeGroup = nullptr;
+    // Per slot, what WholeSamples reads:
+    //   wholeKind: the proposal's kind (a replay, a small step, fresh)
+    //   seedKey: its chain's seed (the coordinates not written since: poolCoordinate)
+    //   chainAt: its chain's first coordinate in the group
+    //   slotLastLarge: its chain's last accepted large step
+    //   slotN: the proposal's number n (mutation.h)
+    //   readCount: the coordinates read so far (readList)
+    // Per slot and coordinate (proposed, read, readList below): the value read, whether it
+    // was, and the coordinates read in order.
 #define WMLT_WHOLE_SLOT_ARRAYS(X)                                                            \
     X(WholeProposal, wholeKind) X(uint64_t, seedKey) X(uint32_t, chainAt) X(uint32_t, slotLastLarge) X(uint32_t, slotN) \
     X(uint16_t, readCount)

@@ -17,40 +17,68 @@
 
 namespace wmlt {
 
-// prevPdf: solid-angle pdf of the BSDF sample that made the path's ray; prevDelta: it was
-// a delta lobe (no MIS on what it hits); anyNonSpecular: some bounce of the path so far was
-// not a delta lobe (pbrt-v4's anyNonSpecularBounces: its later hits take the regularized
-// table, PtBatch::regularizedOffset). nextBeta, nextPdf, nextDelta: the same for the
-// next bounce, written by BSDF sampling at the hit's index. hitKey: the hit's sample key
-// (read by the flat loops in hit order). hitNs, hitKd, hitBeta: per hit
-// (a scene with matte surfaces), its shading normal, Kd and its path's throughput, for the
-// matte flat loops (matteScatter; matteNeeValues), scatterOk what matteScatter decided.
-// shadowL: the shadow ray's unoccluded contribution to shadowSlot. neeLight, neePmf: per
-// hit, the light it chose and that choice's probability (a scene of several lights:
-// chooseLights);
-// neeP, neeDist, neePdf, neeOk: its sample of that light when it is a rectangle
-// (sampleLights' flat loops; neeWi in localX/Y/Z); the matte loops (matteNeeValuesOf, with
-// the light's radiance neeLe, and shadowRaysTo) write the shadow ray (neeOrigin, neeDir,
-// neeTfar), its contribution neeL and whether its f is not black.
+// Per slot (one per sample, for the life of the batch):
+//   pixel: the sample's pixel
+//   key: its random key (rng.h; dimensions: bounceDim below)
+//   L: the radiance it has gathered
+// Per live path (compacted with the wave):
+//   beta: the path's throughput
+//   prevPdf: solid-angle pdf of the BSDF sample that made the path's ray
+//   prevDelta: that sample was a delta lobe (no MIS on what it hits)
+//   anyNonSpecular: some bounce so far was not a delta lobe (pbrt-v4's
+//     anyNonSpecularBounces: its later hits take the regularized table, regularizedOffset)
+// Per hit:
+//   WMLT_HIT_SURFACE_ARRAYS: the surface (wave.h)
+//   hitKey: the hit's sample key (read by the flat loops in hit order)
+//   nextBeta: the throughput for the next bounce (BSDF sampling, at the hit's index)
+//   nextPdf: the next bounce's prevPdf (likewise)
+//   nextDelta: the next bounce's prevDelta (likewise)
+// Per shadow ray (next-event estimation):
+//   shadow: the ray
+//   shadowSlot: the slot it adds to
+//   shadowL: its unoccluded contribution
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta) X(uint8_t, anyNonSpecular)       \
     WMLT_HIT_SURFACE_ARRAYS(X) X(uint64_t, hitKey) X(Vec3, nextBeta) X(float, nextPdf)     \
     X(uint8_t, nextDelta) X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
-// Allocated only for a scene with matte surfaces.
+// Allocated only for a scene with matte surfaces; per hit, for the matte flat loops
+// (matteScatter; matteNeeValues):
+//   hitNs: its shading normal
+//   hitKd: its Kd
+//   hitBeta: its path's throughput
+//   scatterOk: what matteScatter decided (the bounce is valid)
 #define WMLT_PT_MATTE_ARRAYS(X) X(Vec3, hitNs) X(Vec3, hitKd) X(Vec3, hitBeta) X(uint32_t, scatterOk)
-// Allocated only for a scene of several lights.
+// Allocated only for a scene of several lights; per hit (chooseLights):
+//   neeLight: the light it chose
+//   neePmf: that choice's probability
 #define WMLT_PT_LIGHT_CHOICE_ARRAYS(X) X(uint32_t, neeLight) X(float, neePmf)
-// Allocated only for a scene with a rectangle light (Scene::anyRectLight).
+// Allocated only for a scene with a rectangle light (Scene::anyRectLight); per hit, its
+// sample of its chosen light when that is a rectangle (sampleLights' flat loops; the
+// direction neeWi in localX/Y/Z), then what the matte loops (matteNeeValuesOf,
+// shadowRaysTo) make of it:
+//   neeLe: the light's radiance
+//   neeP: the point sampled on the light
+//   neeDist: the distance to it
+//   neePdf: the sample's solid-angle density
+//   neeOk: the sample is valid
+//   neeOrigin: the shadow ray's origin
+//   neeDir: its direction
+//   neeTfar: its length
+//   neeL: its contribution
+//   neeSend: f is not black (the ray is traced)
 #define WMLT_PT_RECT_LIGHT_ARRAYS(X)                                                         \
     X(Vec3, neeLe) X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
     X(Vec3, neeOrigin) X(Vec3, neeDir) X(float, neeTfar) X(Vec3, neeL) X(uint32_t, neeSend)
 
-// Allocated only for a scene with media (SceneFeatures::media; docs/media.md): per path its
-// medium (-1: vacuum), whether its ray scattered in it this round and where (mediumT), and
-// its last scattering vertex (vertexP: the reference of its emitter hits' MIS after
-// crossing boundaries); per hit the media on either side (for a medium vertex or a surface
-// that is no boundary, both the path's); per shadow ray the medium it starts in.
+// Allocated only for a scene with media (SceneFeatures::media; docs/media.md):
+//   medium: per path, its medium (-1: vacuum)
+//   mediumEvent: its ray scattered in it this round
+//   mediumT: where
+//   vertexP: its last scattering vertex (its emitter hits' MIS reference across boundaries)
+//   hitMediumIn, hitMediumOut: per hit, the media on either side (a medium vertex or a
+//     surface that is no boundary: both the path's)
+//   shadowMedium: per shadow ray, the medium it starts in
 #define WMLT_PT_MEDIA_ARRAYS(X)                                                              \
     X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(Vec3, vertexP)          \
     X(int32_t, hitMediumIn) X(int32_t, hitMediumOut) X(int32_t, shadowMedium)
