@@ -1,4 +1,6 @@
-// The four materials of the scene format as pure per-element functions.
+// The material kinds (WMLT_MATERIAL_KINDS, scene_desc.h) as pure per-element functions: the
+// thesis' four here and in bsdf_glossy.cpp, bsdf_specular.cpp; the others in bsdf_*.cpp and
+// bsdf_microfacet.h; the dispatch by kind at the end (BsdfOf<Kind>: bsdf_kinds.h).
 //
 // Conventions (pbrt-v4, chapter 9):
 // - wo, wi are unit vectors in the local shading frame, z = the shading normal. The

@@ -42,7 +42,7 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (m.kind == MaterialKind::Blend)  // a part's delta lobes, bump and anisotropy count as the blend's
             for (int part : m.blendPart) {
                 const MaterialDesc& q = d.materials[size_t(part)];
-                if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic) f.delta = true;
+                if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic || q.kind == MaterialKind::Coated) f.delta = true;  // (a smooth coat's mirror)
                 if (isAnisotropic(q)) f.anisotropic = true;
             }
         // a blend of bump- or normal-mapped parts is one of them at each hit (Scene::choosesPart)

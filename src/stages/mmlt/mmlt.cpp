@@ -1,5 +1,6 @@
 // The MMLT driver (mmlt.md; docs/mmlt-chains.md for the many-chain design and the
-// measurements that chose it). The render is a sequence of passes; each pass:
+// measurements that chose it). The render is a sequence of passes (MmltRender::run reads as
+// its phases); each pass:
 //  1. tracePool: the pool of every length k is a set of independent uniform samples of u:
 //     the bootstrap in the first pass, then fresh samples and the previous pass's
 //     large-step proposals (each an independent uniform sample, its key kept);
