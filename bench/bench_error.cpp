@@ -91,14 +91,13 @@ struct Options {
     int refSpp = 0;  // 0: kRefSpp
     std::string cacheDir, csv = "bench-error.csv";
     int chains = 0, bootstrap = -1, passLength = 0;  // 0 / -1: RenderOptions' defaults
-    double probLarge = -1, misBeta = -1;  // < 0: the scene's / RenderOptions' default
+    double probLarge = -1, misBeta = -1;             // < 0: the scene's / RenderOptions' default
     std::string sweepName;
     std::vector<std::string> sweepValues;
 };
 
 [[noreturn]] void usage(const std::string& msg) {
-    std::fprintf(stderr, "wavemmlt_bench_error: %s (see the comment at the top of bench/bench_error.cpp)\n",
-                 msg.c_str());
+    std::fprintf(stderr, "wavemmlt_bench_error: %s (see the comment at the top of bench/bench_error.cpp)\n", msg.c_str());
     std::exit(2);
 }
 
@@ -121,7 +120,10 @@ double toNumber(const std::string& s, const char* what) {
 std::vector<std::string> expandProgression(const std::vector<std::string>& in) {
     std::vector<std::string> out;
     for (size_t i = 0; i < in.size(); ++i) {
-        if (in[i] != "...") { out.push_back(in[i]); continue; }
+        if (in[i] != "...") {
+            out.push_back(in[i]);
+            continue;
+        }
         if (out.size() < 2 || i + 1 >= in.size()) usage("'...' needs two values before it and one after");
         double a = toNumber(out[out.size() - 2], "--sweep"), b = toNumber(out.back(), "--sweep");
         double last = toNumber(in[i + 1], "--sweep"), step = b - a;
@@ -149,8 +151,7 @@ Options parseArgs(int argc, char** argv) {
             for (const std::string& b : splitList(value())) o.budgets.push_back(toNumber(b, "--budgets"));
         } else if (a == "--size") {
             std::string v = value();
-            if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 1 || o.height < 1)
-                usage("--size wants WxH, e.g. 256x256");
+            if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 1 || o.height < 1) usage("--size wants WxH, e.g. 256x256");
         } else if (a == "--max-length") o.maxLength = int(toNumber(value(), "--max-length"));
         else if (a == "--round-spp") o.roundSpp = int(toNumber(value(), "--round-spp"));
         else if (a == "--reps") o.reps = int(toNumber(value(), "--reps"));
@@ -287,13 +288,11 @@ struct Reference {
 
 // The BPT reference for this scene, size and MaxPathLength: read from the cache, or rendered
 // (two halves, two seeds) and written there.
-Reference reference(const SceneDesc& desc, const std::string& name, int maxLength, int spp, int threads,
-                    const std::string& cacheDir) {
+Reference reference(const SceneDesc& desc, const std::string& name, int maxLength, int spp, int threads, const std::string& cacheDir) {
     Reference ref;
     ref.spp = spp;
     char file[512];
-    std::snprintf(file, sizeof file, "%s-%dx%d-L%d-%dspp", name.c_str(), desc.settings.width, desc.settings.height,
-                  maxLength, spp);
+    std::snprintf(file, sizeof file, "%s-%dx%d-L%d-%dspp", name.c_str(), desc.settings.width, desc.settings.height, maxLength, spp);
     ref.path = cacheDir + "/" + file + ".pfm";
     const std::string info = cacheDir + "/" + file + ".txt";
     if (fs::exists(ref.path)) {
@@ -316,14 +315,14 @@ Reference reference(const SceneDesc& desc, const std::string& name, int maxLengt
         std::fflush(stdout);
         auto t0 = Clock::now();
         int lastShown = -1, halfIndex = 0;
-        if (isatty(2)) opt.progress = [&](double f) {
-            int pct = int((halfIndex + f) * 50);
-            if (pct / 5 != lastShown / 5) {
-                std::fprintf(stderr, "\rreference %3d%% (%.0f s)", pct,
-                             std::chrono::duration<double>(Clock::now() - t0).count());
-                lastShown = pct;
-            }
-        };
+        if (isatty(2))
+            opt.progress = [&](double f) {
+                int pct = int((halfIndex + f) * 50);
+                if (pct / 5 != lastShown / 5) {
+                    std::fprintf(stderr, "\rreference %3d%% (%.0f s)", pct, std::chrono::duration<double>(Clock::now() - t0).count());
+                    lastShown = pct;
+                }
+            };
         opt.seed = kRefSeedA;
         Image a = render(desc, opt).image;
         halfIndex = 1;
@@ -337,13 +336,11 @@ Reference reference(const SceneDesc& desc, const std::string& name, int maxLengt
         for (size_t i = 0; i < a.rgb.size(); ++i) ref.image.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
         writeImage(ref.path, ref.image);
         std::ofstream out(info);
-        out << "seconds " << ref.seconds << "\nnoise_rmse " << ref.noiseRmse << "\nspp " << ref.spp << "\nthreads "
-            << threads << "\n";
+        out << "seconds " << ref.seconds << "\nnoise_rmse " << ref.noiseRmse << "\nspp " << ref.spp << "\nthreads " << threads << "\n";
     }
     ref.mean = meanOf(ref.image);
-    std::printf("reference: %s, %s, %d spp, %.0f s to render, mean %.4g, own noise ~ RMSE %.3g (rel %.3g)\n",
-                ref.path.c_str(), ref.cached ? "cached" : "rendered now", ref.spp, ref.seconds, ref.mean, ref.noiseRmse,
-                ref.mean > 0 ? ref.noiseRmse / ref.mean : 0.0);
+    std::printf("reference: %s, %s, %d spp, %.0f s to render, mean %.4g, own noise ~ RMSE %.3g (rel %.3g)\n", ref.path.c_str(),
+                ref.cached ? "cached" : "rendered now", ref.spp, ref.seconds, ref.mean, ref.noiseRmse, ref.mean > 0 ? ref.noiseRmse / ref.mean : 0.0);
     return ref;
 }
 
@@ -356,7 +353,6 @@ struct Row {
     double acceptSmall = -1, acceptLarge = -1;  // MMLT, PSSMLT (< 0: none)
 };
 
-
 void benchScene(const std::string& path, const Options& o, std::vector<Row>& rows, const std::string& cacheDir) {
     if (!fs::exists(path)) {
         std::printf("%s: missing (the benchmark reads it from ../shared/scenes/); skipped\n", path.c_str());
@@ -367,11 +363,9 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
     desc.settings.height = o.height;
     // (a Mitsuba scene's file is often scene.xml: then its folder's name)
     const fs::path sp(path);
-    const std::string name = sp.stem() == "scene" && sp.has_parent_path() ? sp.parent_path().filename().string()
-                                                                          : sp.stem().string();
-    std::printf("\n== %s: %dx%d (--size), MaxPathLength %s%d, timed rounds of %d spp, %d rep(s)\n", name.c_str(),
-                o.width, o.height, o.maxLength > 0 ? "" : "(the scene's) ",
-                o.maxLength > 0 ? o.maxLength : desc.settings.maxPathLength, o.roundSpp, o.reps);
+    const std::string name = sp.stem() == "scene" && sp.has_parent_path() ? sp.parent_path().filename().string() : sp.stem().string();
+    std::printf("\n== %s: %dx%d (--size), MaxPathLength %s%d, timed rounds of %d spp, %d rep(s)\n", name.c_str(), o.width, o.height,
+                o.maxLength > 0 ? "" : "(the scene's) ", o.maxLength > 0 ? o.maxLength : desc.settings.maxPathLength, o.roundSpp, o.reps);
     int refSpp = o.refSpp;
     if (refSpp <= 0) {
         auto it = kRefSpp.find(name);
@@ -388,9 +382,8 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
         }
         if (!refs.count(v.maxLength)) refs[v.maxLength] = reference(desc, name, v.maxLength, refSpp, o.threads, cacheDir);
         const Reference& ref = refs[v.maxLength];
-        std::printf("%-6s %-16s %8s %9s %9s %11s %21s %9s %13s %10s %10s %11s %6s %6s\n", "tracer", "param", "budget s",
-                    "seconds", "spp", "RMSE", "(runs: least..most)", "relRMSE", "RMSE-refnoise", "relMSE", "ns/sample",
-                    "samples/s", "acc.S", "acc.L");
+        std::printf("%-6s %-16s %8s %9s %9s %11s %21s %9s %13s %10s %10s %11s %6s %6s\n", "tracer", "param", "budget s", "seconds", "spp", "RMSE",
+                    "(runs: least..most)", "relRMSE", "RMSE-refnoise", "relMSE", "ns/sample", "samples/s", "acc.S", "acc.L");
         for (const std::string& tname : o.tracers) {
             TracerKind tracer;
             if (!parseTracer(tname, tracer)) {
@@ -417,8 +410,7 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                         row.relMseMin = std::min(row.relMseMin, re);
                         row.relMseMax = std::max(row.relMseMax, re);
                         const bool mlt = tracer == TracerKind::MMLT || tracer == TracerKind::PSSMLT;
-                        const double samples = mlt ? double(r.stats.mmlt.mutations)
-                                                   : double(r.stats.spp) * o.width * o.height;
+                        const double samples = mlt ? double(r.stats.mmlt.mutations) : double(r.stats.spp) * o.width * o.height;
                         row.samplesPerSecond += (r.stats.seconds > 0 ? samples / r.stats.seconds : 0.0) / o.reps;
                         if (mlt) {  // acceptance of small and large steps, all lengths
                             uint64_t acc[2], prop[2];
@@ -438,9 +430,9 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                 row.nsPerSample = row.spp > 0 ? row.seconds / (row.spp * o.width * o.height) * 1e9 : 0;
                 char acc[32] = "     -      -";
                 if (row.acceptSmall >= 0) std::snprintf(acc, sizeof acc, "%6.3f %6.3f", row.acceptSmall, row.acceptLarge);
-                std::printf("%-6s %-16s %8g %9.2f %9.0f %11.4g %10.4g..%-10.4g %9.4f %13.4g %10.4g %10.1f %11.4g %s\n",
-                            tname.c_str(), v.label.c_str(), budget, row.seconds, row.spp, row.rmse, row.rmseMin,
-                            row.rmseMax, row.relRmse, row.rmseNet, row.relMse, row.nsPerSample, row.samplesPerSecond, acc);
+                std::printf("%-6s %-16s %8g %9.2f %9.0f %11.4g %10.4g..%-10.4g %9.4f %13.4g %10.4g %10.1f %11.4g %s\n", tname.c_str(),
+                            v.label.c_str(), budget, row.seconds, row.spp, row.rmse, row.rmseMin, row.rmseMax, row.relRmse, row.rmseNet, row.relMse,
+                            row.nsPerSample, row.samplesPerSecond, acc);
                 std::fflush(stdout);
                 sceneRows.push_back(row);
             }
@@ -454,13 +446,11 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
             if (p.tracer != num) continue;
             for (const Row& b : sceneRows) {
                 if (b.tracer != den || b.param != p.param || b.budget != p.budget) continue;
-                if (!header)
-                    std::printf("equal-time RMSE(%s) / RMSE(%s) (%s, %d threads):\n", num.c_str(), den.c_str(), name.c_str(),
-                                threadCount);
+                if (!header) std::printf("equal-time RMSE(%s) / RMSE(%s) (%s, %d threads):\n", num.c_str(), den.c_str(), name.c_str(), threadCount);
                 header = true;
-                std::printf("  %-16s %6gs: %.3f  (without the reference's noise: %.3f; relMSE ratio %.3f)\n",
-                            p.param.c_str(), p.budget, b.rmse > 0 ? p.rmse / b.rmse : 0.0,
-                            b.rmseNet > 0 ? p.rmseNet / b.rmseNet : 0.0, b.relMse > 0 ? p.relMse / b.relMse : 0.0);
+                std::printf("  %-16s %6gs: %.3f  (without the reference's noise: %.3f; relMSE ratio %.3f)\n", p.param.c_str(), p.budget,
+                            b.rmse > 0 ? p.rmse / b.rmse : 0.0, b.rmseNet > 0 ? p.rmseNet / b.rmseNet : 0.0,
+                            b.relMse > 0 ? p.relMse / b.relMse : 0.0);
             }
         }
     }
@@ -474,8 +464,8 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                 if (!bestRel || r.relMse < bestRel->relMse) bestRel = &r;
             }
             if (best)
-                std::printf("least error at %gs%s%s: RMSE %s, relMSE %s\n", budget, v.label == "-" ? "" : " ",
-                            v.label == "-" ? "" : v.label.c_str(), best->tracer.c_str(), bestRel->tracer.c_str());
+                std::printf("least error at %gs%s%s: RMSE %s, relMSE %s\n", budget, v.label == "-" ? "" : " ", v.label == "-" ? "" : v.label.c_str(),
+                            best->tracer.c_str(), bestRel->tracer.c_str());
         }
     rows.insert(rows.end(), sceneRows.begin(), sceneRows.end());
 }
@@ -489,9 +479,9 @@ void writeCsv(const std::string& path, const std::vector<Row>& rows) {
     for (const Row& r : rows) {
         char acc[64] = ",";
         if (r.acceptSmall >= 0) std::snprintf(acc, sizeof acc, "%.4f,%.4f", r.acceptSmall, r.acceptLarge);
-        std::snprintf(buf, sizeof buf, "%s,%s,%s,%g,%.4f,%.2f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n",
-                      r.scene.c_str(), r.tracer.c_str(), r.param.c_str(), r.budget, r.seconds, r.spp, r.rmse, r.relRmse,
-                      r.rmseMin, r.rmseMax, r.relMse, r.relMseMin, r.relMseMax, r.samplesPerSecond, acc);
+        std::snprintf(buf, sizeof buf, "%s,%s,%s,%g,%.4f,%.2f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n", r.scene.c_str(), r.tracer.c_str(),
+                      r.param.c_str(), r.budget, r.seconds, r.spp, r.rmse, r.relRmse, r.rmseMin, r.rmseMax, r.relMse, r.relMseMin, r.relMseMax,
+                      r.samplesPerSecond, acc);
         out << buf;
     }
 }
@@ -503,9 +493,10 @@ int main(int argc, char** argv) {
     if (o.scenes.empty()) {
         const fs::path root = fs::path(WAVEMMLT_SOURCE_DIR) / ".." / "shared" / "scenes";
         if (!fs::is_directory(root)) {
-            std::printf("%s: missing (the benchmark's scenes live in ../shared/scenes/ beside the checkout); "
-                        "nothing to do\n",
-                        root.lexically_normal().c_str());
+            std::printf(
+                "%s: missing (the benchmark's scenes live in ../shared/scenes/ beside the checkout); "
+                "nothing to do\n",
+                root.lexically_normal().c_str());
             return 0;
         }
         o.scenes = {(root / "bitterli-cornell/bitterli-cornell-256.xml").lexically_normal().string(),

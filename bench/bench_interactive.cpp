@@ -102,11 +102,11 @@ void run(const std::string& path, const Options& o) {
     RenderOptions opt = base;
     const RenderResult r = render(std::move(again), opt);
     const double fresh = since(fresh0);
-    std::printf("%-28s %4dx%-4d %-4s  preview %5.1f fps (%d steps in %.1f s; %s)  release -> %d spp: %6.2f s, "
-                "fresh start: %6.2f s (%.2fx)  same image: %s\n",
-                std::filesystem::path(path).filename().c_str(), width, height, tracerName(base.tracer), fps, steps,
-                o.drag, scale.c_str(), o.spp, interactive, fresh, fresh / interactive,
-                r.image.rgb == f.snapshot->image.rgb ? "yes" : "NO");
+    std::printf(
+        "%-28s %4dx%-4d %-4s  preview %5.1f fps (%d steps in %.1f s; %s)  release -> %d spp: %6.2f s, "
+        "fresh start: %6.2f s (%.2fx)  same image: %s\n",
+        std::filesystem::path(path).filename().c_str(), width, height, tracerName(base.tracer), fps, steps, o.drag, scale.c_str(), o.spp, interactive,
+        fresh, fresh / interactive, r.image.rgb == f.snapshot->image.rgb ? "yes" : "NO");
     session.stop();
 }
 
@@ -131,8 +131,7 @@ int main(int argc, char** argv) {
         const std::string shared = std::string(WAVEMMLT_SOURCE_DIR) + "/../shared/scenes/";
         for (const char* s : {"bitterli-cornell/bitterli-cornell-256.xml", "seed-room/seed-room.xml"}) {
             if (!std::filesystem::exists(shared + s)) {
-                std::printf("bench_interactive: %s%s is missing (the shared scenes are not beside this checkout): skipped\n",
-                            shared.c_str(), s);
+                std::printf("bench_interactive: %s%s is missing (the shared scenes are not beside this checkout): skipped\n", shared.c_str(), s);
                 continue;
             }
             scenes.push_back(shared + s);

@@ -22,9 +22,9 @@
 //              pairs of renders, each pair one thread then all, one after the other, with
 //              enough samples per pixel for the one-thread render to take a second.
 #include <sys/resource.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -40,10 +40,10 @@
 #include "kernels/sampling.h"
 #include "scene/scene.h"
 #include "stages/bpt/bidirectional.h"
-#include "stages/mmlt/mmlt.h"
-#include "stages/pt/path_tracer.h"
 #include "stages/core/surface.h"
 #include "stages/core/trace.h"
+#include "stages/mmlt/mmlt.h"
+#include "stages/pt/path_tracer.h"
 #include "wavemmlt/error.h"
 
 using namespace wmlt;
@@ -149,12 +149,10 @@ void benchScene(const std::string& path, int spp) {
     double build = seconds(t0);
     size_t tris = 0;
     for (const ShapeDesc& s : scene->desc.shapes) tris += s.mesh.indices.size() / 3;
-    std::printf("\n%s: %zu triangles, %dx%d, BVH build %.2f s\n", path.c_str(), tris, scene->camera.width,
-                scene->camera.height, build);
+    std::printf("\n%s: %zu triangles, %dx%d, BVH build %.2f s\n", path.c_str(), tris, scene->camera.width, scene->camera.height, build);
     // A pool of 2^20 incoherent rays (as in ../shared/spec/embree-streams.md), reused.
     const std::vector<RTCRayHit> pool = makeBounceRays(*scene, size_t(1) << 20);
-    std::printf("%-8s %12s %12s %12s %12s %8s\n", "threads", "pt Mrays/s", "1M Mrays/s", "1-loop Mr/s",
-                "pt/ceiling", "pt s");
+    std::printf("%-8s %12s %12s %12s %12s %8s\n", "threads", "pt Mrays/s", "1M Mrays/s", "1-loop Mr/s", "pt/ceiling", "pt s");
     double pt1 = 0, seconds1 = 0;
     std::vector<double> ratios;  // PT on all threads over PT on one, a pair of renders each
     for (int threads : {1, all}) {
@@ -170,8 +168,8 @@ void benchScene(const std::string& path, int spp) {
         } else {
             ratios.push_back(pt / pt1);
         }
-        std::printf("%-8d %12.2f %12.2f %12.2f %12.2f %8.2f\n", threads, pt * 1e-6, stream * 1e-6, loop1 * 1e-6,
-                    pt / std::max(stream, loop1), r.stats.seconds);
+        std::printf("%-8d %12.2f %12.2f %12.2f %12.2f %8.2f\n", threads, pt * 1e-6, stream * 1e-6, loop1 * 1e-6, pt / std::max(stream, loop1),
+                    r.stats.seconds);
         if (all == 1) break;
     }
     // Thread scaling from interleaved pairs (one thread, then all), the median of their
@@ -192,8 +190,8 @@ void benchScene(const std::string& path, int spp) {
             ratios.push_back(ptRate(all) / one);
         }
         std::sort(ratios.begin(), ratios.end());
-        std::printf("scaling 1 -> %d threads: %.2fx (median of %zu interleaved pairs at %d spp, %.2f-%.2fx)\n", all,
-                    ratios[ratios.size() / 2], ratios.size(), scalingSpp, ratios.front(), ratios.back());
+        std::printf("scaling 1 -> %d threads: %.2fx (median of %zu interleaved pairs at %d spp, %.2f-%.2fx)\n", all, ratios[ratios.size() / 2],
+                    ratios.size(), scalingSpp, ratios.front(), ratios.back());
     }
     // BPT on all threads, same scene and spp: samples and rays per second against the
     // same ceiling, measured right after it.
@@ -219,11 +217,11 @@ void benchScene(const std::string& path, int spp) {
         const RenderStats::Mmlt& m = r.stats.mmlt;
         uint64_t chains = 0;
         for (uint32_t c : m.chains) chains += c;
-        std::printf("mmlt (%d threads, %llu chains): %.2f Mmutations/s, %.2f Mrays/s, ceiling %.2f Mrays/s, "
-                    "mmlt/ceiling %.2f, chain state %.1f MiB (%.0f bytes/chain), %.2f s\n",
-                    all, (unsigned long long)chains, double(m.mutations) / r.stats.seconds * 1e-6, mmlt * 1e-6,
-                    ceiling * 1e-6, mmlt / ceiling, double(m.chainBytes) / (1 << 20),
-                    double(m.chainBytes) / double(chains), r.stats.seconds);
+        std::printf(
+            "mmlt (%d threads, %llu chains): %.2f Mmutations/s, %.2f Mrays/s, ceiling %.2f Mrays/s, "
+            "mmlt/ceiling %.2f, chain state %.1f MiB (%.0f bytes/chain), %.2f s\n",
+            all, (unsigned long long)chains, double(m.mutations) / r.stats.seconds * 1e-6, mmlt * 1e-6, ceiling * 1e-6, mmlt / ceiling,
+            double(m.chainBytes) / (1 << 20), double(m.chainBytes) / double(chains), r.stats.seconds);
     }
     std::printf("peak memory so far: %.0f MiB\n", peakMemoryMiB());
 }
@@ -239,8 +237,7 @@ int main(int argc, char** argv) {
     }
     if (scenes.empty()) {
         std::string root = std::string(WAVEMMLT_SOURCE_DIR) + "/../shared/scenes/";
-        scenes = {root + "bunny/bunny.xml", root + "dragon/dragon-full.xml",
-                  root + "bitterli-cornell/bitterli-cornell-256.xml"};
+        scenes = {root + "bunny/bunny.xml", root + "dragon/dragon-full.xml", root + "bitterli-cornell/bitterli-cornell-256.xml"};
     }
     try {
         for (const std::string& s : scenes) benchScene(s, spp);

@@ -29,9 +29,15 @@ inline const std::string& tempDir() {
     static const std::string dir = [] {
         const char* base = std::getenv("TMPDIR");
         std::string tmpl = std::string(base && *base ? base : "/tmp") + "/wavemmlt-fuzz-XXXXXX";
-        if (!::mkdtemp(&tmpl[0])) { std::perror("mkdtemp"); std::abort(); }
+        if (!::mkdtemp(&tmpl[0])) {
+            std::perror("mkdtemp");
+            std::abort();
+        }
         static std::string keep = tmpl;
-        std::atexit([] { std::error_code ec; std::filesystem::remove_all(keep, ec); });
+        std::atexit([] {
+            std::error_code ec;
+            std::filesystem::remove_all(keep, ec);
+        });
         return tmpl;
     }();
     return dir;
@@ -41,8 +47,14 @@ inline const std::string& tempDir() {
 inline std::string writeFile(const std::string& name, const uint8_t* data, size_t size) {
     const std::string path = tempDir() + "/" + name;
     std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) { std::perror(path.c_str()); std::abort(); }
-    if (size && std::fwrite(data, 1, size, f) != size) { std::perror(path.c_str()); std::abort(); }
+    if (!f) {
+        std::perror(path.c_str());
+        std::abort();
+    }
+    if (size && std::fwrite(data, 1, size, f) != size) {
+        std::perror(path.c_str());
+        std::abort();
+    }
     std::fclose(f);
     return path;
 }
@@ -65,7 +77,8 @@ inline void writePbrtFixtures() {
         writeFile("nan.pfm", std::string("PF\n2 1\n-1.0\n") + std::string(reinterpret_cast<const char*>(bad), sizeof bad));
         writeFile("sq.pfm", std::string("PF\n2 2\n-1.0\n") + std::string(48, '\0'));
         writeFile("s.spd", std::string("400 1.5\n500 1.2\n600 0.9\n700 0.5\n"));
-        writeFile("bad.ply.gz", std::string("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\x2b\xc8\x49\xad\xe0\x02\x00\x42\x4c\x2f\x07\x05\x00\x00\x00", 25));
+        writeFile("bad.ply.gz",
+                  std::string("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\x2b\xc8\x49\xad\xe0\x02\x00\x42\x4c\x2f\x07\x05\x00\x00\x00", 25));
         return true;
     }();
     (void)done;

@@ -16,7 +16,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         wmlt::Image img = wmlt::readImage(path);
         if (img.width <= 0 || img.height <= 0 || img.rgb.size() != size_t(img.width) * size_t(img.height) * 3)
             __builtin_trap();  // a reader returned a malformed image
-    } catch (const wmlt::InputError&) {
-    }
+    } catch (const wmlt::InputError&) {}
     return 0;
 }

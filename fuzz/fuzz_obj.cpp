@@ -9,8 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (bool smooth : {false, true}) {
         try {
             fuzz::checkMesh(wmlt::loadObj(path, smooth));
-        } catch (const wmlt::InputError&) {
-        }
+        } catch (const wmlt::InputError&) {}
     }
     return 0;
 }

@@ -14,7 +14,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (const wmlt::ShapeDesc& sh : s.shapes) fuzz::checkMesh(sh.mesh);
         for (const wmlt::InstanceDesc& in : s.instances)
             if (in.group < 0 || in.group >= s.groups) __builtin_trap();
-    } catch (const wmlt::InputError&) {
-    }
+    } catch (const wmlt::InputError&) {}
     return 0;
 }

@@ -13,7 +13,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
         const wmlt::SceneDesc s = wmlt::loadPbrt(path);
         for (const wmlt::ShapeDesc& sh : s.shapes) fuzz::checkMesh(sh.mesh);
-    } catch (const wmlt::InputError&) {
-    }
+    } catch (const wmlt::InputError&) {}
     return 0;
 }

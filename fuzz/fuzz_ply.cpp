@@ -11,8 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             const wmlt::TriangleMesh m = wmlt::loadPly(path, smooth);
             if (m.indices.empty()) __builtin_trap();  // "no faces" is an InputError
             fuzz::checkMesh(m);
-        } catch (const wmlt::InputError&) {
-        }
+        } catch (const wmlt::InputError&) {}
     }
     return 0;
 }

@@ -14,8 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 if (m.indices.empty()) __builtin_trap();  // "no triangles" is an InputError
                 if (smooth && m.normals.size() != m.positions.size()) __builtin_trap();
                 fuzz::checkMesh(m);
-            } catch (const wmlt::InputError&) {
-            }
+            } catch (const wmlt::InputError&) {}
         }
     return 0;
 }

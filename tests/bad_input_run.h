@@ -38,8 +38,7 @@ struct TempDir {
         path = fs::temp_directory_path() / ("wmlt-badinput-" + std::to_string(getpid()) + "-" + std::to_string(count++));
         fs::remove_all(path);
         fs::create_directories(path);
-        fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
-                                  fs::perms::others_read | fs::perms::others_exec);
+        fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
     }
     ~TempDir() {
         std::error_code ec;
@@ -73,19 +72,19 @@ inline std::string readFile(const std::string& path, size_t limit = std::numeric
 inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 struct Proc {
-    int status = -1;         // exit status, -1 when killed
-    bool killed = false;     // by the watchdog below
-    std::string why;         // why it was killed
-    std::string err;         // stderr (its first 1 MiB)
-    size_t errBytes = 0;     // the size of all of stderr
-    double seconds = 0;      // wall time
-    long maxRssKb = 0;       // peak resident memory of this process alone (wait4)
+    int status = -1;      // exit status, -1 when killed
+    bool killed = false;  // by the watchdog below
+    std::string why;      // why it was killed
+    std::string err;      // stderr (its first 1 MiB)
+    size_t errBytes = 0;  // the size of all of stderr
+    double seconds = 0;   // wall time
+    long maxRssKb = 0;    // peak resident memory of this process alone (wait4)
 };
 
 struct Limits {
-    double seconds = 60;     // killed after this long
-    long rssKb = 0;          // killed when its resident memory exceeds this (0: no limit)
-    bool asNobody = false;   // run as uid/gid 65534 (to test permissions when root)
+    double seconds = 60;    // killed after this long
+    long rssKb = 0;         // killed when its resident memory exceeds this (0: no limit)
+    bool asNobody = false;  // run as uid/gid 65534 (to test permissions when root)
 };
 
 // Runs `wavemmlt args...` (no shell), stdout and stderr to files in `dir`, watching its
@@ -128,8 +127,7 @@ inline Proc run(const std::vector<std::string>& args, const TempDir& dir, Limits
         if (!p.killed && (t > lim.seconds || (lim.rssKb > 0 && rss > lim.rssKb))) {
             p.killed = true;
             p.why = t > lim.seconds ? "ran longer than " + std::to_string(lim.seconds) + " s"
-                                    : "resident memory " + std::to_string(rss) + " KiB exceeded " +
-                                          std::to_string(lim.rssKb) + " KiB";
+                                    : "resident memory " + std::to_string(rss) + " KiB exceeded " + std::to_string(lim.rssKb) + " KiB";
             kill(pid, SIGKILL);
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(5));

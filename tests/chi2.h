@@ -50,15 +50,13 @@ struct Pcg32 {
 
 // Adaptive Simpson on [a, b] (Lyness 1969), absolute tolerance eps, depth-limited.
 template <class F>
-double simpsonRec(const F& f, double a, double b, double fa, double fm, double fb, double whole,
-                  double eps, int depth) {
+double simpsonRec(const F& f, double a, double b, double fa, double fm, double fb, double whole, double eps, int depth) {
     double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
     double flm = f(lm), frm = f(rm);
     double left = (m - a) / 6 * (fa + 4 * flm + fm), right = (b - m) / 6 * (fm + 4 * frm + fb);
     double delta = left + right - whole;
     if (depth <= 0 || std::fabs(delta) <= 15 * eps) return left + right + delta / 15;
-    return simpsonRec(f, a, m, fa, flm, fm, left, eps / 2, depth - 1) +
-           simpsonRec(f, m, b, fm, frm, fb, right, eps / 2, depth - 1);
+    return simpsonRec(f, a, m, fa, flm, fm, left, eps / 2, depth - 1) + simpsonRec(f, m, b, fm, frm, fb, right, eps / 2, depth - 1);
 }
 template <class F>
 double adaptiveSimpson(const F& f, double a, double b, double eps = 1e-9, int depth = 14, int pieces = 4) {
@@ -71,11 +69,8 @@ double adaptiveSimpson(const F& f, double a, double b, double eps = 1e-9, int de
 }
 // Nested 2D version: integral of f(x, y) over [x0, x1] x [y0, y1].
 template <class F>
-double adaptiveSimpson2D(const F& f, double x0, double x1, double y0, double y1, double eps = 1e-9,
-                         int depth = 8) {
-    auto inner = [&](double x) {
-        return adaptiveSimpson([&](double y) { return f(x, y); }, y0, y1, eps / (x1 - x0 + 1e-300), depth);
-    };
+double adaptiveSimpson2D(const F& f, double x0, double x1, double y0, double y1, double eps = 1e-9, int depth = 8) {
+    auto inner = [&](double x) { return adaptiveSimpson([&](double y) { return f(x, y); }, y0, y1, eps / (x1 - x0 + 1e-300), depth); };
     return adaptiveSimpson(inner, x0, x1, eps, depth);
 }
 
@@ -138,11 +133,17 @@ inline Result pearson(const std::vector<double>& obs, const std::vector<double>&
         }
         po += obs[i];
         pe += expd[i];
-        if (pe >= minExpected) { cells.emplace_back(po, pe); po = pe = 0; }
+        if (pe >= minExpected) {
+            cells.emplace_back(po, pe);
+            po = pe = 0;
+        }
     }
     if (pe > 0) {
         if (cells.empty()) cells.emplace_back(po, pe);
-        else { cells.back().first += po; cells.back().second += pe; }
+        else {
+            cells.back().first += po;
+            cells.back().second += pe;
+        }
     }
     for (auto& c : cells) r.stat += (c.first - c.second) * (c.first - c.second) / c.second;
     r.dof = int(cells.size()) - 1;
@@ -211,13 +212,19 @@ struct SphereBins {
     }
     void setAxis(wmlt::Vec3 axis) {  // frame for binning (float) and an orthonormal double one
         double len = std::sqrt(double(axis.x) * axis.x + double(axis.y) * axis.y + double(axis.z) * axis.z);
-        n[0] = axis.x / len; n[1] = axis.y / len; n[2] = axis.z / len;
+        n[0] = axis.x / len;
+        n[1] = axis.y / len;
+        n[2] = axis.z / len;
         double a[3] = {0, 0, 0};
         a[std::fabs(n[2]) < 0.9 ? 2 : 0] = 1;
-        s[0] = a[1] * n[2] - a[2] * n[1]; s[1] = a[2] * n[0] - a[0] * n[2]; s[2] = a[0] * n[1] - a[1] * n[0];
+        s[0] = a[1] * n[2] - a[2] * n[1];
+        s[1] = a[2] * n[0] - a[0] * n[2];
+        s[2] = a[0] * n[1] - a[1] * n[0];
         double sl = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
         for (double& x : s) x /= sl;
-        t[0] = n[1] * s[2] - n[2] * s[1]; t[1] = n[2] * s[0] - n[0] * s[2]; t[2] = n[0] * s[1] - n[1] * s[0];
+        t[0] = n[1] * s[2] - n[2] * s[1];
+        t[1] = n[2] * s[0] - n[0] * s[2];
+        t[2] = n[0] * s[1] - n[1] * s[0];
         // bin in the same (double) frame
         frame.s = wmlt::Vec3(float(s[0]), float(s[1]), float(s[2]));
         frame.t = wmlt::Vec3(float(t[0]), float(t[1]), float(t[2]));
@@ -229,14 +236,17 @@ struct SphereBins {
         std::vector<double> out(count());
         // Simpson samples the bin's edges; nudge them inwards by 1e-9 of the bin so that a
         // pdf discontinuous on an edge (the horizon) is sampled on the bin's own side.
-        auto in = [](double a, double b, double& a2, double& b2) { a2 = a + 1e-9 * (b - a); b2 = b - 1e-9 * (b - a); };
+        auto in = [](double a, double b, double& a2, double& b2) {
+            a2 = a + 1e-9 * (b - a);
+            b2 = b - 1e-9 * (b - a);
+        };
         for (size_t it = 0; it + 1 < thetaEdges.size(); ++it)
             for (int ip = 0; ip < nPhi; ++ip) {
                 double t0, t1, p0, p1;
                 in(thetaEdges[it], thetaEdges[it + 1], t0, t1);
                 in(2 * M_PI * ip / nPhi, 2 * M_PI * (ip + 1) / nPhi, p0, p1);
-                out[it * nPhi + ip] = adaptiveSimpson2D(
-                    [&](double th, double ph) { return double(pdf(dir(th, ph))) * std::sin(th); }, t0, t1, p0, p1, eps, depth);
+                out[it * nPhi + ip] =
+                    adaptiveSimpson2D([&](double th, double ph) { return double(pdf(dir(th, ph))) * std::sin(th); }, t0, t1, p0, p1, eps, depth);
             }
         return out;
     }
@@ -246,8 +256,7 @@ struct SphereBins {
 // counted in an extra bin whose expected probability is missingMass) and compares
 // the histogram with the integral of pdf over the bins.
 template <class Sample, class Pdf>
-Result sphereTest(const Sample& sample, const Pdf& pdf, const SphereBins& bins, int nSamples,
-                  double missingMass = 0, uint64_t seed = 1) {
+Result sphereTest(const Sample& sample, const Pdf& pdf, const SphereBins& bins, int nSamples, double missingMass = 0, uint64_t seed = 1) {
     std::vector<double> expd = bins.integrate(pdf), obs(expd.size() + 1, 0.0);
     for (double& e : expd) e *= nSamples;
     expd.push_back(missingMass * nSamples);

@@ -84,8 +84,8 @@ private:
 // Starts argv[0] (looked up in PATH) with this process's environment changed by `env`:
 // "NAME=value" sets NAME, "NAME" alone removes it. stdout and stderr go to the files named
 // (empty: /dev/null). Returns a Process that has not started when the spawn failed.
-inline Process spawn(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
-                     const std::string& out = "", const std::string& err = "") {
+inline Process spawn(const std::vector<std::string>& argv, const std::vector<std::string>& env = {}, const std::string& out = "",
+                     const std::string& err = "") {
     std::vector<std::string> vars;
     for (char** e = environ; *e; ++e) {
         const std::string v = *e;
@@ -114,8 +114,7 @@ inline Process spawn(const std::vector<std::string>& argv, const std::vector<std
 }
 
 // Runs a command to its end (killed after `seconds`) and returns its standard output.
-inline std::string output(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
-                          double seconds = 10) {
+inline std::string output(const std::vector<std::string>& argv, const std::vector<std::string>& env = {}, double seconds = 10) {
     char path[] = "/tmp/wmlt-child-out-XXXXXX";
     const int fd = mkstemp(path);
     if (fd < 0) return "";

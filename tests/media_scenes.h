@@ -47,12 +47,14 @@ inline std::string cube(wmlt::Vec3 c, float h, bool inward) {
 inline std::string furnace(const std::string& medium, const std::string& name) {
     return medium + R"(
 LookAt 0 0 -1.5  0 0 0  0 1 0
-MediumInterface "" ")" + name + R"("
+MediumInterface "" ")" +
+           name + R"("
 Camera "perspective" "float fov" [ 60 ]
 Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
 PixelFilter "box"
 WorldBegin
-MediumInterface ")" + name + R"(" ")" + name + R"("
+MediumInterface ")" +
+           name + R"(" ")" + name + R"("
 AttributeBegin
 Material "diffuse" "rgb reflectance" [ 0 0 0 ]
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
@@ -75,7 +77,8 @@ inline std::string randomNumbers(int n, double lo, double hi, uint64_t& h) {
 // black ball far away the only surface, 16 x 16.
 inline std::string pointLightInFog(const std::string& sigmaS) {
     return R"(LookAt 0 0 0  0 0 1  0 1 0
-MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.2 0.4 ] "rgb sigma_s" [ )" + sigmaS + R"( ] "float g" 0.4
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.1 0.2 0.4 ] "rgb sigma_s" [ )" +
+           sigmaS + R"( ] "float g" 0.4
 MediumInterface "" "fog"
 Camera "perspective" "float fov" [ 40 ]
 Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]

@@ -97,7 +97,8 @@ inline void floorUnder(const std::string& emitter, const std::function<double(Ve
                        const std::string& floorBsdf = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)",
                        const std::string& dir = ".", const std::string& sensor = kLookingDown) {
     const double rho = 0.6;
-    floorRadiance(emitter, [&](Vec3 p, Vec3) { return rho / M_PI * irradiance(p); }, what, exact, floorBsdf, dir, sensor);
+    floorRadiance(
+        emitter, [&](Vec3 p, Vec3) { return rho / M_PI * irradiance(p); }, what, exact, floorBsdf, dir, sensor);
 }
 
 }  // namespace floor_test

@@ -132,16 +132,19 @@ inline Verdict worstOf(const rstats::RunStats& a, const rstats::RunStats& ref, d
     for (size_t i = 0; i < n; ++i) {
         const Diff d = welch(a, ref, i);
         if (d.b > 0 && d.se > 0) rel.push_back(detectableInSe(zc) * d.se / d.b);
-        if (!(std::fabs(d.z) <= worst)) { worst = std::fabs(d.z); at = i; dw = d; }
+        if (!(std::fabs(d.z) <= worst)) {
+            worst = std::fabs(d.z);
+            at = i;
+            dw = d;
+        }
     }
     std::sort(rel.begin(), rel.end());
     Verdict v;
     v.pass = worst <= zc;
     v.detectable = rel.empty() ? 0 : rel[rel.size() / 2];
     std::ostringstream o;
-    o << what << ": max |z| " << worst << " (allowed " << zc << " over " << n << ") at " << at << ": " << dw.a << " vs "
-      << dw.b << " se " << dw.se << "; the median " << what << " fails an error of " << 100 * v.detectable
-      << "% (power 0.9)";
+    o << what << ": max |z| " << worst << " (allowed " << zc << " over " << n << ") at " << at << ": " << dw.a << " vs " << dw.b << " se " << dw.se
+      << "; the median " << what << " fails an error of " << 100 * v.detectable << "% (power 0.9)";
     v.text = o.str();
     return v;
 }
@@ -167,8 +170,7 @@ inline Verdict scatter(const Runs& a, const Runs& ref, double p) {
     Verdict v;
     v.pass = n <= 1 || (sum >= lo && sum <= hi);
     std::ostringstream o;
-    o << "shape scatter: sum z^2 " << sum << " over " << n << " blocks, chi^2(" << df << ") (allowed [" << lo << ", "
-      << hi << "])";
+    o << "shape scatter: sum z^2 " << sum << " over " << n << " blocks, chi^2(" << df << ") (allowed [" << lo << ", " << hi << "])";
     v.text = o.str();
     return v;
 }
@@ -189,28 +191,25 @@ inline Verdict lengths(const Runs& a, const Runs& ref, double p, double minShare
         const double rel = d.b > 0 ? detectableInSe(zc) * d.se / d.b : 0.0;
         if (d.b >= minShare * total) v.detectable = std::max(v.detectable, rel);
         v.pass = v.pass && std::fabs(d.z) <= zc;
-        o << "\n  k = " << a.kMin + int(i) << ": " << d.a << " vs " << d.b << " (" << 100 * d.b / total
-          << "% of the image), z " << d.z << ", fails an error of " << 100 * rel << "%";
+        o << "\n  k = " << a.kMin + int(i) << ": " << d.a << " vs " << d.b << " (" << 100 * d.b / total << "% of the image), z " << d.z
+          << ", fails an error of " << 100 * rel << "%";
     }
     v.text = o.str();
     return v;
 }
 
-inline Verdict lengthBlocks(const Runs& a, const Runs& ref, double p) {
-    return worstOf(a.lengthBlocks, ref.lengthBlocks, p, "length block");
-}
+inline Verdict lengthBlocks(const Runs& a, const Runs& ref, double p) { return worstOf(a.lengthBlocks, ref.lengthBlocks, p, "length block"); }
 
 // K renders of desc with options o and seeds seed0 + i, reduced to one Runs per entry of
 // kMinImage (0: the image as rendered): with length images (BPT, MMLT), the image of an
 // entry kMin > o.minPathLength is the sum of the length images from kMin on (BPT's image
 // restricted to those lengths: its lengths do not depend on MinPathLength). Every run must
 // discard nothing and, for MMLT and PSSMLT, replay every checked seed exactly.
-inline std::vector<Runs> tracerRuns(const wmlt::SceneDesc& desc, wmlt::RenderOptions o, int K, uint64_t seed0,
-                                    int block, const std::vector<int>& kMinImage = {0}) {
+inline std::vector<Runs> tracerRuns(const wmlt::SceneDesc& desc, wmlt::RenderOptions o, int K, uint64_t seed0, int block,
+                                    const std::vector<int>& kMinImage = {0}) {
     const bool lengthImages = o.tracer == wmlt::TracerKind::BPT || o.tracer == wmlt::TracerKind::MMLT;
     std::vector<Runs> r;
-    for (int kMin : kMinImage)
-        r.emplace_back(block, std::max(kMin, o.minPathLength), lengthImages ? o.maxPathLength : 0);
+    for (int kMin : kMinImage) r.emplace_back(block, std::max(kMin, o.minPathLength), lengthImages ? o.maxPathLength : 0);
     o.lengthImages = lengthImages;
     for (int i = 0; i < K; ++i) {
         o.seed = seed0 + uint64_t(i);
@@ -242,12 +241,11 @@ struct Claims {
 // Every property of a's runs against the reference's at p (the lengths' when both have
 // length images), and the claimed power; the power is printed under `label`
 // ("MMLT vs BPT"), every statistic too with WMLT_TEST_VERBOSE=1.
-inline void compare(const Runs& a, const Runs& ref, const std::string& label, const std::string& what, double p,
-                    Claims claims) {
+inline void compare(const Runs& a, const Runs& ref, const std::string& label, const std::string& what, double p, Claims claims) {
     const bool withLengths = a.kMax >= a.kMin && ref.kMax >= ref.kMin;
     const Verdict br = brightness(a, ref, p), bl = blocks(a, ref, p), sc = scatter(a, ref, p);
-    std::cout << label << ", " << what << " (K = " << a.runs() << ", p = " << p << "): fails a brightness error of "
-              << 100 * br.detectable << "%, a block error of " << 100 * bl.detectable << "% (median block)";
+    std::cout << label << ", " << what << " (K = " << a.runs() << ", p = " << p << "): fails a brightness error of " << 100 * br.detectable
+              << "%, a block error of " << 100 * bl.detectable << "% (median block)";
     std::vector<Verdict> all = {br, bl, sc};
     if (withLengths) {
         all.push_back(lengths(a, ref, p, 0.25));

@@ -35,28 +35,24 @@ inline double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0));
 inline double normalQuantile(double p) {
     if (p <= 0) return -std::numeric_limits<double>::infinity();
     if (p >= 1) return std::numeric_limits<double>::infinity();
-    static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                               1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
-    static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                               6.680131188771972e+01, -1.328068155288572e+01};
+    static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
+                               1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
+    static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02, 6.680131188771972e+01, -1.328068155288572e+01};
     static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                               -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
-    static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                               3.754408661907416e+00};
+                               -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+    static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00, 3.754408661907416e+00};
     const double pl = 0.02425;
     double x;
     if (p < pl) {
         double q = std::sqrt(-2 * std::log(p));
-        x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-            ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+        x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) / ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
     } else if (p <= 1 - pl) {
         double q = p - 0.5, r = q * q;
         x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
             (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
     } else {
         double q = std::sqrt(-2 * std::log(1 - p));
-        x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-            ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+        x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) / ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
     }
     for (int i = 0; i < 2; ++i) {  // Newton on Phi(x) = p (Halley would be overkill)
         double e = normalCdf(x) - p;
@@ -76,12 +72,17 @@ inline double betaCf(double a, double b, double x) {
     for (int m = 1; m <= 10000; ++m) {
         int m2 = 2 * m;
         double aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1 + aa * d; if (std::fabs(d) < tiny) d = tiny;
-        c = 1 + aa / c; if (std::fabs(c) < tiny) c = tiny;
-        d = 1 / d; h *= d * c;
+        d = 1 + aa * d;
+        if (std::fabs(d) < tiny) d = tiny;
+        c = 1 + aa / c;
+        if (std::fabs(c) < tiny) c = tiny;
+        d = 1 / d;
+        h *= d * c;
         aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1 + aa * d; if (std::fabs(d) < tiny) d = tiny;
-        c = 1 + aa / c; if (std::fabs(c) < tiny) c = tiny;
+        d = 1 + aa * d;
+        if (std::fabs(d) < tiny) d = tiny;
+        c = 1 + aa / c;
+        if (std::fabs(c) < tiny) c = tiny;
         d = 1 / d;
         double del = d * c;
         h *= del;
@@ -98,9 +99,7 @@ inline double betaI(double a, double b, double x) {
 }
 
 // P(T > |t|) for Student's t with nu degrees of freedom (one tail).
-inline double studentTail(double t, double nu) {
-    return 0.5 * betaI(0.5 * nu, 0.5, nu / (nu + t * t));
-}
+inline double studentTail(double t, double nu) { return 0.5 * betaI(0.5 * nu, 0.5, nu / (nu + t * t)); }
 
 // The standard normal z with the same tail probability as t under t(nu): exact
 // probability-integral transform, computed from the tail to keep precision.
@@ -140,8 +139,14 @@ struct RunStats {
     std::vector<double> sum, sumSq;
     int runs = 0;
     void add(const std::vector<double>& v) {
-        if (sum.empty()) { sum.assign(v.size(), 0.0); sumSq.assign(v.size(), 0.0); }
-        for (size_t i = 0; i < v.size(); ++i) { sum[i] += v[i]; sumSq[i] += v[i] * v[i]; }
+        if (sum.empty()) {
+            sum.assign(v.size(), 0.0);
+            sumSq.assign(v.size(), 0.0);
+        }
+        for (size_t i = 0; i < v.size(); ++i) {
+            sum[i] += v[i];
+            sumSq[i] += v[i] * v[i];
+        }
         ++runs;
     }
     size_t size() const { return sum.size(); }
@@ -160,7 +165,8 @@ inline std::vector<double> channel(const wmlt::Image& im, int c) {
     std::vector<double> v;
     size_t n = size_t(im.width) * im.height;
     for (size_t i = 0; i < n; ++i)
-        if (c < 0) for (int k = 0; k < 3; ++k) v.push_back(im.rgb[i * 3 + k]);
+        if (c < 0)
+            for (int k = 0; k < 3; ++k) v.push_back(im.rgb[i * 3 + k]);
         else v.push_back(im.rgb[i * 3 + c]);
     return v;
 }
@@ -187,9 +193,9 @@ struct ZTestResult {
     bool pass = false;
     std::string describe() const {
         std::ostringstream o;
-        o << "n=" << n << " mean z^2=" << meanZ2 << " (allowed [" << lowMeanZ2 << ", " << highMeanZ2
-          << "]) mean z=" << meanZ << " (allowed +-" << meanZBound << ") max|z|=" << maxAbsZ << " (allowed " << bonferroni << ") at element "
-          << worst << ": value " << worstValue << " expected " << worstExpected << " se " << worstSe;
+        o << "n=" << n << " mean z^2=" << meanZ2 << " (allowed [" << lowMeanZ2 << ", " << highMeanZ2 << "]) mean z=" << meanZ << " (allowed +-"
+          << meanZBound << ") max|z|=" << maxAbsZ << " (allowed " << bonferroni << ") at element " << worst << ": value " << worstValue
+          << " expected " << worstExpected << " se " << worstSe;
         return o.str();
     }
 };
@@ -198,9 +204,8 @@ struct ZTestResult {
 // at p / 3: sum z^2 inside the two-sided chi^2(n) interval, max |z| below
 // Phi^-1(1 - p / (6 n)), |mean z| below Phi^-1(1 - p / 6) / sqrt(n). Elements with
 // se == 0 must match exactly (up to relTol).
-inline ZTestResult zTest(const std::vector<double>& value, const std::vector<double>& expected,
-                         const std::vector<double>& se, const std::vector<double>& dof, double p = 1e-4,
-                         double exactRelTol = 1e-5) {
+inline ZTestResult zTest(const std::vector<double>& value, const std::vector<double>& expected, const std::vector<double>& se,
+                         const std::vector<double>& dof, double p = 1e-4, double exactRelTol = 1e-5) {
     ZTestResult r;
     // Elements with se == 0 (no variance: e.g. pixels that see only a constant sky) are
     // checked for an exact match and left out of the statistics of z.
@@ -238,15 +243,17 @@ inline ZTestResult zTest(const std::vector<double>& value, const std::vector<dou
     r.highMeanZ2 = chiSquareUpperQuantile(n, q / 2) / n;
     r.bonferroni = -normalQuantile(q / (2 * n));
     r.meanZBound = -normalQuantile(q / 2) / std::sqrt(n);
-    r.pass = exactOk && r.meanZ2 >= r.lowMeanZ2 && r.meanZ2 <= r.highMeanZ2 && r.maxAbsZ <= r.bonferroni &&
-             std::fabs(r.meanZ) <= r.meanZBound;
+    r.pass = exactOk && r.meanZ2 >= r.lowMeanZ2 && r.meanZ2 <= r.highMeanZ2 && r.maxAbsZ <= r.bonferroni && std::fabs(r.meanZ) <= r.meanZBound;
     return r;
 }
 
 // The common case: values are RunStats means, se from the same runs.
 inline ZTestResult zTest(const RunStats& s, const std::vector<double>& expected, double p = 1e-4) {
     std::vector<double> v(s.size()), se(s.size()), dof(s.size(), s.dof());
-    for (size_t i = 0; i < s.size(); ++i) { v[i] = s.mean(i); se[i] = s.se(i); }
+    for (size_t i = 0; i < s.size(); ++i) {
+        v[i] = s.mean(i);
+        se[i] = s.se(i);
+    }
     return zTest(v, expected, se, dof, p);
 }
 
@@ -272,8 +279,7 @@ inline ZTestResult compareRuns(const RunStats& a, const RunStats& b, double p, d
 }
 
 // Options for a test render: spp samples per pixel stratified as the CLI does, 2 threads.
-inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint64_t seed, int minLength,
-                                         int maxLength, int threads = 2) {
+inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint64_t seed, int minLength, int maxLength, int threads = 2) {
     wmlt::RenderOptions o;
     o.tracer = tracer;
     o.spp = spp;
@@ -303,8 +309,7 @@ inline std::string tempDir(const std::string& name) {
 inline wmlt::Image skyWithSun() {
     wmlt::Image sky(16, 8);
     for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x)
-            sky.set(x, y, y < 4 ? wmlt::Vec3(0.4f + 0.1f * y, 0.6f, 0.9f - 0.1f * y) : wmlt::Vec3(0.2f, 0.15f, 0.1f));
+        for (int x = 0; x < 16; ++x) sky.set(x, y, y < 4 ? wmlt::Vec3(0.4f + 0.1f * y, 0.6f, 0.9f - 0.1f * y) : wmlt::Vec3(0.2f, 0.15f, 0.1f));
     sky.set(5, 1, wmlt::Vec3(40.0f, 36.0f, 30.0f));
     return sky;
 }
@@ -312,10 +317,11 @@ inline wmlt::Image skyWithSun() {
 // A glass ball and a mirror ball above a glossy floor, lit by a sphere light: caustics
 // (light through glass onto the floor), glossy reflections, and specular chains seen
 // directly by the camera (sampled by s = 0 and s = 1 only).
-inline std::string causticXml(int size, int maxLength, const std::string& intensity = "8",
-                              const std::string& lightY = "2.4") {
+inline std::string causticXml(int size, int maxLength, const std::string& intensity = "8", const std::string& lightY = "2.4") {
     return R"(<Scene>
-  <Settings><Width value=")" + std::to_string(size) + R"("/><Height value=")" + std::to_string(size) + R"("/><MaxPathLength value=")" + std::to_string(maxLength) + R"("/></Settings>
+  <Settings><Width value=")" +
+           std::to_string(size) + R"("/><Height value=")" + std::to_string(size) + R"("/><MaxPathLength value=")" + std::to_string(maxLength) +
+           R"("/></Settings>
   <Camera Type="Camera"><Position x="0" y="0.9" z="-2.5"/><LookAt x="0" y="0.3" z="0"/><FOV value="45"/></Camera>
   <Shader Type="Glossy" ID="0"><Diffuse r="0.4" g="0.35" b="0.3"/><Specular r="0.4" g="0.4" b="0.4"/>
     <Shininess value="30"/></Shader>
@@ -325,16 +331,17 @@ inline std::string causticXml(int size, int maxLength, const std::string& intens
   <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value="6"/><Depth value="6"/><Shader value="0"/></Geometry>
   <Geometry Type="Sphere" ID="glass"><Position x="-0.3" y="0.6" z="0"/><Radius value="0.35"/><Shader value="1"/></Geometry>
   <Geometry Type="Sphere" ID="mirror"><Position x="0.55" y="0.35" z="0.3"/><Radius value="0.3"/><Shader value="2"/></Geometry>
-  <Light Type="Area" ID="light"><Position x="-0.2" y=")" + lightY + R"(" z="0.2"/><Radius value="0.3"/>
-    <Intensity value=")" + intensity + R"("/><Colour r="1" g="0.9" b="0.8"/></Light>
+  <Light Type="Area" ID="light"><Position x="-0.2" y=")" +
+           lightY + R"(" z="0.2"/><Radius value="0.3"/>
+    <Intensity value=")" +
+           intensity + R"("/><Colour r="1" g="0.9" b="0.8"/></Light>
 </Scene>
 )";
 }
 
 // The Cornell box test copy (Tungsten's reference scene) at 64 x 64, paths up to maxLength.
 inline wmlt::SceneDesc cornell64(int maxLength) {
-    wmlt::SceneDesc d =
-        wmlt::loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/bitterli-cornell/bitterli-cornell-256.xml");
+    wmlt::SceneDesc d = wmlt::loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/bitterli-cornell/bitterli-cornell-256.xml");
     d.settings.width = 64;
     d.settings.height = 64;
     d.settings.maxPathLength = maxLength;

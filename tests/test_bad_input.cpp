@@ -44,8 +44,7 @@ const std::string kHead =
     "<Shader Type=\"Matte\" ID=\"0\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/></Shader>\n";
 const std::string kLight =
     "<Light Type=\"Area\" ID=\"l\"><Position x=\"0\" y=\"0\" z=\"-2\"/><Radius value=\"0.5\"/><Intensity value=\"5\"/></Light>\n";
-const std::string kCamera =
-    "<Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/><FOV value=\"40\"/></Camera>";
+const std::string kCamera = "<Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/><FOV value=\"40\"/></Camera>";
 std::string scene(const std::string& body) { return kHead + body + "\n" + kLight + "</Scene>\n"; }
 
 // A fast render if the input were (wrongly) accepted.
@@ -53,8 +52,8 @@ const std::vector<std::string> kFast = {"--quiet", "--tracer", "pt", "--spp", "1
 
 // Runs the scene file `xml` (written as `name`) and requires the bad-input behaviour with
 // "<scene path>:<line>:" and `fragment` in the message.
-void requireBadScene(const std::string& name, const std::string& xml, int line, const std::string& fragment,
-                     const TempDir& dir, const std::vector<std::string>& more = {}) {
+void requireBadScene(const std::string& name, const std::string& xml, int line, const std::string& fragment, const TempDir& dir,
+                     const std::vector<std::string>& more = {}) {
     const std::string path = dir.write(name, xml), out = dir.file("out.pfm");
     std::vector<std::string> args = {path};
     args.insert(args.end(), kFast.begin(), kFast.end());
@@ -80,28 +79,35 @@ std::string objGeom(const std::string& file) {
 // ---- scene XML ------------------------------------------------------------------------------
 
 TEST_CASE("badinput: scene XML errors exit 2 with file and line and write nothing", "[badinput]") {
-    struct Bad { const char* what; std::string xml; int line; const char* fragment; };
+    struct Bad {
+        const char* what;
+        std::string xml;
+        int line;
+        const char* fragment;
+    };
     const std::vector<Bad> cases = {
         {"not well-formed", scene("<Settings>\n<Width value=5/></Settings>"), 5, "not well-formed XML"},
         {"unclosed element", kHead + "<Settings>\n", 4, "not well-formed XML"},
         {"unknown element", scene("<Frobnicate value=\"1\"/>"), 4, "Frobnicate: unknown element"},
         {"unknown attribute", scene("<Settings>\n<Width value=\"5\" units=\"px\"/></Settings>"), 5, "unknown attribute \"units\""},
-        {"missing required element", scene("<Geometry Type=\"Plane\" ID=\"p\"><Width value=\"1\"/><Shader value=\"0\"/></Geometry>"),
-         4, "missing required element <Depth>"},
-        {"duplicate Geometry ID", scene(geom("Sphere", "<Radius value=\"1\"/>") + "\n" + geom("Sphere", "<Radius value=\"1\"/>")),
-         5, "ID \"g\" is already used by the Geometry on line 4"},
+        {"missing required element", scene("<Geometry Type=\"Plane\" ID=\"p\"><Width value=\"1\"/><Shader value=\"0\"/></Geometry>"), 4,
+         "missing required element <Depth>"},
+        {"duplicate Geometry ID", scene(geom("Sphere", "<Radius value=\"1\"/>") + "\n" + geom("Sphere", "<Radius value=\"1\"/>")), 5,
+         "ID \"g\" is already used by the Geometry on line 4"},
         {"duplicate Shader ID", scene("<Shader Type=\"Matte\" ID=\"0\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/></Shader>"), 4,
          "already used by the Shader on line 3"},
         {"duplicate Texture ID", scene(checker("1") + "\n" + checker("1")), 5, "already used by the Texture on line 4"},
         {"dangling Shader", scene("<Geometry Type=\"Sphere\" ID=\"s\"><Radius value=\"1\"/>\n<Shader value=\"7\"/></Geometry>"), 5,
          "Shader 7 is not defined"},
-        {"dangling Texture", scene("<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/>\n<Texture value=\"3\"/></Shader>"),
-         5, "texture 3 is not defined"},
-        {"dangling Bump", scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/><Specular r=\"0.5\" g=\"0.5\" b=\"0.5\"/>"
-                                "<Shininess value=\"10\"/>\n<Bump value=\"4\"/></Shader>"), 5, "texture 4 is not defined"},
+        {"dangling Texture", scene("<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/>\n<Texture value=\"3\"/></Shader>"), 5,
+         "texture 3 is not defined"},
+        {"dangling Bump",
+         scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/><Specular r=\"0.5\" g=\"0.5\" b=\"0.5\"/>"
+               "<Shininess value=\"10\"/>\n<Bump value=\"4\"/></Shader>"),
+         5, "texture 4 is not defined"},
         {"negative radius", scene(geom("Sphere", "\n<Radius value=\"-1\"/>")), 5, "value=\"-1\" is out of range (must be > 0)"},
-        {"zero-size rectangle light", scene("<Light Type=\"Area\">\n<Width value=\"0\"/><Depth value=\"1\"/><Intensity value=\"1\"/></Light>"),
-         5, "value=\"0\" is out of range"},
+        {"zero-size rectangle light", scene("<Light Type=\"Area\">\n<Width value=\"0\"/><Depth value=\"1\"/><Intensity value=\"1\"/></Light>"), 5,
+         "value=\"0\" is out of range"},
         {"zero-radius sphere light", scene("<Light Type=\"Sphere\">\n<Radius value=\"0\"/><Intensity value=\"1\"/></Light>"), 5,
          "value=\"0\" is out of range"},
         {"Width 0", scene("<Settings>\n<Width value=\"0\"/></Settings>"), 5, "value=\"0\" is out of range (1 to 16384)"},
@@ -114,9 +120,10 @@ TEST_CASE("badinput: scene XML errors exit 2 with file and line and write nothin
         {"iIOR 0", scene("<Shader Type=\"Dielectric\" ID=\"1\">\n<iIOR value=\"0\"/><oIOR value=\"1\"/></Shader>"), 5, "out of range (must be > 0)"},
         {"oIOR negative", scene("<Shader Type=\"Dielectric\" ID=\"1\"><iIOR value=\"1.5\"/>\n<oIOR value=\"-1\"/></Shader>"), 5,
          "out of range (must be > 0)"},
-        {"Diffuse + Specular > 1", scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/>\n"
-                                         "<Specular r=\"0.5\" g=\"0.5\" b=\"0.6\"/><Shininess value=\"1\"/></Shader>"), 5,
-         "Diffuse + Specular exceeds 1 in the blue channel"},
+        {"Diffuse + Specular > 1",
+         scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/>\n"
+               "<Specular r=\"0.5\" g=\"0.5\" b=\"0.6\"/><Shininess value=\"1\"/></Shader>"),
+         5, "Diffuse + Specular exceeds 1 in the blue channel"},
         {"two cameras", scene(kCamera), 4, "a second camera (the first is on line 2)"},
         {"no camera", "<Scene>\n<Settings/>\n" + kLight + "</Scene>\n", 1, "missing required element <Camera>"},
         {"NaN in a number", scene(geom("Sphere", "\n<Radius value=\"NaN\"/>")), 5, "value=\"NaN\" is not a finite number"},
@@ -153,11 +160,12 @@ namespace {
 // line: the scene is depth 1, the shape 2 (line 5), the i-th twosided 2 + i (line 5 + i),
 // the diffuse one 3 + wrappers (line 6 + wrappers).
 std::string nestedMitsuba(int wrappers) {
-    std::string s = "<scene version=\"3.0.0\">\n"
-                    "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n"
-                    "<transform name=\"to_world\"><lookat origin=\"0, 0, 5\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>\n"
-                    "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
-                    "<shape type=\"sphere\">\n";
+    std::string s =
+        "<scene version=\"3.0.0\">\n"
+        "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n"
+        "<transform name=\"to_world\"><lookat origin=\"0, 0, 5\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>\n"
+        "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
+        "<shape type=\"sphere\">\n";
     for (int i = 0; i < wrappers; ++i) s += "<bsdf type=\"twosided\">\n";
     s += "<bsdf type=\"diffuse\"/>\n";
     for (int i = 0; i < wrappers; ++i) s += "</bsdf>\n";
@@ -203,9 +211,7 @@ TEST_CASE("badinput: elements nested deeper than 100 are refused before any recu
         CHECK(img.at(8, 8).x > 0.0f);
         CHECK(img.at(8, 8).x != 1.0f);
     }
-    SECTION("thesis format: 50,000 nested elements") {
-        requireBadScene("deep.xml", nestedThesis(50000), 101, limit, dir);
-    }
+    SECTION("thesis format: 50,000 nested elements") { requireBadScene("deep.xml", nestedThesis(50000), 101, limit, dir); }
     SECTION("thesis format: at the limit the file gets its ordinary error") {
         // Depth 100 passes the bound; its second element is then an unknown element.
         requireBadScene("deep.xml", nestedThesis(100), 2, "Shape: unknown element", dir);
@@ -217,7 +223,11 @@ TEST_CASE("badinput: elements nested deeper than 100 are refused before any recu
 TEST_CASE("badinput: pbrt-v4 scene errors exit 2 with file and line and write nothing", "[badinput][pbrt]") {
     TempDir dir;
     const std::string head = "WorldBegin\nLightSource \"point\"\n";
-    struct Bad { const char* what; std::string text; const char* fragment; };
+    struct Bad {
+        const char* what;
+        std::string text;
+        const char* fragment;
+    };
     const std::vector<Bad> cases = {
         {"unterminated bracket", head + "Shape \"sphere\" \"float radius\" [ 1\n", "s.pbrt:3: \"float radius\": unterminated ["},
         {"unknown directive", head + "Frobnicate\n", "s.pbrt:3: unknown directive \"Frobnicate\""},
@@ -240,14 +250,23 @@ TEST_CASE("badinput: pbrt-v4 scene errors exit 2 with file and line and write no
 TEST_CASE("badinput: OBJ errors name the scene line and the OBJ file and line", "[badinput]") {
     TempDir dir;
     const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    struct Bad { const char* what; std::string obj; int objLine; const char* fragment; };
+    struct Bad {
+        const char* what;
+        std::string obj;
+        int objLine;
+        const char* fragment;
+    };
     const std::vector<Bad> cases = {
         {"faces indexing past the vertex list", tri + "f 1 2 3\nf 1 2 4\n", 5, "face index 4 is past the 3 vertices"},
         {"non-numeric data", "v 0 0 0\nv 1 zero 0\n", 2, "\"zero\" is not a finite number"},
         {"NaN coordinate", "v 0 0 0\nv nan 0 0\n", 2, "not a finite number"},
         {"zero faces", tri, 0, "the file has no faces"},
         {"empty file", "", 0, "the file has no faces"},
-        {"binary garbage", std::string("\x7f" "ELF\x02\x01\x01\0\0\0\0garbage", 18), 1, "not a text file (a NUL byte)"},
+        {"binary garbage",
+         std::string("\x7f"
+                     "ELF\x02\x01\x01\0\0\0\0garbage",
+                     18),
+         1, "not a text file (a NUL byte)"},
     };
     for (const Bad& b : cases) {
         DYNAMIC_SECTION(b.what) {
@@ -291,7 +310,11 @@ TEST_CASE("badinput: a 2 GiB OBJ of garbage fails fast in bounded memory", "[bad
         close(fd);
         return path;
     };
-    struct Case { const char* what; std::string head; const char* fragment; };
+    struct Case {
+        const char* what;
+        std::string head;
+        const char* fragment;
+    };
     const std::vector<Case> cases = {
         {"text garbage then zeros", "this is not an OBJ file\n", "unknown statement \"this\""},
         {"zeros only (no line break in 2 GiB)", "", "m.obj:1: "},
@@ -307,8 +330,8 @@ TEST_CASE("badinput: a 2 GiB OBJ of garbage fails fast in bounded memory", "[bad
             lim.seconds = 10;
             lim.rssKb = 512 * 1024;
             Proc p = run(args, dir, lim);
-            INFO(c.what << ": " << p.seconds << " s, peak resident " << p.maxRssKb / 1024 << " MiB, stderr "
-                        << p.errBytes << " bytes" << (p.killed ? ", killed: " + p.why : ""));
+            INFO(c.what << ": " << p.seconds << " s, peak resident " << p.maxRssKb / 1024 << " MiB, stderr " << p.errBytes << " bytes"
+                        << (p.killed ? ", killed: " + p.why : ""));
             requireBad(p, {xml + ":4: ", obj, c.fragment}, out, dir);
             CHECK(p.seconds < 2.0);
             CHECK(p.maxRssKb < 256 * 1024);
@@ -339,14 +362,10 @@ TEST_CASE("badinput: missing and truncated and too small images", "[badinput]") 
         REQUIRE(bytes.size() > 64);
         return dir.write(to, bytes.substr(0, size_t(double(bytes.size()) * frac)));
     };
-    auto texture = [](const std::string& file) {
-        return "<Texture Type=\"ImageFile\" ID=\"1\">\n<File name=\"" + file + "\"/></Texture>";
-    };
+    auto texture = [](const std::string& file) { return "<Texture Type=\"ImageFile\" ID=\"1\">\n<File name=\"" + file + "\"/></Texture>"; };
     auto envMap = [](const std::string& file) { return "<Settings>\n<EnvMap name=\"" + file + "\"/></Settings>"; };
 
-    SECTION("missing texture") {
-        requireBadScene("img.xml", scene(texture("nothere.png")), 5, dir.file("nothere.png"), dir, {"No such file"});
-    }
+    SECTION("missing texture") { requireBadScene("img.xml", scene(texture("nothere.png")), 5, dir.file("nothere.png"), dir, {"No such file"}); }
     SECTION("missing environment map") {
         requireBadScene("img.xml", scene(envMap("nothere.exr")), 5, dir.file("nothere.exr"), dir, {"No such file"});
     }
@@ -408,8 +427,10 @@ TEST_CASE("badinput: command-line errors exit 2 before any work", "[badinput]") 
     SECTION("--chains 1e12 is refused before allocating, with the memory it would need") {
         Proc p = cli({"--tracer", "mmlt", "--chains", "1e12"});
         INFO("--chains 1e12: " << p.err << p.seconds << " s, peak resident " << p.maxRssKb / 1024 << " MiB");
-        requireBad(p, {"wavemmlt: --chains 1000000000000 would need ", " TiB of chain state", "bytes per chain at MaxPathLength",
-                       "of this machine's", "of memory"}, out, dir);
+        requireBad(p,
+                   {"wavemmlt: --chains 1000000000000 would need ", " TiB of chain state", "bytes per chain at MaxPathLength", "of this machine's",
+                    "of memory"},
+                   out, dir);
         CHECK(p.seconds < 2.0);
         CHECK(p.maxRssKb < 256 * 1024);
         // The exponent form of a whole number is accepted (and a fraction is not).
@@ -427,8 +448,8 @@ TEST_CASE("badinput: command-line errors exit 2 before any work", "[badinput]") 
     }
     SECTION("output in a read-only folder") {
         fs::create_directories(dir.path / "ro");
-        fs::permissions(dir.path / "ro", fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
-                                             fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+        fs::permissions(dir.path / "ro", fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec |
+                                             fs::perms::others_read | fs::perms::others_exec);
         const std::string o = dir.file("ro/out.pfm");
         Limits lim;
         lim.asNobody = geteuid() == 0;  // root writes anywhere: run as nobody instead

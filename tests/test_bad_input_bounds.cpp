@@ -122,8 +122,8 @@ TEST_CASE("badinput bounds: gzip bombs, /dev/zero and FIFOs fail fast in bounded
         const std::string s = dir.write("s.pbrt", kPbrtHead + "Include \"pipe.pbrt\"\n");
         check(runBad(dir, s, {s + ":3: ", "pipe.pbrt: the included file is not a regular file (a FIFO"}, lim));
         REQUIRE(mkfifo(dir.file("m.obj").c_str(), 0644) == 0);
-        const std::string m = dir.write(
-            "m.xml", "<scene version=\"3.0.0\">\n<shape type=\"obj\"><string name=\"filename\" value=\"m.obj\"/></shape>\n</scene>\n");
+        const std::string m =
+            dir.write("m.xml", "<scene version=\"3.0.0\">\n<shape type=\"obj\"><string name=\"filename\" value=\"m.obj\"/></shape>\n</scene>\n");
         check(runBad(dir, m, {m + ":2: ", "m.obj: the OBJ file is not a regular file (a FIFO"}, lim));
     }
     SECTION("a .ply.gz that inflates to 1 GiB of NUL bytes fails at its header") {
@@ -145,8 +145,7 @@ TEST_CASE("badinput bounds: gzip bombs, /dev/zero and FIFOs fail fast in bounded
 TEST_CASE("badinput bounds: a bomb of numbers in one array costs what the numbers cost", "[badinput][bounds]") {
     TempDir dir;
     const int mib = kMeasureMemory ? 64 : 8;  // (under the sanitizers: the same path, smaller)
-    const std::string s =
-        dir.write("s.pbrt.gz", gzipBomb(kPbrtHead + "Shape \"trianglemesh\" \"point3 P\" [ ", "0 ", mib));
+    const std::string s = dir.write("s.pbrt.gz", gzipBomb(kPbrtHead + "Shape \"trianglemesh\" \"point3 P\" [ ", "0 ", mib));
     Limits lim;
     lim.seconds = 120;
     lim.rssKb = 2 * 1024 * 1024;
@@ -165,25 +164,28 @@ TEST_CASE("badinput bounds: finite parameters whose product overflows a float ar
         {"point light", "WorldBegin\nLightSource \"point\" \"rgb I\" [1e38 1e38 1e38] \"float scale\" 1e38\n" + sphere, 2,
          "I times scale (1e+38 x 1e+38) is beyond a float's range"},
         {"spot light", "WorldBegin\nLightSource \"spot\" \"rgb I\" [1e38 1 1] \"float scale\" 1e38\n" + sphere, 2, "beyond a float's range"},
-        {"distant light", "WorldBegin\nLightSource \"distant\" \"rgb L\" [1e38 1 1] \"float scale\" 1e38\n" + sphere, 2,
-         "beyond a float's range"},
-        {"infinite light", "WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1e38 1] \"float scale\" 1e38\n" + sphere, 2,
-         "beyond a float's range"},
-        {"area light", "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1e38 1 1] \"float scale\" 1e38\n" + sphere +
-                           "AttributeEnd\n", 3, "L times scale (1e+38 x 1e+38) is beyond a float's range"},
+        {"distant light", "WorldBegin\nLightSource \"distant\" \"rgb L\" [1e38 1 1] \"float scale\" 1e38\n" + sphere, 2, "beyond a float's range"},
+        {"infinite light", "WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1e38 1] \"float scale\" 1e38\n" + sphere, 2, "beyond a float's range"},
+        {"area light",
+         "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1e38 1 1] \"float scale\" 1e38\n" + sphere + "AttributeEnd\n", 3,
+         "L times scale (1e+38 x 1e+38) is beyond a float's range"},
         {"power 1e38 on a sphere of radius 1e-10",
          "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"float power\" 1e38\nShape \"sphere\" \"float radius\" 1e-10\nAttributeEnd\n" +
-             sphere, 3, "L (normalised to its power) times scale"},
+             sphere,
+         3, "L (normalised to its power) times scale"},
         {"Scale 1e30 twice", "WorldBegin\nLightSource \"point\"\nScale 1e30 1e30 1e30\nScale 1e30 1e30 1e30\n" + sphere, 4,
          "Scale: the transform so far has an entry of 1e+60, beyond a float's range"},
-        {"coordinates times the transform", "WorldBegin\nLightSource \"point\"\nScale 1e30 1e30 1e30\n"
-                                            "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1e30 0 0 0 1e30 0] \"integer indices\" [0 1 2]\n", 4,
-         "its coordinates times the transform are beyond a float's range"},
-        {"an imagemap's texels times its scale", kPbrtHead + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"ten.pfm\"\n  \"float scale\" 1e38\n",
-         3, "Texture \"t\": its values times its scale reach 1e+39, beyond a float's range"},
-        {"a scale texture over an image", kPbrtHead + "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"ten.pfm\"\n"
-                                          "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"i\" \"float scale\" 1e38\n", 4,
-         "Texture \"s\": its values times its scale reach 1e+39"},
+        {"coordinates times the transform",
+         "WorldBegin\nLightSource \"point\"\nScale 1e30 1e30 1e30\n"
+         "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1e30 0 0 0 1e30 0] \"integer indices\" [0 1 2]\n",
+         4, "its coordinates times the transform are beyond a float's range"},
+        {"an imagemap's texels times its scale",
+         kPbrtHead + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"ten.pfm\"\n  \"float scale\" 1e38\n", 3,
+         "Texture \"t\": its values times its scale reach 1e+39, beyond a float's range"},
+        {"a scale texture over an image",
+         kPbrtHead + "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"ten.pfm\"\n"
+                     "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"i\" \"float scale\" 1e38\n",
+         4, "Texture \"s\": its values times its scale reach 1e+39"},
         {"the film's iso times a light", "Film \"rgb\" \"float iso\" 1e30\nWorldBegin\nLightSource \"point\" \"rgb I\" [1e30 1 1]\n" + sphere, 1,
          "the film's imaging ratio"},
     };
@@ -191,8 +193,9 @@ TEST_CASE("badinput bounds: finite parameters whose product overflows a float ar
     requireEachBad(dir, cases);
     SECTION("Mitsuba: an envmap's pixels times scale") {
         dir.write("big.pfm", pfm(4, 3, 1e38f));
-        const std::string m = dir.write("m.xml", "<scene version=\"3.0.0\">\n<emitter type=\"envmap\"><string name=\"filename\" value=\"big.pfm\"/>"
-                                                 "<float name=\"scale\" value=\"1e38\"/></emitter>\n<shape type=\"sphere\"/>\n</scene>\n");
+        const std::string m = dir.write("m.xml",
+                                        "<scene version=\"3.0.0\">\n<emitter type=\"envmap\"><string name=\"filename\" value=\"big.pfm\"/>"
+                                        "<float name=\"scale\" value=\"1e38\"/></emitter>\n<shape type=\"sphere\"/>\n</scene>\n");
         runBad(dir, m, {m + ":2: ", "big.pfm: its pixels times scale (1e+38) are beyond a float's range"});
     }
 }
@@ -215,13 +218,15 @@ TEST_CASE("badinput bounds: images with NaN or infinite pixels are refused by ev
     requireEachBad(dir, cases);
     SECTION("Mitsuba bitmap and envmap") {
         const std::string bitmap = dir.write(
-            "m.xml", "<scene version=\"3.0.0\">\n<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\">\n"
-                     "<texture type=\"bitmap\" name=\"reflectance\"><string name=\"filename\" value=\"nan.pfm\"/></texture></bsdf></shape>\n</scene>\n");
+            "m.xml",
+            "<scene version=\"3.0.0\">\n<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\">\n"
+            "<texture type=\"bitmap\" name=\"reflectance\"><string name=\"filename\" value=\"nan.pfm\"/></texture></bsdf></shape>\n</scene>\n");
         runBad(dir, bitmap, {bitmap + ":4: ", "nan.pfm: pixel (0, 0) is NaN"});
         dir.write("inf43.pfm", pfm(4, 3, INFINITY));
-        const std::string env = dir.write(
-            "e.xml", "<scene version=\"3.0.0\">\n<emitter type=\"envmap\"><string name=\"filename\" value=\"inf43.pfm\"/></emitter>\n"
-                     "<shape type=\"sphere\"/>\n</scene>\n");
+        const std::string env =
+            dir.write("e.xml",
+                      "<scene version=\"3.0.0\">\n<emitter type=\"envmap\"><string name=\"filename\" value=\"inf43.pfm\"/></emitter>\n"
+                      "<shape type=\"sphere\"/>\n</scene>\n");
         runBad(dir, env, {env + ":2: ", "inf43.pfm: pixel (0, 0) is infinite"});
     }
 }
@@ -240,9 +245,10 @@ TEST_CASE("badinput bounds: counts from a file are range-checked in a wide type,
         runBad(dir, s, {s + ":2: \"integer mutationsperpixel\": 2147483647 is out of range [1, 16777216]"});
     }
     SECTION("Mitsuba sample_count 2147483647") {
-        const std::string m = dir.write(
-            "m.xml", "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n<sampler type=\"independent\"><integer name=\"sample_count\" "
-                     "value=\"2147483647\"/></sampler></sensor>\n<emitter type=\"constant\"/><shape type=\"sphere\"/>\n</scene>\n");
+        const std::string m =
+            dir.write("m.xml",
+                      "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n<sampler type=\"independent\"><integer name=\"sample_count\" "
+                      "value=\"2147483647\"/></sampler></sensor>\n<emitter type=\"constant\"/><shape type=\"sphere\"/>\n</scene>\n");
         runBad(dir, m, {m + ":3: ", "sample_count 2147483647 is out of range [1, 16777216]"});
     }
     SECTION("maxdepth 2147483647 renders at wavemmlt's longest path, with a warning naming its line") {
@@ -273,8 +279,9 @@ TEST_CASE("badinput bounds: what pbrt-v4 refuses, wavemmlt refuses", "[badinput]
     };
     requireEachBad(dir, cases);
     SECTION("every escape pbrt-v4 takes is read") {
-        const std::string s = dir.write("s.pbrt", kPbrtHead + "MakeNamedMaterial \"a\\\"b\\\\c\\'d\\te\\bf\\fg\\rh\\ni\" \"string type\" \"diffuse\"\n"
-                                                              "NamedMaterial \"a\\\"b\\\\c'd\\te\\bf\\fg\\rh\\ni\"\nShape \"sphere\"\n");
+        const std::string s = dir.write("s.pbrt", kPbrtHead +
+                                                      "MakeNamedMaterial \"a\\\"b\\\\c\\'d\\te\\bf\\fg\\rh\\ni\" \"string type\" \"diffuse\"\n"
+                                                      "NamedMaterial \"a\\\"b\\\\c'd\\te\\bf\\fg\\rh\\ni\"\nShape \"sphere\"\n");
         const Proc p = run({s, "--quiet", "--spp", "1", "--width", "8", "--height", "8", "-o", dir.file("out.exr")}, dir);
         INFO(p.err);
         CHECK(p.status == 0);
@@ -303,7 +310,9 @@ TEST_CASE("badinput bounds: messages quote at most a little of a token and name 
         const std::string s = dir.write("s.pbrt", kPbrtHead + "Shape \"sphere\"\nFr\xC3(bnicate \"a\"\n");
         const Proc p = runBad(dir, s, {s + ":4: unknown directive \"Fr\\xC3(bnicate\""});
         CHECK_FALSE(contains(p.err, "\xC3"));
-        const std::string t = dir.write("t.pbrt", kPbrtHead + "Shape \"sphere\"\nAb\x01" "cd\n");
+        const std::string t = dir.write("t.pbrt", kPbrtHead +
+                                                      "Shape \"sphere\"\nAb\x01"
+                                                      "cd\n");
         runBad(dir, t, {t + ":4: a control byte 0x01 (a binary file?) after \"Ab\""});
     }
     SECTION("a 5000-byte unknown directive under the limit is quoted to 60 characters") {
@@ -319,16 +328,16 @@ TEST_CASE("badinput bounds: messages quote at most a little of a token and name 
 // found on positions, not indices, so it bounds a medium (it was "an open mesh").
 TEST_CASE("badinput bounds: a Mitsuba cube with a null BSDF bounds an interior medium", "[badinput][bounds][media]") {
     TempDir dir;
-    const std::string m = dir.write(
-        "cube.xml",
-        "<scene version=\"3.0.0\">\n"
-        "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/><transform name=\"to_world\"><lookat origin=\"0,0,5\" "
-        "target=\"0,0,0\" up=\"0,1,0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer "
-        "name=\"height\" value=\"8\"/></film></sensor>\n"
-        "<medium type=\"homogeneous\" id=\"fog\"><rgb name=\"albedo\" value=\"0.8\"/><float name=\"sigma_t\" value=\"1\"/></medium>\n"
-        "<shape type=\"cube\"><bsdf type=\"null\"/><ref name=\"interior\" id=\"fog\"/></shape>\n"
-        "<emitter type=\"constant\"><rgb name=\"radiance\" value=\"1\"/></emitter>\n"
-        "</scene>\n");
+    const std::string m =
+        dir.write("cube.xml",
+                  "<scene version=\"3.0.0\">\n"
+                  "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/><transform name=\"to_world\"><lookat origin=\"0,0,5\" "
+                  "target=\"0,0,0\" up=\"0,1,0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer "
+                  "name=\"height\" value=\"8\"/></film></sensor>\n"
+                  "<medium type=\"homogeneous\" id=\"fog\"><rgb name=\"albedo\" value=\"0.8\"/><float name=\"sigma_t\" value=\"1\"/></medium>\n"
+                  "<shape type=\"cube\"><bsdf type=\"null\"/><ref name=\"interior\" id=\"fog\"/></shape>\n"
+                  "<emitter type=\"constant\"><rgb name=\"radiance\" value=\"1\"/></emitter>\n"
+                  "</scene>\n");
     const std::string out = dir.file("out.pfm");
     const Proc p = run({m, "--quiet", "--spp", "64", "-o", out}, dir);
     INFO(p.err);

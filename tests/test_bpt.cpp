@@ -31,8 +31,7 @@ using namespace wmlt;
 namespace {
 
 // BPT against PT: K runs of each; per channel the 8 x 8 block means.
-void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_t seed0, float misBeta = 2,
-                   int minLength = 1) {
+void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_t seed0, float misBeta = 2, int minLength = 1) {
     const int B = 8;
     rstats::RunStats pt[3], bpt[3];
     for (int k = 0; k < K; ++k) {
@@ -55,7 +54,6 @@ void compareWithPt(const SceneDesc& desc, int spp, int K, int maxLength, uint64_
         CHECK(z.pass);
     }
 }
-
 
 }  // namespace
 
@@ -108,8 +106,7 @@ TEST_CASE("BPT MIS: weights are a partition of unity, 0 at delta connections", "
                     REQUIRE(w >= 0.0f);
                     const bool connectsAtDelta = s > 0 && (delta[s - 1] || delta[s]);
                     if (connectsAtDelta || (inf && k == 1 && s == 1)) REQUIRE(w == 0.0f);
-                    if (bptStrategyValid(k, s, delta, inf))
-                        REQUIRE(w == Approx(std::pow(p[s], beta) / refSum).epsilon(1e-4).margin(1e-6));
+                    if (bptStrategyValid(k, s, delta, inf)) REQUIRE(w == Approx(std::pow(p[s], beta) / refSum).epsilon(1e-4).margin(1e-6));
                     sum += w;
                 }
                 INFO("k = " << k << ", beta = " << beta);
@@ -141,8 +138,7 @@ TEST_CASE("BPT MIS: the weight from partial sums cached per subpath vertex equal
             for (float beta : {1.0f, 2.0f}) {
                 double T[24], L[24];  // T[i]: camera vertex z_i = x_{k-i}; L[m]: light vertex y_m = x_m
                 T[0] = 0;
-                for (int i = 1; i <= k; ++i)
-                    T[i] = bptSubpathMisSum(T[i - 1], pL[k - i], pE[k - i], delta[k - i], delta[k - i + 1], beta);
+                for (int i = 1; i <= k; ++i) T[i] = bptSubpathMisSum(T[i - 1], pL[k - i], pE[k - i], delta[k - i], delta[k - i + 1], beta);
                 L[0] = bptLightMisSum0(pE[0], pL0Nee, x0Delta, beta);
                 if (k >= 1) L[1] = bptLightMisSum1(L[0], pL[0], pL0Nee, pL[1], pE[1], delta[1], beta);
                 for (int m = 2; m <= k; ++m) L[m] = bptSubpathMisSum(L[m - 1], pE[m], pL[m], delta[m], delta[m - 1], beta);
@@ -150,8 +146,8 @@ TEST_CASE("BPT MIS: the weight from partial sums cached per subpath vertex equal
                     const int t = k + 1 - s;
                     // The connection's ends are not deltas (bptStrategyValid checks that).
                     const float ref = bptMisWeight(k, s, pL, pE, delta, pL0Nee, beta, inf, x0Delta);
-                    const float w = bptMisWeightCached(k, s, pL, pE, delta, pL0Nee, beta, inf, x0Delta,
-                                                       t >= 3 ? T[t - 3] : 0.0, s >= 3 ? L[s - 3] : 0.0);
+                    const float w =
+                        bptMisWeightCached(k, s, pL, pE, delta, pL0Nee, beta, inf, x0Delta, t >= 3 ? T[t - 3] : 0.0, s >= 3 ? L[s - 3] : 0.0);
                     INFO("k = " << k << ", s = " << s << ", beta = " << beta << ", trial " << trial);
                     REQUIRE(std::isfinite(w));
                     REQUIRE(w == Approx(ref).epsilon(1e-5).margin(1e-7));
@@ -206,9 +202,7 @@ TEST_CASE("BPT MIS: a point light (x_0 a delta in position) leaves out s = 0 and
 
 // ---- 2. BPT = PT ------------------------------------------------------------------------
 
-TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render]") {
-    compareWithPt(rstats::cornell64(5), 32, 8, 5, 1000);
-}
+TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render]") { compareWithPt(rstats::cornell64(5), 32, 8, 5, 1000); }
 
 TEST_CASE("BPT matches PT with glossy, glass and mirror (caustics)", "[bpt][render]") {
     compareWithPt(loadSceneFromString(rstats::causticXml(64, 6), "caustic.xml", "."), 32, 8, 6, 2000);
@@ -255,8 +249,7 @@ TEST_CASE("BPT mean luminance by path length matches PT's", "[bpt][render]") {
     for (int k = 1; k <= maxLength; ++k) {
         size_t i = size_t(k - 1);
         double z = (bpt.mean(i) - pt.mean(i)) / std::sqrt(bpt.se(i) * bpt.se(i) + pt.se(i) * pt.se(i));
-        WARN("length " << k << ": BPT " << bpt.mean(i) << " +- " << bpt.se(i) << ", PT " << pt.mean(i) << " +- "
-                       << pt.se(i) << ", z = " << z);
+        WARN("length " << k << ": BPT " << bpt.mean(i) << " +- " << bpt.se(i) << ", PT " << pt.mean(i) << " +- " << pt.se(i) << ", z = " << z);
         CHECK(pt.mean(i) > 0);
     }
     rstats::ZTestResult z = rstats::compareRuns(bpt, pt, 1e-4);
@@ -372,8 +365,7 @@ TEST_CASE("BPT strategy images: each unweighted strategy estimates the same per-
             double ratio = 0;
             // p split over the 2 + 3 + 1 comparisons of this test case.
             rstats::ZTestResult z = rstats::compareRuns(strat[size_t(s)], pt, 1e-4 / 7, &ratio);
-            INFO("k = " << k << ", s = " << s << ", t = " << k + 1 - s << ": unweighted / PT = " << ratio << "; "
-                        << z.describe());
+            INFO("k = " << k << ", s = " << s << ", t = " << k + 1 - s << ": unweighted / PT = " << ratio << "; " << z.describe());
             CHECK(z.pass);
         }
     }

@@ -21,13 +21,33 @@ namespace {
 constexpr double kMinP = 1e-3;
 
 bool close(double a, double b, double rel = 1e-6) { return std::fabs(a - b) <= rel * std::max(std::fabs(a), std::fabs(b)); }
-BsdfParams matte(Vec3 kd) { BsdfParams m; m.kind = MaterialKind::Matte; m.diffuse = kd; return m; }
-BsdfParams glossy(Vec3 kd, Vec3 ks, float n) {
-    BsdfParams m; m.kind = MaterialKind::Glossy; m.diffuse = kd; m.specular = ks; m.shininess = n; return m;
+BsdfParams matte(Vec3 kd) {
+    BsdfParams m;
+    m.kind = MaterialKind::Matte;
+    m.diffuse = kd;
+    return m;
 }
-BsdfParams mirror(Vec3 r) { BsdfParams m; m.kind = MaterialKind::Reflective; m.reflect = r; return m; }
+BsdfParams glossy(Vec3 kd, Vec3 ks, float n) {
+    BsdfParams m;
+    m.kind = MaterialKind::Glossy;
+    m.diffuse = kd;
+    m.specular = ks;
+    m.shininess = n;
+    return m;
+}
+BsdfParams mirror(Vec3 r) {
+    BsdfParams m;
+    m.kind = MaterialKind::Reflective;
+    m.reflect = r;
+    return m;
+}
 BsdfParams glass(float eta, Vec3 r = Vec3(1.0f), Vec3 t = Vec3(1.0f)) {
-    BsdfParams m; m.kind = MaterialKind::Dielectric; m.eta = eta; m.reflect = r; m.refract = t; return m;
+    BsdfParams m;
+    m.kind = MaterialKind::Dielectric;
+    m.eta = eta;
+    m.reflect = r;
+    m.refract = t;
+    return m;
 }
 // Probability of the Phong lobe in the Glossy mixture.
 double phongProb(const BsdfParams& m) {
@@ -52,7 +72,10 @@ double phongLostMass(double n, double cosR) {
 
 // Directional albedo rho(wo) = E[f |cos wi| / pdf] per channel, with its standard error;
 // failed samples contribute 0. Also checks that each sample's weight is finite.
-struct Albedo { double mean[3] = {0, 0, 0}, se[3] = {0, 0, 0}; bool finite = true; };
+struct Albedo {
+    double mean[3] = {0, 0, 0}, se[3] = {0, 0, 0};
+    bool finite = true;
+};
 Albedo albedo(const BsdfParams& m, Vec3 wo, TransportMode mode, int N, uint64_t seed) {
     chi2::Pcg32 g(seed);
     double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
@@ -63,7 +86,10 @@ Albedo albedo(const BsdfParams& m, Vec3 wo, TransportMode mode, int N, uint64_t 
         if (!bsdfSample(m, wo, ul, u1, u2, mode, bs)) continue;
         Vec3 w = bs.f * (absCosTheta(bs.wi) / bs.pdf);
         a.finite = a.finite && isFinite(w) && bs.pdf > 0;
-        for (int c = 0; c < 3; ++c) { s[c] += w[c]; s2[c] += double(w[c]) * w[c]; }
+        for (int c = 0; c < 3; ++c) {
+            s[c] += w[c];
+            s2[c] += double(w[c]) * w[c];
+        }
     }
     for (int c = 0; c < 3; ++c) {
         a.mean[c] = s[c] / N;
@@ -73,11 +99,10 @@ Albedo albedo(const BsdfParams& m, Vec3 wo, TransportMode mode, int N, uint64_t 
 }
 
 std::vector<BsdfParams> glossyCases() {
-    return {glossy(Vec3(0.5f), Vec3(0.5f), 0), glossy(Vec3(0.3f), Vec3(0.7f), 1),
-            glossy(Vec3(0.2f), Vec3(0.8f), 10), glossy(Vec3(0.1f), Vec3(0.9f), 100),
+    return {glossy(Vec3(0.5f), Vec3(0.5f), 0),    glossy(Vec3(0.3f), Vec3(0.7f), 1),
+            glossy(Vec3(0.2f), Vec3(0.8f), 10),   glossy(Vec3(0.1f), Vec3(0.9f), 100),
             glossy(Vec3(0.0f), Vec3(1.0f), 1e4f), glossy(Vec3(0.5f), Vec3(0.5f), 1e4f),
-            glossy(Vec3(0.0f), Vec3(1.0f), 1e5f),
-            glossy(Vec3(0.7f, 0.2f, 0.1f), Vec3(0.3f, 0.8f, 0.9f), 30)};
+            glossy(Vec3(0.0f), Vec3(1.0f), 1e5f), glossy(Vec3(0.7f, 0.2f, 0.1f), Vec3(0.3f, 0.8f, 0.9f), 30)};
 }
 const double kThetas[] = {0, 30, 60, 80, 89, 89.9, 180, 150, 100, 90.5};  // > 90: wo below
 }  // namespace
@@ -87,7 +112,10 @@ TEST_CASE("albedo <= 1 for all materials and directions", "[bsdf][energy]") {
     ms.push_back(matte(Vec3(1.0f)));
     ms.push_back(matte(Vec3(0.8f, 0.5f, 0.2f)));
     ms.push_back(mirror(Vec3(1.0f)));
-    for (float eta : {1.0001f, 1.5f, 4.0f}) { ms.push_back(glass(eta)); ms.push_back(glass(1 / eta)); }
+    for (float eta : {1.0001f, 1.5f, 4.0f}) {
+        ms.push_back(glass(eta));
+        ms.push_back(glass(1 / eta));
+    }
     int k = 0;
     for (const BsdfParams& m : ms)
         for (double th : kThetas) {
@@ -103,8 +131,7 @@ TEST_CASE("albedo <= 1 for all materials and directions", "[bsdf][energy]") {
                 for (int c = 0; c < 3; ++c) CHECK(a.mean[c] == Approx(1.0).epsilon(1e-5));  // F + T = 1
             // Normalised Phong: albedo exactly Kd + Ks at normal incidence (no lobe lost).
             if (m.kind == MaterialKind::Glossy && (th == 0 || th == 180))
-                for (int c = 0; c < 3; ++c)
-                    CHECK(std::fabs(a.mean[c] - (m.diffuse[c] + m.specular[c])) <= 5 * a.se[c] + 1e-5);
+                for (int c = 0; c < 3; ++c) CHECK(std::fabs(a.mean[c] - (m.diffuse[c] + m.specular[c])) <= 5 * a.se[c] + 1e-5);
         }
 }
 
@@ -113,7 +140,10 @@ TEST_CASE("albedo <= 1 for all materials and directions", "[bsdf][energy]") {
 double glossyAlbedoRef(const BsdfParams& m, Vec3 wo) {
     double n = m.shininess, kd = luminance(m.diffuse), ks = luminance(m.specular);
     double r[3] = {-wo.x, -wo.y, wo.z}, a[3] = {0, 0, 1};
-    if (std::fabs(r[2]) > 0.9) { a[0] = 1; a[2] = 0; }
+    if (std::fabs(r[2]) > 0.9) {
+        a[0] = 1;
+        a[2] = 0;
+    }
     double s[3] = {a[1] * r[2] - a[2] * r[1], a[2] * r[0] - a[0] * r[2], a[0] * r[1] - a[1] * r[0]};
     double sl = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
     for (double& x : s) x /= sl;
@@ -169,8 +199,7 @@ TEST_CASE("BSDF pdfs integrate to one over the sphere", "[bsdf][pdf]") {
         BsdfParams m = matte(Vec3(0.5f));
         Vec3 wo = dirAt(th, 0);
         double s = 0;
-        for (double v : chi2::SphereBins::uniform({0, 0, 1}, 10, 8).integrate([&](Vec3 w) { return bsdfPdf(m, wo, w); }))
-            s += v;
+        for (double v : chi2::SphereBins::uniform({0, 0, 1}, 10, 8).integrate([&](Vec3 w) { return bsdfPdf(m, wo, w); })) s += v;
         CHECK(s == Approx(1.0).margin(1e-6));
     }
     for (const BsdfParams& m : glossyCases()) {
@@ -179,7 +208,7 @@ TEST_CASE("BSDF pdfs integrate to one over the sphere", "[bsdf][pdf]") {
             // Bins about the lobe's axis; for n <= 1 (lobe with an edge or a kink) about the
             // axis e where the horizon and the lobe's edge meet, so both are meridians there.
             auto bins = m.shininess > 1 ? chi2::SphereBins::lobe(r, m.shininess, 10, 4, 8)
-                        : chi2::SphereBins::uniform(length(e) > 1e-3f ? normalize(e) : Vec3(0, 0, 1), 10, 16);
+                                        : chi2::SphereBins::uniform(length(e) > 1e-3f ? normalize(e) : Vec3(0, 0, 1), 10, 16);
             double s = 0;
             // (depth 14: the jumps across meridians are resolved to 1e-5 of a bin's width)
             for (double v : bins.integrate([&](Vec3 w) { return glossyPdf(m, wo, w); }, 1e-8, m.shininess > 1 ? 8 : 14)) s += v;
@@ -206,8 +235,8 @@ TEST_CASE("Matte sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
             w = s.wi;
             return true;
         };
-        auto r = chi2::sphereTest(sample, [&](Vec3 w) { return bsdfPdf(m, wo, w); },
-                                  chi2::SphereBins::uniform({0, 0, 1}, 10, 20), 400000, 0, 500 + k++);
+        auto r = chi2::sphereTest(
+            sample, [&](Vec3 w) { return bsdfPdf(m, wo, w); }, chi2::SphereBins::uniform({0, 0, 1}, 10, 20), 400000, 0, 500 + k++);
         INFO("theta " << th << " " << chi2::describe(r));
         CHECK(r.pValue > kMinP);
     }
@@ -231,8 +260,8 @@ TEST_CASE("Glossy sampling matches its pdf (chi-square)", "[bsdf][chi2]") {
             };
             // Rejected (below-horizon) samples form the extra bin with mass ps * lost.
             double missing = phongProb(m) * phongLostMass(m.shininess, std::fabs(wo.z));
-            auto r = chi2::sphereTest(sample, [&](Vec3 w) { return bsdfPdf(m, wo, w); },
-                                      chi2::SphereBins::lobe(axis, m.shininess, 10, 4, 20), 300000, missing, 600 + k++);
+            auto r = chi2::sphereTest(
+                sample, [&](Vec3 w) { return bsdfPdf(m, wo, w); }, chi2::SphereBins::lobe(axis, m.shininess, 10, 4, 20), 300000, missing, 600 + k++);
             INFO("n " << m.shininess << " theta " << th << " missing " << missing << " " << chi2::describe(r));
             CHECK(r.pValue > kMinP);
         }
@@ -246,22 +275,23 @@ TEST_CASE("Glossy is robust at extreme exponents and grazing angles", "[bsdf]") 
         for (float z : {1.0f, 0.5f, 1e-3f, 1e-6f, -1e-6f, -0.7f}) {
             BsdfParams m = glossy(Vec3(0.2f), Vec3(0.8f), n);
             Vec3 wo = normalize(Vec3(std::sqrt(1 - z * z), 0.0f, z));
-            for (float ul : us) for (float u1 : us) for (float u2 : us) {
-                BsdfSample s;
-                if (!glossySample(m, wo, ul, u1, u2, s)) continue;
-                INFO("n " << n << " z " << z << " u " << ul << " " << u1 << " " << u2);
-                REQUIRE(isFinite(s.f));
-                REQUIRE(std::isfinite(s.pdf));
-                REQUIRE(s.pdf > 0);
-                REQUIRE(sameHemisphere(wo, s.wi));
-            }
+            for (float ul : us)
+                for (float u1 : us)
+                    for (float u2 : us) {
+                        BsdfSample s;
+                        if (!glossySample(m, wo, ul, u1, u2, s)) continue;
+                        INFO("n " << n << " z " << z << " u " << ul << " " << u1 << " " << u2);
+                        REQUIRE(isFinite(s.f));
+                        REQUIRE(std::isfinite(s.pdf));
+                        REQUIRE(s.pdf > 0);
+                        REQUIRE(sameHemisphere(wo, s.wi));
+                    }
             REQUIRE(isFinite(glossyF(m, wo, Vec3(-wo.x, -wo.y, wo.z))));
         }
     BsdfSample s;
     CHECK_FALSE(glossySample(glossy(Vec3(0.0f), Vec3(0.0f), 10), Vec3(0, 0, 1), 0.5f, 0.5f, 0.5f, s));
     // u1 = 0 maps to the disk's rim: a grazing direction of pdf 0, rejected, not NaN.
-    if (bsdfSample(matte(Vec3(0.5f)), Vec3(0, 0, 1), 0.5f, 0.0f, 0.5f, TransportMode::Radiance, s))
-        CHECK((s.pdf > 0 && isFinite(s.f)));
+    if (bsdfSample(matte(Vec3(0.5f)), Vec3(0, 0, 1), 0.5f, 0.0f, 0.5f, TransportMode::Radiance, s)) CHECK((s.pdf > 0 && isFinite(s.f)));
 }
 
 // ---- Delta lobes --------------------------------------------------------------------
@@ -288,7 +318,10 @@ static double fresnelHecht(double cosI, double etaRel) {
     double ti = std::acos(cosI), st = std::sin(ti) / etaRel;
     if (st >= 1) return 1;
     double tt = std::asin(st);
-    if (ti == 0) { double r = (etaRel - 1) / (etaRel + 1); return r * r; }
+    if (ti == 0) {
+        double r = (etaRel - 1) / (etaRel + 1);
+        return r * r;
+    }
     double rs = std::sin(ti - tt) / std::sin(ti + tt), rp = std::tan(ti - tt) / std::tan(ti + tt);
     return 0.5 * (rs * rs + rp * rp);
 }
@@ -312,7 +345,10 @@ TEST_CASE("Fresnel: normal incidence, both sides, TIR, Hecht's form, Schlick", "
             // and get the corresponding angle on the other side in double.
             float cd = eta > 1 ? -c : c;  // the direction in the denser medium
             double etaRel = eta > 1 ? 1.0 / eta : eta, cos2 = 1 - (1 - double(c) * c) / (etaRel * etaRel);
-            if (cos2 <= 0) { CHECK(fresnelDielectric(cd, eta) == 1.0f); continue; }
+            if (cos2 <= 0) {
+                CHECK(fresnelDielectric(cd, eta) == 1.0f);
+                continue;
+            }
             float co = float(eta > 1 ? std::sqrt(cos2) : -std::sqrt(cos2));  // in the rarer medium
             CHECK(fresnelDielectric(cd, eta) == Approx(fresnelHecht(std::sqrt(cos2), 1 / etaRel)).margin(2e-6));
             CHECK(fresnelDielectric(cd, eta) == Approx(fresnelDielectric(co, eta)).margin(2e-6));
@@ -342,16 +378,14 @@ TEST_CASE("Dielectric: Snell's law, reflection probability = F, TIR", "[bsdf][de
             int nRefl = 0, bad = 0;
             for (int i = 0; i < N; ++i) {
                 BsdfSample s;
-                bad += !dielectricSample(m, wo, g.uniform(), TransportMode::Importance, s) || !s.delta ||
-                       std::fabs(length(s.wi) - 1) > 1e-6f;
+                bad += !dielectricSample(m, wo, g.uniform(), TransportMode::Importance, s) || !s.delta || std::fabs(length(s.wi) - 1) > 1e-6f;
                 if (s.wi.z * wo.z > 0) {  // reflection: exact mirror, pdf F
                     ++nRefl;
                     bad += s.wi.x != -wo.x || s.wi.y != -wo.y || s.wi.z != wo.z || !close(s.pdf, F);
                 } else {  // refraction: n_o sin_o = n_i sin_i, opposite azimuth, pdf 1 - F
                     double sinO = std::sqrt(double(wo.x) * wo.x + double(wo.y) * wo.y);
                     double sinI = std::sqrt(double(s.wi.x) * s.wi.x + double(s.wi.y) * s.wi.y);
-                    bad += std::fabs(nO * sinO - nI * sinI) > 1e-6 || wo.x * s.wi.x + wo.y * s.wi.y > 0 ||
-                           !close(s.pdf, 1 - F, 1e-5);
+                    bad += std::fabs(nO * sinO - nI * sinI) > 1e-6 || wo.x * s.wi.x + wo.y * s.wi.y > 0 || !close(s.pdf, 1 - F, 1e-5);
                 }
             }
             CHECK(bad == 0);
@@ -395,8 +429,7 @@ TEST_CASE("Dielectric: lobe colours, Radiance vs Importance scaling", "[bsdf][de
     REQUIRE(dielectricSample(m, Vec3(-in.wi.x, -in.wi.y, in.wi.z), 0.999f, TransportMode::Radiance, out));
     double F = fresnelDielectric(wo.z, 1.5f);
     CHECK(out.wi.z == Approx(wo.z).epsilon(1e-6));
-    CHECK(in.f[0] * absCosTheta(in.wi) / in.pdf * out.f[0] * absCosTheta(out.wi) / out.pdf ==
-          Approx(1.0).epsilon(1e-5));
+    CHECK(in.f[0] * absCosTheta(in.wi) / in.pdf * out.f[0] * absCosTheta(out.wi) / out.pdf == Approx(1.0).epsilon(1e-5));
     CHECK(in.f[0] * absCosTheta(in.wi) * out.f[0] * absCosTheta(out.wi) == Approx((1 - F) * (1 - F)).epsilon(1e-5));
 }
 
@@ -435,9 +468,8 @@ TEST_CASE("matteScatter equals the per-hit matte bounce bit for bit", "[bsdf]") 
     for (bool roulette : {false, true}) {
         std::vector<float> nextBeta(3 * n), dir(3 * n), pdf(n);
         std::vector<uint32_t> ok(n);
-        (roulette ? wmlt::matteScatter<true> : wmlt::matteScatter<false>)(n, ns.data(), wo.data(), lx.data(), ly.data(),
-                                                                        lz.data(), kd.data(), beta.data(), u.data(),
-                                                                        nextBeta.data(), dir.data(), pdf.data(), ok.data());
+        (roulette ? wmlt::matteScatter<true> : wmlt::matteScatter<false>)(n, ns.data(), wo.data(), lx.data(), ly.data(), lz.data(), kd.data(),
+                                                                          beta.data(), u.data(), nextBeta.data(), dir.data(), pdf.data(), ok.data());
         size_t differ = 0, alive = 0, dead = 0;
         for (size_t h = 0; h < n; ++h) {
             const wmlt::Frame fr = wmlt::Frame::fromNormal(wmlt::Vec3(ns[3 * h], ns[3 * h + 1], ns[3 * h + 2]));

@@ -104,8 +104,7 @@ std::vector<Material> materialCases() {
 }
 double pdfIntegral(const Material& m, Vec3 wo) {
     double s = 0;
-    for (double v : chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16).integrate(
-             [&](Vec3 w) { return bsdfPdf(m.p, wo, w); }, 1e-8, 10))
+    for (double v : chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16).integrate([&](Vec3 w) { return bsdfPdf(m.p, wo, w); }, 1e-8, 10))
         s += v;
     return s;
 }
@@ -115,7 +114,8 @@ TEST_CASE("Anisotropic D and visible normals are normalised", "[bsdf][microfacet
     for (const Microfacet& d : anisoCases()) {
         INFO(typeName(d.type) << " alpha " << d.alphaX << " x " << d.alphaY);
         double s = 0;  // projected area: int D(m) cos dm = 1
-        for (double v : chi2::SphereBins::uniform({0, 0, 1}, 40, 8).integrate([&](Vec3 m) { return microfacetD(d, m) * std::max(0.0f, m.z); }, 1e-9, 12))
+        for (double v :
+             chi2::SphereBins::uniform({0, 0, 1}, 40, 8).integrate([&](Vec3 m) { return microfacetD(d, m) * std::max(0.0f, m.z); }, 1e-9, 12))
             s += v;
         CHECK(s == Approx(1.0).margin(2e-4));
         for (double th : {0.0, 40.0, 75.0, 89.0, 140.0})
@@ -137,11 +137,14 @@ TEST_CASE("Anisotropic visible normal sampling matches D_wo (chi-square)", "[bsd
             for (double ph : {0.0, 70.0}) {
                 if (th == 0.0 && ph != 0.0) continue;
                 Vec3 wo = dirAt(th, ph);
-                auto sample = [&](chi2::Pcg32& g, Vec3& w) { w = sampleVisibleNormal(d, wo, g.uniform(), g.uniform()); return true; };
-                auto r = chi2::sphereTest(sample, [&](Vec3 m) { return visibleNormalPdf(d, wo, m); },
-                                          chi2::SphereBins::lobe({0, 0, 1}, 2 / (d.alphaX * d.alphaY), 12, 2, 24), 200000, 0, 700 + k++);
-                INFO(typeName(d.type) << " alpha " << d.alphaX << " x " << d.alphaY << " theta " << th << " phi " << ph << " "
-                                      << chi2::describe(r));
+                auto sample = [&](chi2::Pcg32& g, Vec3& w) {
+                    w = sampleVisibleNormal(d, wo, g.uniform(), g.uniform());
+                    return true;
+                };
+                auto r = chi2::sphereTest(
+                    sample, [&](Vec3 m) { return visibleNormalPdf(d, wo, m); },
+                    chi2::SphereBins::lobe({0, 0, 1}, 2 / (d.alphaX * d.alphaY), 12, 2, 24), 200000, 0, 700 + k++);
+                INFO(typeName(d.type) << " alpha " << d.alphaX << " x " << d.alphaY << " theta " << th << " phi " << ph << " " << chi2::describe(r));
                 CHECK(r.pValue > kMinP);
             }
 }
@@ -164,11 +167,11 @@ TEST_CASE("Anisotropic rough conductor and dielectric: sampling matches the pdf,
                     w = s.wi;
                     return true;
                 };
-                auto r = chi2::sphereTest(sample, [&](Vec3 w) { return bsdfPdf(m.p, wo, w); },
-                                          chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16), 100000,
-                                          std::max(0.0, 1.0 - pdfIntegral(m, wo)), 800 + k++);
-                INFO("kind " << int(m.p.kind) << " " << typeName(m.x.dist.type) << " alpha " << m.x.dist.alphaX << " x "
-                             << m.x.dist.alphaY << " eta " << m.p.eta << " theta " << th << " " << chi2::describe(r));
+                auto r = chi2::sphereTest(
+                    sample, [&](Vec3 w) { return bsdfPdf(m.p, wo, w); }, chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16), 100000,
+                    std::max(0.0, 1.0 - pdfIntegral(m, wo)), 800 + k++);
+                INFO("kind " << int(m.p.kind) << " " << typeName(m.x.dist.type) << " alpha " << m.x.dist.alphaX << " x " << m.x.dist.alphaY << " eta "
+                             << m.p.eta << " theta " << th << " " << chi2::describe(r));
                 CHECK(r.pValue > kMinP);
             }
     CHECK(mismatches == 0);
@@ -200,8 +203,8 @@ TEST_CASE("Anisotropic microfacet BSDFs are reciprocal and conserve energy", "[b
                     s2 += w * w;
                 }
                 const double mean = s / N, se = std::sqrt(std::max(0.0, s2 / N - mean * mean) / N);
-                INFO("kind " << int(m.p.kind) << " alpha " << m.x.dist.alphaX << " x " << m.x.dist.alphaY << " theta " << th
-                             << " phi " << ph << " albedo " << mean << " se " << se);
+                INFO("kind " << int(m.p.kind) << " alpha " << m.x.dist.alphaX << " x " << m.x.dist.alphaY << " theta " << th << " phi " << ph
+                             << " albedo " << mean << " se " << se);
                 CHECK(mean <= 1 + 5 * se + 1e-5);
             }
     }
@@ -209,8 +212,7 @@ TEST_CASE("Anisotropic microfacet BSDFs are reciprocal and conserve energy", "[b
     CHECK(nonzero > 40000);
 }
 
-TEST_CASE("Isotropic microfacets compute b069d67's values bit for bit; the anisotropic forms meet them",
-          "[bsdf][microfacet][aniso][isotropic]") {
+TEST_CASE("Isotropic microfacets compute b069d67's values bit for bit; the anisotropic forms meet them", "[bsdf][microfacet][aniso][isotropic]") {
     chi2::Pcg32 g(5);
     int differ = 0, far = 0;
     for (MicrofacetType t : {MicrofacetType::Beckmann, MicrofacetType::GGX})
@@ -268,18 +270,23 @@ std::string scene(const std::string& body) {
 }
 SceneDesc load(const std::string& xml) { return loadMitsubaFromString(xml, "t.xml", ".", {}); }
 std::string errorOf(const std::string& xml) {
-    try { load(xml); } catch (const InputError& e) { return e.what(); }
+    try {
+        load(xml);
+    } catch (const InputError& e) {
+        return e.what();
+    }
     return "";
 }
 std::string shapeWith(const std::string& bsdf) { return "<shape type=\"cube\">" + bsdf + "</shape>"; }
 }  // namespace
 
 TEST_CASE("Mitsuba import: alpha_u and alpha_v, refused where Mitsuba refuses them", "[mitsuba][import][aniso]") {
-    SceneDesc d = load(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.5"/>
+    SceneDesc d =
+        load(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.5"/>
         <string name="distribution" value="ggx"/></bsdf>)") +
-                             shapeWith(R"(<bsdf type="roughdielectric"><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.1"/></bsdf>)") +
-                             shapeWith(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.2"/><float name="alpha_v" value="0.2"/></bsdf>)") +
-                             shapeWith(R"(<bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf>)")));
+                   shapeWith(R"(<bsdf type="roughdielectric"><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.1"/></bsdf>)") +
+                   shapeWith(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.2"/><float name="alpha_v" value="0.2"/></bsdf>)") +
+                   shapeWith(R"(<bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf>)")));
     const MaterialDesc& c = d.materials[d.shapes[0].material];
     CHECK(c.alpha == 0.05f);
     CHECK(alphaVOf(c) == 0.5f);
@@ -295,19 +302,25 @@ TEST_CASE("Mitsuba import: alpha_u and alpha_v, refused where Mitsuba refuses th
     CHECK((dist.type == MicrofacetType::GGX && dist.alphaX == 0.05f && dist.alphaY == 0.5f));
     CHECK(s->materials[d.shapes[2].material].x->dist.isotropic());
     // Only materials some shape uses count: an unused anisotropic BSDF changes nothing.
-    SceneDesc u = load(scene(R"(<bsdf type="roughconductor" id="unused"><float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.5"/></bsdf>)" +
-                             shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.2"/><float name="alpha_v" value="0.2"/></bsdf>)")));
+    SceneDesc u =
+        load(scene(R"(<bsdf type="roughconductor" id="unused"><float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.5"/></bsdf>)" +
+                   shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.2"/><float name="alpha_v" value="0.2"/></bsdf>)")));
     CHECK(!Scene::build(u, 1)->features.anisotropic);
 
     // Mitsuba 3: both or neither, not with alpha; roughplastic is isotropic only.
-    CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>)"))).find("both alpha_u and alpha_v") != std::string::npos);
-    CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughdielectric"><float name="alpha_v" value="0.1"/></bsdf>)"))).find("both alpha_u and alpha_v") != std::string::npos);
+    CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>)"))).find("both alpha_u and alpha_v") !=
+          std::string::npos);
+    CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughdielectric"><float name="alpha_v" value="0.1"/></bsdf>)"))).find("both alpha_u and alpha_v") !=
+          std::string::npos);
     CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha" value="0.1"/><float name="alpha_u" value="0.1"/>
-        <float name="alpha_v" value="0.2"/></bsdf>)"))).find("either alpha or alpha_u") != std::string::npos);
-    const std::string e = errorOf(scene(shapeWith(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/></bsdf>)")));
+        <float name="alpha_v" value="0.2"/></bsdf>)")))
+              .find("either alpha or alpha_u") != std::string::npos);
+    const std::string e =
+        errorOf(scene(shapeWith(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/></bsdf>)")));
     CHECK(e.find("not supported by roughplastic") != std::string::npos);
     CHECK(e.find("t.xml:") == 0);
-    CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0"/></bsdf>)"))).find("alpha must be in") != std::string::npos);
+    CHECK(errorOf(scene(shapeWith(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0"/></bsdf>)")))
+              .find("alpha must be in") != std::string::npos);
 }
 
 namespace {

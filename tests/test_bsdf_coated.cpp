@@ -38,7 +38,11 @@ struct Coat {
 struct Mean {
     double sum = 0, sumSq = 0;
     int n = 0;
-    void add(double v) { sum += v; sumSq += v * v; ++n; }
+    void add(double v) {
+        sum += v;
+        sumSq += v * v;
+        ++n;
+    }
     double mean() const { return sum / n; }
     double se() const { return std::sqrt(std::max(0.0, sumSq / n - mean() * mean()) / n); }
 };
@@ -61,7 +65,11 @@ void albedos(const BsdfParams& m, Vec3 wo, int N, Mean& bySampling, Mean& byF, i
 
 TEST_CASE("Coated: sampling and f estimate one BSDF (rough coats, diffuse and conductor bases)", "[bsdf][coated]") {
     const Vec3 wo = normalize(Vec3(0.6f, 0.1f, 0.8f));
-    struct Case { const char* what; Coat coat; int c; };
+    struct Case {
+        const char* what;
+        Coat coat;
+        int c;
+    };
     const Case cases[] = {
         {"rough coat, white diffuse", Coat(false, 0.3f, 0, 0.01f), 0},
         {"rough coat, grey diffuse, thin", Coat(false, 0.2f, 0, 1e-4f, Vec3(0.5f)), 0},
@@ -140,7 +148,7 @@ TEST_CASE("DiffuseTransmission: the sample's density, f and pdf", "[bsdf]") {
         through.add(s.wi.z * wo.z < 0 ? 1.0 : 0.0);
     }
     CHECK(std::fabs(integral.mean() - 1.0) < 4.5 * integral.se());
-    CHECK(std::fabs(through.mean() - 0.6 / 0.9) < 4.5 * through.se());  // max(T) / (max(R) + max(T))
-    CHECK(diffuseTransmissionF(m, wo, Vec3(0, 0, 1)).y == Approx(0.5f / kPi));  // the other side: T / pi
+    CHECK(std::fabs(through.mean() - 0.6 / 0.9) < 4.5 * through.se());           // max(T) / (max(R) + max(T))
+    CHECK(diffuseTransmissionF(m, wo, Vec3(0, 0, 1)).y == Approx(0.5f / kPi));   // the other side: T / pi
     CHECK(diffuseTransmissionF(m, wo, Vec3(0, 0, -1)).y == Approx(0.2f / kPi));  // wo's side: R / pi
 }

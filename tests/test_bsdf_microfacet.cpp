@@ -35,7 +35,8 @@ struct Material {
         x.specularWeight = 0.5f;
         if (k == MaterialKind::Plastic || k == MaterialKind::RoughPlastic) preparePlastic(x, eta, k == MaterialKind::RoughPlastic);
         p.x = &x;
-        if (k == MaterialKind::Blend) setParts(Material(MaterialKind::RoughConductor, t, alpha), Material(MaterialKind::RoughPlastic, t, 0.15f, 1.49f), 0.3f);
+        if (k == MaterialKind::Blend)
+            setParts(Material(MaterialKind::RoughConductor, t, alpha), Material(MaterialKind::RoughPlastic, t, 0.15f, 1.49f), 0.3f);
     }
     // A blend (blendbsdf) of a and b, b with weight w.
     void setParts(const Material& a, const Material& b, float w) {
@@ -85,8 +86,7 @@ const char* name(const Material& m) {
 // Integral of pdf over the sphere (bins about the mirror direction, fine enough for alpha >= 0.1).
 double pdfIntegral(const Material& m, Vec3 wo) {
     double s = 0;
-    for (double v : chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16).integrate(
-             [&](Vec3 w) { return bsdfPdf(m.p, wo, w); }, 1e-8, 10))
+    for (double v : chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16).integrate([&](Vec3 w) { return bsdfPdf(m.p, wo, w); }, 1e-8, 10))
         s += v;
     return s;
 }
@@ -97,7 +97,8 @@ TEST_CASE("Microfacet D and the visible normals are normalised", "[bsdf][microfa
         for (float a : {0.1f, 0.3f, 0.8f}) {
             Microfacet d{t, a};
             double s = 0;  // projected area: int D(m) cos dm = 1
-            for (double v : chi2::SphereBins::uniform({0, 0, 1}, 40, 4).integrate([&](Vec3 m) { return microfacetD(d, m) * std::max(0.0f, m.z); }, 1e-9, 12))
+            for (double v :
+                 chi2::SphereBins::uniform({0, 0, 1}, 40, 4).integrate([&](Vec3 m) { return microfacetD(d, m) * std::max(0.0f, m.z); }, 1e-9, 12))
                 s += v;
             INFO("type " << int(t) << " alpha " << a);
             CHECK(s == Approx(1.0).margin(2e-4));
@@ -119,9 +120,13 @@ TEST_CASE("Visible normal sampling matches D_wo (chi-square)", "[bsdf][microface
             for (double th : {0.0, 45.0, 80.0, 89.5, 120.0}) {
                 Microfacet d{t, a};
                 Vec3 wo = dirAt(th, 70);
-                auto sample = [&](chi2::Pcg32& g, Vec3& w) { w = sampleVisibleNormal(d, wo, g.uniform(), g.uniform()); return true; };
-                auto r = chi2::sphereTest(sample, [&](Vec3 m) { return visibleNormalPdf(d, wo, m); },
-                                          chi2::SphereBins::lobe({0, 0, 1}, 2 / (a * a), 12, 2, 16), 200000, 0, 40 + k++);
+                auto sample = [&](chi2::Pcg32& g, Vec3& w) {
+                    w = sampleVisibleNormal(d, wo, g.uniform(), g.uniform());
+                    return true;
+                };
+                auto r = chi2::sphereTest(
+                    sample, [&](Vec3 m) { return visibleNormalPdf(d, wo, m); }, chi2::SphereBins::lobe({0, 0, 1}, 2 / (a * a), 12, 2, 16), 200000, 0,
+                    40 + k++);
                 INFO("type " << int(t) << " alpha " << a << " theta " << th << " " << chi2::describe(r));
                 CHECK(r.pValue > kMinP);
             }
@@ -147,11 +152,11 @@ TEST_CASE("Microfacet BSDFs: sampling matches the pdf, f/pdf of samples equal ev
                 };
                 // Failed samples (below the surface, or the plastic's delta coating) form the
                 // extra bin: their mass is 1 - the pdf's integral.
-                auto r = chi2::sphereTest(sample, [&](Vec3 w) { return bsdfPdf(m.p, wo, w); },
-                                          chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16), 100000,
-                                          std::max(0.0, 1.0 - pdfIntegral(m, wo)), 300 + k++);
-                INFO(name(m) << " type " << int(m.x.dist.type) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta
-                     << " theta " << th << " " << chi2::describe(r));
+                auto r = chi2::sphereTest(
+                    sample, [&](Vec3 w) { return bsdfPdf(m.p, wo, w); }, chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16), 100000,
+                    std::max(0.0, 1.0 - pdfIntegral(m, wo)), 300 + k++);
+                INFO(name(m) << " type " << int(m.x.dist.type) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta << " theta " << th << " "
+                             << chi2::describe(r));
                 CHECK(r.pValue > kMinP);
             }
         }
@@ -195,8 +200,9 @@ TEST_CASE("Microfacet BSDFs are reciprocal (rough dielectric: up to eta'^2)", "[
             const Vec3 b = bsdfF(m.p, wi, wo);
             for (int c = 0; c < 3; ++c) {
                 bool ok = close(a[c], b[c], 1e-3);
-                if (!ok && bad < 3) WARN(name(m) << " alpha " << m.x.dist.alphaX << " wo " << wo.x << " " << wo.y << " " << wo.z
-                                         << " wi " << wi.x << " " << wi.y << " " << wi.z << ": " << a[c] << " vs " << b[c]);
+                if (!ok && bad < 3)
+                    WARN(name(m) << " alpha " << m.x.dist.alphaX << " wo " << wo.x << " " << wo.y << " " << wo.z << " wi " << wi.x << " " << wi.y
+                                 << " " << wi.z << ": " << a[c] << " vs " << b[c]);
                 bad += !ok;
             }
             nonzero += a[1] > 0;
@@ -218,17 +224,19 @@ TEST_CASE("Microfacet BSDFs conserve energy; closed forms of the albedo", "[bsdf
                     BsdfSample bs;
                     if (!bsdfSample(m.p, wo, g.uniform(), g.uniform(), g.uniform(), mode, bs)) continue;
                     Vec3 w = bs.f * (absCosTheta(bs.wi) / bs.pdf);
-                    for (int c = 0; c < 3; ++c) { s[c] += w[c]; s2[c] += double(w[c]) * w[c]; }
+                    for (int c = 0; c < 3; ++c) {
+                        s[c] += w[c];
+                        s2[c] += double(w[c]) * w[c];
+                    }
                 }
                 for (int c = 0; c < 3; ++c) {
                     double mean = s[c] / N, se = std::sqrt(std::max(0.0, s2[c] / N - mean * mean) / N);
-                    INFO(name(m) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta << " theta " << th << " mode "
-                         << int(mode) << " channel " << c << " albedo " << mean << " se " << se);
+                    INFO(name(m) << " alpha " << m.x.dist.alphaX << " eta " << m.p.eta << " theta " << th << " mode " << int(mode) << " channel " << c
+                                 << " albedo " << mean << " se " << se);
                     // Radiance across a dielectric is not conserved (1/eta^2): only Importance.
                     const bool transmits = m.p.kind == MaterialKind::RoughDielectric ||
                                            (m.p.kind == MaterialKind::Blend && m.partParams[0].kind == MaterialKind::RoughDielectric);
-                    if (!(transmits && mode == TransportMode::Radiance))
-                        CHECK(mean <= 1 + 5 * se + 1e-5);
+                    if (!(transmits && mode == TransportMode::Radiance)) CHECK(mean <= 1 + 5 * se + 1e-5);
                     if (m.p.kind == MaterialKind::Plastic) {  // F Ks + (1 - F) Kd with the exact Fdr
                         double F = fresnelDielectric(std::fabs(wo.z), m.p.eta);
                         CHECK(std::fabs(mean - (F + (1 - F) * m.p.diffuse[c])) <= 5 * se + 1e-4);
@@ -269,7 +277,7 @@ TEST_CASE("Delta Mitsuba kinds: conductor and thin dielectric weights and direct
             bool refl = s.wi.z == wo.z;
             nRefl += refl;
             if (!refl) CHECK((s.wi.x == -wo.x && s.wi.y == -wo.y && s.wi.z == -wo.z));  // straight through
-            CHECK(s.f[0] * absCosTheta(s.wi) / s.pdf == Approx(1.0).epsilon(1e-5));   // white slab
+            CHECK(s.f[0] * absCosTheta(s.wi) / s.pdf == Approx(1.0).epsilon(1e-5));     // white slab
         }
         CHECK(std::fabs(nRefl / 20000.0 - R) <= 5 * std::sqrt(R * (1 - R) / 20000) + 1e-9);
     }
@@ -281,7 +289,10 @@ TEST_CASE("Delta Mitsuba kinds: conductor and thin dielectric weights and direct
 // sample with the unread numbers replaced by other values is the same bit for bit.
 TEST_CASE("BSDF kinds read only the sample numbers they declare", "[bsdf]") {
     uint64_t state = 0x5eed;
-    auto next = [&] { state = state * 6364136223846793005ull + 1442695040888963407ull; return float(state >> 40) * 0x1p-24f; };
+    auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return float(state >> 40) * 0x1p-24f;
+    };
     forEachMaterialKind([&](auto kind) {
         constexpr MaterialKind K = decltype(kind)::value;
         using B = BsdfOf<K>;

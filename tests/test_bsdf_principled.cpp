@@ -21,8 +21,7 @@ struct Principled {
     BsdfParams p;
     float v[kPrincipledParams] = {0.5f, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     std::string what;
-    Principled(std::string name, Vec3 base, float eta, std::initializer_list<std::pair<PrincipledParam, float>> params,
-               bool transmits = false)
+    Principled(std::string name, Vec3 base, float eta, std::initializer_list<std::pair<PrincipledParam, float>> params, bool transmits = false)
         : what(std::move(name)) {
         for (const auto& [k, value] : params) v[int(k)] = value;
         p.kind = MaterialKind::Principled;
@@ -44,16 +43,22 @@ std::vector<Principled> cases() {
     std::vector<Principled> c;
     c.emplace_back("default", Vec3(0.5f), 1.5f, std::initializer_list<std::pair<P, float>>{});
     c.emplace_back("every lobe", Vec3(0.9f, 0.6f, 0.2f), 1.5f,
-                   std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.35f}, {P::Metallic, 0.3f}, {P::SpecTint, 0.4f},
-                                                              {P::Sheen, 0.7f}, {P::SheenTint, 0.5f}, {P::Flatness, 0.3f},
-                                                              {P::Clearcoat, 0.8f}, {P::ClearcoatGloss, 0.4f}});
+                   std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.35f},
+                                                              {P::Metallic, 0.3f},
+                                                              {P::SpecTint, 0.4f},
+                                                              {P::Sheen, 0.7f},
+                                                              {P::SheenTint, 0.5f},
+                                                              {P::Flatness, 0.3f},
+                                                              {P::Clearcoat, 0.8f},
+                                                              {P::ClearcoatGloss, 0.4f}});
     c.emplace_back("anisotropic metal", Vec3(0.95f, 0.64f, 0.54f), 1.5f,
                    std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.4f}, {P::Anisotropic, 0.8f}, {P::Metallic, 1.0f}});
-    c.emplace_back("glass", Vec3(0.8f, 0.9f, 1.0f), 1.5f,
-                   std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.4f}, {P::SpecTrans, 1.0f}}, true);
+    c.emplace_back("glass", Vec3(0.8f, 0.9f, 1.0f), 1.5f, std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.4f}, {P::SpecTrans, 1.0f}},
+                   true);
     c.emplace_back("half glass", Vec3(0.7f, 0.5f, 0.3f), 1.33f,
-                   std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.6f}, {P::SpecTrans, 0.6f}, {P::Metallic, 0.2f},
-                                                              {P::Clearcoat, 0.5f}, {P::ClearcoatGloss, 0.2f}}, true);
+                   std::initializer_list<std::pair<P, float>>{
+                       {P::Roughness, 0.6f}, {P::SpecTrans, 0.6f}, {P::Metallic, 0.2f}, {P::Clearcoat, 0.5f}, {P::ClearcoatGloss, 0.2f}},
+                   true);
     c.emplace_back("low eta, sparse rates", Vec3(0.4f, 0.7f, 0.4f), 1.0f / 1.2f,
                    std::initializer_list<std::pair<P, float>>{{P::Roughness, 0.5f}, {P::SpecTrans, 0.5f}, {P::Clearcoat, 1.0f}}, true);
     c.back().x.samplingRate[0] = 0.5f;
@@ -64,8 +69,8 @@ std::vector<Principled> cases() {
 // Integral of pdf over the sphere.
 double pdfIntegral(const Principled& m, Vec3 wo) {
     double s = 0;
-    for (double v : chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16).integrate(
-             [&](Vec3 w) { return principledPdf(m.p, wo, w); }, 1e-8, 10))
+    for (double v :
+         chi2::SphereBins::uniform(Vec3(-wo.x, -wo.y, wo.z), 24, 16).integrate([&](Vec3 w) { return principledPdf(m.p, wo, w); }, 1e-8, 10))
         s += v;
     return s;
 }
@@ -95,9 +100,9 @@ TEST_CASE("Principled: sampling matches the pdf, f/pdf of samples equal evaluati
                 // the pdf too coarsely for 2e6 samples (p ~ 2e-3; 0.4 with these bins). 1e6
                 // samples: an error of the density shows as a chi-square excess 10x the
                 // 1e5 samples' (at 2e5, one of the 60 tests drew p = 3e-4; 1e6, 2e6: >= 5e-3).
-                auto r = chi2::sphereTest(sample, [&](Vec3 w) { return principledPdf(m.p, wo, w); },
-                                          chi2::SphereBins::uniform(Vec3(0, 0, 1), 48, 32), 1000000,
-                                          std::max(0.0, 1.0 - pdfIntegral(m, wo)), 700 + k++);
+                auto r = chi2::sphereTest(
+                    sample, [&](Vec3 w) { return principledPdf(m.p, wo, w); }, chi2::SphereBins::uniform(Vec3(0, 0, 1), 48, 32), 1000000,
+                    std::max(0.0, 1.0 - pdfIntegral(m, wo)), 700 + k++);
                 INFO(m.what << " theta " << th << " mode " << int(mode) << " " << chi2::describe(r));
                 CHECK(r.pValue > 1e-3);
             }
@@ -172,8 +177,8 @@ TEST_CASE("Principled: Mitsuba 3's f in closed form", "[bsdf][principled]") {
                 const double Fp = (1 - p.metallic) * (1 - p.specTint) * F + p.metallic * (b[c] + (1 - b[c]) * s) +
                                   (1 - p.metallic) * p.specTint * (R0t + (1 - R0t) * s);
                 const double sheen = brdf > 0 ? p.sheen * (1 - p.metallic) * s * (1 + (tint - 1) * p.sheenTint) : 0;
-                const double expect = Fp * DGm / (4 * w.z * w.z) + 0.25 * p.clearcoat * (0.04 + 0.96 * s) * Dcc * ccGm +
-                                      brdf * b[c] / M_PI * dm + sheen;
+                const double expect =
+                    Fp * DGm / (4 * w.z * w.z) + 0.25 * p.clearcoat * (0.04 + 0.96 * s) * Dcc * ccGm + brdf * b[c] / M_PI * dm + sheen;
                 INFO(m.what << " mirror pair at theta " << th << " channel " << c << " f " << f3[c] << " expected " << expect);
                 CHECK(close(f3[c], expect, 2e-5));
             }
@@ -199,7 +204,8 @@ TEST_CASE("Principled: all transmission is the rough dielectric", "[bsdf][princi
             for (int i = 0; i < 20000; ++i) {
                 const Vec3 wo = sampleUniformSphere(g.uniform(), g.uniform()), wi = sampleUniformSphere(g.uniform(), g.uniform());
                 const float a = principledF(pr.p, wo, wi).y, b = roughDielectricF(d, wo, wi).y;
-                if (!close(a, b, 1e-4) && bad < 3) WARN("wo " << wo.x << " " << wo.y << " " << wo.z << " wi " << wi.x << " " << wi.y << " " << wi.z << ": " << a << " vs " << b);
+                if (!close(a, b, 1e-4) && bad < 3)
+                    WARN("wo " << wo.x << " " << wo.y << " " << wo.z << " wi " << wi.x << " " << wi.y << " " << wi.z << ": " << a << " vs " << b);
                 bad += !close(a, b, 1e-4);
                 nonzero += b > 0;
             }

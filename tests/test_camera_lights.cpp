@@ -5,11 +5,11 @@
 #include <random>
 #include <vector>
 
+#include "chi2.h"
+#include "kernels/bsdf.h"
 #include "kernels/camera.h"
 #include "kernels/lights.h"
 #include "kernels/nee.h"
-#include "kernels/bsdf.h"
-#include "chi2.h"
 #include "kernels/rng.h"
 
 using namespace wmlt;
@@ -26,7 +26,7 @@ TEST_CASE("a camera looking along +z with +y up sees +x on its left", "[camera]"
     CHECK(px < 100.0f);  // left half of the image
     CHECK(py == Approx(50.0f));
     REQUIRE(cameraRasterOf(c, normalize(Vec3(0, 0.2f, 1)), px, py));
-    CHECK(py < 50.0f);   // +y is up: the top half (raster y points down)
+    CHECK(py < 50.0f);  // +y is up: the top half (raster y points down)
     CHECK(px == Approx(100.0f));
 }
 
@@ -72,7 +72,7 @@ TEST_CASE("raster position and camera ray are inverses", "[camera]") {
 // the stratified raster point, then forward + right sx + up sy normalised, in Vec3.
 TEST_CASE("camera rays: pinholeCameraDirections equals the Vec3 form bit for bit", "[camera]") {
     const Camera c = makeCamera(tiltedCamera(35), 67, 45);
-    const int n = 5;  // strata per axis: 25 per round, not a power of four (cycle walking)
+    const int n = 5;        // strata per axis: 25 per round, not a power of four (cycle walking)
     const size_t m = 4099;  // not a multiple of any vector width
     std::vector<uint64_t> key(m);
     std::vector<float> x(m), y(m), sx(m), sy(m), dir(3 * m);
@@ -86,15 +86,14 @@ TEST_CASE("camera rays: pinholeCameraDirections equals the Vec3 form bit for bit
         sx[i] = float(stratum % 5);
         sy[i] = float(stratum / 5);
     }
-    pinholeCameraDirections(cameraFloats(c), key.data(), x.data(), y.data(), sx.data(), sy.data(), m, float(n), dimX,
-                            dimY, dir.data());
+    pinholeCameraDirections(cameraFloats(c), key.data(), x.data(), y.data(), sx.data(), sy.data(), m, float(n), dimX, dimY, dir.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     size_t differ = 0;
     for (size_t i = 0; i < m; ++i) {
         const uint32_t pixel = uint32_t(i * 7919 % (67 * 45)), s = uint32_t(i % 37);
         float px, py;
-        stratifiedRasterPoint(int(pixel % 67), int(pixel / 67), s, n, strataKey(11, pixel),
-                              sampleDimension(key[i], dimX), sampleDimension(key[i], dimY), px, py);
+        stratifiedRasterPoint(int(pixel % 67), int(pixel / 67), s, n, strataKey(11, pixel), sampleDimension(key[i], dimX),
+                              sampleDimension(key[i], dimY), px, py);
         const float rx = (2.0f * px / float(c.width) - 1.0f) * c.scaleX;
         const float ry = (1.0f - 2.0f * py / float(c.height)) * c.scaleY;
         const Vec3 w = c.forward + c.right * rx + c.up * ry;
@@ -147,8 +146,8 @@ TEST_CASE("camera samples: sampleCameraFrom and pinholeCameraSamples equal the V
             const Vec3 N = normalize(Vec3(sgn(rng), sgn(rng), sgn(rng)) + Vec3(0.0f, 0.0f, 0.01f));
             // half in front of the camera (most of them seen), half anywhere
             const float z = 0.5f + 10.0f * u01(rng);
-            const Vec3 R = h % 2 ? c.position + c.forward * z + c.right * (1.2f * z * sgn(rng)) + c.up * (z * sgn(rng))
-                                 : Vec3(pos(rng), pos(rng), pos(rng));
+            const Vec3 R =
+                h % 2 ? c.position + c.forward * z + c.right * (1.2f * z * sgn(rng)) + c.up * (z * sgn(rng)) : Vec3(pos(rng), pos(rng), pos(rng));
             for (int a = 0; a < 3; ++a) {
                 ref[3 * h + a] = R[a];
                 refN[3 * h + a] = N[a];
@@ -158,8 +157,8 @@ TEST_CASE("camera samples: sampleCameraFrom and pinholeCameraSamples equal the V
         ref[1] = c.position.y;
         ref[2] = c.position.z;
         if (!lens)
-            pinholeCameraSamples(cameraFloats(c), n, ref.data(), refN.data(), wi.data(), px.data(), py.data(), We.data(),
-                                 pdf.data(), pdfArea.data(), valid.data());
+            pinholeCameraSamples(cameraFloats(c), n, ref.data(), refN.data(), wi.data(), px.data(), py.data(), We.data(), pdf.data(), pdfArea.data(),
+                                 valid.data());
         size_t differ = 0, seen = 0, unseen = 0;
         for (size_t h = 0; h < n; ++h) {
             const Vec3 r(ref[3 * h], ref[3 * h + 1], ref[3 * h + 2]), N(refN[3 * h], refN[3 * h + 1], refN[3 * h + 2]);
@@ -297,8 +296,8 @@ TEST_CASE("rect light: rectLightSamples(Of) and sampleRectLight equal the Vec3 f
         ref[3 * i + 1] = i % 13 == 0 ? 1.9f : i % 3 == 0 ? above(rng) : below(rng);
         ref[3 * i + 2] = pos(rng);
     }
-    rectLightSamples(rectFloats(l), u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(),
-                     dist.data(), pdf.data(), ok.data());
+    rectLightSamples(rectFloats(l), u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(), dist.data(), pdf.data(),
+                     ok.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     size_t differ = 0, sampled = 0, refused = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -314,11 +313,11 @@ TEST_CASE("rect light: rectLightSamples(Of) and sampleRectLight equal the Vec3 f
             continue;
         }
         ++sampled;
-        if (!same(s.p.x, p[3 * i]) || !same(s.p.y, p[3 * i + 1]) || !same(s.p.z, p[3 * i + 2]) || !same(s.wi.x, wx[i]) ||
-            !same(s.wi.y, wy[i]) || !same(s.wi.z, wz[i]) || !same(s.dist, dist[i]) || !same(s.pdf, pdf[i]))
+        if (!same(s.p.x, p[3 * i]) || !same(s.p.y, p[3 * i + 1]) || !same(s.p.z, p[3 * i + 2]) || !same(s.wi.x, wx[i]) || !same(s.wi.y, wy[i]) ||
+            !same(s.wi.z, wz[i]) || !same(s.dist, dist[i]) || !same(s.pdf, pdf[i]))
             ++differ;
-        if (!same(s.p.x, t.p.x) || !same(s.p.y, t.p.y) || !same(s.p.z, t.p.z) || !same(s.wi.x, t.wi.x) ||
-            !same(s.wi.y, t.wi.y) || !same(s.wi.z, t.wi.z) || !same(s.dist, t.dist) || !same(s.pdf, t.pdf))
+        if (!same(s.p.x, t.p.x) || !same(s.p.y, t.p.y) || !same(s.p.z, t.p.z) || !same(s.wi.x, t.wi.x) || !same(s.wi.y, t.wi.y) ||
+            !same(s.wi.z, t.wi.z) || !same(s.dist, t.dist) || !same(s.pdf, t.pdf))
             ++differ;
     }
     CHECK(sampled > n / 4);
@@ -331,8 +330,8 @@ TEST_CASE("rect light: rectLightSamples(Of) and sampleRectLight equal the Vec3 f
     const RectFloats table[3] = {rectFloats(l), rectFloats(up), RectFloats{}};
     std::vector<uint32_t> which(n);
     for (size_t i = 0; i < n; ++i) which[i] = uint32_t((i * 7 + i / 5) % 3);
-    rectLightSamplesOf(table, which.data(), u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(),
-                       dist.data(), pdf.data(), ok.data());
+    rectLightSamplesOf(table, which.data(), u1.data(), u2.data(), ref.data(), n, p.data(), wx.data(), wy.data(), wz.data(), dist.data(), pdf.data(),
+                       ok.data());
     size_t perLight[3] = {0, 0, 0};
     differ = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -342,8 +341,8 @@ TEST_CASE("rect light: rectLightSamples(Of) and sampleRectLight equal the Vec3 f
         if (valid != bool(ok[i])) ++differ;
         if (!valid) continue;
         ++perLight[which[i]];
-        if (!same(t.p.x, p[3 * i]) || !same(t.p.y, p[3 * i + 1]) || !same(t.p.z, p[3 * i + 2]) || !same(t.wi.x, wx[i]) ||
-            !same(t.wi.y, wy[i]) || !same(t.wi.z, wz[i]) || !same(t.dist, dist[i]) || !same(t.pdf, pdf[i]))
+        if (!same(t.p.x, p[3 * i]) || !same(t.p.y, p[3 * i + 1]) || !same(t.p.z, p[3 * i + 2]) || !same(t.wi.x, wx[i]) || !same(t.wi.y, wy[i]) ||
+            !same(t.wi.z, wz[i]) || !same(t.dist, dist[i]) || !same(t.pdf, pdf[i]))
             ++differ;
     }
     CHECK(perLight[0] > n / 10);
@@ -396,12 +395,11 @@ TEST_CASE("rect light: matteNeeValuesOf and shadowRaysTo equal the per-hit NEE b
         wiz[h] = W.z;
         pdf[h] = h % 13 == 0 ? 0.0f : 0.1f + 4.0f * u01(rng);
     }
-    matteNeeValuesOf<false>(c, nullptr, nullptr, n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(), pdf.data(),
-                            kd.data(), beta.data(), L.data(), send.data());
-    matteNeeValuesOf<true>(c, Le.data(), pmfs.data(), n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(),
-                           pdf.data(), kd.data(), beta.data(), L2.data(), send2.data());
-    shadowRaysTo(epsilonScale, n, p.data(), ng.data(), wix.data(), wiy.data(), wiz.data(), lp.data(), origin.data(),
-                 dir.data(), tfar.data());
+    matteNeeValuesOf<false>(c, nullptr, nullptr, n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(), pdf.data(), kd.data(), beta.data(),
+                            L.data(), send.data());
+    matteNeeValuesOf<true>(c, Le.data(), pmfs.data(), n, ns.data(), wo.data(), wix.data(), wiy.data(), wiz.data(), pdf.data(), kd.data(), beta.data(),
+                           L2.data(), send2.data());
+    shadowRaysTo(epsilonScale, n, p.data(), ng.data(), wix.data(), wiy.data(), wiz.data(), lp.data(), origin.data(), dir.data(), tfar.data());
     auto same = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
     size_t differ = 0, sent = 0;
     for (size_t h = 0; h < n; ++h) {
@@ -423,8 +421,8 @@ TEST_CASE("rect light: matteNeeValuesOf and shadowRaysTo equal the per-hit NEE b
                 if (!same(v[a], L[3 * h + a])) ++differ;
             const float lightPdf2 = pdf[h] * pmfs[h];
             const float w2 = powerHeuristic(lightPdf2, mattePdf(m, woL, wiL));
-            const Vec3 v2 = Vec3(beta[3 * h], beta[3 * h + 1], beta[3 * h + 2]) * f * Vec3(Le[3 * h], Le[3 * h + 1], Le[3 * h + 2]) *
-                            (w2 / lightPdf2);
+            const Vec3 v2 =
+                Vec3(beta[3 * h], beta[3 * h + 1], beta[3 * h + 2]) * f * Vec3(Le[3 * h], Le[3 * h + 1], Le[3 * h + 2]) * (w2 / lightPdf2);
             for (int a = 0; a < 3; ++a)
                 if (!same(v2[a], L2[3 * h + a])) ++differ;
         }
@@ -471,19 +469,18 @@ TEST_CASE("rect light: rectEmissionSamples and sampleRectEmission equal the Vec3
     size_t differ = 0, sampled = 0;
     for (size_t i = 0; i < n; ++i) {
         LightEmission e, f;
-        const bool valid = rectEmissionVec3(l, u1[i], u2[i], u3[i], u4[i], e),
-                   scalar = sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], f);
+        const bool valid = rectEmissionVec3(l, u1[i], u2[i], u3[i], u4[i], e), scalar = sampleRectEmission(l, u1[i], u2[i], u3[i], u4[i], f);
         if (valid != bool(ok[i]) || valid != scalar) {
             ++differ;
             continue;
         }
         if (!valid) continue;
         ++sampled;
-        if (!same(e.p.x, p[3 * i]) || !same(e.p.y, p[3 * i + 1]) || !same(e.p.z, p[3 * i + 2]) || !same(e.dir.x, dx[i]) ||
-            !same(e.dir.y, dy[i]) || !same(e.dir.z, dz[i]) || !same(e.pdfDir, pdfDir[i]))
+        if (!same(e.p.x, p[3 * i]) || !same(e.p.y, p[3 * i + 1]) || !same(e.p.z, p[3 * i + 2]) || !same(e.dir.x, dx[i]) || !same(e.dir.y, dy[i]) ||
+            !same(e.dir.z, dz[i]) || !same(e.pdfDir, pdfDir[i]))
             ++differ;
-        if (!same(e.p.x, f.p.x) || !same(e.p.y, f.p.y) || !same(e.p.z, f.p.z) || !same(e.dir.x, f.dir.x) ||
-            !same(e.dir.y, f.dir.y) || !same(e.dir.z, f.dir.z) || !same(e.pdfDir, f.pdfDir))
+        if (!same(e.p.x, f.p.x) || !same(e.p.y, f.p.y) || !same(e.p.z, f.p.z) || !same(e.dir.x, f.dir.x) || !same(e.dir.y, f.dir.y) ||
+            !same(e.dir.z, f.dir.z) || !same(e.pdfDir, f.pdfDir))
             ++differ;
     }
     CHECK(sampled > n / 2);
@@ -534,9 +531,7 @@ TEST_CASE("sphere light: cone sampling lands on the sphere, and its pdf integrat
     Vec3 toC = l.center - ref;
     float sin2 = l.radius * l.radius / lengthSquared(toC);
     float cosMax = std::sqrt(1 - sin2);
-    auto pdfOf = [&](Vec3 w) -> double {
-        return dot(w, normalize(toC)) >= cosMax ? sphereLightPdf(l, ref) : 0.0;
-    };
+    auto pdfOf = [&](Vec3 w) -> double { return dot(w, normalize(toC)) >= cosMax ? sphereLightPdf(l, ref) : 0.0; };
     auto [mean, se] = integrateOverSphere(pdfOf, 400000);
     CHECK(std::fabs(mean - 1.0) < 5 * se);
     // Inside the sphere nothing is emitted towards ref.

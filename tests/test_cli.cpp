@@ -23,7 +23,6 @@
 
 #include "wavemmlt/image.h"
 
-
 namespace fs = std::filesystem;
 
 namespace {
@@ -97,7 +96,9 @@ struct JsonChecker {
     int depth = 0;
     std::set<std::string> topKeys;
     explicit JsonChecker(const std::string& text) : s(text) {}
-    void ws() { while (i < s.size() && (s[i] == ' ' || s[i] == '\n' || s[i] == '\r' || s[i] == '\t')) ++i; }
+    void ws() {
+        while (i < s.size() && (s[i] == ' ' || s[i] == '\n' || s[i] == '\r' || s[i] == '\t')) ++i;
+    }
     bool lit(const char* w) {
         size_t n = std::string(w).size();
         if (s.compare(i, n, w) != 0) return false;
@@ -126,7 +127,8 @@ struct JsonChecker {
         if (i < s.size() && s[i] == '-') ++i;
         if (i >= s.size() || !isdigit(static_cast<unsigned char>(s[i]))) return false;
         if (s[i] == '0') ++i;
-        else while (i < s.size() && isdigit(static_cast<unsigned char>(s[i]))) ++i;
+        else
+            while (i < s.size() && isdigit(static_cast<unsigned char>(s[i]))) ++i;
         if (i < s.size() && s[i] == '.') {
             ++i;
             if (i >= s.size() || !isdigit(static_cast<unsigned char>(s[i]))) return false;
@@ -158,7 +160,11 @@ struct JsonChecker {
         ++i;
         ++depth;
         ws();
-        if (i < s.size() && s[i] == '}') { ++i; --depth; return true; }
+        if (i < s.size() && s[i] == '}') {
+            ++i;
+            --depth;
+            return true;
+        }
         while (true) {
             ws();
             std::string key;
@@ -168,19 +174,35 @@ struct JsonChecker {
             if (i >= s.size() || s[i] != ':') return false;
             ++i;
             if (!value()) return false;
-            if (i < s.size() && s[i] == ',') { ++i; continue; }
-            if (i < s.size() && s[i] == '}') { ++i; --depth; return true; }
+            if (i < s.size() && s[i] == ',') {
+                ++i;
+                continue;
+            }
+            if (i < s.size() && s[i] == '}') {
+                ++i;
+                --depth;
+                return true;
+            }
             return false;
         }
     }
     bool array() {
         ++i;
         ws();
-        if (i < s.size() && s[i] == ']') { ++i; return true; }
+        if (i < s.size() && s[i] == ']') {
+            ++i;
+            return true;
+        }
         while (true) {
             if (!value()) return false;
-            if (i < s.size() && s[i] == ',') { ++i; continue; }
-            if (i < s.size() && s[i] == ']') { ++i; return true; }
+            if (i < s.size() && s[i] == ',') {
+                ++i;
+                continue;
+            }
+            if (i < s.size() && s[i] == ']') {
+                ++i;
+                return true;
+            }
             return false;
         }
     }
@@ -250,8 +272,7 @@ TEST_CASE("cli: the same seed gives byte-identical images with 1 and 2 threads",
 TEST_CASE("cli: bad scenes exit 2 naming file and line, and write nothing", "[cli]") {
     SECTION("unknown element") { requireBadScene("unknown.xml", "<Frobnicate value=\"1\"/>", 4, "Frobnicate"); }
     SECTION("dangling Shader ID") {
-        requireBadScene("dangling.xml", "<Geometry Type=\"Sphere\" ID=\"s\"><Radius value=\"1\"/><Shader value=\"7\"/></Geometry>",
-                        4, "7");
+        requireBadScene("dangling.xml", "<Geometry Type=\"Sphere\" ID=\"s\"><Radius value=\"1\"/><Shader value=\"7\"/></Geometry>", 4, "7");
     }
     SECTION("missing OBJ") {
         requireBadScene("missingobj.xml",
@@ -301,7 +322,7 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     CHECK(b.status == 2);
     CHECK(contains(b.err, "--spp"));
     CHECK(contains(b.err, "abc"));
-    Run c = run("--spp" , dir);  // a missing value
+    Run c = run("--spp", dir);  // a missing value
     CHECK(c.status == 2);
     Run d = run("--tracer mmlt --chains 0" + kSmall + " -o " + quote(out), dir);
     INFO("stderr: " << d.err);
@@ -380,15 +401,14 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     INFO("stats: " << text);
     JsonChecker j(text);
     REQUIRE(j.document());
-    for (const char* key : {"tracer", "seconds", "threads", "spp", "rays_intersect", "rays_occluded",
-                            "mrays_per_second", "samples_nonfinite_discarded", "scene_features"})
+    for (const char* key : {"tracer", "seconds", "threads", "spp", "rays_intersect", "rays_occluded", "mrays_per_second",
+                            "samples_nonfinite_discarded", "scene_features"})
         CHECK(j.topKeys.count(key) == 1);
     CHECK(contains(text, "\"tracer\": \"mmlt\""));  // the built-in scene's tracer
     CHECK(contains(text, "\"threads\": 2"));
     CHECK(contains(text, "\"spp\": 4"));
-    for (const char* key : {"mmlt_b", "mmlt_chains", "mmlt_acceptance_small", "mmlt_acceptance_large",
-                            "mmlt_acceptance", "mmlt_mutations", "mmlt_mutations_per_second",
-                            "mmlt_replay_mismatches", "mmlt_chain_state_bytes"})
+    for (const char* key : {"mmlt_b", "mmlt_chains", "mmlt_acceptance_small", "mmlt_acceptance_large", "mmlt_acceptance", "mmlt_mutations",
+                            "mmlt_mutations_per_second", "mmlt_replay_mismatches", "mmlt_chain_state_bytes"})
         CHECK(j.topKeys.count(key) == 1);
     CHECK(contains(text, "\"mmlt_replay_mismatches\": 0"));
 }
@@ -396,8 +416,7 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
 TEST_CASE("cli: --strategy-images writes a weighted and an unweighted EXR per strategy", "[cli]") {
     TempDir dir;
     std::string folder = dir.file("strategies"), out = dir.file("out.pfm");
-    Run r = run("--tracer bpt --max-length 2 --spp 1" + kSmall + " --strategy-images " + quote(folder) + " -o " +
-                    quote(out), dir);
+    Run r = run("--tracer bpt --max-length 2 --spp 1" + kSmall + " --strategy-images " + quote(folder) + " -o " + quote(out), dir);
     INFO("stderr: " << r.err);
     REQUIRE(r.status == 0);
     for (const char* name : {"s0_t2", "s1_t1", "s0_t3", "s1_t2", "s2_t1"}) {

@@ -25,8 +25,8 @@
 
 namespace fs = std::filesystem;
 using child::Clock;
-using child::since;
 using child::kLimit;
+using child::since;
 
 namespace {
 
@@ -95,8 +95,7 @@ void decode(const std::vector<uint8_t>& packet, Received& r) {
         const int x = in.i32(), y = in.i32(), w = in.i32(), h = in.i32();
         const size_t c = channel == "R" ? 0 : channel == "G" ? 1 : channel == "B" ? 2 : 3;
         if (name != r.name || c == 3) return fail("UpdateImage before CreateImage, or channel '" + channel + "'");
-        if (x < 0 || y < 0 || w <= 0 || h <= 0 || x + w > r.width || y + h > r.height)
-            return fail("UpdateImage: tile out of the image");
+        if (x < 0 || y < 0 || w <= 0 || h <= 0 || x + w > r.width || y + h > r.height) return fail("UpdateImage: tile out of the image");
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) r.rgb[(size_t(y + j) * size_t(r.width) + size_t(x + i)) * 3 + c] = in.f32();
         ++r.updates;
@@ -181,8 +180,7 @@ private:
                 if (n <= 0) break;
                 buffer.insert(buffer.end(), chunk, chunk + n);
                 while (buffer.size() >= 4) {
-                    const uint32_t len = buffer[0] | (uint32_t(buffer[1]) << 8) | (uint32_t(buffer[2]) << 16) |
-                                         (uint32_t(buffer[3]) << 24);
+                    const uint32_t len = buffer[0] | (uint32_t(buffer[1]) << 8) | (uint32_t(buffer[2]) << 16) | (uint32_t(buffer[3]) << 24);
                     if (len < 5 || buffer.size() < len) break;
                     std::lock_guard<std::mutex> lock(mutex_);
                     decode(std::vector<uint8_t>(buffer.begin(), buffer.begin() + len), state_);
@@ -250,8 +248,8 @@ TEST_CASE("display-server: the last image tev receives equals the EXR written", 
         INFO(tracer);
         TevListener tev;
         const std::string exr = dir + "/" + tracer + ".exr";
-        const Run r = render(dir, {"--tracer", tracer, "--width", "200", "--height", "150", "--spp", spp, "--quiet",
-                                   "-o", exr, "--display-server", "127.0.0.1:" + std::to_string(tev.port())});
+        const Run r = render(dir, {"--tracer", tracer, "--width", "200", "--height", "150", "--spp", spp, "--quiet", "-o", exr, "--display-server",
+                                   "127.0.0.1:" + std::to_string(tev.port())});
         INFO("stderr: " << r.err);
         REQUIRE(r.status == 0);
         const Received got = tev.received();
@@ -279,9 +277,10 @@ TEST_CASE("display-server: --interactive streams each restart; tev's last image 
     const std::string dir = rstats::tempDir("display-interactive");
     TevListener tev;
     const std::string exr = dir + "/out.exr";
-    viewtest::ViewRun run(x, dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "8", "-o", exr,
-                                   "--display-server", "127.0.0.1:" + std::to_string(tev.port())},
-                          "--interactive");
+    viewtest::ViewRun run(
+        x, dir,
+        {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "8", "-o", exr, "--display-server", "127.0.0.1:" + std::to_string(tev.port())},
+        "--interactive");
     INFO("stderr: " << run.err());
     REQUIRE_FALSE(run.window.empty());
     REQUIRE(run.waitTitle("interactive pt: done", kLimit));
@@ -289,11 +288,11 @@ TEST_CASE("display-server: --interactive streams each restart; tev's last image 
     const auto t0 = Clock::now();
     int first = 0;
     while ((first = tev.received().updates) < 3 && since(t0) < 10) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    run.xdotool({"mousemove", "--window", run.window, "20", "24", "mousedown", "1", "sleep", "0.05", "mousemove",
-                 "--window", run.window, "22", "25", "mouseup", "1"});
+    run.xdotool({"mousemove", "--window", run.window, "20", "24", "mousedown", "1", "sleep", "0.05", "mousemove", "--window", run.window, "22", "25",
+                 "mouseup", "1"});
     REQUIRE(run.waitTitle("interactive pt: done", kLimit));
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // (the sender's next frame)
-    CHECK(tev.received().updates > first);  // the restart reached tev
+    CHECK(tev.received().updates > first);                        // the restart reached tev
     run.key("q");
     REQUIRE(run.process.wait(kLimit) == 0);
     const Received got = tev.received();
@@ -311,8 +310,7 @@ TEST_CASE("display-server: --interactive streams each restart; tev's last image 
 // render without a server, best of up to three pairs (the machine runs other tests too).
 TEST_CASE("display-server: a tev that quits mid-render and comes back neither stops nor slows it", "[display]") {
     const std::string dir = rstats::tempDir("display-restart");
-    const std::vector<std::string> common = {"--tracer", "pt", "--width", "128", "--height", "96", "--spp", "128",
-                                             "--seed", "3"};
+    const std::vector<std::string> common = {"--tracer", "pt", "--width", "128", "--height", "96", "--spp", "128", "--seed", "3"};
     std::vector<std::string> alone = common;
     alone.insert(alone.end(), {"-o", dir + "/alone.exr", "--stats", dir + "/alone.json"});
     double bestAlone = 1e9, bestWatched = 1e9;
@@ -323,8 +321,8 @@ TEST_CASE("display-server: a tev that quits mid-render and comes back neither st
 
         TevListener tev(1, 0.2);
         std::vector<std::string> watched = common;
-        watched.insert(watched.end(), {"-o", dir + "/watched.exr", "--stats", dir + "/watched.json",
-                                       "--display-server", "127.0.0.1:" + std::to_string(tev.port())});
+        watched.insert(watched.end(),
+                       {"-o", dir + "/watched.exr", "--stats", dir + "/watched.json", "--display-server", "127.0.0.1:" + std::to_string(tev.port())});
         const Run w = render(dir, watched);
         INFO("stderr: " << w.err);
         REQUIRE(w.status == 0);
@@ -353,8 +351,8 @@ TEST_CASE("display-server: no server listening is a warning, and the render comp
         port = closed.port();
     }
     const std::string out = dir + "/out.exr";
-    const Run r = render(dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "16", "-o", out,
-                               "--display-server", "127.0.0.1:" + std::to_string(port)});
+    const Run r = render(dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "16", "-o", out, "--display-server",
+                               "127.0.0.1:" + std::to_string(port)});
     INFO("stderr: " << r.err);
     CHECK(r.status == 0);
     CHECK(r.err.find("warning: --display-server 127.0.0.1:" + std::to_string(port)) != std::string::npos);

@@ -3,10 +3,10 @@
 // fixed seed, p > 1e-3), sample() and pdf() agree.
 #include <catch2/catch.hpp>
 
-#include <cstring>
-#include <random>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <vector>
 
 #include "chi2.h"
@@ -50,7 +50,10 @@ TEST_CASE("Distribution1D: pdf, integral, continuous sampling", "[distribution]"
         float pdf;
         int off;
         float x = d.sampleContinuous(rng.uniform(), &pdf, &off);
-        if (!(x >= 0.0f && x < 1.0f)) { ++outside; continue; }
+        if (!(x >= 0.0f && x < 1.0f)) {
+            ++outside;
+            continue;
+        }
         if (off != std::min(int(x * n), n - 1)) ++wrongBin;
         if (!(pdf > 0) || std::fabs(pdf - d.pdf(x)) > 1e-5f * pdf) ++wrongPdf;
         obs[std::min(int(x * n * sub), n * sub - 1)] += 1;
@@ -98,7 +101,10 @@ TEST_CASE("Distribution1D: sampleDiscrete and its pmf", "[distribution]") {
     for (int s = 0; s < N; ++s) {
         float pmf;
         int i = d.sampleDiscrete(rng.uniform(), &pmf);
-        if (i < 0 || i >= d.count()) { ++outside; continue; }
+        if (i < 0 || i >= d.count()) {
+            ++outside;
+            continue;
+        }
         if (std::fabs(pmf - f[i] / sum) > 1e-7) ++wrongPmf;
         obs[i] += 1;
     }
@@ -117,8 +123,8 @@ TEST_CASE("Distribution1D: sampleDiscrete and its pmf", "[distribution]") {
 TEST_CASE("Distribution1D: sampleDiscrete's bin is the search's, without branches", "[distribution]") {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-    for (const std::vector<float>& f : std::vector<std::vector<float>>{
-             {1}, {3, 1}, {0.2f, 0, 5, 0, 1.5f}, {0, 0, 0}, std::vector<float>(32, 1), std::vector<float>(40, 0.5f)}) {
+    for (const std::vector<float>& f :
+         std::vector<std::vector<float>>{{1}, {3, 1}, {0.2f, 0, 5, 0, 1.5f}, {0, 0, 0}, std::vector<float>(32, 1), std::vector<float>(40, 0.5f)}) {
         std::vector<float> g = f;
         for (size_t i = 0; i < g.size(); ++i) g[i] += float(i % 3);  // uneven (the all-zero one kept below)
         for (const std::vector<float>* in : std::initializer_list<const std::vector<float>*>{&f, &g}) {
@@ -176,8 +182,8 @@ TEST_CASE("Distribution2D: pdf integrates to 1 and sampling follows it", "[distr
     std::vector<float> f(nu * nv);
     for (int y = 0; y < nv; ++y)
         for (int x = 0; x < nu; ++x) f[y * nu + x] = float((x * 3 + y * 5) % 7);  // includes zeros
-    f[2 * nu + 0] = 20;                                                         // a bright cell
-    for (int x = 0; x < nu; ++x) f[4 * nu + x] = 0;                             // an empty row
+    f[2 * nu + 0] = 20;                                                           // a bright cell
+    for (int x = 0; x < nu; ++x) f[4 * nu + x] = 0;                               // an empty row
     double sum = 0;
     for (float v : f) sum += v;
     Distribution2D d(f, nu, nv);
@@ -202,7 +208,10 @@ TEST_CASE("Distribution2D: pdf integrates to 1 and sampling follows it", "[distr
     for (int s = 0; s < N; ++s) {
         float x, y, pdf;
         d.sampleContinuous(rng.uniform(), rng.uniform(), x, y, &pdf);
-        if (!(x >= 0.0f && x < 1.0f && y >= 0.0f && y < 1.0f)) { ++outside; continue; }
+        if (!(x >= 0.0f && x < 1.0f && y >= 0.0f && y < 1.0f)) {
+            ++outside;
+            continue;
+        }
         if (!(pdf > 0) || std::fabs(pdf - d.pdf(x, y)) > 1e-5f * pdf) ++wrongPdf;
         obs[std::min(int(y * by), by - 1) * bx + std::min(int(x * bx), bx - 1)] += 1;
     }
@@ -294,7 +303,10 @@ TEST_CASE("EnvMapSampler: Le is the nearest pixel, sample and pdf agree", "[envm
         float pdf;
         Vec3 d = env.sample(rng.uniform(), rng.uniform(), pdf);
         if (std::fabs(length(d) - 1.0f) > 1e-5f) ++notUnit;
-        if (!(pdf > 0)) { ++noPdf; continue; }
+        if (!(pdf > 0)) {
+            ++noPdf;
+            continue;
+        }
         if (std::fabs(env.pdf(d) - pdf) > 2e-3f * pdf) ++disagree;
         float u, v;
         envUv(d, u, v);

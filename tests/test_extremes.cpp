@@ -52,8 +52,7 @@ struct TracerCase {
     TracerKind kind;
     const char* name;
 };
-const std::vector<TracerCase> kTracers = {
-    {TracerKind::PT, "pt"}, {TracerKind::LT, "lt"}, {TracerKind::BPT, "bpt"}, {TracerKind::MMLT, "mmlt"}};
+const std::vector<TracerCase> kTracers = {{TracerKind::PT, "pt"}, {TracerKind::LT, "lt"}, {TracerKind::BPT, "bpt"}, {TracerKind::MMLT, "mmlt"}};
 
 RenderOptions options(TracerKind k, int spp, uint64_t seed, int maxLength) {
     RenderOptions o = rstats::renderOptions(k, spp, seed, 1, maxLength);
@@ -64,8 +63,8 @@ RenderOptions options(TracerKind k, int spp, uint64_t seed, int maxLength) {
 
 // Renders `desc` with tracer `t` and checks the image. Returns the mean luminance, or -1
 // when the render threw InputError (its message in *error).
-double renderChecked(const SceneDesc& desc, const TracerCase& t, const std::string& scene, int spp, int maxLength,
-                     uint64_t seed, std::string* error = nullptr, Image* image = nullptr) {
+double renderChecked(const SceneDesc& desc, const TracerCase& t, const std::string& scene, int spp, int maxLength, uint64_t seed,
+                     std::string* error = nullptr, Image* image = nullptr) {
     const std::string label = scene + ", " + t.name;
     INFO(label);
     RenderResult r;
@@ -93,9 +92,8 @@ double renderChecked(const SceneDesc& desc, const TracerCase& t, const std::stri
     const double samples = pixels * spp;
     bool lengthsOk = true;
     for (double L : r.stats.lengthMeanLuminance) lengthsOk = lengthsOk && std::isfinite(L) && L >= 0;
-    INFO(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples
-               << " samples; " << nonfinite << " non-finite and " << negative << " negative values; mean luminance "
-               << mean << "; " << r.stats.seconds << " s");
+    INFO(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples << " samples; " << nonfinite
+               << " non-finite and " << negative << " negative values; mean luminance " << mean << "; " << r.stats.seconds << " s");
     CHECK(nonfinite == 0);
     CHECK(negative == 0);
     CHECK(lengthsOk);
@@ -126,33 +124,36 @@ struct Box {
     }
     std::string len(const char* tag, double v) const { return "<" + std::string(tag) + " value=\"" + num(v * scale) + "\"/>"; }
     std::string plane(const char* id, int shader, double x, double y, double z, double rx, double rz, double w = 2.02) const {
-        return "<Geometry Type=\"Plane\" ID=\"" + std::string(id) + "\">" + p("Position", x, y, z) + "<Rotation x=\"" +
-               num(rx) + "\" y=\"0\" z=\"" + num(rz) + "\"/>" + len("Width", w) + len("Depth", w) + "<Shader value=\"" +
-               std::to_string(shader) + "\"/></Geometry>\n";
+        return "<Geometry Type=\"Plane\" ID=\"" + std::string(id) + "\">" + p("Position", x, y, z) + "<Rotation x=\"" + num(rx) + "\" y=\"0\" z=\"" +
+               num(rz) + "\"/>" + len("Width", w) + len("Depth", w) + "<Shader value=\"" + std::to_string(shader) + "\"/></Geometry>\n";
     }
     std::string sphere(const char* id, int shader, double x, double y, double z, double r) const {
-        return "<Geometry Type=\"Sphere\" ID=\"" + std::string(id) + "\">" + p("Position", x, y, z) + len("Radius", r) +
-               "<Shader value=\"" + std::to_string(shader) + "\"/></Geometry>\n";
+        return "<Geometry Type=\"Sphere\" ID=\"" + std::string(id) + "\">" + p("Position", x, y, z) + len("Radius", r) + "<Shader value=\"" +
+               std::to_string(shader) + "\"/></Geometry>\n";
     }
     std::string xml() const {
-        std::string s = "<Scene>\n<Settings><Width value=\"" + std::to_string(width) + "\"/><Height value=\"" +
-                        std::to_string(height) + "\"/></Settings>\n";
-        s += "<Camera Type=\"Camera\">" + p("Position", camera[0], camera[1], camera[2]) +
-             p("LookAt", lookAt[0], lookAt[1], lookAt[2]) + "<FOV value=\"45\"/></Camera>\n";
+        std::string s =
+            "<Scene>\n<Settings><Width value=\"" + std::to_string(width) + "\"/><Height value=\"" + std::to_string(height) + "\"/></Settings>\n";
+        s += "<Camera Type=\"Camera\">" + p("Position", camera[0], camera[1], camera[2]) + p("LookAt", lookAt[0], lookAt[1], lookAt[2]) +
+             "<FOV value=\"45\"/></Camera>\n";
         s += "<Shader Type=\"Matte\" ID=\"0\"><Diffuse r=\"0.8\" g=\"0.8\" b=\"0.8\"/></Shader>\n"
              "<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"0.8\" g=\"0.2\" b=\"0.2\"/></Shader>\n"
              "<Shader Type=\"Matte\" ID=\"2\"><Diffuse r=\"0.2\" g=\"0.8\" b=\"0.2\"/></Shader>\n"
              "<Shader Type=\"Glossy\" ID=\"3\"><Diffuse r=\"0.3\" g=\"0.3\" b=\"0.5\"/><Specular r=\"0.6\" g=\"0.6\" b=\"0.4\"/>"
-             "<Shininess value=\"" + shininess + "\"/></Shader>\n"
-             "<Shader Type=\"Dielectric\" ID=\"4\"><iIOR value=\"" + ior + "\"/><oIOR value=\"1\"/></Shader>\n"
+             "<Shininess value=\"" +
+             shininess +
+             "\"/></Shader>\n"
+             "<Shader Type=\"Dielectric\" ID=\"4\"><iIOR value=\"" +
+             ior +
+             "\"/><oIOR value=\"1\"/></Shader>\n"
              "<Shader Type=\"Reflective\" ID=\"5\"><Reflect r=\"0.9\" g=\"0.9\" b=\"0.9\"/></Shader>\n"
              "<Shader Type=\"Matte\" ID=\"6\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/></Shader>\n";
         s += plane("floor", 0, 0, 0, 0, 0, 0) + plane("ceiling", 0, 0, 2, 0, 0, 180) + plane("back", 0, 0, 1, 1, -90, 0) +
              plane("left", 1, -1, 1, 0, 0, -90) + plane("right", 2, 1, 1, 0, 0, 90);
         if (balls) s += sphere("glossy", 3, -0.45, 0.35, 0.3, 0.35) + sphere("glass", 4, 0.45, 0.35, -0.1, 0.35);
         if (ceilingLight)
-            s += "<Light Type=\"Area\" ID=\"lamp\">" + p("Position", 0, lightY, 0) + "<Rotation x=\"0\" y=\"0\" z=\"180\"/>" +
-                 len("Width", 0.5) + len("Depth", 0.5) + "<Intensity value=\"" + intensity + "\"/></Light>\n";
+            s += "<Light Type=\"Area\" ID=\"lamp\">" + p("Position", 0, lightY, 0) + "<Rotation x=\"0\" y=\"0\" z=\"180\"/>" + len("Width", 0.5) +
+                 len("Depth", 0.5) + "<Intensity value=\"" + intensity + "\"/></Light>\n";
         return s + extra + "</Scene>\n";
     }
     SceneDesc desc(const std::string& dir = ".") const { return loadSceneFromString(xml(), "extreme.xml", dir); }
@@ -163,8 +164,8 @@ constexpr int kSpp = 16;
 // Renders `box` with all four tracers; returns each tracer's mean luminance.
 // Every scene here has light reaching the camera: the image is not black, except for a
 // tracer named in `black` (one that cannot, by construction, sample the light that does).
-std::vector<double> renderAll(const Box& box, const std::string& label, int maxLength = 10, int spp = kSpp,
-                              const std::string& dir = ".", const std::vector<TracerKind>& black = {}) {
+std::vector<double> renderAll(const Box& box, const std::string& label, int maxLength = 10, int spp = kSpp, const std::string& dir = ".",
+                              const std::vector<TracerKind>& black = {}) {
     const SceneDesc d = box.desc(dir);
     std::vector<double> means;
     for (const TracerCase& t : kTracers) {
@@ -201,7 +202,10 @@ double worstRelative(const Image& a, const Image& b, double scale, size_t* at) {
     for (size_t i = 0; i < a.rgb.size(); ++i) {
         const double x = double(a.rgb[i]) * scale, y = b.rgb[i], ref = std::max(std::fabs(x), std::fabs(y));
         const double rel = ref > 0 ? std::fabs(x - y) / ref : 0.0;
-        if (rel > worst) { worst = rel; *at = i; }
+        if (rel > worst) {
+            worst = rel;
+            *at = i;
+        }
     }
     return worst;
 }
@@ -222,8 +226,8 @@ TEST_CASE("extremes: the scene scaled by 1e-3 and 1e3 renders the same image, pi
         for (size_t i = 0; i < m.size(); ++i) {
             size_t at = 0;
             const double worst = worstRelative(m[i], base[i], 1.0, &at);
-            INFO("scale " << s << ", " << kTracers[i].name << ": worst relative difference " << worst << " at value " << at
-                          << " (" << m[i].rgb[at] << " vs " << base[i].rgb[at] << " at scale 1)");
+            INFO("scale " << s << ", " << kTracers[i].name << ": worst relative difference " << worst << " at value " << at << " (" << m[i].rgb[at]
+                          << " vs " << base[i].rgb[at] << " at scale 1)");
             CHECK(worst == 0);
         }
     }
@@ -243,8 +247,8 @@ TEST_CASE("extremes: lights of Intensity 1e-6 and 1e6, pixel by pixel", "[extrem
         for (size_t i = 0; i < m.size(); ++i) {
             size_t at = 0;
             const double worst = worstRelative(m[i], base[i], std::ldexp(1.0, -e), &at);
-            INFO("intensity 2^" << e << ", " << kTracers[i].name << ": worst relative difference of image / 2^" << e
-                                << " " << worst << " at value " << at);
+            INFO("intensity 2^" << e << ", " << kTracers[i].name << ": worst relative difference of image / 2^" << e << " " << worst << " at value "
+                                << at);
             CHECK(worst == 0);
         }
     }
@@ -279,17 +283,21 @@ TEST_CASE("extremes: meshes with degenerate triangles and duplicated and colline
     writeFile(dir, "cube.obj", cube.str());
     // Three distinct collinear points (a zero-area triangle that is not a repeated corner)
     // across the view, next to an ordinary triangle.
-    writeFile(dir, "collinear.obj", "v -0.8 0.2 0\nv 0 1 0\nv 0.8 1.8 0\nv -0.5 0.1 0.3\nv 0.5 0.1 0.3\nv 0 0.9 0.3\n"
-                                    "f 1 2 3\nf 4 5 6\nf 3 2 1\n");
+    writeFile(dir, "collinear.obj",
+              "v -0.8 0.2 0\nv 0 1 0\nv 0.8 1.8 0\nv -0.5 0.1 0.3\nv 0.5 0.1 0.3\nv 0 0.9 0.3\n"
+              "f 1 2 3\nf 4 5 6\nf 3 2 1\n");
     for (const char* smooth : {"1", "0"}) {
         Box box;
         box.balls = false;
-        box.extra = "<Geometry Type=\"ObjFile\" ID=\"cube\"><Position x=\"0\" y=\"0.4\" z=\"0.2\"/><Rotation x=\"0\" y=\"30\" z=\"0\"/>"
-                    "<Scale value=\"0.4\"/><File name=\"cube.obj\"/><SmoothShading value=\"" + std::string(smooth) +
-                    "\"/><Shader value=\"3\"/></Geometry>\n";
+        box.extra =
+            "<Geometry Type=\"ObjFile\" ID=\"cube\"><Position x=\"0\" y=\"0.4\" z=\"0.2\"/><Rotation x=\"0\" y=\"30\" z=\"0\"/>"
+            "<Scale value=\"0.4\"/><File name=\"cube.obj\"/><SmoothShading value=\"" +
+            std::string(smooth) + "\"/><Shader value=\"3\"/></Geometry>\n";
         renderAll(box, std::string("degenerate and duplicated, SmoothShading ") + smooth, 10, kSpp, dir);
-        box.extra = "<Geometry Type=\"ObjFile\" ID=\"line\"><Position x=\"0\" y=\"0\" z=\"-0.3\"/><File name=\"collinear.obj\"/>"
-                    "<SmoothShading value=\"" + std::string(smooth) + "\"/><Shader value=\"3\"/></Geometry>\n";
+        box.extra =
+            "<Geometry Type=\"ObjFile\" ID=\"line\"><Position x=\"0\" y=\"0\" z=\"-0.3\"/><File name=\"collinear.obj\"/>"
+            "<SmoothShading value=\"" +
+            std::string(smooth) + "\"/><Shader value=\"3\"/></Geometry>\n";
         renderAll(box, std::string("collinear triangle, SmoothShading ") + smooth, 10, kSpp, dir);
     }
     fs::remove_all(dir);
@@ -303,11 +311,10 @@ TEST_CASE("extremes: a camera inside an opaque object or inside a sphere light",
     for (int variant = 0; variant < 2; ++variant) {
         Box box;
         const std::string label = variant == 0 ? "camera inside an opaque sphere" : "camera inside a sphere light";
-        box.extra = variant == 0
-                        ? "<Geometry Type=\"Sphere\" ID=\"shell\"><Position x=\"0\" y=\"1\" z=\"-3\"/><Radius value=\"0.5\"/>"
-                          "<Shader value=\"6\"/></Geometry>\n"
-                        : "<Light Type=\"Sphere\" ID=\"shell\"><Position x=\"0\" y=\"1\" z=\"-3\"/><Radius value=\"0.5\"/>"
-                          "<Intensity value=\"5\"/></Light>\n";
+        box.extra = variant == 0 ? "<Geometry Type=\"Sphere\" ID=\"shell\"><Position x=\"0\" y=\"1\" z=\"-3\"/><Radius value=\"0.5\"/>"
+                                   "<Shader value=\"6\"/></Geometry>\n"
+                                 : "<Light Type=\"Sphere\" ID=\"shell\"><Position x=\"0\" y=\"1\" z=\"-3\"/><Radius value=\"0.5\"/>"
+                                   "<Intensity value=\"5\"/></Light>\n";
         const SceneDesc d = box.desc();
         for (const TracerCase& t : kTracers) {
             std::string error;
@@ -327,15 +334,17 @@ TEST_CASE("extremes: a light inside a closed glass sphere and a camera inside a 
     Box box;
     box.ceilingLight = false;
     box.balls = false;
-    box.extra = "<Geometry Type=\"Sphere\" ID=\"globe\"><Position x=\"0\" y=\"0.8\" z=\"0\"/><Radius value=\"0.4\"/>"
-                "<Shader value=\"4\"/></Geometry>\n"
-                "<Light Type=\"Sphere\" ID=\"bulb\"><Position x=\"0\" y=\"0.8\" z=\"0\"/><Radius value=\"0.1\"/>"
-                "<Intensity value=\"20\"/></Light>\n";
+    box.extra =
+        "<Geometry Type=\"Sphere\" ID=\"globe\"><Position x=\"0\" y=\"0.8\" z=\"0\"/><Radius value=\"0.4\"/>"
+        "<Shader value=\"4\"/></Geometry>\n"
+        "<Light Type=\"Sphere\" ID=\"bulb\"><Position x=\"0\" y=\"0.8\" z=\"0\"/><Radius value=\"0.1\"/>"
+        "<Intensity value=\"20\"/></Light>\n";
     renderAll(box, "light inside a glass sphere");
     Box cam;
     cam.camera[2] = -0.5;
-    cam.extra = "<Geometry Type=\"Sphere\" ID=\"bubble\"><Position x=\"0\" y=\"1\" z=\"-0.5\"/><Radius value=\"0.3\"/>"
-                "<Shader value=\"4\"/></Geometry>\n";
+    cam.extra =
+        "<Geometry Type=\"Sphere\" ID=\"bubble\"><Position x=\"0\" y=\"1\" z=\"-0.5\"/><Radius value=\"0.3\"/>"
+        "<Shader value=\"4\"/></Geometry>\n";
     // The light tracer connects light subpaths to the pinhole camera, and every such
     // connection crosses the smooth glass around it: LT's image is black (correctly: it
     // cannot sample specular paths to a pinhole); PT, BPT and MMLT see the room.
@@ -345,8 +354,7 @@ TEST_CASE("extremes: a light inside a closed glass sphere and a camera inside a 
 TEST_CASE("extremes: coincident planes and a light in the plane of the ceiling", "[extremes]") {
     Box box;
     // A second floor and a second back wall exactly on the first, in other materials.
-    box.extra = box.plane("floor2", 5, 0, 0, 0, 0, 0) + box.plane("back2", 3, 0, 1, 1, -90, 0) +
-                box.plane("half", 1, 0.5, 0, 0, 0, 0, 1.0);
+    box.extra = box.plane("floor2", 5, 0, 0, 0, 0, 0) + box.plane("back2", 3, 0, 1, 1, -90, 0) + box.plane("half", 1, 0.5, 0, 0, 0, 0, 1.0);
     box.lightY = 2.0;  // the light rectangle coincides with the ceiling
     renderAll(box, "coincident planes");
 }
@@ -405,8 +413,8 @@ TEST_CASE("extremes: --time 3 ends within 5% of its budget for every tracer", "[
     const std::string dir = rstats::tempDir("extremes-time");
     const std::string bin = WAVEMMLT_BIN, out = dir + "/t.pfm", stats = dir + "/t.json";
     for (const TracerCase& t : kTracers) {
-        const std::string common = quote(bin) + " --quiet --width 64 --height 48 --threads 2 --tracer " + t.name +
-                                   " -o " + quote(out) + " --stats " + quote(stats) + " 2>" + quote(dir + "/err.txt");
+        const std::string common = quote(bin) + " --quiet --width 64 --height 48 --threads 2 --tracer " + t.name + " -o " + quote(out) + " --stats " +
+                                   quote(stats) + " 2>" + quote(dir + "/err.txt");
         auto t0 = Clock::now();
         const int fixedStatus = std::system((common + " --spp 1").c_str());
         const double fixed = since(t0);
@@ -415,8 +423,8 @@ TEST_CASE("extremes: --time 3 ends within 5% of its budget for every tracer", "[
         const double wall = since(t0);
         const std::string json = readText(stats);
         const double seconds = rstats::jsonNumber(json, "seconds");
-        INFO(t.name << ": --time 3: wall " << wall << " s, render " << seconds << " s; fixed cost of a --spp 1 run "
-                    << fixed << " s; spp " << rstats::jsonNumber(json, "spp"));
+        INFO(t.name << ": --time 3: wall " << wall << " s, render " << seconds << " s; fixed cost of a --spp 1 run " << fixed << " s; spp "
+                    << rstats::jsonNumber(json, "spp"));
         INFO(t.name << ": " << readText(dir + "/err.txt"));
         REQUIRE(fixedStatus == 0);
         REQUIRE(st == 0);
@@ -438,8 +446,8 @@ TEST_CASE("extremes: Ctrl-C saves the image so far for every tracer", "[extremes
     for (const TracerCase& t : kTracers) {
         INFO(t.name);
         const std::string out = dir + "/" + t.name + ".pfm";
-        std::vector<std::string> args = {WAVEMMLT_BIN, "--width", "64", "--height", "48", "--threads", "2",
-                                         "--tracer", t.name, "--time", "60", "--quiet", "-o", out};
+        std::vector<std::string> args = {WAVEMMLT_BIN, "--width", "64",     "--height", "48",      "--threads", "2",
+                                         "--tracer",   t.name,    "--time", "60",       "--quiet", "-o",        out};
         std::vector<char*> argv;
         for (std::string& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
@@ -458,8 +466,7 @@ TEST_CASE("extremes: Ctrl-C saves the image so far for every tracer", "[extremes
         const auto t0 = Clock::now();
         int status = 0;
         pid_t done = 0;
-        while ((done = waitpid(pid, &status, WNOHANG)) == 0 && since(t0) < 10)
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        while ((done = waitpid(pid, &status, WNOHANG)) == 0 && since(t0) < 10) std::this_thread::sleep_for(std::chrono::milliseconds(10));
         if (done == 0) {
             kill(pid, SIGKILL);
             waitpid(pid, &status, 0);

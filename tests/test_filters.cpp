@@ -77,9 +77,9 @@ TEST_CASE("filters: the defaults are Mitsuba 3's and the values its plugins'", "
     CHECK(named("tent").radius == 1.0f);
     CHECK(filterValue(named("tent"), 0.25f) == Approx(0.75));
     const FilterDesc m = named("mitchell");
-    CHECK(filterValue(m, 0) == Approx((6 - 2 / 3.0) / 6));  // (6 - 2B) / 6
+    CHECK(filterValue(m, 0) == Approx((6 - 2 / 3.0) / 6));          // (6 - 2B) / 6
     CHECK(filterValue(m, 1.0f) == Approx(1 / 18.0).epsilon(1e-5));  // B / 6 where the cubics meet
-    CHECK(filterValue(m, 1.5f) < 0);  // the negative lobe
+    CHECK(filterValue(m, 1.5f) < 0);                                // the negative lobe
     const FilterDesc cr = named("catmullrom");
     CHECK(filterValue(cr, 0) == Approx(1));
     CHECK(filterValue(cr, 1.0f) == Approx(0).margin(1e-6));  // interpolating
@@ -162,8 +162,8 @@ TEST_CASE("filters: the footprint visits exactly the pixels a film point has wei
             }
             for (int y = 0; y < H; ++y)
                 for (int x = 0; x < W; ++x) {
-                    const double want = double(filterValue(d, px - (x + 0.5f)) * nx[size_t(x)]) *
-                                        double(filterValue(d, py - (y + 0.5f)) * ny[size_t(y)]);
+                    const double want =
+                        double(filterValue(d, px - (x + 0.5f)) * nx[size_t(x)]) * double(filterValue(d, py - (y + 0.5f)) * ny[size_t(y)]);
                     worst = std::max(worst, std::fabs(double(got[size_t(y * W + x)]) - want));
                 }
         }
@@ -209,8 +209,7 @@ TEST_CASE("filters: the thesis format's <Filter> and Mitsuba's rfilter", "[filte
     const SceneDesc m = loadSceneFromString(thesis("<Filter name=\"mitchell\" B=\"0.2\" C=\"0.4\" radius=\"1.5\"/>"), "t.xml", ".");
     CHECK((m.filter.B == 0.2f && m.filter.C == 0.4f && m.filter.radius == 1.5f));
     auto error = [&](const std::string& filter) { return errorOf([&] { loadSceneFromString(thesis(filter), "t.xml", "."); }); };
-    CHECK(error("<Filter name=\"gaussian\" radius=\"0\"/>") ==
-          "t.xml:3: Settings: Filter: radius=\"0\": radius must be > 0 and at most 16 pixels");
+    CHECK(error("<Filter name=\"gaussian\" radius=\"0\"/>") == "t.xml:3: Settings: Filter: radius=\"0\": radius must be > 0 and at most 16 pixels");
     CHECK(error("<Filter name=\"sinc\"/>") ==
           "t.xml:3: Settings: Filter: name=\"sinc\" is not one of box, tent, gaussian, mitchell, catmullrom, lanczos");
     CHECK(error("<Filter name=\"tent\" stddev=\"1\"/>") == "t.xml:3: Settings: Filter: stddev=\"1\": stddev applies to gaussian only");
@@ -220,7 +219,9 @@ TEST_CASE("filters: the thesis format's <Filter> and Mitsuba's rfilter", "[filte
         return "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n<film type=\"hdrfilm\">" + film +
                "</film>\n</sensor>\n<emitter type=\"point\"><point name=\"position\" x=\"0\" y=\"0\" z=\"0\"/></emitter></scene>\n";
     };
-    auto mitsubaNoFilm = std::string("<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n<emitter type=\"point\"><point name=\"position\" x=\"0\" y=\"0\" z=\"0\"/></emitter></scene>\n");
+    auto mitsubaNoFilm = std::string(
+        "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n<emitter type=\"point\"><point "
+        "name=\"position\" x=\"0\" y=\"0\" z=\"0\"/></emitter></scene>\n");
     CHECK(loadMitsubaFromString(mitsuba(""), "m.xml", ".").filter.kind == FilterKind::Gaussian);  // Mitsuba's default
     CHECK(loadMitsubaFromString(mitsubaNoFilm, "m.xml", ".").filter.kind == FilterKind::Gaussian);
     CHECK(loadMitsubaFromString(mitsuba("<rfilter type=\"box\"/>"), "m.xml", ".").filter.kind == FilterKind::Box);
@@ -231,8 +232,7 @@ TEST_CASE("filters: the thesis format's <Filter> and Mitsuba's rfilter", "[filte
     auto mError = [&](const std::string& film) { return errorOf([&] { loadMitsubaFromString(mitsuba(film), "m.xml", "."); }); };
     CHECK(mError("<rfilter type=\"tent\"><float name=\"radius\" value=\"-1\"/></rfilter>") ==
           "m.xml:3: <rfilter type=\"tent\">: radius must be > 0 and at most 16 pixels");
-    CHECK(mError("<rfilter type=\"sinc\"/>") ==
-          "m.xml:3: <rfilter type=\"sinc\">: not one of box, tent, gaussian, mitchell, catmullrom, lanczos");
+    CHECK(mError("<rfilter type=\"sinc\"/>") == "m.xml:3: <rfilter type=\"sinc\">: not one of box, tent, gaussian, mitchell, catmullrom, lanczos");
     CHECK(mError("<rfilter type=\"gaussian\"><float name=\"stddev\" value=\"0\"/></rfilter>") ==
           "m.xml:3: <rfilter type=\"gaussian\">: stddev must be > 0 and at most 4 pixels");
     CHECK(mError("<rfilter type=\"box\"><float name=\"width\" value=\"2\"/></rfilter>").rfind("m.xml:3:", 0) == 0);
@@ -249,8 +249,9 @@ std::string edgeScene(const std::string& rfilter) {
     return "<scene version=\"3.0.0\"><integrator type=\"path\"><integer name=\"max_depth\" value=\"1\"/></integrator>"
            "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>"
            "<transform name=\"to_world\"><lookat origin=\"0, 0, 0\" target=\"0, 0, -1\" up=\"0, 1, 0\"/></transform>"
-           "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(kW) +
-           "\"/><integer name=\"height\" value=\"" + std::to_string(kH) + "\"/>" + rfilter + "</film></sensor>"
+           "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" +
+           std::to_string(kW) + "\"/><integer name=\"height\" value=\"" + std::to_string(kH) + "\"/>" + rfilter +
+           "</film></sensor>"
            "<shape type=\"rectangle\"><transform name=\"to_world\"><scale x=\"0.6\" y=\"1\"/><translate x=\"-0.6\" z=\"-2\"/></transform>"
            "<emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape></scene>";
 }
@@ -267,9 +268,9 @@ double expectedColumn(const FilterDesc& d, int x, double a, double b) {
 }  // namespace
 
 TEST_CASE("filters: every tracer renders an edge as the filter's closed form", "[filter][render]") {
-    for (const char* rf : {"<rfilter type=\"mitchell\"/>", "<rfilter type=\"gaussian\"/>",
-                           "<rfilter type=\"lanczos\"><integer name=\"lobes\" value=\"2\"/></rfilter>",
-                           "<rfilter type=\"tent\"><float name=\"radius\" value=\"1.5\"/></rfilter>", "<rfilter type=\"box\"/>"}) {
+    for (const char* rf :
+         {"<rfilter type=\"mitchell\"/>", "<rfilter type=\"gaussian\"/>", "<rfilter type=\"lanczos\"><integer name=\"lobes\" value=\"2\"/></rfilter>",
+          "<rfilter type=\"tent\"><float name=\"radius\" value=\"1.5\"/></rfilter>", "<rfilter type=\"box\"/>"}) {
         SceneDesc d = loadMitsubaFromString(edgeScene(rf), "edge.xml", ".");
         REQUIRE(d.settings.maxPathLength == 1);
         // Which half is lit: the box render's first column (exactly 0 or 1 with the box).

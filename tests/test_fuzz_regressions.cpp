@@ -5,8 +5,8 @@
 // may also stop at a missing file). scripts/fuzz.sh runs the fuzzers themselves.
 #include <unistd.h>
 
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -39,11 +39,13 @@ struct Renamed {
     fs::path path;
     Renamed(const fs::path& src, const std::string& ext) {
         static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("wavemmlt-fuzz-regression-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ext);
+        path = fs::temp_directory_path() / ("wavemmlt-fuzz-regression-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ext);
         fs::copy_file(src, path, fs::copy_options::overwrite_existing);
     }
-    ~Renamed() { std::error_code ec; fs::remove(path, ec); }
+    ~Renamed() {
+        std::error_code ec;
+        fs::remove(path, ec);
+    }
 };
 
 enum class Outcome { Loaded, Refused };

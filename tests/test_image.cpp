@@ -33,8 +33,7 @@ struct TempDir {
     fs::path path;
     TempDir() {
         static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("wavemmlt-test-image-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        path = fs::temp_directory_path() / ("wavemmlt-test-image-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
         fs::remove_all(path);
         fs::create_directories(path);
     }
@@ -49,10 +48,8 @@ Image makeImage(int w, int h, bool unitRange) {
     Image img(w, h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (unitRange)
-                img.set(x, y, Vec3(float(x) / float(w), float(y) / float(h), float((x * 7 + y * 3) % 11) / 10.0f));
-            else
-                img.set(x, y, Vec3(std::sin(float(x * 13 + y)) * 1e3f, 1e-30f * float(x + 1) - float(y), 3.0e20f / float(1 + x * y)));
+            if (unitRange) img.set(x, y, Vec3(float(x) / float(w), float(y) / float(h), float((x * 7 + y * 3) % 11) / 10.0f));
+            else img.set(x, y, Vec3(std::sin(float(x * 13 + y)) * 1e3f, 1e-30f * float(x + 1) - float(y), 3.0e20f / float(1 + x * y)));
         }
     return img;
 }
@@ -86,7 +83,10 @@ void appendBE32(std::string& s, uint32_t v) {
 void appendFloat(std::string& s, float f, bool bigEndian) {
     unsigned char b[4];
     std::memcpy(b, &f, 4);  // host (x86-64) is little-endian
-    if (bigEndian) { std::swap(b[0], b[3]); std::swap(b[1], b[2]); }
+    if (bigEndian) {
+        std::swap(b[0], b[3]);
+        std::swap(b[1], b[2]);
+    }
     s.append(reinterpret_cast<char*>(b), 4);
 }
 
@@ -163,8 +163,7 @@ TEST_CASE("PNG round trip is within half a code value after sRGB", "[image]") {
     Image back = readImage(path);
     REQUIRE(back.width == 19);
     REQUIRE(back.height == 11);
-    for (size_t i = 0; i < img.rgb.size(); ++i)
-        CHECK(linearToSrgb(back.rgb[i]) == Approx(linearToSrgb(img.rgb[i])).margin(0.5 / 255.0 + 1e-6));
+    for (size_t i = 0; i < img.rgb.size(); ++i) CHECK(linearToSrgb(back.rgb[i]) == Approx(linearToSrgb(img.rgb[i])).margin(0.5 / 255.0 + 1e-6));
 
     // Exposure +1 doubles before encoding; values above 1 clamp to 255.
     Image small(2, 1);
@@ -202,7 +201,11 @@ TEST_CASE("PNG and JPEG are decoded and linearised, grey becomes RGB", "[image]"
 
     // JPEG of a flat colour: decoded close to the colour, linearised.
     std::vector<unsigned char> flat(16 * 16 * 3);
-    for (size_t i = 0; i < flat.size(); i += 3) { flat[i] = 200; flat[i + 1] = 100; flat[i + 2] = 50; }
+    for (size_t i = 0; i < flat.size(); i += 3) {
+        flat[i] = 200;
+        flat[i + 1] = 100;
+        flat[i + 2] = 50;
+    }
     REQUIRE(stbi_write_jpg(dir.file("f.jpg").c_str(), 16, 16, 3, flat.data(), 95));
     Image j = readImage(dir.file("f.jpg"));
     REQUIRE(j.width == 16);
@@ -502,9 +505,9 @@ TEST_CASE("wavemmlt-img diff, convert and info", "[image][tool]") {
     CHECK(valueAfter(r.out, "\"rmse\":") == Approx(std::sqrt(5.0 / 12.0)).epsilon(1e-7));
     Image m = readImage(dir.file("m.png"));
     REQUIRE(m.width == 2);
-    CHECK(m.at(1, 1).x == Approx(1.0f));      // the largest error: white
-    CHECK(m.at(0, 1).x == 0.0f);              // equal: black
-    CHECK(m.at(0, 0).x > 0.0f);               // smaller error: grey
+    CHECK(m.at(1, 1).x == Approx(1.0f));  // the largest error: white
+    CHECK(m.at(0, 1).x == 0.0f);          // equal: black
+    CHECK(m.at(0, 0).x > 0.0f);           // smaller error: grey
     CHECK(m.at(0, 0).x < 1.0f);
 
     // Identical images.

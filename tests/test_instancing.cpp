@@ -37,10 +37,10 @@ const std::string kHead = R"(<scene version="3.0.0">
 struct Part {
     std::string type, inner, bsdf;
 };
-const std::vector<Part> kParts = {
-    {"cube", R"(<scale value="0.3"/><rotate z="1" angle="25"/><rotate x="1" angle="15"/><translate y="0.4"/>)", R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.7, 0.3, 0.2"/></bsdf>)"},
-    {"rectangle", R"(<scale x="0.4" y="0.6"/><rotate y="1" angle="35"/><translate x="0.6" y="0.6"/>)",
-     R"(<bsdf type="twosided"><bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf></bsdf>)"}};
+const std::vector<Part> kParts = {{"cube", R"(<scale value="0.3"/><rotate z="1" angle="25"/><rotate x="1" angle="15"/><translate y="0.4"/>)",
+                                   R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.7, 0.3, 0.2"/></bsdf>)"},
+                                  {"rectangle", R"(<scale x="0.4" y="0.6"/><rotate y="1" angle="35"/><translate x="0.6" y="0.6"/>)",
+                                   R"(<bsdf type="twosided"><bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf></bsdf>)"}};
 const std::vector<std::string> kPlaces = {R"(<rotate y="1" angle="30"/><translate x="-1"/>)",
                                           R"(<scale x="1.5" y="0.7" z="1.2"/><rotate y="1" angle="-20"/><translate x="1" z="-0.5"/>)"};
 
@@ -111,8 +111,8 @@ TEST_CASE("instancing: a group is stored once (meshes and Embree bytes against t
     std::string inst = kHead + R"(<shape type="shapegroup" id="g"><shape type="obj"><string name="filename" value="grid.obj"/></shape></shape>)";
     std::string flat = kHead;
     for (int k = 0; k < 64; ++k) {
-        const std::string t = "<transform name=\"to_world\"><translate x=\"" + std::to_string(k % 8 - 4) + "\" z=\"" +
-                              std::to_string(k / 8 - 4) + "\"/></transform>";
+        const std::string t =
+            "<transform name=\"to_world\"><translate x=\"" + std::to_string(k % 8 - 4) + "\" z=\"" + std::to_string(k / 8 - 4) + "\"/></transform>";
         inst += "<shape type=\"instance\"><ref id=\"g\"/>" + t + "</shape>\n";
         flat += "<shape type=\"obj\"><string name=\"filename\" value=\"grid.obj\"/>" + t + "</shape>\n";
     }
@@ -151,22 +151,19 @@ TEST_CASE("instancing: bad groups and instances name file and line", "[instancin
     // kHead is 8 lines: the body starts on line 9.
     CHECK(error(R"(<shape type="instance"><ref id="nope"/></shape>)").rfind("t.xml:9:", 0) == 0);
     CHECK(error(R"(<shape type="instance"><ref id="nope"/></shape>)").find("no element has id \"nope\"") != std::string::npos);
-    CHECK(error(R"(<shape type="cube" id="c"/><shape type="instance"><ref id="c"/></shape>)").find("must name a shapegroup") !=
-          std::string::npos);
+    CHECK(error(R"(<shape type="cube" id="c"/><shape type="instance"><ref id="c"/></shape>)").find("must name a shapegroup") != std::string::npos);
     CHECK(error(R"(<shape type="instance"/>)").find("an instance needs one <ref id=...> to a shapegroup") != std::string::npos);
     CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="shapegroup" id="h">)" + cube + "</shape></shape>")
               .find("a shapegroup inside a shapegroup") != std::string::npos);
-    CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="instance"><ref id="g"/></shape></shape>)")
-              .find("an instance inside a shapegroup") != std::string::npos);
+    CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="instance"><ref id="g"/></shape></shape>)").find("an instance inside a shapegroup") !=
+          std::string::npos);
     CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="cube"><emitter type="area"/></shape></shape>)")
               .find("an emitter inside a shapegroup") != std::string::npos);
-    CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>)").find("a sphere inside a shapegroup") !=
-          std::string::npos);
+    CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>)").find("a sphere inside a shapegroup") != std::string::npos);
     CHECK(error(R"(<shape type="shapegroup" id="g"><shape type="cube"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></shape></shape>)")
               .find("a mask inside a shapegroup") != std::string::npos);
     CHECK(error(R"(<shape type="shapegroup" id="g"></shape>)").find("an empty shapegroup") != std::string::npos);
-    CHECK(error(R"(<shape type="shapegroup" id="g"><bsdf type="diffuse"/></shape>)").find("a shapegroup holds shapes only") !=
-          std::string::npos);
+    CHECK(error(R"(<shape type="shapegroup" id="g"><bsdf type="diffuse"/></shape>)").find("a shapegroup holds shapes only") != std::string::npos);
     CHECK(error(R"(<shape type="shapegroup" id="g">)" + cube +
                 R"(</shape><shape type="instance"><ref id="g"/><transform name="to_world"><scale value="0"/></transform></shape>)")
               .find("to_world is singular") != std::string::npos);

@@ -15,7 +15,9 @@
 
 using namespace wmlt;
 
-namespace wmlt { extern const char* const kDefaultSceneXml; }
+namespace wmlt {
+extern const char* const kDefaultSceneXml;
+}
 
 namespace {
 

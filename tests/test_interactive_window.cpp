@@ -60,8 +60,8 @@ struct InteractiveRun : ViewRun {
         const auto [x, y] = widget(label);
         // Focused, and the pointer there a moment before the click (ImGui finds what is under
         // the mouse at a frame).
-        xdotool({"windowfocus", "--sync", window, "mousemove", "--window", window, std::to_string(x), std::to_string(y),
-                 "sleep", "0.05", "click", "1"});
+        xdotool(
+            {"windowfocus", "--sync", window, "mousemove", "--window", window, std::to_string(x), std::to_string(y), "sleep", "0.05", "click", "1"});
     }
     // Types `text` into the panel's field `label` and presses Enter.
     void type(const std::string& label, const std::string& text) const {
@@ -87,11 +87,10 @@ struct InteractiveRun : ViewRun {
     }
     std::string out() const { return child::readText(dir + "/out.txt"); }
     void drag(int button, std::vector<std::pair<int, int>> path) const {
-        std::vector<std::string> a = {"mousemove", "--window", window, std::to_string(path[0].first),
-                                      std::to_string(path[0].second), "mousedown", std::to_string(button)};
+        std::vector<std::string> a = {
+            "mousemove", "--window", window, std::to_string(path[0].first), std::to_string(path[0].second), "mousedown", std::to_string(button)};
         for (size_t i = 1; i < path.size(); ++i)
-            a.insert(a.end(), {"sleep", "0.03", "mousemove", "--window", window, std::to_string(path[i].first),
-                               std::to_string(path[i].second)});
+            a.insert(a.end(), {"sleep", "0.03", "mousemove", "--window", window, std::to_string(path[i].first), std::to_string(path[i].second)});
         a.insert(a.end(), {"mouseup", std::to_string(button)});
         xdotool(a);
     }
@@ -156,8 +155,9 @@ TEST_CASE("interactive: a drag moves the camera; once still, the window shows wh
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("interactive-drag");
     const std::string kept = dir + "/kept.xml";
-    InteractiveRun run(x, dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "16", "--seed", "3",
-                                "--max-length", "6", "-o", dir + "/out.png", "--scene-out", kept});
+    InteractiveRun run(x, dir,
+                       {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "16", "--seed", "3", "--max-length", "6", "-o",
+                        dir + "/out.png", "--scene-out", kept});
     INFO("stderr: " << run.err());
     REQUIRE_FALSE(run.window.empty());
     REQUIRE(run.waitTitle("interactive pt: done", kLimit));
@@ -167,7 +167,7 @@ TEST_CASE("interactive: a drag moves the camera; once still, the window shows wh
     const std::vector<uint8_t> before = run.image();
 
     run.drag(1, {{20, 24}, {21, 24}, {22, 25}, {23, 25}});  // orbit (a pixel: 3.75 degrees)
-    run.drag(3, {{30, 30}, {31, 29}});                       // pan
+    run.drag(3, {{30, 30}, {31, 29}});                      // pan
     const std::string moved = run.commandLine();
     INFO(first << "\n" << moved);
     const wmlt::CommandLine a = parsed(first), b = parsed(moved);
@@ -189,7 +189,7 @@ TEST_CASE("interactive: a drag moves the camera; once still, the window shows wh
     const std::vector<uint8_t> fresh = freshRender("wavemmlt '" + kept + "' --spp 16 --seed 3", dir + "/fresh.png");
     CHECK(shows(run, fresh, 20, worst));
     INFO("worst difference " << worst);
-    CHECK(meanDifference(fresh, before) > 5);  // the drag changed the image
+    CHECK(meanDifference(fresh, before) > 5);                                  // the drag changed the image
     CHECK(meanDifference(fresh, std::vector<uint8_t>(fresh.size(), 0)) > 20);  // and still sees the room
     CHECK(freshRender(moved, dir + "/moved.png") == fresh);
 
@@ -203,8 +203,8 @@ TEST_CASE("interactive: each setting changed in the panel reaches the render; ba
     VirtualDisplay x;
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("interactive-panel");
-    InteractiveRun run(x, dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "4", "--seed", "5",
-                                "--max-length", "5", "-o", dir + "/out.png"});
+    InteractiveRun run(
+        x, dir, {"--tracer", "pt", "--width", "64", "--height", "48", "--spp", "4", "--seed", "5", "--max-length", "5", "-o", dir + "/out.png"});
     INFO("stderr: " << run.err());
     REQUIRE_FALSE(run.window.empty());
     REQUIRE(run.waitTitle("interactive pt: done", kLimit));
@@ -235,8 +235,7 @@ TEST_CASE("interactive: each setting changed in the panel reaches the render; ba
     run.type("FOV (degrees)", "50");
     CHECK(run.waitTitle("exposure +1.0", 10));
     cmd = run.commandLine();
-    for (const char* part : {"--tracer mmlt", "--max-length 4 ", "--p-large 0.5 ", "--chains 1024 ", "--mis-beta 1 ",
-                             "--exposure 1 ", "--fov 50 "})
+    for (const char* part : {"--tracer mmlt", "--max-length 4 ", "--p-large 0.5 ", "--chains 1024 ", "--mis-beta 1 ", "--exposure 1 ", "--fov 50 "})
         CHECK(cmd.find(part) != std::string::npos);
     REQUIRE(run.waitTitle("interactive mmlt: done", kLimit));
     CHECK(shows(run, freshRender(cmd, dir + "/mmlt.png"), 20, worst));
@@ -293,8 +292,7 @@ TEST_CASE("interactive: i in --view switches; Ctrl-C in the middle of a drag sav
     run.key("i");
     REQUIRE(run.waitTitle("wavemmlt interactive bpt", 20));
     CHECK_FALSE(fs::exists(out));  // the --view render was left, not finished
-    run.xdotool({"mousemove", "--window", run.window, "20", "20", "mousedown", "1", "mousemove", "--window", run.window,
-                 "30", "24"});
+    run.xdotool({"mousemove", "--window", run.window, "20", "20", "mousedown", "1", "mousemove", "--window", run.window, "30", "24"});
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     run.process.kill(SIGINT);
     CHECK(run.process.wait(kLimit) == 130);

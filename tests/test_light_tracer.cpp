@@ -34,7 +34,11 @@ namespace {
 struct McMean {
     double sum = 0, sumSq = 0;
     long n = 0;
-    void add(double x) { sum += x; sumSq += x * x; ++n; }
+    void add(double x) {
+        sum += x;
+        sumSq += x * x;
+        ++n;
+    }
     double mean() const { return sum / n; }
     double se() const { return std::sqrt(std::max(0.0, sumSq / n - mean() * mean()) / (n - 1)); }
     double z(double expected) const { return (mean() - expected) / se(); }
@@ -146,8 +150,7 @@ TEST_CASE("LT camera: importance integrates to 1 over the image, pinhole and thi
             bool inPixel = in && uint32_t(py) * 32 + uint32_t(px) == target;
             pixel.add(inPixel ? v * 32 * 24 : 0.0);
         }
-        INFO("lens " << lens << ": image " << all.mean() << " +- " << all.se() << ", pixel " << pixel.mean()
-             << " +- " << pixel.se());
+        INFO("lens " << lens << ": image " << all.mean() << " +- " << all.se() << ", pixel " << pixel.mean() << " +- " << pixel.se());
         CHECK(std::fabs(all.z(1.0)) < kMcBound);
         CHECK(std::fabs(pixel.z(1.0)) < kMcBound);
     }
@@ -178,12 +181,15 @@ TEST_CASE("LT emission: rect and sphere points and directions match their pdfs",
         for (uint32_t i = 0; i < 200000; ++i) {
             uint64_t key = sampleKey(3, i, 0);
             LightEmission e;
-            bool ok = l->type == LightType::Rect
-                          ? sampleRectEmission(*l, sampleDimension(key, 0), sampleDimension(key, 1), sampleDimension(key, 2),
-                                               sampleDimension(key, 3), e)
-                          : sampleSphereEmission(*l, sampleDimension(key, 0), sampleDimension(key, 1),
-                                                 sampleDimension(key, 2), sampleDimension(key, 3), e);
-            if (!ok) { dirInt.add(0); posInt.add(0); continue; }
+            bool ok =
+                l->type == LightType::Rect
+                    ? sampleRectEmission(*l, sampleDimension(key, 0), sampleDimension(key, 1), sampleDimension(key, 2), sampleDimension(key, 3), e)
+                    : sampleSphereEmission(*l, sampleDimension(key, 0), sampleDimension(key, 1), sampleDimension(key, 2), sampleDimension(key, 3), e);
+            if (!ok) {
+                dirInt.add(0);
+                posInt.add(0);
+                continue;
+            }
             float c = dot(e.dir, e.n);
             REQUIRE(c >= 0);
             REQUIRE(e.pdfDir == Approx(c / kPi).margin(1e-6));
@@ -225,15 +231,15 @@ TEST_CASE("LT emission: environment map directions and the disc", "[lt][lights]"
     for (uint32_t i = 0; i < 200000; ++i) {
         uint64_t key = sampleKey(5, i, 0);
         LightEmission e;
-        if (!sampleLightEmission(*s, s->envLight, sampleDimension(key, 0), sampleDimension(key, 1),
-                                 sampleDimension(key, 2), sampleDimension(key, 3), e)) {
+        if (!sampleLightEmission(*s, s->envLight, sampleDimension(key, 0), sampleDimension(key, 1), sampleDimension(key, 2), sampleDimension(key, 3),
+                                 e)) {
             le.add(0);
             inner.add(0);
             continue;
         }
         Vec3 d = -e.dir, rel = e.p - s->center;
-        REQUIRE(dot(rel, d) == Approx(R).epsilon(1e-4));                           // on the tangent plane
-        REQUIRE(length(rel - d * dot(rel, d)) <= R * (1 + 1e-5f));                   // within the disc
+        REQUIRE(dot(rel, d) == Approx(R).epsilon(1e-4));            // on the tangent plane
+        REQUIRE(length(rel - d * dot(rel, d)) <= R * (1 + 1e-5f));  // within the disc
         REQUIRE(e.pdfPos == Approx(1.0f / (kPi * R * R)));
         // float: the map coordinates of d are recomputed by atan2, so allow 1e-2 relative.
         REQUIRE(e.pdfDir == Approx(s->env.pdf(d)).epsilon(1e-2));
@@ -247,9 +253,7 @@ TEST_CASE("LT emission: environment map directions and the disc", "[lt][lights]"
 
 // ---- 3. LT against PT -----------------------------------------------------------------
 
-TEST_CASE("LT = PT: Cornell box at 64 x 64, lengths 1..5", "[lt][render]") {
-    compareWithPt(rstats::cornell64(5), 64, 8, 1, 5, 100);
-}
+TEST_CASE("LT = PT: Cornell box at 64 x 64, lengths 1..5", "[lt][render]") { compareWithPt(rstats::cornell64(5), 64, 8, 1, 5, 100); }
 
 TEST_CASE("LT = PT: glossy floor and a glass sphere (caustic)", "[lt][render]") {
     compareWithPt(loadSceneFromString(kCausticXml, "caustic.xml", "."), 64, 10, 1, 6, 200);

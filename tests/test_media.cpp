@@ -111,7 +111,8 @@ AttributeBegin
 Material "interface"
 MediumInterface "ink" ""
 Scale 10 10 1
-)" + media_scenes::cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
+)" + media_scenes::cube(Vec3(0, 0, 0.5f), 0.5f, false) +
+                             R"(AttributeEnd
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
@@ -184,8 +185,7 @@ TEST_CASE("media in PT: single scattering of a point light in an infinite medium
         // BPT's weights give those connections little weight there.)
         for (TracerKind tr : {TracerKind::PT, TracerKind::BPT}) {
             rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k)
-                runs.add(rstats::blockMeans(render(d, rstats::renderOptions(tr, 64, 20 + uint64_t(k), 2, 2)).image, 4, c));
+            for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(tr, 64, 20 + uint64_t(k), 2, 2)).image, 4, c));
             const rstats::ZTestResult z = rstats::zTest(runs, expected);
             INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe() << "; mean expected " << blockMean(expected));
             CHECK(z.pass);
@@ -203,16 +203,18 @@ TEST_CASE("media in PT: white furnaces, the camera in the medium and the medium 
     const std::string head = R"(LookAt 0 0 -1.5  0 0 0  0 1 0
 MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 1.3 1.3 1.3 ] "float g" 0.5
 )";
-    const std::string walls = "AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n" +
-                              media_scenes::cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
+    const std::string walls =
+        "AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n" +
+        media_scenes::cube(Vec3(0.0f), 2.0f, true) + "AttributeEnd\n";
     const std::string film = R"(Camera "perspective" "float fov" [ 60 ]
 Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
 PixelFilter "box"
 )";
-    const SceneDesc inMedium = loadText("furnace-a.pbrt", head + "MediumInterface \"\" \"fog\"\n" + film + "WorldBegin\nMediumInterface \"fog\" \"fog\"\n" + walls);
-    const SceneDesc boxed = loadText("furnace-b.pbrt", head + film + "WorldBegin\n" + walls +
-                                                        "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"fog\" \"\"\n" +
-                                                        media_scenes::cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
+    const SceneDesc inMedium =
+        loadText("furnace-a.pbrt", head + "MediumInterface \"\" \"fog\"\n" + film + "WorldBegin\nMediumInterface \"fog\" \"fog\"\n" + walls);
+    const SceneDesc boxed =
+        loadText("furnace-b.pbrt", head + film + "WorldBegin\n" + walls + "AttributeBegin\nMaterial \"interface\"\nMediumInterface \"fog\" \"\"\n" +
+                                       media_scenes::cube(Vec3(0.1f, 0, 0.3f), 0.8f, false) + "AttributeEnd\n");
     REQUIRE(inMedium.cameraMedium == 0);
     REQUIRE(boxed.cameraMedium == -1);
     for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT})
@@ -238,7 +240,7 @@ TEST_CASE("media behind glass: PT, LT and BPT agree on a scattering medium in a 
     REQUIRE(d.cameraMedium == -1);
     REQUIRE(d.shapes[2].mediumBoundary);
     const TracerKind tracers[3] = {TracerKind::PT, TracerKind::LT, TracerKind::BPT};
-    const int spp[3] = {1024, 1024, 256};  // about equal time
+    const int spp[3] = {1024, 1024, 256};   // about equal time
     std::vector<rstats::RunStats> runs(9);  // tracer x channel
     for (int tr = 0; tr < 3; ++tr)
         for (int k = 0; k < 6; ++k) {
@@ -258,7 +260,7 @@ TEST_CASE("media in the thesis format: the furnace with a sphere of fog behind a
     // An emitting closed box (six Planes facing in, L = 1, black) around a sphere of
     // albedo-1 fog behind an Interface shader: radiance 1 everywhere, as the pbrt furnace.
     std::string planes;
-    const char* faces[6][2] = {{"0 -2 0", "0 0 0"},   {"0 2 0", "180 0 0"}, {"-2 0 0", "0 0 -90"},
+    const char* faces[6][2] = {{"0 -2 0", "0 0 0"}, {"0 2 0", "180 0 0"}, {"-2 0 0", "0 0 -90"},
                                {"2 0 0", "0 0 90"}, {"0 0 -2", "90 0 0"}, {"0 0 2", "-90 0 0"}};
     for (int i = 0; i < 6; ++i) {
         std::string p = faces[i][0], r = faces[i][1];
@@ -295,7 +297,8 @@ TEST_CASE("media in the thesis format: the furnace with a sphere of fog behind a
     const std::string base = R"(<Scene><Camera><Position x="0" y="0" z="-1"/><LookAt x="0" y="0" z="0"/><FOV value="60"/></Camera>
 <Shader Type="Matte" ID="0"><Diffuse r="0.5" g="0.5" b="0.5"/></Shader>
 )";
-    CHECK_THAT(errorOf("bad1.xml", base + "<Geometry Type=\"Sphere\" ID=\"s\" Medium=\"7\"><Position x=\"0\" y=\"0\" z=\"0\"/><Radius value=\"1\"/><Shader value=\"0\"/></Geometry></Scene>"),
+    CHECK_THAT(errorOf("bad1.xml", base + "<Geometry Type=\"Sphere\" ID=\"s\" Medium=\"7\"><Position x=\"0\" y=\"0\" z=\"0\"/><Radius "
+                                          "value=\"1\"/><Shader value=\"0\"/></Geometry></Scene>"),
                Catch::Contains("bad1.xml:3") && Catch::Contains("no Medium"));
     CHECK_THAT(errorOf("bad2.xml", base + "<Medium Type=\"Homogeneous\" ID=\"1\"><SigmaA r=\"-1\" g=\"0\" b=\"0\"/></Medium></Scene>"),
                Catch::Contains("bad2.xml:3") && Catch::Contains(">= 0"));
@@ -319,11 +322,11 @@ TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a 
 )" + body + "</scene>";
     };
     const SceneDesc inMedium = loadMitsubaFromString(scene(R"(<ref name="medium" id="fog"/>)", ""), "a.xml", dir());
-    const SceneDesc sphere = loadMitsubaFromString(
-        scene("", R"(<shape type="sphere"><point name="center" x="0.1" y="0" z="0.3"/><float name="radius" value="0.8"/>
+    const SceneDesc sphere =
+        loadMitsubaFromString(scene("", R"(<shape type="sphere"><point name="center" x="0.1" y="0" z="0.3"/><float name="radius" value="0.8"/>
   <bsdf type="null"/><ref name="interior" id="fog"/></shape>
 )"),
-        "b.xml", dir());
+                              "b.xml", dir());
     REQUIRE(inMedium.cameraMedium == 0);
     REQUIRE(sphere.cameraMedium == -1);
     REQUIRE(sphere.shapes[1].passThrough);
@@ -340,8 +343,10 @@ TEST_CASE("media in Mitsuba files: furnaces with the sensor in the medium and a 
     }
     CHECK_THAT(mitsubaError(scene("", "<medium type=\"vdb\" id=\"h\"/><shape type=\"sphere\"><ref name=\"interior\" id=\"h\"/></shape>\n")),
                Catch::Contains("bad.xml:9") && Catch::Contains("medium \"vdb\" is not supported"));
-    CHECK_THAT(mitsubaError(scene("", "<shape type=\"sphere\"><medium type=\"homogeneous\" name=\"interior\"><float name=\"sigma_t\" value=\"-1\"/></medium></shape>\n")),
-               Catch::Contains("bad.xml:9") && Catch::Contains(">= 0"));
+    CHECK_THAT(
+        mitsubaError(scene(
+            "", "<shape type=\"sphere\"><medium type=\"homogeneous\" name=\"interior\"><float name=\"sigma_t\" value=\"-1\"/></medium></shape>\n")),
+        Catch::Contains("bad.xml:9") && Catch::Contains(">= 0"));
 }
 
 TEST_CASE("media in PT: a heterogeneous grid, unbiased (a furnace of random densities, a ramp's transmittance)", "[media][render][grid]") {
@@ -351,10 +356,11 @@ TEST_CASE("media in PT: a heterogeneous grid, unbiased (a furnace of random dens
     //    (spectral tracking's weights with channels apart).
     uint64_t h = 12345;
     const std::string dens = media_scenes::randomNumbers(64, 0, 2, h);
-    const std::string furnace = media_scenes::furnace(R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.25 0.5 1 ] "float g" -0.3
+    const std::string furnace = media_scenes::furnace(
+        R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.25 0.5 1 ] "float g" -0.3
   "integer nx" 4 "integer ny" 4 "integer nz" 4 "point3 p0" [ -2.5 -2.5 -2.5 ] "point3 p1" [ 2.5 2.5 2.5 ] "float density" [ )" +
-                                dens + "]",
-                                                      "smoke");
+            dens + "]",
+        "smoke");
     const SceneDesc d = loadText("grid-furnace.pbrt", furnace);
     REQUIRE(d.media.size() == 1);
     REQUIRE(d.media[0].density.size() == 64);
@@ -373,7 +379,8 @@ TEST_CASE("media in PT: a heterogeneous grid, unbiased (a furnace of random dens
     //    view its middle half). An orthographic camera through it at an emitter of L = 1.
     // (A medium made before WorldBegin is in the space of the transform then in force, as in
     // pbrt: here the identity, before LookAt.)
-    const SceneDesc slab = loadText("grid-slab.pbrt", R"(MakeNamedMedium "ramp" "string type" "uniformgrid" "rgb sigma_a" [ 0.5 1 2 ] "rgb sigma_s" [ 0 0 0 ]
+    const SceneDesc slab =
+        loadText("grid-slab.pbrt", R"(MakeNamedMedium "ramp" "string type" "uniformgrid" "rgb sigma_a" [ 0.5 1 2 ] "rgb sigma_s" [ 0 0 0 ]
   "integer nx" 4 "integer ny" 4 "integer nz" 2 "point3 p0" [ -4 -4 0 ] "point3 p1" [ 4 4 1 ]
   "float density" [ 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4 0.4  1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 1.6 ]
 LookAt 0 0 -3  0 0 0  0 1 0
@@ -385,7 +392,8 @@ AttributeBegin
 Material "interface"
 MediumInterface "ramp" ""
 Scale 10 10 1
-)" + media_scenes::cube(Vec3(0, 0, 0.5f), 0.5f, false) + R"(AttributeEnd
+)" + media_scenes::cube(Vec3(0, 0, 0.5f), 0.5f, false) +
+                                       R"(AttributeEnd
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
@@ -395,8 +403,7 @@ AttributeEnd
         for (int c = 0; c < 3; ++c) {
             const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
             rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k)
-                runs.add(rstats::blockMeans(render(slab, rstats::renderOptions(tr, 16, 80 + uint64_t(k), 1, 6)).image, 2, c));
+            for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(slab, rstats::renderOptions(tr, 16, 80 + uint64_t(k), 1, 6)).image, 2, c));
             const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma * 0.4375 * 2.0)));
             INFO("slab, tracer " << int(tr) << " channel " << c << ": " << z.describe());
             CHECK(z.pass);
@@ -408,9 +415,10 @@ AttributeEnd
     for (int i = 0; i < 3 * 27; ++i) sigA += "0 ";
     std::string rgbFurnace = furnace;
     const size_t from = rgbFurnace.find("MakeNamedMedium"), to = rgbFurnace.find("LookAt");
-    rgbFurnace.replace(from, to - from, "MakeNamedMedium \"smoke\" \"string type\" \"rgbgrid\" \"float g\" 0.2 \"integer nx\" 3 \"integer ny\" 3 "
-                                        "\"integer nz\" 3 \"point3 p0\" [ -2.5 -2.5 -2.5 ] \"point3 p1\" [ 2.5 2.5 2.5 ]\n  \"rgb sigma_a\" [ " + sigA +
-                                        "]\n  \"rgb sigma_s\" [ " + sigS + "]\n");
+    rgbFurnace.replace(from, to - from,
+                       "MakeNamedMedium \"smoke\" \"string type\" \"rgbgrid\" \"float g\" 0.2 \"integer nx\" 3 \"integer ny\" 3 "
+                       "\"integer nz\" 3 \"point3 p0\" [ -2.5 -2.5 -2.5 ] \"point3 p1\" [ 2.5 2.5 2.5 ]\n  \"rgb sigma_a\" [ " +
+                           sigA + "]\n  \"rgb sigma_s\" [ " + sigS + "]\n");
     const SceneDesc rgb = loadText("rgb-furnace.pbrt", rgbFurnace);
     REQUIRE(rgb.media.size() == 1);
     REQUIRE(rgb.media[0].sigmaSGrid.size() == 27);
@@ -424,11 +432,13 @@ AttributeEnd
             CHECK(z.pass);
         }
     // bad input: a grid whose size disagrees with its values
-    CHECK_THAT(errorOf("grid-bad2.pbrt", "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"rgbgrid\" "
-                                         "\"integer nx\" 2 \"rgb sigma_a\" [ 1 1 1 ] \"rgb sigma_s\" [ 1 1 1 1 1 1 ]\nShape \"sphere\"\n"),
+    CHECK_THAT(errorOf("grid-bad2.pbrt",
+                       "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"rgbgrid\" "
+                       "\"integer nx\" 2 \"rgb sigma_a\" [ 1 1 1 ] \"rgb sigma_s\" [ 1 1 1 1 1 1 ]\nShape \"sphere\"\n"),
                Catch::Contains("grid-bad2.pbrt:4") && Catch::Contains("1 sigma_a values for a 2 x 1 x 1 grid"));
-    CHECK_THAT(errorOf("grid-bad.pbrt", "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
-                                        "\"integer nx\" 2 \"float density\" [ 1 ]\nShape \"sphere\"\n"),
+    CHECK_THAT(errorOf("grid-bad.pbrt",
+                       "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
+                       "\"integer nx\" 2 \"float density\" [ 1 ]\nShape \"sphere\"\n"),
                Catch::Contains("grid-bad.pbrt:4") && Catch::Contains("1 density values for a 2 x 1 x 1 grid"));
 }
 
@@ -454,7 +464,8 @@ TEST_CASE("media in Mitsuba files: a heterogeneous gridvolume, the furnace, and 
     auto scene = [&](const std::string& file) {
         return R"(<scene version="3.0.0">
 <medium type="heterogeneous" id="smoke"><rgb name="albedo" value="1"/>
-  <volume type="gridvolume" name="sigma_t"><string name="filename" value=")" + file + R"("/>
+  <volume type="gridvolume" name="sigma_t"><string name="filename" value=")" +
+               file + R"("/>
     <transform name="to_world"><scale value="5"/><translate value="-2.5, -2.5, -2.5"/></transform></volume>
   <phase type="hg"><float name="g" value="0.3"/></phase></medium>
 <sensor type="perspective"><float name="fov" value="60"/>
@@ -508,7 +519,8 @@ TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[me
     };
     auto scene = [&](const std::string& sigmaT, const std::string& albedo) {
         return R"(<scene version="3.0.0">
-<medium type="heterogeneous" id="smoke">)" + sigmaT + albedo + R"(<phase type="hg"><float name="g" value="0.3"/></phase></medium>
+<medium type="heterogeneous" id="smoke">)" +
+               sigmaT + albedo + R"(<phase type="hg"><float name="g" value="0.3"/></phase></medium>
 <sensor type="perspective"><float name="fov" value="60"/>
   <transform name="to_world"><lookat origin="0, 0, -1.5" target="0, 0, 0" up="0, 1, 0"/></transform>
   <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film>
@@ -520,9 +532,10 @@ TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[me
     const std::string sigmaGrid = grid("sigma_t", "density.vol");
     const SceneDesc withGrid = loadMitsubaFromString(scene(sigmaGrid, grid("albedo", "albedo3.vol")), "a.xml", dir());
     const SceneDesc withConstant = loadMitsubaFromString(scene(sigmaGrid, R"(<rgb name="albedo" value="0.2, 0.5, 0.9"/>)"), "b.xml", dir());
-    const SceneDesc oneChannel = loadMitsubaFromString(scene(R"(<float name="sigma_t" value="0.8"/>)", grid("albedo", "albedo1.vol")), "c.xml", dir());
-    const SceneDesc homogeneousGrid = loadMitsubaFromString(
-        scene(R"(<float name="sigma_t" value="0.8"/>)", R"(<float name="albedo" value="0.5"/>)"), "d.xml", dir());
+    const SceneDesc oneChannel =
+        loadMitsubaFromString(scene(R"(<float name="sigma_t" value="0.8"/>)", grid("albedo", "albedo1.vol")), "c.xml", dir());
+    const SceneDesc homogeneousGrid =
+        loadMitsubaFromString(scene(R"(<float name="sigma_t" value="0.8"/>)", R"(<float name="albedo" value="0.5"/>)"), "d.xml", dir());
     REQUIRE(withGrid.media[0].albedoGrid.size() == 27);
     REQUIRE(oneChannel.media[0].density.size() == 27);
     struct Pair {
@@ -532,13 +545,15 @@ TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[me
         for (int c = 0; c < 3; ++c) {
             rstats::RunStats ra, rb;
             for (int k = 0; k < 6; ++k) {
-                ra.add(rstats::blockMeans(render(*pr.a, rstats::renderOptions(TracerKind::PT, 16, 500 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
-                rb.add(rstats::blockMeans(render(*pr.b, rstats::renderOptions(TracerKind::PT, 16, 510 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+                ra.add(
+                    rstats::blockMeans(render(*pr.a, rstats::renderOptions(TracerKind::PT, 16, 500 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+                rb.add(
+                    rstats::blockMeans(render(*pr.b, rstats::renderOptions(TracerKind::PT, 16, 510 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
             }
             double ratio = 0;
             const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
-            INFO((pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid") << ", channel " << c << ": "
-                                                                                               << z.describe() << ", ratio " << ratio);
+            INFO((pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid")
+                 << ", channel " << c << ": " << z.describe() << ", ratio " << ratio);
             CHECK(z.pass);
         }
     CHECK_THAT(mitsubaError(scene(sigmaGrid, grid("albedo", "albedo-big.vol"))),
@@ -592,7 +607,9 @@ Shape "trianglemesh" "point3 P" [ -5 -0.5 -5  5 -0.5 -5  5 -0.5 5  -5 -0.5 5 ] "
 AttributeBegin
 )";
     const std::string box = media_scenes::cube(Vec3(0.0f), 0.5f, false) + "AttributeEnd\n";
-    const SceneDesc sss = loadText("sss.pbrt", head + R"(Material "subsurface" "float eta" 1.4 "rgb sigma_a" [ 0.2 0.4 0.8 ] "rgb sigma_s" [ 3 2.5 2 ] "float scale" 0.5 "float g" 0.3
+    const SceneDesc sss = loadText(
+        "sss.pbrt",
+        head + R"(Material "subsurface" "float eta" 1.4 "rgb sigma_a" [ 0.2 0.4 0.8 ] "rgb sigma_s" [ 3 2.5 2 ] "float scale" 0.5 "float g" 0.3
 )" + box);
     const SceneDesc byHand = loadText("sss-by-hand.pbrt", head + "Material \"dielectric\" \"float eta\" 1.4\nMediumInterface \"m\" \"\"\n" + box);
     const SceneDesc bare = loadText("sss-bare.pbrt", head + "Material \"dielectric\" \"float eta\" 1.4\n" + box);
@@ -616,7 +633,9 @@ AttributeBegin
     // bad input: pbrt's measured media by name; reflectance with sigma_a; eta 1
     CHECK_THAT(errorOf("sss1.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"string name\" \"Skin1\"\nShape \"sphere\"\n"),
                Catch::Contains("sss1.pbrt:3") && Catch::Contains("\"name\" (pbrt's measured media) is not supported yet"));
-    CHECK_THAT(errorOf("sss3.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 1 1 1 ]\nShape \"sphere\"\n"),
+    CHECK_THAT(errorOf("sss3.pbrt",
+                       "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 1 1 1 "
+                       "]\nShape \"sphere\"\n"),
                Catch::Contains("sss3.pbrt:3") && Catch::Contains("not both"));
     CHECK_THAT(errorOf("sss2.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"float eta\" 1\nShape \"sphere\"\n"),
                Catch::Contains("sss2.pbrt:3") && Catch::Contains("eta"));
@@ -639,8 +658,9 @@ TEST_CASE("media: pbrt's subsurface by reflectance: the diffusion albedo table, 
     CHECK(t.rhoEff.back() > 0.95);
     CHECK(t.rhoEff.back() < 1.05);
     for (size_t i = 1; i + 1 < t.rho.size(); i += 7) CHECK(albedoOf(t, t.rhoEff[i]) == Approx(t.rho[i]).epsilon(1e-6));
-    const SceneDesc d = loadText("sss-r.pbrt", "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.1 0.5 0.8 ] "
-                                               "\"rgb mfp\" [ 1 2 4 ] \"float scale\" 0.5\nShape \"sphere\"\n");
+    const SceneDesc d = loadText("sss-r.pbrt",
+                                 "WorldBegin\nLightSource \"point\"\nMaterial \"subsurface\" \"rgb reflectance\" [ 0.1 0.5 0.8 ] "
+                                 "\"rgb mfp\" [ 1 2 4 ] \"float scale\" 0.5\nShape \"sphere\"\n");
     REQUIRE(d.media.size() == 1);
     const MediumDesc& m = d.media[0];
     const double r[3] = {0.1, 0.5, 0.8}, mfp[3] = {0.5, 1, 2};
@@ -664,8 +684,9 @@ TEST_CASE("media: bad input names file and line", "[media][bad-input]") {
                Catch::Contains("m4.pbrt:4") && Catch::Contains("uniformgrid"));
     // an open mesh as a pass-through boundary: legal in pbrt's files (a ray's medium is set by
     // the side it leaves through), refused in the thesis format's (it has no inside)
-    const SceneDesc open = loadText("m5.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nMediumInterface \"f\" \"\"\n"
-                                                      "Material \"interface\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n");
+    const SceneDesc open = loadText("m5.pbrt", head +
+                                                   "MakeNamedMedium \"f\" \"string type\" \"homogeneous\"\nMediumInterface \"f\" \"\"\n"
+                                                   "Material \"interface\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n");
     CHECK(open.mediaAsDeclared);
     CHECK_NOTHROW(render(open, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2)));
     const SceneDesc plane = loadText("m5.xml", R"(<Scene><Camera><Position x="0" y="0" z="-1"/><LookAt x="0" y="0" z="0"/><FOV value="60"/></Camera>

@@ -71,7 +71,8 @@ TEST_CASE("media: a constant grid tracks to what the homogeneous medium renders"
     const SceneDesc grid = media_scenes::load(
         "const-grid.pbrt",
         box(R"(MakeNamedMedium "m" "string type" "uniformgrid" "rgb sigma_a" [ 0.05 0.1 0.2 ] "rgb sigma_s" [ 0.3 0.25 0.2 ] "float g" 0.4
-  "integer nx" 4 "integer ny" 4 "integer nz" 4 "point3 p0" [ -8 -8 -8 ] "point3 p1" [ 8 8 8 ] "float density" [ )" + dens + "]"));
+  "integer nx" 4 "integer ny" 4 "integer nz" 4 "point3 p0" [ -8 -8 -8 ] "point3 p1" [ 8 8 8 ] "float density" [ )" +
+            dens + "]"));
     const SceneDesc homogeneous = media_scenes::load(
         "const-homogeneous.pbrt",
         box(R"(MakeNamedMedium "m" "string type" "homogeneous" "rgb sigma_a" [ 0.075 0.15 0.3 ] "rgb sigma_s" [ 0.45 0.375 0.3 ] "float g" 0.4)"));

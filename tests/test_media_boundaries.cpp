@@ -79,8 +79,8 @@ AttributeEnd
         render(t, rstats::renderOptions(TracerKind::PT, 1, 1, 1, 2));
         FAIL("rendered a camera in the wrong medium");
     } catch (const InputError& e) {
-        CHECK_THAT(std::string(e.what()), Catch::Contains("camera-in-ball.xml:5") && Catch::Contains("the camera is inside") &&
-                                              Catch::Contains("vacuum"));
+        CHECK_THAT(std::string(e.what()),
+                   Catch::Contains("camera-in-ball.xml:5") && Catch::Contains("the camera is inside") && Catch::Contains("vacuum"));
     }
 }
 
@@ -121,8 +121,7 @@ MediumInterface "gas" ""
     // the front quad (z = -1), wound so that its normal points out of the box (to -z)
     const std::string quad = "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1 ] \"integer indices\" [ 0 2 1 0 3 2 ]\n";
     const SceneDesc open = media_scenes::load("caustic-open.pbrt", scene(quad));
-    const SceneDesc closed = media_scenes::load(
-        "caustic-closed.pbrt", scene(R"(Translate 0 0 0.0005
+    const SceneDesc closed = media_scenes::load("caustic-closed.pbrt", scene(R"(Translate 0 0 0.0005
 Scale 1.001 1.001 1.0005
 )" + media_scenes::cube(Vec3(0.0f), 1.0f, false)));
     REQUIRE(open.mediaAsDeclared);

@@ -75,8 +75,7 @@ AttributeEnd
     for (int c = 0; c < 3; ++c) {
         const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0, expected = double(c + 1) * (1 - std::exp(-sigma));
         rstats::RunStats runs;
-        for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(d, optionsFor(TracerKind::MMLT, 64, 300 + uint64_t(k), 6)).image, 2, c));
+        for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(d, optionsFor(TracerKind::MMLT, 64, 300 + uint64_t(k), 6)).image, 2, c));
         const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, expected));
         INFO("MMLT, channel " << c << ": " << z.describe());
         CHECK(z.pass);
@@ -97,13 +96,15 @@ AttributeEnd
 TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale grid, an rgbgrid's Le) are 1", "[media][render][stat]") {
     uint64_t h = 99;
     const SceneDesc homogeneous = media_scenes::load(
-        "glow-a.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "homogeneous" "rgb sigma_a" [ 0.3 0.6 0.9 ] "rgb sigma_s" [ 0.9 0.6 0.3 ] "float g" 0.3 "rgb Le" [ 1 1 1 ])"));
+        "glow-a.pbrt",
+        furnace(
+            R"(MakeNamedMedium "glow" "string type" "homogeneous" "rgb sigma_a" [ 0.3 0.6 0.9 ] "rgb sigma_s" [ 0.9 0.6 0.3 ] "float g" 0.3 "rgb Le" [ 1 1 1 ])"));
     const SceneDesc grid = media_scenes::load(
         "glow-b.pbrt",
         furnace(R"(MakeNamedMedium "glow" "string type" "uniformgrid" "rgb sigma_a" [ 0.3 0.6 0.9 ] "rgb sigma_s" [ 0.9 0.6 0.3 ] "float g" -0.2
   "integer nx" 3 "integer ny" 3 "integer nz" 3 "point3 p0" [ -3 -3 -3 ] "point3 p1" [ 3 3 3 ] "rgb Le" [ 0.5 0.5 0.5 ]
-  "float density" [ )" + media_scenes::randomNumbers(27, 0, 2, h) +
-                "] \"float Lescale\" [ " + repeat("2 ", 27) + "]"));
+  "float density" [ )" +
+                media_scenes::randomNumbers(27, 0, 2, h) + "] \"float Lescale\" [ " + repeat("2 ", 27) + "]"));
     const SceneDesc rgb = media_scenes::load(
         "glow-c.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "rgbgrid" "float g" 0.5 "integer nx" 2 "integer ny" 2 "integer nz" 2
   "point3 p0" [ -4 -4 -4 ] "point3 p1" [ 4 4 4 ] "rgb sigma_a" [ )" +
@@ -114,8 +115,7 @@ TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale 
     for (const SceneDesc* d : {&homogeneous, &grid, &rgb})
         for (TracerKind tr : {TracerKind::PT, TracerKind::BPT, TracerKind::MMLT}) {
             rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k)
-                runs.add(rstats::blockMeans(render(*d, optionsFor(tr, 16, 310 + uint64_t(k), kMaxPathLength)).image, 2, 1));
+            for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(*d, optionsFor(tr, 16, 310 + uint64_t(k), kMaxPathLength)).image, 2, 1));
             const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
             INFO((d == &homogeneous ? "homogeneous" : d == &grid ? "grid" : "rgbgrid") << ", tracer " << int(tr) << ": " << z.describe());
             CHECK(z.pass);
@@ -123,8 +123,7 @@ TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale 
 }
 
 TEST_CASE("emitting media: the light tracer refuses them; bad emission values name their line", "[media][bad-input]") {
-    const SceneDesc d = media_scenes::load(
-        "glow-lt.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "homogeneous" "rgb Le" [ 1 1 1 ])"));
+    const SceneDesc d = media_scenes::load("glow-lt.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "homogeneous" "rgb Le" [ 1 1 1 ])"));
     CHECK_THROWS_WITH(render(d, rstats::renderOptions(TracerKind::LT, 1, 1, 1, 2)), Catch::Contains("emitting medium"));
     auto errorOf = [](const std::string& name, const std::string& text) -> std::string {
         try {
@@ -140,6 +139,7 @@ TEST_CASE("emitting media: the light tracer refuses them; bad emission values na
     CHECK_THAT(errorOf("le2.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [ 1 1 ] "
                                           "\"rgb Le\" [ 1 1 1 ] \"float Lescale\" [ 1 2 3 ]\n"),
                Catch::Contains("le2.pbrt:4") && Catch::Contains("3 Lescale values for a 2 x 1 x 1 grid"));
-    CHECK_THAT(errorOf("le3.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \"float temperature\" [ 900 ]\n"),
-               Catch::Contains("le3.pbrt:4") && Catch::Contains("temperature"));
+    CHECK_THAT(
+        errorOf("le3.pbrt", head + "MakeNamedMedium \"f\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \"float temperature\" [ 900 ]\n"),
+        Catch::Contains("le3.pbrt:4") && Catch::Contains("temperature"));
 }

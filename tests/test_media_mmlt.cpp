@@ -4,8 +4,8 @@
 // media (homogeneous, behind rough glass; a grid, with the camera in it): every seeded chain
 // replays its pool sample bit for bit, a seed gives one image for 1, 2 and 4 threads; the
 // white furnace is 1 everywhere; MMLT agrees with PT on the glass ball (K-run means).
-#include <catch2/catch.hpp>
 #include <tbb/task_arena.h>
+#include <catch2/catch.hpp>
 
 #include <string>
 #include <vector>
@@ -23,11 +23,12 @@ namespace {
 // 2 x 2 x 2 grid of densities over [-2.5, 2.5]^3 with sigma_s (0.5, 1, 1.5) and no
 // absorption: albedo 1, so the radiance is 1 everywhere.
 std::string gridFurnace() {
-    return media_scenes::furnace(R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.5 1 1.5 ] "float g" 0.4
+    return media_scenes::furnace(
+        R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.5 1 1.5 ] "float g" 0.4
   "integer nx" 2 "integer ny" 2 "integer nz" 2 "point3 p0" [ -2.5 -2.5 -2.5 ] "point3 p1" [ 2.5 2.5 2.5 ]
   "float density" [ 0.3 1.2 0.7 1.9 0.5 1.1 1.6 0.2 ]
 )",
-                                   "smoke");
+        "smoke");
 }
 
 RenderOptions mmltOptions(int mutationsPerPixel, uint64_t seed, int maxLength, int chains, int threads = 2) {
@@ -46,8 +47,8 @@ TEST_CASE("media in MMLT: replay is exact, and a seed gives one image for 1, 2 a
         RenderOptions o = mmltOptions(64, 5, 10, 2048);
         o.passLength = 16;  // several passes: chains seeded (and replayed) again from each pool
         const RenderResult a = render(*d, o);
-        INFO((d == &glass ? "glass ball" : "grid furnace") << ": " << a.stats.mmlt.replayed << " seeds replayed in "
-                                                            << a.stats.mmlt.passes << " passes");
+        INFO((d == &glass ? "glass ball" : "grid furnace")
+             << ": " << a.stats.mmlt.replayed << " seeds replayed in " << a.stats.mmlt.passes << " passes");
         CHECK(a.stats.mmlt.replayed > 0);
         CHECK(a.stats.mmlt.replayMismatches == 0);
         CHECK(a.stats.samplesNonfiniteDiscarded == 0);
@@ -69,8 +70,7 @@ TEST_CASE("media in MMLT: the grid furnace is 1, and MMLT agrees with PT on the 
     const SceneDesc grid = media_scenes::load("mmlt-grid.pbrt", gridFurnace());
     for (int c = 0; c < 3; ++c) {
         rstats::RunStats runs;
-        for (int k = 0; k < 6; ++k)
-            runs.add(rstats::blockMeans(render(grid, mmltOptions(256, 200 + uint64_t(k), kMaxPathLength, 1024)).image, 2, c));
+        for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(grid, mmltOptions(256, 200 + uint64_t(k), kMaxPathLength, 1024)).image, 2, c));
         const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
         INFO("grid furnace, channel " << c << ": " << z.describe());
         CHECK(z.pass);

@@ -28,7 +28,11 @@ const std::string kSensor = R"(<sensor type="perspective"><float name="fov" valu
 SceneDesc load(const std::string& xml, const Defines& d = {}) { return loadMitsubaFromString(xml, "t.xml", ".", d); }
 
 std::string errorOf(const std::string& xml) {
-    try { load(xml); } catch (const InputError& e) { return e.what(); }
+    try {
+        load(xml);
+    } catch (const InputError& e) {
+        return e.what();
+    }
     return "";
 }
 
@@ -76,13 +80,15 @@ TEST_CASE("Mitsuba import: sensor, film, camera convention (+x to the image's le
 // for a lens of x mm, about the image's diagonal; 50mm when neither it nor fov is given.
 TEST_CASE("Mitsuba import: focal_length and its default", "[mitsuba][import]") {
     auto fovOf = [](const std::string& sensorBody) {
-        const SceneDesc d = load(scene("<sensor type=\"perspective\">" + sensorBody +
-                                       "<film type=\"hdrfilm\"><integer name=\"width\" value=\"60\"/><integer name=\"height\" value=\"40\"/></film></sensor>"));
+        const SceneDesc d =
+            load(scene("<sensor type=\"perspective\">" + sensorBody +
+                       "<film type=\"hdrfilm\"><integer name=\"width\" value=\"60\"/><integer name=\"height\" value=\"40\"/></film></sensor>"));
         return d.camera.fovDegrees;
     };
-    for (const auto& [body, mm] : std::vector<std::pair<std::string, double>>{
-             {"<string name=\"focal_length\" value=\"35mm\"/>", 35}, {"<string name=\"focal_length\" value=\"85\"/>", 85},
-             {"<float name=\"focal_length\" value=\"24\"/>", 24}, {"", 50}}) {
+    for (const auto& [body, mm] : std::vector<std::pair<std::string, double>>{{"<string name=\"focal_length\" value=\"35mm\"/>", 35},
+                                                                              {"<string name=\"focal_length\" value=\"85\"/>", 85},
+                                                                              {"<float name=\"focal_length\" value=\"24\"/>", 24},
+                                                                              {"", 50}}) {
         // tan of half the diagonal's angle is 43.27 / (2 x); across the shorter side (40 of
         // the 72.1-pixel diagonal) that tangent scales by 40 / 72.1.
         const double tDiag = std::sqrt(36.0 * 36 + 24 * 24) / (2 * mm), shorter = 40 / std::sqrt(60.0 * 60 + 40 * 40);
@@ -117,7 +123,10 @@ TEST_CASE("Mitsuba import: transforms compose in file order", "[mitsuba][import]
     CHECK(d.shapes[0].center.z == Approx(3.0f));
     // translate then scale: the cube's centre is at 30, its half size 3.
     Vec3 lo(1e9f), hi(-1e9f);
-    for (Vec3 p : d.shapes[1].mesh.positions) { lo = vmin(lo, p); hi = vmax(hi, p); }
+    for (Vec3 p : d.shapes[1].mesh.positions) {
+        lo = vmin(lo, p);
+        hi = vmax(hi, p);
+    }
     CHECK(lo.x == Approx(27.0f));
     CHECK(hi.x == Approx(33.0f));
     CHECK(d.shapes[1].mesh.indices.size() == 36);
@@ -186,7 +195,8 @@ TEST_CASE("Mitsuba import: bad inputs name file, line and plugin", "[mitsuba][im
     CHECK(e.find("t.xml:6:") == 0);
     CHECK(e.find("hair") != std::string::npos);
     // Unknown parameter of a known plugin.
-    e = errorOf(scene(kSensor + "<bsdf type=\"diffuse\" id=\"x\"><float name=\"sheen\" value=\"1\"/></bsdf><shape type=\"cube\"><ref id=\"x\"/></shape>"));
+    e = errorOf(
+        scene(kSensor + "<bsdf type=\"diffuse\" id=\"x\"><float name=\"sheen\" value=\"1\"/></bsdf><shape type=\"cube\"><ref id=\"x\"/></shape>"));
     CHECK(e.find("t.xml:6:") == 0);
     CHECK(e.find("sheen") != std::string::npos);
     // Missing file.

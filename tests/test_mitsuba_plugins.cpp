@@ -47,7 +47,11 @@ std::string scene(const std::string& body, bool light = true) {
 SceneDesc load(const std::string& xml, const std::string& dir = ".") { return loadMitsubaFromString(xml, "t.xml", dir); }
 
 std::string errorOf(const std::string& xml, const std::string& dir = ".") {
-    try { load(xml, dir); } catch (const InputError& e) { return e.what(); }
+    try {
+        load(xml, dir);
+    } catch (const InputError& e) {
+        return e.what();
+    }
     return "";
 }
 
@@ -75,7 +79,7 @@ TEST_CASE("Mitsuba plugins: named conductors", "[mitsuba][import]") {
     CHECK(au.conductorK.x == Approx(3.9831604247f));
     const MaterialDesc& cu = d.materials[d.shapes[1].material];
     CHECK(cu.kind == MaterialKind::RoughConductor);
-    CHECK(cu.conductorEta.x == Approx(0.200438f).epsilon(1e-5));  // veach-mis' copper
+    CHECK(cu.conductorEta.x == Approx(0.200438f).epsilon(1e-5));   // veach-mis' copper
     const MaterialDesc& none = d.materials[d.shapes[2].material];  // Mitsuba's default: a mirror
     CHECK(none.conductorEta.x == 0.0f);
     CHECK(none.conductorK.x == 1.0f);
@@ -92,7 +96,8 @@ TEST_CASE("Mitsuba plugins: an emitter keeps its BSDF (Mitsuba's default diffuse
     SceneDesc d = load(scene(R"(
 <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.7"/></bsdf><emitter type="area"/></shape>
 <shape type="sphere"><emitter type="area"/></shape>
-<shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"/></shape>)", false));
+<shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"/></shape>)",
+                             false));
     REQUIRE(d.shapes.size() == 3);
     REQUIRE(d.shapes[0].material >= 0);
     CHECK(d.materials[d.shapes[0].material].diffuse.x == Approx(0.7f));
@@ -189,7 +194,8 @@ TEST_CASE("Mitsuba textures: importer (bitmap, checkerboard, ref, to_uv) and bad
 <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/>
   <string name="filter_type" value="nearest"/><string name="wrap_mode" value="mirror"/></texture></bsdf></shape>
 <shape type="rectangle"><bsdf type="roughplastic"><ref name="diffuse_reflectance" id="board"/></bsdf></shape>
-<shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="board"/></bsdf></shape>)"), dir);
+<shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="board"/></bsdf></shape>)"),
+                       dir);
     REQUIRE(d.textures.size() == 2);
     const MaterialDesc& m0 = d.materials[d.shapes[0].material];
     REQUIRE(m0.texture[MaterialParam::Diffuse] >= 0);
@@ -210,13 +216,17 @@ TEST_CASE("Mitsuba textures: importer (bitmap, checkerboard, ref, to_uv) and bad
     CHECK(cb.uvTransform[4] == 4.0f);
     // Bad inputs: a missing file, an unknown filter or wrap mode, a texture where wavemmlt
     // has no textured parameter, an unknown texture type.
-    expectErrors({{R"(<texture type="bitmap" name="reflectance"><string name="filename" value="nope.png"/></texture>)", "nope.png"},
-                  {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="filter_type" value="cubic"/></texture>)", "cubic"},
-                  {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="wrap_mode" value="tile"/></texture>)", "tile"},
-                  {R"(<texture type="noise" name="reflectance"/>)", "noise"}},
-                 dir, [](const std::string& b) { return "<shape type=\"cube\"><bsdf type=\"diffuse\">" + b + "</bsdf></shape>"; });
+    expectErrors(
+        {{R"(<texture type="bitmap" name="reflectance"><string name="filename" value="nope.png"/></texture>)", "nope.png"},
+         {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="filter_type" value="cubic"/></texture>)",
+          "cubic"},
+         {R"(<texture type="bitmap" name="reflectance"><string name="filename" value="t.pfm"/><string name="wrap_mode" value="tile"/></texture>)",
+          "tile"},
+         {R"(<texture type="noise" name="reflectance"/>)", "noise"}},
+        dir, [](const std::string& b) { return "<shape type=\"cube\"><bsdf type=\"diffuse\">" + b + "</bsdf></shape>"; });
     // A conductor's complex index may be a texture (Mitsuba 3's eta and k are textures).
-    const SceneDesc cu = load(scene(R"(<shape type="cube"><bsdf type="roughconductor"><texture type="checkerboard" name="eta"/></bsdf></shape>)"), dir);
+    const SceneDesc cu =
+        load(scene(R"(<shape type="cube"><bsdf type="roughconductor"><texture type="checkerboard" name="eta"/></bsdf></shape>)"), dir);
     CHECK(cu.materials[size_t(cu.shapes[0].material)].texture[MaterialParam::ConductorEta] >= 0);
     CHECK(cu.materials[size_t(cu.shapes[0].material)].conductorEta.x == 1.0f);
     std::filesystem::remove_all(dir);
@@ -239,7 +249,8 @@ TEST_CASE("Mitsuba textures: a bitmap on a rectangle, end to end (rectangle uv, 
   <shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
     <string name="filename" value="t.pfm"/><string name="filter_type" value="nearest"/></texture></bsdf></shape>
   <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
-</scene>)", "bitmap.xml", dir);
+</scene>)",
+                                              "bitmap.xml", dir);
     rstats::RunStats runs;
     for (int k = 0; k < 8; ++k) {
         const RenderResult r = render(d, rstats::renderOptions(TracerKind::PT, 64, 40 + uint64_t(k), 1, 2));
@@ -268,7 +279,8 @@ TEST_CASE("Mitsuba bumpmap: importer, and the normal of a linear height ramp", "
 <shape type="rectangle"><bsdf type="bumpmap"><texture type="bitmap" name="arbitrary"><string name="filename" value="h.pfm"/></texture>
   <float name="scale" value="0.5"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
 <shape type="rectangle"><bsdf type="twosided"><bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture>
-  <bsdf type="roughconductor"/></bsdf></bsdf></shape>)"), dir);
+  <bsdf type="roughconductor"/></bsdf></bsdf></shape>)"),
+                       dir);
     const MaterialDesc& m0 = d.materials[d.shapes[0].material];
     CHECK(m0.kind == MaterialKind::Matte);
     CHECK(m0.twoSided);
@@ -287,10 +299,11 @@ TEST_CASE("Mitsuba bumpmap: importer, and the normal of a linear height ramp", "
     CHECK(n.y == Approx(0.0f).margin(1e-5));
     CHECK(n.z == Approx(std::sqrt(0.5f)).epsilon(1e-4));
     // Bad: no texture, a checkerboard (Mitsuba differentiates bitmaps only), no nested BSDF.
-    expectErrors({{R"(<bsdf type="bumpmap"><bsdf type="diffuse"/></bsdf>)", "exactly one nested texture"},
-                  {R"(<bsdf type="bumpmap"><texture type="checkerboard"/><bsdf type="diffuse"/></bsdf>)", "must be a bitmap"},
-                  {R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture></bsdf>)", "exactly one nested BSDF"}},
-                 dir, [](const std::string& b) { return "<shape type=\"cube\">" + b + "</shape>"; });
+    expectErrors(
+        {{R"(<bsdf type="bumpmap"><bsdf type="diffuse"/></bsdf>)", "exactly one nested texture"},
+         {R"(<bsdf type="bumpmap"><texture type="checkerboard"/><bsdf type="diffuse"/></bsdf>)", "must be a bitmap"},
+         {R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="h.pfm"/></texture></bsdf>)", "exactly one nested BSDF"}},
+        dir, [](const std::string& b) { return "<shape type=\"cube\">" + b + "</shape>"; });
     std::filesystem::remove_all(dir);
 }
 
@@ -301,7 +314,8 @@ TEST_CASE("Mitsuba mask: importer and bad inputs", "[mitsuba][import][mask]") {
 <shape type="rectangle"><bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="diffuse"/></bsdf></shape>
 <shape type="rectangle"><bsdf type="mask"><texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/></texture>
   <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
-<shape type="rectangle"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></shape>)"), dir);
+<shape type="rectangle"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></shape>)"),
+                       dir);
     CHECK(d.materials[d.shapes[0].material].opacity == Approx(0.3f));
     CHECK(d.materials[d.shapes[1].material].opacityTexture >= 0);
     CHECK(d.materials[d.shapes[1].material].twoSided);
@@ -319,16 +333,19 @@ TEST_CASE("Mitsuba mask: importer and bad inputs", "[mitsuba][import][mask]") {
 TEST_CASE("Mitsuba mask: a partly transparent plate under a sky, end to end", "[mitsuba][mask][render]") {
     const std::string dir = rstats::tempDir("mitsuba-mask-render");
     writeImage(dir + "/a.pfm", texels(2, 2, [](int x, int y) { return Vec3((x + y) % 2 ? 1.0f : 0.0f); }));
-    for (const std::string opacity : {R"(<float name="opacity" value="0.3"/>)",
-                                      R"(<texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/><string name="filter_type" value="nearest"/></texture>)"}) {
+    for (const std::string opacity :
+         {R"(<float name="opacity" value="0.3"/>)",
+          R"(<texture type="bitmap" name="opacity"><string name="filename" value="a.pfm"/><string name="filter_type" value="nearest"/></texture>)"}) {
         const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
   <integrator type="path"><integer name="max_depth" value="2"/></integrator>
   <sensor type="perspective"><float name="fov" value="53.130102"/>
     <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
     <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film></sensor>
-  <shape type="rectangle"><bsdf type="mask">)" + opacity + R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf></shape>
+  <shape type="rectangle"><bsdf type="mask">)" + opacity +
+                                                      R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf></shape>
   <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
-</scene>)", "mask.xml", dir);
+</scene>)",
+                                                  "mask.xml", dir);
         REQUIRE(Scene::build(d)->features.masks);
         rstats::RunStats runs;
         for (int k = 0; k < 8; ++k) {
@@ -379,7 +396,7 @@ TEST_CASE("Mitsuba envmap: orientation, to_world, scale, bad inputs", "[mitsuba]
     };
     const EnvMapSampler plain = env("");
     const EnvMapSampler turned = env(R"(<transform name="to_world"><rotate y="1" angle="90"/></transform><float name="scale" value="3"/>)");
-    for (int j = 1; j < H - 1; ++j)      // (rows 0 and H - 1 sit on the poles, where u is moot)
+    for (int j = 1; j < H - 1; ++j)        // (rows 0 and H - 1 sit on the poles, where u is moot)
         for (int i = 0; i < W - 1; ++i) {  // (the last column's right half blends into the first)
             const Vec3 d = mitsubaEnvDirection((i + 0.5) / W, double(j) / (H - 1));
             INFO("texel " << i << ", " << j);
@@ -390,11 +407,13 @@ TEST_CASE("Mitsuba envmap: orientation, to_world, scale, bad inputs", "[mitsuba]
             CHECK(turned.Le(t).x == Approx(3.0f * (1.0f + float(i))).margin(0.45));
             CHECK(turned.Le(t).y == Approx(3.0f * (1.0f + float(j))).margin(0.45));
         }
-    expectErrors({{R"(<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>)", "nope.exr"},
-                  {R"(<emitter type="envmap"/>)", "filename"},
-                  {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/><transform name="to_world"><scale value="2"/></transform></emitter>)", "rotation"},
-                  {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/></emitter><emitter type="constant"/>)", "second environment"}},
-                 dir, [](const std::string& b) { return b; });
+    expectErrors(
+        {{R"(<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>)", "nope.exr"},
+         {R"(<emitter type="envmap"/>)", "filename"},
+         {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/><transform name="to_world"><scale value="2"/></transform></emitter>)",
+          "rotation"},
+         {R"(<emitter type="envmap"><string name="filename" value="env.pfm"/></emitter><emitter type="constant"/>)", "second environment"}},
+        dir, [](const std::string& b) { return b; });
     std::filesystem::remove_all(dir);
 }
 
@@ -411,9 +430,11 @@ TEST_CASE("Mitsuba envmap: a uniform map with scale renders as the constant sky"
   <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
   <emitter type="envmap"><string name="filename" value="env.pfm"/><float name="scale" value="4"/>
     <transform name="to_world"><rotate x="1" angle="30"/></transform></emitter>
-</scene>)", "env.xml", dir);
+</scene>)",
+                                              "env.xml", dir);
     rstats::RunStats runs;
-    for (int k = 0; k < 8; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 80 + uint64_t(k), 1, 2)).image, 4, 1));
+    for (int k = 0; k < 8; ++k)
+        runs.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 16, 80 + uint64_t(k), 1, 2)).image, 4, 1));
     const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(4, 0.6 * 4 * 0.5));
     INFO(z.describe());
     CHECK(z.pass);
@@ -429,9 +450,12 @@ void writeFile(const std::string& path, const std::string& bytes) {
 
 // A unit quad (one 4-gon face) with normals, uv, colours (read past), and an extra element.
 std::string plyHeader(const std::string& format, const std::string& faceCount = "1") {
-    return "ply\nformat " + format + " 1.0\ncomment a quad\nelement vertex 4\nproperty float x\nproperty float y\n"
+    return "ply\nformat " + format +
+           " 1.0\ncomment a quad\nelement vertex 4\nproperty float x\nproperty float y\n"
            "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\n"
-           "property uchar red\nelement face " + faceCount + "\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
+           "property uchar red\nelement face " +
+           faceCount +
+           "\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
            "element edge 1\nproperty int a\nproperty int b\nend_header\n";
 }
 const float kQuad[4][8] = {{0, 0, 0, 0, 0, 1, 0, 0}, {1, 0, 0, 0, 0, 1, 1, 0}, {1, 1, 0, 0, 0, 1, 1, 1}, {0, 1, 0, 0, 0, 1, 0, 1}};
@@ -488,7 +512,8 @@ TEST_CASE("Mitsuba ply: ASCII, binary little and big endian, the same mesh", "[m
     }
     // The importer: a ply shape with to_world (and Mitsuba's face_normals).
     SceneDesc d = load(scene(R"(<shape type="ply"><string name="filename" value="be.ply"/><boolean name="face_normals" value="true"/>
-      <transform name="to_world"><translate x="5"/></transform></shape>)"), dir);
+      <transform name="to_world"><translate x="5"/></transform></shape>)"),
+                       dir);
     CHECK(d.shapes[0].mesh.positions[0].x == 5.0f);
     CHECK(d.shapes[0].mesh.normals.empty());
     std::filesystem::remove_all(dir);
@@ -498,12 +523,17 @@ TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (bin
     const std::string dir = rstats::tempDir("mitsuba-ply-bad");
     auto errorIn = [&](const std::string& bytes) {
         writeFile(dir + "/x.ply", bytes);
-        try { loadPly(dir + "/x.ply", true); } catch (const InputError& e) { return std::string(e.what()); }
+        try {
+            loadPly(dir + "/x.ply", true);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
         return std::string();
     };
     const std::string p = dir + "/x.ply";
-    const std::string tri = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::string tri =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
     CHECK(errorIn(tri + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").empty());  // the good one
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"plx\n", p + ":1: not a PLY file"},
@@ -519,8 +549,10 @@ TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (bin
         {tri + "0 0 0\n1 0 0\n", p + ":3: element vertex declares 3 items, more than the file holds"},
         {"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
          p + ":3: element vertex declares 1000000000 items, more than the file holds"},
-        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", p + ":3: the vertex element needs properties x, y and z"},
-        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0 1 0 0 0 1 0\n", p + ": no faces"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
+         p + ":3: the vertex element needs properties x, y and z"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0 1 0 0 0 1 0\n",
+         p + ": no faces"},
     };
     for (const auto& [bytes, want] : cases) {
         const std::string e = errorIn(bytes);
@@ -544,7 +576,6 @@ TEST_CASE("Mitsuba ply: bad files name the line (header, ASCII) or the byte (bin
     std::filesystem::remove_all(dir);
 }
 
-
 // A point light of intensity I at height h: E = I cos(theta) / r^2 = I h / r^3.
 TEST_CASE("Mitsuba point light: the floor's irradiance I cos / r^2, in PT, LT and BPT", "[mitsuba][render][point]") {
     const Vec3 c(0.7f, 1.5f, -0.4f);
@@ -561,7 +592,8 @@ TEST_CASE("Mitsuba point light: the floor's irradiance I cos / r^2, in PT, LT an
     CHECK(d.lights[0].kind == LightKind::Point);
     CHECK(d.lights[0].position.z == 3.0f);
     CHECK(d.lights[0].radiance.x == 1.0f);  // Mitsuba's default intensity
-    CHECK(errorOf(scene(R"(<emitter type="point"><point name="position" x="0" y="0" z="0"/><transform name="to_world"/></emitter>)")).find("not both") != std::string::npos);
+    CHECK(errorOf(scene(R"(<emitter type="point"><point name="position" x="0" y="0" z="0"/><transform name="to_world"/></emitter>)"))
+              .find("not both") != std::string::npos);
     CHECK(errorOf(scene(R"(<shape type="sphere"><emitter type="point"/></shape>)")).find("cannot be attached") != std::string::npos);
 }
 
@@ -590,7 +622,8 @@ TEST_CASE("Mitsuba spot light: the floor's irradiance I falloff cos / r^2, in PT
     CHECK(d.lights[0].spotBeam == Approx(15 * M_PI / 180));
     CHECK(errorOf(scene(R"(<emitter type="spot"><float name="cutoff_angle" value="10"/><float name="beam_width" value="12"/></emitter>)"))
               .find("beam_width must be in [0, cutoff_angle]") != std::string::npos);
-    CHECK(errorOf(scene(R"(<emitter type="spot"><float name="cutoff_angle" value="0"/></emitter>)")).find("cutoff_angle must be") != std::string::npos);
+    CHECK(errorOf(scene(R"(<emitter type="spot"><float name="cutoff_angle" value="0"/></emitter>)")).find("cutoff_angle must be") !=
+          std::string::npos);
     CHECK(errorOf(scene(R"(<emitter type="spot"><texture type="bitmap" name="texture"><string name="filename" value="x.png"/></texture></emitter>)"))
               .find("texture") != std::string::npos);
 }
@@ -606,7 +639,8 @@ TEST_CASE("Mitsuba directional light: the floor's irradiance E cos, in PT, LT an
     CHECK(s.lights[0].kind == LightKind::Directional);
     CHECK(s.lights[0].direction.y == Approx(-1.0f));
     CHECK(s.lights[0].radiance.x == 1.0f);
-    CHECK(errorOf(scene(R"(<emitter type="directional"><vector name="direction" x="0" y="0" z="0"/></emitter>)")).find("nonzero") != std::string::npos);
+    CHECK(errorOf(scene(R"(<emitter type="directional"><vector name="direction" x="0" y="0" z="0"/></emitter>)")).find("nonzero") !=
+          std::string::npos);
     CHECK(errorOf(scene(R"(<emitter type="directional"><vector name="direction" x="0" y="0" z="1"/><transform name="to_world"/></emitter>)"))
               .find("not both") != std::string::npos);
 }
@@ -635,30 +669,40 @@ TEST_CASE("Mitsuba area light on a mesh (a disk): the floor's irradiance, in PT,
 TEST_CASE("Mitsuba area light with a textured radiance: the floor's irradiance, in PT, LT and BPT", "[mitsuba][render][meshlight][texture]") {
     auto rect = [&](Vec3 p, double x1, double x2, double z1, double z2) { return floor_test::rectangleIrradiance(p, 1.2, x1, x2, z1, z2); };
     for (double L1 : {0.5, 3.0}) {
-        const std::string emitter = R"(<shape type="rectangle"><transform name="to_world"><scale value="0.6"/><rotate x="1" angle="90"/><translate x="0.3" y="1.2"/></transform>
+        const std::string emitter =
+            R"(<shape type="rectangle"><transform name="to_world"><scale value="0.6"/><rotate x="1" angle="90"/><translate x="0.3" y="1.2"/></transform>
     <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf><emitter type="area"><texture type="checkerboard" name="radiance">
-    <rgb name="color0" value="3"/><rgb name="color1" value=")" + std::to_string(L1) + R"("/></texture></emitter></shape>)";
-        floorUnder(emitter,
-                   [&](Vec3 p) {
-                       return 3.0 * (rect(p, 0.3, 0.9, 0, 0.6) + rect(p, -0.3, 0.3, -0.6, 0)) +
-                              L1 * (rect(p, -0.3, 0.3, 0, 0.6) + rect(p, 0.3, 0.9, -0.6, 0));
-                   },
-                   L1 == 3.0 ? "constant-texture" : "checkerboard-emitter");
+    <rgb name="color0" value="3"/><rgb name="color1" value=")" +
+            std::to_string(L1) + R"("/></texture></emitter></shape>)";
+        floorUnder(
+            emitter,
+            [&](Vec3 p) {
+                return 3.0 * (rect(p, 0.3, 0.9, 0, 0.6) + rect(p, -0.3, 0.3, -0.6, 0)) +
+                       L1 * (rect(p, -0.3, 0.3, 0, 0.6) + rect(p, 0.3, 0.9, -0.6, 0));
+            },
+            L1 == 3.0 ? "constant-texture" : "checkerboard-emitter");
     }
     // The importer: a mesh light holding the texture, L = 1; bad inputs.
-    SceneDesc d = load(scene(R"(<shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false));
+    SceneDesc d =
+        load(scene(R"(<shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false));
     REQUIRE(d.lights.size() == 1);
     CHECK(d.lights[0].kind == LightKind::Mesh);
     CHECK(d.lights[0].texture == 0);
     CHECK(d.lights[0].radiance.x == 1.0f);
     CHECK(errorOf(scene(R"(<shape type="sphere"><emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false))
               .find("not supported") != std::string::npos);
-    CHECK(errorOf(scene(R"(<shape type="rectangle"><emitter type="area"><texture type="bitmap" name="radiance"><string name="filename" value="missing.png"/></texture></emitter></shape>)", false))
-              .find("missing.png") != std::string::npos);
+    CHECK(
+        errorOf(
+            scene(
+                R"(<shape type="rectangle"><emitter type="area"><texture type="bitmap" name="radiance"><string name="filename" value="missing.png"/></texture></emitter></shape>)",
+                false))
+            .find("missing.png") != std::string::npos);
     const std::string dir = rstats::tempDir("textured-emitter-no-uv");  // an OBJ without vt
     std::ofstream(dir + "/tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     const std::string e = errorOf(scene(R"(<shape type="obj"><string name="filename" value="tri.obj"/>
-      <emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)", false), dir);
+      <emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>)",
+                                        false),
+                                  dir);
     INFO(e);
     CHECK(e.find("t.xml:7:") == 0);
     CHECK(e.find("(u, v)") != std::string::npos);
@@ -676,7 +720,8 @@ void checkerboardEmitterFillingFilm(const std::string& sensor, const std::string
     <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
     <rgb name="color0" value="3"/><rgb name="color1" value="0.5"/></texture></emitter></shape>
-</scene>)", name, ".");
+</scene>)",
+                                              name, ".");
     REQUIRE(d.camera.orthographic == ortho);
     const std::vector<double> expected = {0.5, 3.0, 3.0, 0.5};  // blocks (0, 0), (1, 0), (0, 1), (1, 1)
     const std::vector<double> pt = rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 4, 1, 1, 1)).image, 8, 1);
@@ -707,7 +752,8 @@ void checkerboardEmitterFillingFilm(const std::string& sensor, const std::string
 // with the camera's hits (s = 0), each reading T where its strategy finds the point.
 TEST_CASE("Mitsuba area light with a textured radiance: seen directly, in every tracer", "[mitsuba][render][meshlight][texture]") {
     checkerboardEmitterFillingFilm(R"(<sensor type="perspective"><float name="fov" value="53.130102"/>
-    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>)", "seen.xml", 70, false);
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>)",
+                                   "seen.xml", 70, false);
 }
 
 // blendbsdf: (1 - w) f_0 + w f_1. Two diffuse parts, 0.3 and 0.8 with w = 0.6, are a
@@ -721,11 +767,13 @@ TEST_CASE("Mitsuba blendbsdf: two diffuse parts are their weighted mean, in PT, 
         return 2.0 * double(c.y) / (r * r * r);
     };
     const std::string light = R"(<emitter type="point"><point name="position" x="0.2" y="1.3" z="-0.1"/><rgb name="intensity" value="2"/></emitter>)";
-    const std::string parts = R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.3"/></bsdf><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf>)";
+    const std::string parts =
+        R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.3"/></bsdf><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf>)";
     floorUnder(light, E, "blend", {}, R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/>)" + parts + "</bsdf>");
-    floorUnder(light, E, "blend-textured", {},
-               R"(<bsdf type="blendbsdf"><texture type="checkerboard" name="weight"><rgb name="color0" value="0.6"/><rgb name="color1" value="0.6"/></texture>)" +
-                   parts + "</bsdf>");
+    floorUnder(
+        light, E, "blend-textured", {},
+        R"(<bsdf type="blendbsdf"><texture type="checkerboard" name="weight"><rgb name="color0" value="0.6"/><rgb name="color1" value="0.6"/></texture>)" +
+            parts + "</bsdf>");
     // The importer: the parts, the weight, twosided over a blend; bad inputs.
     SceneDesc d = load(scene(R"(<shape type="cube"><bsdf type="twosided"><bsdf type="blendbsdf"><float name="weight" value="0.25"/>
       <bsdf type="roughconductor"/><bsdf type="diffuse"/></bsdf></bsdf></shape>)"));
@@ -735,15 +783,17 @@ TEST_CASE("Mitsuba blendbsdf: two diffuse parts are their weighted mean, in PT, 
     CHECK(m.blendWeight == 0.25f);
     CHECK(d.materials[size_t(m.blendPart[0])].kind == MaterialKind::RoughConductor);
     CHECK(d.materials[size_t(m.blendPart[1])].kind == MaterialKind::Matte);
-    expectErrors({{R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf></shape>)", "exactly two"},
-                  {R"(<shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf></shape>)", "weight must be in [0, 1]"},
-                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
-                   "inside a blendbsdf"},
-                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="bumpmap"><texture type="bitmap" name="map"><string name="filename" value="none.png"/></texture><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
-                   "none.png"},
-                  {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
-                   "twosided and a one-sided"}},
-                 ".", [](const std::string& b) { return b; });
+    expectErrors(
+        {{R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf></shape>)", "exactly two"},
+         {R"(<shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf></shape>)",
+          "weight must be in [0, 1]"},
+         {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+          "inside a blendbsdf"},
+         {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="bumpmap"><texture type="bitmap" name="map"><string name="filename" value="none.png"/></texture><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+          "none.png"},
+         {R"(<shape type="cube"><bsdf type="blendbsdf"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf><bsdf type="diffuse"/></bsdf></shape>)",
+          "twosided and a one-sided"}},
+        ".", [](const std::string& b) { return b; });
 }
 
 // blendbsdf with textured parts: each part's textures applied at the hit (the blend keeps
@@ -760,8 +810,9 @@ TEST_CASE("Mitsuba blendbsdf: textured parts, in PT, LT and BPT", "[mitsuba][ren
         return 2.0 * double(c.y) / (r * r * r);
     };
     const std::string light = R"(<emitter type="point"><point name="position" x="0.2" y="1.3" z="-0.1"/><rgb name="intensity" value="2"/></emitter>)";
-    floorUnder(light, E, "blend-textured-part-constant", {},
-               R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.3"/><rgb name="color1" value="0.3"/></texture></bsdf>
+    floorUnder(
+        light, E, "blend-textured-part-constant", {},
+        R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.3"/><rgb name="color1" value="0.3"/></texture></bsdf>
                <bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></bsdf>)");
     floor_test::floorRadiance(
         light, [&](Vec3 p, Vec3) { return (((p.x > 0) == (p.z < 0) ? 0.2 : 1.0) + 0.6) / 2 / M_PI * E(p); }, "blend-textured-part", {},
@@ -820,14 +871,15 @@ TEST_CASE("blendbsdf kernel: textured parts at the hit's point", "[mitsuba][blen
 // (the film's density projected at the first hit, and at t = 1).
 TEST_CASE("Mitsuba orthographic sensor: a floor under a point light, in PT, LT and BPT", "[mitsuba][render][ortho]") {
     const Vec3 c(0.3f, 1.4f, -0.2f);
-    floorUnder(R"(<emitter type="point"><point name="position" x="0.3" y="1.4" z="-0.2"/><rgb name="intensity" value="2"/></emitter>)",
-               [&](Vec3 p) {
-                   const Vec3 d = c - p;
-                   const double r = length(d);
-                   return 2.0 * double(c.y) / (r * r * r);
-               },
-               "ortho", {}, R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)", ".",
-               R"(<sensor type="orthographic"><transform name="to_world"><scale value="0.8"/><lookat origin="0.2, 1, 0.7" target="0.2, 0, 0" up="0, 0, 1"/></transform>)");
+    floorUnder(
+        R"(<emitter type="point"><point name="position" x="0.3" y="1.4" z="-0.2"/><rgb name="intensity" value="2"/></emitter>)",
+        [&](Vec3 p) {
+            const Vec3 d = c - p;
+            const double r = length(d);
+            return 2.0 * double(c.y) / (r * r * r);
+        },
+        "ortho", {}, R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>)", ".",
+        R"(<sensor type="orthographic"><transform name="to_world"><scale value="0.8"/><lookat origin="0.2, 1, 0.7" target="0.2, 0, 0" up="0, 0, 1"/></transform>)");
 }
 
 // An orthographic view of a textured emitter filling the film (the rectangle [-1, 1]^2 at
@@ -836,7 +888,8 @@ TEST_CASE("Mitsuba orthographic sensor: a floor under a point light, in PT, LT a
 // film's aspect), near_clip, bad inputs.
 TEST_CASE("Mitsuba orthographic sensor: an emitter seen directly in every tracer, and the importer", "[mitsuba][render][ortho]") {
     checkerboardEmitterFillingFilm(R"(<sensor type="orthographic">
-    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>)", "ortho-seen.xml", 80, true);
+    <transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>)",
+                                   "ortho-seen.xml", 80, true);
     const std::string head = R"(<scene version="3.0.0"><sensor type="orthographic">)";
     const std::string film = R"(<film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="20"/></film></sensor>
       <shape type="sphere"><emitter type="area"/></shape></scene>)";
@@ -865,7 +918,8 @@ SceneDesc texturedPlate(const std::string& bsdf) {
     <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
   <shape type="rectangle">)" + bsdf + R"(</shape>
   <emitter type="constant"><rgb name="radiance" value="2"/></emitter>
-</scene>)", "plate.xml", ".");
+</scene>)",
+                                 "plate.xml", ".");
 }
 
 // The image of block (bx, by) of 8 x 8 pixels.
@@ -882,18 +936,21 @@ std::vector<float> block(const Image& im, int bx, int by) {
 TEST_CASE("Mitsuba textured parameters: each block of a checkerboard renders its constant bit for bit", "[mitsuba][texture][render]") {
     const std::string a = "0.9, 0.6, 0.3", b = "0.2, 0.4, 0.8";
     auto board = [&](const std::string& name) {
-        return "<texture type=\"checkerboard\" name=\"" + name + "\"><rgb name=\"color0\" value=\"" + a +
-               "\"/><rgb name=\"color1\" value=\"" + b + "\"/></texture>";
+        return "<texture type=\"checkerboard\" name=\"" + name + "\"><rgb name=\"color0\" value=\"" + a + "\"/><rgb name=\"color1\" value=\"" + b +
+               "\"/></texture>";
     };
     auto rgb = [](const std::string& name, const std::string& v) { return "<rgb name=\"" + name + "\" value=\"" + v + "\"/>"; };
-    struct Case { const char* what; std::string head, param, tail; };
+    struct Case {
+        const char* what;
+        std::string head, param, tail;
+    };
     const std::vector<Case> cases = {
-        {"roughconductor specular_reflectance", R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/>)",
-         "specular_reflectance", "</bsdf>"},
+        {"roughconductor specular_reflectance", R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/>)", "specular_reflectance",
+         "</bsdf>"},
         {"conductor specular_reflectance", R"(<bsdf type="conductor"><string name="material" value="Au"/>)", "specular_reflectance", "</bsdf>"},
         {"diffuse reflectance", R"(<bsdf type="diffuse">)", "reflectance", "</bsdf>"},
-        {"roughdielectric specular_transmittance", R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/>)",
-         "specular_transmittance", "</bsdf>"},
+        {"roughdielectric specular_transmittance", R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/>)", "specular_transmittance",
+         "</bsdf>"},
         {"thindielectric specular_reflectance", R"(<bsdf type="thindielectric">)", "specular_reflectance", "</bsdf>"},
     };
     for (const Case& c : cases) {
@@ -921,8 +978,7 @@ TEST_CASE("Mitsuba textured parameters: each block of a checkerboard renders its
     }
 }
 
-TEST_CASE("Mitsuba textured parameters: a constant texture renders what its constant renders, bit for bit",
-          "[mitsuba][texture][render]") {
+TEST_CASE("Mitsuba textured parameters: a constant texture renders what its constant renders, bit for bit", "[mitsuba][texture][render]") {
     // color0 = color1 = the constant: the texture returns it exactly, and 1 * c = c.
     const std::string c = "0.7, 0.5, 0.25";
     const std::string board = "<texture type=\"checkerboard\" name=\"specular_reflectance\"><rgb name=\"color0\" value=\"" + c +
@@ -931,8 +987,8 @@ TEST_CASE("Mitsuba textured parameters: a constant texture renders what its cons
     // The plastics too: their lobe choice weighs the parameters by their textures' means
     // (textureMean, as Mitsuba's roughplastic), here the constant itself.
     auto boardOf = [&](const std::string& name) {
-        return "<texture type=\"checkerboard\" name=\"" + name + "\"><rgb name=\"color0\" value=\"" + c +
-               "\"/><rgb name=\"color1\" value=\"" + c + "\"/></texture>";
+        return "<texture type=\"checkerboard\" name=\"" + name + "\"><rgb name=\"color0\" value=\"" + c + "\"/><rgb name=\"color1\" value=\"" + c +
+               "\"/></texture>";
     };
     const std::string plastic = R"(<bsdf type="roughplastic"><float name="alpha" value="0.2"/>)";
     const std::vector<std::pair<std::string, std::string>> pairs = {
@@ -986,12 +1042,14 @@ TEST_CASE("Mitsuba textured roughness: a checkerboard alpha renders each square'
                "\"/><float name=\"color1\" value=\"" + num(c1.x) + "\"/></texture>";
     };
     auto flt = [](const std::string& name, const std::string& v) { return "<float name=\"" + name + "\" value=\"" + v + "\"/>"; };
-    struct Case { const char* what; std::string head, param, tail; };
+    struct Case {
+        const char* what;
+        std::string head, param, tail;
+    };
     const std::vector<Case> cases = {
         {"roughconductor alpha", R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/>)", "alpha", "</bsdf>"},
         {"roughdielectric alpha", R"(<bsdf type="roughdielectric">)", "alpha", "</bsdf>"},
-        {"roughconductor alpha_u (alpha_v 0.05)", R"(<bsdf type="roughconductor"><float name="alpha_v" value="0.05"/>)", "alpha_u",
-         "</bsdf>"},
+        {"roughconductor alpha_u (alpha_v 0.05)", R"(<bsdf type="roughconductor"><float name="alpha_v" value="0.05"/>)", "alpha_u", "</bsdf>"},
     };
     for (const Case& c : cases) {
         const SceneDesc textured = texturedPlate(c.head + board(c.param, greyA, greyB) + c.tail);
@@ -1025,7 +1083,8 @@ TEST_CASE("Mitsuba textured roughness: importer and bad inputs", "[mitsuba][impo
     auto plate = [](const std::string& bsdf) {
         return R"(<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/></sensor>
 <emitter type="constant"/>
-<shape type="sphere"><bsdf type=")" + bsdf + "</bsdf></shape></scene>";
+<shape type="sphere"><bsdf type=")" +
+               bsdf + "</bsdf></shape></scene>";
     };
     const std::string board = R"(<texture type="checkerboard" name="alpha"/>)";
     const SceneDesc d = loadMitsubaFromString(plate("roughconductor\">" + board), "t.xml", ".");
@@ -1034,9 +1093,10 @@ TEST_CASE("Mitsuba textured roughness: importer and bad inputs", "[mitsuba][impo
     CHECK(d.materials[0].alpha == 1.0f);
     CHECK_FALSE(isAnisotropic(d.materials[0]));
     const SceneDesc u = loadMitsubaFromString(
-        plate("roughdielectric\">" + std::string(R"(<texture type="checkerboard" name="alpha_u"/><float name="alpha_v" value="0.3"/>)")),
-        "t.xml", ".");
-    CHECK((u.materials[0].texture[MaterialParam::AlphaU] >= 0 && u.materials[0].texture[MaterialParam::AlphaV] == -1 && u.materials[0].alphaV == 0.3f));
+        plate("roughdielectric\">" + std::string(R"(<texture type="checkerboard" name="alpha_u"/><float name="alpha_v" value="0.3"/>)")), "t.xml",
+        ".");
+    CHECK(
+        (u.materials[0].texture[MaterialParam::AlphaU] >= 0 && u.materials[0].texture[MaterialParam::AlphaV] == -1 && u.materials[0].alphaV == 0.3f));
     CHECK(isAnisotropic(u.materials[0]));
     CHECK(errorOf(plate("roughplastic\">" + board)) ==
           "t.xml:3: <texture type=\"checkerboard\" name=\"alpha\">: a texture on \"alpha\" is not supported by roughplastic "
@@ -1070,8 +1130,7 @@ TEST_CASE("Mitsuba normalmap: importer and bad inputs", "[mitsuba][import][bump]
     const std::string dir = rstats::tempDir("mitsuba-normalmap-import");
     writeImage(dir + "/n.pfm", texels(2, 2, [](int, int) { return Vec3(0.5f, 0.5f, 1.0f); }));
     const std::string map = R"(<texture type="bitmap" name="normalmap"><string name="filename" value="n.pfm"/></texture>)";
-    SceneDesc d = load(scene(R"(<shape type="sphere"><bsdf type="normalmap">)" + map +
-                             R"(<bsdf type="roughconductor"/></bsdf></shape>)"), dir);
+    SceneDesc d = load(scene(R"(<shape type="sphere"><bsdf type="normalmap">)" + map + R"(<bsdf type="roughconductor"/></bsdf></shape>)"), dir);
     const MaterialDesc& mm = d.materials[d.shapes[0].material];
     CHECK(mm.kind == MaterialKind::RoughConductor);
     REQUIRE(mm.normalMap >= 0);
@@ -1083,17 +1142,19 @@ TEST_CASE("Mitsuba normalmap: importer and bad inputs", "[mitsuba][import][bump]
     CHECK(n.y == Approx(ns.y).margin(1e-6));
     CHECK(n.z == Approx(ns.z).margin(1e-6));
     // A mesh without (u, v), no texture, a bumpmap inside.
-    {
-        std::ofstream(dir + "/tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    }
+    { std::ofstream(dir + "/tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"; }
     CHECK(errorOf(scene(R"(<shape type="obj"><string name="filename" value="tri.obj"/><bsdf type="normalmap">)" + map +
-                        R"(<bsdf type="diffuse"/></bsdf></shape>)"), dir)
+                        R"(<bsdf type="diffuse"/></bsdf></shape>)"),
+                  dir)
               .find("a normalmap needs the mesh's (u, v), and this mesh has none") != std::string::npos);
     CHECK(errorOf(scene(R"(<shape type="sphere"><bsdf type="normalmap"><bsdf type="diffuse"/></bsdf></shape>)"), dir)
               .find("normalmap needs a texture named \"normalmap\"") != std::string::npos);
-    CHECK(errorOf(scene(R"(<shape type="sphere"><bsdf type="normalmap">)" + map +
-                        R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="n.pfm"/></texture><bsdf type="diffuse"/></bsdf></bsdf></shape>)"),
-                  dir)
-              .find("not supported") != std::string::npos);
+    CHECK(
+        errorOf(
+            scene(
+                R"(<shape type="sphere"><bsdf type="normalmap">)" + map +
+                R"(<bsdf type="bumpmap"><texture type="bitmap"><string name="filename" value="n.pfm"/></texture><bsdf type="diffuse"/></bsdf></bsdf></shape>)"),
+            dir)
+            .find("not supported") != std::string::npos);
     std::filesystem::remove_all(dir);
 }

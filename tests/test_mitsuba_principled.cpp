@@ -25,7 +25,11 @@ SceneDesc load(const std::string& body) {
 const MaterialDesc& materialOf(const SceneDesc& d, size_t shape = 0) { return d.materials[size_t(d.shapes[shape].material)]; }
 
 std::string errorOf(const std::string& body) {
-    try { load(body); } catch (const InputError& e) { return e.what(); }
+    try {
+        load(body);
+    } catch (const InputError& e) {
+        return e.what();
+    }
     return "";
 }
 
@@ -115,11 +119,13 @@ TEST_CASE("Mitsuba principled: a floor under a point light, in PT, LT and BPT", 
     const std::string lobes = R"(<float name="roughness" value="0.45"/><float name="spec_tint" value="0.3"/><float name="sheen" value="0.6"/>
       <float name="sheen_tint" value="0.4"/><float name="flatness" value="0.2"/><float name="clearcoat_gloss" value="0.3"/>)";
     const std::string constant = R"(<bsdf type="principled"><rgb name="base_color" value="0.7, 0.45, 0.2"/>
-      <float name="metallic" value="0.25"/><float name="clearcoat" value="0.6"/>)" + lobes + "</bsdf>";
+      <float name="metallic" value="0.25"/><float name="clearcoat" value="0.6"/>)" +
+                                 lobes + "</bsdf>";
     const std::string textured = R"(<bsdf type="principled">
       <texture type="checkerboard" name="base_color"><rgb name="color0" value="0.7, 0.45, 0.2"/><rgb name="color1" value="0.7, 0.45, 0.2"/></texture>
       <texture type="checkerboard" name="metallic"><float name="color0" value="0.25"/><float name="color1" value="0.25"/></texture>
-      <texture type="checkerboard" name="clearcoat"><float name="color0" value="0.6"/><float name="color1" value="0.6"/></texture>)" + lobes + "</bsdf>";
+      <texture type="checkerboard" name="clearcoat"><float name="color0" value="0.6"/><float name="color1" value="0.6"/></texture>)" +
+                                 lobes + "</bsdf>";
     // f from the constant material as the scene builds it
     SceneDesc d = load("<shape type=\"rectangle\">" + constant + "</shape>");
     const std::unique_ptr<Scene> s = Scene::build(std::move(d), 1);

@@ -25,8 +25,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <functional>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -132,8 +132,8 @@ void compareWithReference(const Renders& ours, const std::string& refFile, const
             sumRef += expected[g];
         }
         rstats::ZTestResult z = rstats::zTest(value, expected, se, dof, 1e-4 / 3);
-        INFO("channel " << c << ": image mean ours " << sumOurs / n << " reference " << sumRef / n << " (ratio "
-                        << sumOurs / sumRef << "); group " << z.worst % gw << "," << z.worst / gw << "; " << z.describe());
+        INFO("channel " << c << ": image mean ours " << sumOurs / n << " reference " << sumRef / n << " (ratio " << sumOurs / sumRef << "); group "
+                        << z.worst % gw << "," << z.worst / gw << "; " << z.describe());
         CHECK(z.pass);
     }
 }
@@ -205,8 +205,8 @@ TEST_CASE("Mitsuba MIS plates: BPT matches Tungsten's direct-light reference", "
         se2 += full.groups[1].se(size_t(g)) * full.groups[1].se(size_t(g));
         theirs += refG[size_t(g)];
     }
-    INFO("the floor (green): the file's lengths 1-5 " << ours / gw << " +- " << std::sqrt(se2) / gw
-                                                    << ", Tungsten's reference " << theirs / gw << " (ratio " << ours / theirs << ")");
+    INFO("the floor (green): the file's lengths 1-5 " << ours / gw << " +- " << std::sqrt(se2) / gw << ", Tungsten's reference " << theirs / gw
+                                                      << " (ratio " << ours / theirs << ")");
     CHECK(ours / theirs > 1.12);
     CHECK(ours - theirs > 20 * std::sqrt(se2));
 }

@@ -31,9 +31,7 @@ struct Tracer {
     int spp;
 };
 
-const char* name(TracerKind t) {
-    return t == TracerKind::PT ? "PT" : t == TracerKind::LT ? "LT" : t == TracerKind::BPT ? "BPT" : "MMLT";
-}
+const char* name(TracerKind t) { return t == TracerKind::PT ? "PT" : t == TracerKind::LT ? "LT" : t == TracerKind::BPT ? "BPT" : "MMLT"; }
 
 power::Runs runs(const SceneDesc& d, Tracer t, int block, uint64_t seed0) {
     power::Runs r(block);
@@ -53,8 +51,8 @@ power::Runs runs(const SceneDesc& d, Tracer t, int block, uint64_t seed0) {
 }
 
 // Each tracer of `others` against BPT (bptSpp samples per pixel) on the scene `xml`.
-void agree(const std::string& what, const std::string& xml, int bptSpp, const std::vector<Tracer>& others,
-           const std::string& dir = ".", int block = 4) {
+void agree(const std::string& what, const std::string& xml, int bptSpp, const std::vector<Tracer>& others, const std::string& dir = ".",
+           int block = 4) {
     const SceneDesc d = loadMitsubaFromString(xml, what + ".xml", dir);
     const power::Runs ref = runs(d, {TracerKind::BPT, bptSpp}, block, 5000);
     uint64_t seed = 6000;
@@ -89,8 +87,8 @@ const std::string kBox = R"(
     <bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.6, 0.2"/></bsdf></shape>)";
 
 std::string scene(const std::string& body, int maxDepth = 5) {
-    return "<scene version=\"3.0.0\"><integrator type=\"path\"><integer name=\"max_depth\" value=\"" +
-           std::to_string(maxDepth) + "\"/></integrator>" + kCamera + kBox + body + "\n</scene>\n";
+    return "<scene version=\"3.0.0\"><integrator type=\"path\"><integer name=\"max_depth\" value=\"" + std::to_string(maxDepth) +
+           "\"/></integrator>" + kCamera + kBox + body + "\n</scene>\n";
 }
 
 }  // namespace
@@ -108,7 +106,8 @@ TEST_CASE("Mitsuba tracers: emitters with a BSDF reflect in every tracer", "[mit
     <bsdf type="roughconductor"><float name="alpha" value="0.2"/><rgb name="eta" value="0.2, 0.92, 1.1"/><rgb name="k" value="3.9, 2.45, 2.14"/></bsdf></shape>
   <shape type="sphere"><point name="center" x="0.55" y="0.3" z="0.3"/><float name="radius" value="0.2"/>
     <emitter type="area"><rgb name="radiance" value="2, 1.5, 1"/></emitter></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }
 
 // A ceiling light casting shadows through masks: a plate whose opacity is a 4 x 4 checker
@@ -130,7 +129,8 @@ TEST_CASE("Mitsuba tracers: masks in every tracer", "[mitsuba][render][stat]") {
       <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.7, 0.2"/></bsdf></bsdf></bsdf></shape>
   <shape type="rectangle"><transform name="to_world"><scale value="0.4"/><rotate x="1" angle="-90"/><translate x="0.45" y="0.35"/></transform>
     <bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></bsdf></bsdf></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
     std::filesystem::remove_all(dir);
 }
 
@@ -144,7 +144,8 @@ TEST_CASE("Mitsuba tracers: point lights and mesh lights in every tracer", "[mit
     <emitter type="area"><rgb name="radiance" value="3, 4, 6"/></emitter></shape>
   <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="-90"/><translate x="-0.3" y="0.01"/></transform>
     <bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="diffuse_reflectance" value="0.3, 0.3, 0.6"/></bsdf></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }
 
 // Anisotropic roughness (alpha_u != alpha_v) under a ceiling light: a rough copper plate
@@ -160,7 +161,8 @@ TEST_CASE("Mitsuba tracers: anisotropic roughness in every tracer", "[mitsuba][r
       <rgb name="eta" value="0.2, 0.92, 1.1"/><rgb name="k" value="3.9, 2.45, 2.14"/></bsdf></shape>
   <shape type="sphere"><point name="center" x="0.45" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
     <bsdf type="roughdielectric"><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.08"/></bsdf></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }
 
 // A Mitchell filter (B = C = 1/3: negative lobes) on a 16 x 16 film whose every pixel is
@@ -194,7 +196,8 @@ TEST_CASE("Mitsuba tracers: a textured area light in every tracer", "[mitsuba][r
   <shape type="rectangle"><transform name="to_world"><scale x="0.6" y="0.5"/><rotate x="1" angle="70"/><translate y="1.6" z="-0.3"/></transform>
     <bsdf type="twosided"><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></bsdf>
     <emitter type="area"><texture type="bitmap" name="radiance"><string name="filename" value="panel.pfm"/></texture></emitter></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}}, dir);
     std::filesystem::remove_all(dir);
 }
 
@@ -216,14 +219,16 @@ TEST_CASE("Mitsuba tracers: blendbsdf in every tracer", "[mitsuba][render][stat]
   <shape type="sphere"><point name="center" x="0.45" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
     <bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf>
       <bsdf type="roughdielectric"><float name="alpha" value="0.5"/><float name="int_ior" value="1.33"/></bsdf></bsdf></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
     agree("blendbsdf with a delta part", scene(R"(
   <shape type="rectangle"><transform name="to_world"><scale x="0.4" y="0.4"/><rotate x="1" angle="90"/><translate y="1.9"/></transform>
     <emitter type="area"><rgb name="radiance" value="5"/></emitter></shape>
   <shape type="sphere"><point name="center" x="0.2" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
     <bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="dielectric"/>
       <bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf></bsdf></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::MMLT, 256}});
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::MMLT, 256}});
 }
 
 // principled: a floor patch with every reflecting lobe (anisotropic: its frame follows
@@ -242,5 +247,6 @@ TEST_CASE("Mitsuba tracers: principled in every tracer", "[mitsuba][render][stat
   <shape type="sphere"><point name="center" x="0.45" y="0.35" z="0.2"/><float name="radius" value="0.3"/>
     <bsdf type="principled"><rgb name="base_color" value="0.9, 0.8, 0.6"/><float name="roughness" value="0.35"/>
       <float name="spec_trans" value="0.7"/><float name="eta" value="1.4"/></bsdf></shape>
-)"), 64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
+)"),
+          64, {{TracerKind::PT, 64}, {TracerKind::LT, 64}, {TracerKind::MMLT, 256}});
 }

@@ -31,9 +31,9 @@
 #include <string>
 #include <vector>
 
+#include "kernels/check.h"
 #include "power.h"
 #include "render_stats.h"
-#include "kernels/check.h"
 #include "stages/mmlt/mmlt.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
@@ -55,8 +55,8 @@ double meanLuminance(const Image& im) {
     return s / double(n);
 }
 
-RenderOptions mmltOptions(int spp, uint64_t seed, int minLength, int maxLength, int chains, int bootstrap = 0,
-                          float probLarge = 0.3f, int threads = 2) {
+RenderOptions mmltOptions(int spp, uint64_t seed, int minLength, int maxLength, int chains, int bootstrap = 0, float probLarge = 0.3f,
+                          int threads = 2) {
     RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, seed, minLength, maxLength, threads);
     o.chains = chains;
     o.bootstrap = bootstrap;
@@ -183,9 +183,8 @@ TEST_CASE("MMLT bootstrap: b_k equals BPT's mean luminance per path length", "[m
         SceneDesc desc;
         int maxLength, size;
     };
-    std::vector<Case> cases = {{"Cornell box", cornell(16, 5), 5, 16},
-                               {"caustic scene", caustic(6, 16), 6, 16},
-                               {"seed room", seedRoom(16, 6), 6, 16}};
+    std::vector<Case> cases = {
+        {"Cornell box", cornell(16, 5), 5, 16}, {"caustic scene", caustic(6, 16), 6, 16}, {"seed room", seedRoom(16, 6), 6, 16}};
     const int K = 8;
     for (const Case& cs : cases) {
         rstats::RunStats m, b;
@@ -195,13 +194,11 @@ TEST_CASE("MMLT bootstrap: b_k equals BPT's mean luminance per path length", "[m
             m.add(std::vector<double>(a.stats.mmlt.b.begin() + 1, a.stats.mmlt.b.end()));
             RenderResult r = render(cs.desc, rstats::renderOptions(TracerKind::BPT, 256, 600 + i, 1, cs.maxLength));
             REQUIRE(r.stats.lengthMeanLuminance.size() > size_t(cs.maxLength));
-            b.add(std::vector<double>(r.stats.lengthMeanLuminance.begin() + 1,
-                                      r.stats.lengthMeanLuminance.begin() + cs.maxLength + 1));
+            b.add(std::vector<double>(r.stats.lengthMeanLuminance.begin() + 1, r.stats.lengthMeanLuminance.begin() + cs.maxLength + 1));
         }
         std::ostringstream lengths;
         for (size_t k = 0; k < m.size(); ++k)
-            lengths << "\n  k = " << k + 1 << ": b_k " << m.mean(k) << " +- " << m.se(k) << ", BPT " << b.mean(k)
-                    << " +- " << b.se(k);
+            lengths << "\n  k = " << k + 1 << ": b_k " << m.mean(k) << " +- " << m.se(k) << ", BPT " << b.mean(k) << " +- " << b.se(k);
         const power::Verdict v = power::worstOf(m, b, 1e-4, "length");  // max |z| over the lengths
         INFO(cs.name << ": " << v.text << lengths.str());
         if (verbose()) WARN(cs.name << ": " << v.text << lengths.str());
@@ -292,11 +289,9 @@ TEST_CASE("MMLT: 1, 64 and 65536 chains, seeds far apart and bootstrap counts gi
     checkSameImage(mmltRuns(desc, mmltOptions(1024, 0, 1, L, 1), K, 3100, B), ref, p, "1 chain");
     checkSameImage(mmltRuns(desc, mmltOptions(1024, 0, 1, L, 64), K, 3200, B), ref, p, "64 chains");
     checkSameImage(mmltRuns(desc, mmltOptions(256, 0, 1, L, 65536), K, 3300, B), ref, p, "65536 chains");
-    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024), K, (uint64_t(1) << 62) - 100, B), ref, p,
-                   "seeds near 2^62");
+    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024), K, (uint64_t(1) << 62) - 100, B), ref, p, "seeds near 2^62");
     checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024, 1024), K, 3400, B), ref, p, "bootstrap 1024");
-    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024, 1 << 18), K, 3500, B), ref, p,
-                   "bootstrap 262144");
+    checkSameImage(mmltRuns(desc, mmltOptions(512, 0, 1, L, 1024, 1 << 18), K, 3500, B), ref, p, "bootstrap 262144");
 }
 
 TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[mmlt][render][stat]") {
@@ -348,10 +343,9 @@ TEST_CASE("MMLT: the spread between seeds shrinks in proportion to the work", "[
     const double zc = power::zCritical(1e-4), z = std::log(ratio * W) / seLn;
     const double detects = std::exp(power::detectableInSe(zc) * seLn);
     std::ostringstream msg;
-    msg << "S at " << levels[0].spp << " mutations per pixel: " << levels[0].S << " (relative se " << levels[0].relSe
-        << "), at " << levels[1].spp << ": " << levels[1].S << " (relative se " << levels[1].relSe << "); ratio " << ratio
-        << " (1/" << W << " expected), z " << z << " (allowed +-" << zc << "); fails a ratio " << detects
-        << " times too large or small (power 0.9)";
+    msg << "S at " << levels[0].spp << " mutations per pixel: " << levels[0].S << " (relative se " << levels[0].relSe << "), at " << levels[1].spp
+        << ": " << levels[1].S << " (relative se " << levels[1].relSe << "); ratio " << ratio << " (1/" << W << " expected), z " << z
+        << " (allowed +-" << zc << "); fails a ratio " << detects << " times too large or small (power 0.9)";
     INFO(msg.str());
     if (verbose()) WARN(msg.str());
     CHECK(std::fabs(z) <= zc);
@@ -413,8 +407,8 @@ TEST_CASE("MMLT command line: no light reaching the camera exits with status 2 a
     const std::string dir = rstats::tempDir("mmlt-nolight");
     const std::string scene = dir + "/nolight.xml", out = dir + "/out.pfm", err = dir + "/err.txt";
     std::ofstream(scene) << kNoLightXml;
-    const std::string cmd = std::string("'") + WAVEMMLT_BIN + "' '" + scene + "' --tracer mmlt --spp 4 --quiet -o '" +
-                            out + "' > /dev/null 2> '" + err + "'";
+    const std::string cmd =
+        std::string("'") + WAVEMMLT_BIN + "' '" + scene + "' --tracer mmlt --spp 4 --quiet -o '" + out + "' > /dev/null 2> '" + err + "'";
     const int st = std::system(cmd.c_str());
     REQUIRE(st != -1);
     REQUIRE(WIFEXITED(st));
@@ -465,8 +459,8 @@ TEST_CASE("MMLT: every seeded chain replays its pool sample bit for bit", "[mmlt
                 RenderResult r = renderMmlt(cs.desc, o);
                 uint64_t seeded = 0;
                 for (uint64_t n : r.stats.mmlt.chainsSeeded) seeded += n;
-                INFO("MaxPathLength " << cs.maxLength << ", " << threads << " threads, " << seeded << " chains seeded in "
-                                      << r.stats.mmlt.passes << " passes");
+                INFO("MaxPathLength " << cs.maxLength << ", " << threads << " threads, " << seeded << " chains seeded in " << r.stats.mmlt.passes
+                                      << " passes");
                 CHECK(seeded >= uint64_t(std::min(chains, 16 * 16)) * r.stats.mmlt.passes);
                 CHECK(r.stats.mmlt.replayed >= uint64_t(std::min(chains, 16 * 16 * 64)));  // every seed of the first pass
                 CHECK(r.stats.mmlt.replayMismatches == 0);
@@ -531,8 +525,10 @@ TEST_CASE("MMLT --chains auto: the count as a pure function of the mutations, at
     CHECK(autoChains(1e9, T, 1024, 65536) == 65536u);
 }
 
-TEST_CASE("MMLT --chains auto: the chosen count runs, a seed gives one image for 1, 2 and 4 threads, "
-          "and an explicit 65536 runs 65536", "[mmlt]") {
+TEST_CASE(
+    "MMLT --chains auto: the chosen count runs, a seed gives one image for 1, 2 and 4 threads, "
+    "and an explicit 65536 runs 65536",
+    "[mmlt]") {
     const SceneDesc desc = caustic(6);
     RenderOptions o = mmltOptions(64, 42, 1, 6, 0, 4096, 0.3f, 2);  // chains 0: auto
     const double mutations = 64.0 * 32 * 32;
@@ -608,7 +604,6 @@ TEST_CASE("MMLT: a replay mismatch is reported, and fails the render where invar
     CHECK(r.stats.mmlt.replayMismatches == 1);
     const std::vector<std::string> w = renderWarnings(r);
     REQUIRE(w.size() == 1);
-    CHECK_THAT(w[0], Catch::StartsWith("1 of ") && Catch::Contains("replayed MMLT seeds evaluated differently") &&
-                         Catch::Contains("estimator bug"));
+    CHECK_THAT(w[0], Catch::StartsWith("1 of ") && Catch::Contains("replayed MMLT seeds evaluated differently") && Catch::Contains("estimator bug"));
 #endif
 }

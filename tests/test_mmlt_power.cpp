@@ -34,9 +34,7 @@ namespace {
 constexpr int K = 32;
 constexpr double kP = 1e-4;
 
-RenderOptions bpt(int spp, int minLength, int maxLength) {
-    return rstats::renderOptions(TracerKind::BPT, spp, 0, minLength, maxLength);
-}
+RenderOptions bpt(int spp, int minLength, int maxLength) { return rstats::renderOptions(TracerKind::BPT, spp, 0, minLength, maxLength); }
 
 RenderOptions mmlt(int spp, int minLength, int maxLength, int chains, int bootstrap) {
     RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, 0, minLength, maxLength);
@@ -80,8 +78,7 @@ TEST_CASE("MMLT power: Cornell box, MinPathLength 1, 2 and 3, every length again
     const std::vector<power::Runs> ref = power::tracerRuns(desc, bpt(64, 1, L), K, 10000, B, {1, 2, 3});
     for (int kMin : {1, 2, 3}) {
         const power::Runs m = power::tracerRuns(desc, mmlt(256, kMin, L, 1024, 65536), K, 11000 + 100 * uint64_t(kMin), B)[0];
-        power::compare(m, ref[size_t(kMin - 1)], "MMLT vs BPT",
-                       "Cornell box, lengths " + std::to_string(kMin) + ".." + std::to_string(L), kP,
+        power::compare(m, ref[size_t(kMin - 1)], "MMLT vs BPT", "Cornell box, lengths " + std::to_string(kMin) + ".." + std::to_string(L), kP,
                        power::Claims{kMin < 3 ? 0.01 : 0.015, kMin == 1 ? 0.01 : 0.0});
     }
 }

@@ -51,8 +51,11 @@ bool mpiBuilt() {
 // (detect_leaks=0 for the ranks only; the single-process tests keep leak detection).
 std::vector<std::string> mpiEnv() {
     const char* asan = std::getenv("ASAN_OPTIONS");
-    return {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1", "OMPI_MCA_btl=self,vader",
-            "OMPI_MCA_btl_vader_single_copy_mechanism=none", "OMPI_MCA_rmaps_base_oversubscribe=1",
+    return {"OMPI_ALLOW_RUN_AS_ROOT=1",
+            "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1",
+            "OMPI_MCA_btl=self,vader",
+            "OMPI_MCA_btl_vader_single_copy_mechanism=none",
+            "OMPI_MCA_rmaps_base_oversubscribe=1",
             std::string("ASAN_OPTIONS=") + (asan ? std::string(asan) + ":" : "") + "detect_leaks=0"};
 }
 
@@ -78,10 +81,15 @@ Ran mpirun(int ranks, const std::vector<std::string>& args, const std::string& d
 }
 
 // The runner (tests/mpi_runner/mpi_runner.cpp): `runs` seeds from seed0 of each tracer spec.
-void runRunner(int ranks, int threads, uint64_t seed0, int runs, const std::string& dir,
-               const std::vector<std::string>& specs) {
-    std::vector<std::string> args = {kRunner, kCornell, dir, std::to_string(kSize), std::to_string(kMaxLength),
-                                     std::to_string(threads), std::to_string(seed0), std::to_string(runs)};
+void runRunner(int ranks, int threads, uint64_t seed0, int runs, const std::string& dir, const std::vector<std::string>& specs) {
+    std::vector<std::string> args = {kRunner,
+                                     kCornell,
+                                     dir,
+                                     std::to_string(kSize),
+                                     std::to_string(kMaxLength),
+                                     std::to_string(threads),
+                                     std::to_string(seed0),
+                                     std::to_string(runs)};
     args.insert(args.end(), specs.begin(), specs.end());
     const Ran r = mpirun(ranks, args, dir);
     INFO("mpirun -np " << ranks << " wavemmlt_mpi_runner: " << r.err);
@@ -122,9 +130,7 @@ RenderResult renderOne(const TracerCase& t, uint64_t seed, int threads = 2) {
     return render(cornell(), o);
 }
 
-std::string stem(const std::string& dir, const TracerCase& t, uint64_t seed) {
-    return dir + "/" + t.name + "-" + std::to_string(seed);
-}
+std::string stem(const std::string& dir, const TracerCase& t, uint64_t seed) { return dir + "/" + t.name + "-" + std::to_string(seed); }
 
 // The runner's MMLT record: per rank, the pools' digest and b_k as text (17 digits).
 struct RankRecord {
@@ -172,8 +178,7 @@ bool sameBytes(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-TEST_CASE("mpirun: N ranks make one process's image from the same samples, for any threads per rank, the same bytes every time",
-          "[mpi]") {
+TEST_CASE("mpirun: N ranks make one process's image from the same samples, for any threads per rank, the same bytes every time", "[mpi]") {
     if (!mpiBuilt()) return;
     const std::string dir = rstats::tempDir("mpi-same");
     const uint64_t seed = 100;
@@ -243,13 +248,12 @@ TEST_CASE("mpirun: --chains auto chooses one count for 1 and 2 ranks and one pro
             if (w == "chains") f >> chains;
         CHECK(chains == one.stats.mmlt.chainsRun);
         const Image im = readImage(stem(d, t, seed) + ".pfm");
-        if (n == 1) CHECK(im.rgb == one.image.rgb);  // one rank is one process: bit for bit
+        if (n == 1) CHECK(im.rgb == one.image.rgb);        // one rank is one process: bit for bit
         else CHECK(worstRelative(im, one.image) <= 1e-6);  // the same sums in another order
     }
 }
 
-TEST_CASE("mpirun -np 2 and -np 3 against one process: every tracer's images agree within the statistical tolerance",
-          "[mpi][stat]") {
+TEST_CASE("mpirun -np 2 and -np 3 against one process: every tracer's images agree within the statistical tolerance", "[mpi][stat]") {
     if (!mpiBuilt()) return;
     constexpr int K = 16;
     constexpr double kP = 1e-4;
@@ -270,11 +274,9 @@ TEST_CASE("mpirun -np 2 and -np 3 against one process: every tracer's images agr
             ranks3.add(r);
         }
         for (const auto& [n, runs] : {std::pair<int, const power::Runs*>{2, &ranks2}, {3, &ranks3}}) {
-            const power::Verdict br = power::brightness(*runs, ref, kP), bl = power::blocks(*runs, ref, kP),
-                                 sc = power::scatter(*runs, ref, kP);
-            std::cout << t.name << ", " << n << " ranks vs one process (K = " << K << ", p = " << kP
-                      << "): fails a brightness error of " << 100 * br.detectable << "%, a block error of "
-                      << 100 * bl.detectable << "% (median block)\n";
+            const power::Verdict br = power::brightness(*runs, ref, kP), bl = power::blocks(*runs, ref, kP), sc = power::scatter(*runs, ref, kP);
+            std::cout << t.name << ", " << n << " ranks vs one process (K = " << K << ", p = " << kP << "): fails a brightness error of "
+                      << 100 * br.detectable << "%, a block error of " << 100 * bl.detectable << "% (median block)\n";
             INFO(n << " ranks\n" << br.text << "\n" << bl.text << "\n" << sc.text);
             CHECK(br.pass);
             CHECK(bl.pass);
@@ -296,10 +298,27 @@ TEST_CASE("mpirun wavemmlt: a Gaussian-filtered render makes one process's image
     for (const TracerCase& t : kTracers) {
         INFO(t.name);
         auto args = [&](const std::string& out) {
-            std::vector<std::string> a = {WAVEMMLT_BIN, kCornell, "--width", std::to_string(kSize), "--height",
-                                          std::to_string(kSize), "--max-length", std::to_string(kMaxLength), "--tracer",
-                                          t.name, "--spp", std::to_string(t.spp), "--seed", "11", "--threads", "1",
-                                          "--filter", "gaussian", "--quiet", "-o", out};
+            std::vector<std::string> a = {WAVEMMLT_BIN,
+                                          kCornell,
+                                          "--width",
+                                          std::to_string(kSize),
+                                          "--height",
+                                          std::to_string(kSize),
+                                          "--max-length",
+                                          std::to_string(kMaxLength),
+                                          "--tracer",
+                                          t.name,
+                                          "--spp",
+                                          std::to_string(t.spp),
+                                          "--seed",
+                                          "11",
+                                          "--threads",
+                                          "1",
+                                          "--filter",
+                                          "gaussian",
+                                          "--quiet",
+                                          "-o",
+                                          out};
             if (t.metropolis()) a.insert(a.end(), {"--chains", "1024"});
             return a;
         };
@@ -365,9 +384,10 @@ TEST_CASE("mpirun wavemmlt: --time ends every rank together; --stats reports the
         const std::string stats = dir + "/" + tracer + ".json", image = dir + "/" + tracer + ".pfm";
         // (MMLT: 4096 chains; one iteration of the default 65536 takes about a second on one
         // core, and the first round runs at least one.)
-        const Ran r = mpirun(2, {WAVEMMLT_BIN, kCornell, "--tracer", tracer, "--width", "32", "--height", "32",
-                                 "--max-length", "5", "--threads", "1", "--chains", "4096", "--time", "1.5", "-q", "-o", image, "--stats", stats},
-                             dir);
+        const Ran r =
+            mpirun(2, {WAVEMMLT_BIN, kCornell,   "--tracer", tracer,   "--width", "32", "--height", "32",  "--max-length", "5",  "--threads",
+                       "1",          "--chains", "4096",     "--time", "1.5",     "-q", "-o",       image, "--stats",      stats},
+                   dir);
         INFO(r.err);
         REQUIRE(r.status == 0);
         const std::string json = child::readText(stats);
@@ -392,9 +412,9 @@ TEST_CASE("mpirun wavemmlt: SIGINT to mpirun saves the image so far", "[mpi]") {
     for (const char* tracer : {"mmlt", "bpt"}) {
         INFO(tracer);
         const std::string image = dir + "/" + tracer + ".pfm", stats = dir + "/" + tracer + ".json";
-        std::vector<std::string> argv = {kMpiexec, "-q", "-np", "2", WAVEMMLT_BIN, kCornell, "--tracer", tracer,
-                                         "--width", "32", "--height", "32", "--max-length", "5", "--threads", "1", "--spp", "1000000",
-                                         "--chains", "4096", "-o", image, "--stats", stats};
+        std::vector<std::string> argv = {kMpiexec,  "-q",      "-np",      "2",    WAVEMMLT_BIN,   kCornell, "--tracer",  tracer,
+                                         "--width", "32",      "--height", "32",   "--max-length", "5",      "--threads", "1",
+                                         "--spp",   "1000000", "--chains", "4096", "-o",           image,    "--stats",   stats};
         child::Process p = child::spawn(argv, mpiEnv(), "", dir + "/err.txt");
         REQUIRE(p.started());
         // Rendering once rank 0 prints progress (its first 10%: never, at a million spp; the

@@ -55,8 +55,7 @@ double target1(double x) { return 1 + 0.8 * std::sin(2 * M_PI * x) + (x >= 0.3 &
 constexpr double kTarget1Max = 9.8, kTarget1Integral = 1.4;
 double target1Mass(double a, double b) {  // integral over [a, b] / kTarget1Integral
     double peak = std::max(0.0, std::min(b, 0.35) - std::max(a, 0.3));
-    return ((b - a) + 0.8 / (2 * M_PI) * (std::cos(2 * M_PI * a) - std::cos(2 * M_PI * b)) + 8 * peak) /
-           kTarget1Integral;
+    return ((b - a) + 0.8 / (2 * M_PI) * (std::cos(2 * M_PI * a) - std::cos(2 * M_PI * b)) + 8 * peak) / kTarget1Integral;
 }
 
 // 2-D, not separable: 1 + 0.9 cos(2 pi (x + y)) plus a peak on [0.5, 0.6)^2 (edges on the
@@ -107,8 +106,7 @@ struct Chain {
         uint32_t n = accepted + 1;
         Point y;
         for (int j = 0; j < D; ++j)
-            y[j] = proposeCoordinate(x[j], lastModified[j], lastLargeStep, n, large, kSmallStepSigma, rng.uniform(),
-                                     standardNormal(rng.g(), 0));
+            y[j] = proposeCoordinate(x[j], lastModified[j], lastLargeStep, n, large, kSmallStepSigma, rng.uniform(), standardNormal(rng.g(), 0));
         double fy = eval(y);
         float a = acceptance(float(fy), float(fx));
         splat(a, y, x);
@@ -130,8 +128,8 @@ TEST_CASE("wrapUnit and proposeCoordinate stay in the unit interval", "[mutation
     auto inUnit = [](float v) { return v >= 0.0f && v < 1.0f; };
     const float one = 0x1.fffffep-1f;  // 0.99999994f, the largest float below 1
     const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
-    for (float x : {-1e-30f, -0.0f, 0.0f, 1.0f, one, one + kSmallStepSigma, -one, -1.0f, 1e30f, -1e30f,
-                    -std::numeric_limits<float>::denorm_min(), 8388607.5f, -8388607.5f, inf, -inf, nan}) {
+    for (float x : {-1e-30f, -0.0f, 0.0f, 1.0f, one, one + kSmallStepSigma, -one, -1.0f, 1e30f, -1e30f, -std::numeric_limits<float>::denorm_min(),
+                    8388607.5f, -8388607.5f, inf, -inf, nan}) {
         CAPTURE(x);
         CHECK(inUnit(wrapUnit(x)));
     }
@@ -161,8 +159,7 @@ TEST_CASE("wrapUnit and proposeCoordinate stay in the unit interval", "[mutation
                             for (uint32_t n : {2u, maxN})
                                 for (bool large : {false, true}) {
                                     if (lastModified >= n || lastLarge >= n) continue;
-                                    float v = proposeCoordinate(value, lastModified, lastLarge, n, large, sigma,
-                                                                uFresh, z);
+                                    float v = proposeCoordinate(value, lastModified, lastLarge, n, large, sigma, uFresh, z);
                                     CAPTURE(value, sigma, uFresh, z, lastModified, lastLarge, n, large, v);
                                     REQUIRE(inUnit(v));
                                 }
@@ -284,10 +281,15 @@ TEST_CASE("lazy small steps equal eager ones in distribution", "[mutation]") {
             bool read = last || rl.bernoulli(pRead), accept = rl.bernoulli(pAccept);
             uint32_t n = accepted + 1;  // proposal n: counts accepted proposals only
             if (read) {
-                float v = proposeCoordinate(value, lastModified, lastLargeStep, n, large, sigma, rl.uniform(),
-                                            standardNormal(rl.g(), 0));
-                if (last) { lazy[bin1(v, bins)] += 1; break; }
-                if (accept) { value = v; lastModified = n; }
+                float v = proposeCoordinate(value, lastModified, lastLargeStep, n, large, sigma, rl.uniform(), standardNormal(rl.g(), 0));
+                if (last) {
+                    lazy[bin1(v, bins)] += 1;
+                    break;
+                }
+                if (accept) {
+                    value = v;
+                    lastModified = n;
+                }
             }
             if (accept) {
                 accepted = n;
@@ -303,7 +305,10 @@ TEST_CASE("lazy small steps equal eager ones in distribution", "[mutation]") {
             bool last = it == T, large = !last && re.bernoulli(pLarge), accept = re.bernoulli(pAccept);
             double v = large ? re.uniformD() : value + sigma * normal(re.g);
             v -= std::floor(v);
-            if (last) { eager[bin1(float(v), bins)] += 1; break; }
+            if (last) {
+                eager[bin1(float(v), bins)] += 1;
+                break;
+            }
             if (accept) value = v;
         }
     }
@@ -339,8 +344,7 @@ TEST_CASE("Metropolis chains sample a non-separable 2-D density", "[mutation]") 
     std::vector<double> expected(bins * bins);
     for (int i = 0; i < bins; ++i)
         for (int j = 0; j < bins; ++j)
-            expected[i * bins + j] = chains * target2Mass(double(i) / bins, double(i + 1) / bins, double(j) / bins,
-                                                          double(j + 1) / bins);
+            expected[i * bins + j] = chains * target2Mass(double(i) / bins, double(i + 1) / bins, double(j) / bins, double(j + 1) / bins);
     for (double pLarge : {0.3, 0.0}) {
         Rng rng(pLarge > 0 ? 31 : 32);
         std::vector<double> observed(bins * bins, 0.0);
@@ -385,7 +389,10 @@ TEST_CASE("expected-value splats reproduce the 1-D density", "[mutation]") {
         for (int b = 0; b < bins; ++b) {
             double mean = sum[b] / chains, var = (sumSq[b] - chains * mean * mean) / (chains - 1);
             double z = (mean - target1Mass(double(b) / bins, double(b + 1) / bins)) / std::sqrt(var / chains);
-            if (!(std::fabs(z) <= maxZ)) { maxZ = std::fabs(z); worst = b; }
+            if (!(std::fabs(z) <= maxZ)) {
+                maxZ = std::fabs(z);
+                worst = b;
+            }
         }
         CAPTURE(pLarge, maxZ, bound, worst);
         CHECK(maxZ <= bound);

@@ -57,8 +57,8 @@ TEST_CASE("Ctrl-C and --time keep the image's brightness, for every tracer", "[p
         const char* name;
         int spp;
     };
-    for (const Case& c : {Case{TracerKind::PT, "pt", 64}, Case{TracerKind::LT, "lt", 64}, Case{TracerKind::BPT, "bpt", 64},
-                          Case{TracerKind::MMLT, "mmlt", 128}}) {
+    for (const Case& c :
+         {Case{TracerKind::PT, "pt", 64}, Case{TracerKind::LT, "lt", 64}, Case{TracerKind::BPT, "bpt", 64}, Case{TracerKind::MMLT, "mmlt", 128}}) {
         RenderOptions o = rstats::renderOptions(c.kind, c.spp, 0, 1, 5);
         o.chains = 1024;
         o.bootstrap = 1 << 14;

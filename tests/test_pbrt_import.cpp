@@ -13,11 +13,11 @@
 #include <random>
 #include <string>
 
+#include "kernels/envmap.h"
 #include "kernels/texture.h"
 #include "mitsuba_floor.h"
 #include "power.h"
 #include "render_stats.h"
-#include "kernels/envmap.h"
 #include "scene/meshes/loop_subdivision.h"
 #include "scene/pbrt/equal_area.h"
 #include "scene/spectrum.h"
@@ -94,7 +94,8 @@ Shape "sphere"
     CHECK(d.camera.focalLength / (2 * d.camera.fStop) == Approx(0.5f));
     // pbrt's image right is camera +x; Scale -1 1 1 mirrors it back to wavemmlt's own right
     CHECK_FALSE(d.camera.flipX);
-    CHECK(loadScene(write("plain.pbrt", "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\nWorldBegin\nLightSource \"point\"\nShape \"sphere\"\n")).camera.flipX);
+    CHECK(loadScene(write("plain.pbrt", "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\nWorldBegin\nLightSource \"point\"\nShape \"sphere\"\n"))
+              .camera.flipX);
     // the film's iso 200 and the shutter open for 0.5: the imaging ratio 1 on every emitter
     CHECK(d.lights[0].radiance.y == Approx(2.0f));
     CHECK(d.lights[0].position.y == Approx(5.0f));
@@ -141,7 +142,8 @@ TEST_CASE("pbrt import: regularize is applied by PT and BPT; the others warn, na
         {"lightpath", true, TracerKind::BPT, nullptr},
     };
     for (const Case& c : cases) {
-        const std::string text = std::string("Integrator \"") + c.integrator + "\"\n  \"bool regularize\" true\n" + kHead + kFloor + "LightSource \"point\"\n";
+        const std::string text =
+            std::string("Integrator \"") + c.integrator + "\"\n  \"bool regularize\" true\n" + kHead + kFloor + "LightSource \"point\"\n";
         const SceneDesc d = loadScene(write("reg.pbrt", text), {}, LoadOptions{c.tracerGiven, c.tracer});
         INFO(c.integrator << (c.tracerGiven ? " with --tracer " + std::to_string(int(c.tracer)) : std::string()));
         CHECK(d.regularize);  // the scene's request: the render applies it by its tracer
@@ -150,11 +152,11 @@ TEST_CASE("pbrt import: regularize is applied by PT and BPT; the others warn, na
             CHECK(d.warnings.empty());
         } else {
             REQUIRE(d.warnings.size() == 1);
-            CHECK_THAT(d.warnings[0], Catch::Contains("reg.pbrt:2") && Catch::Contains("regularize is not applied") &&
-                                          Catch::Contains(c.warning));
+            CHECK_THAT(d.warnings[0], Catch::Contains("reg.pbrt:2") && Catch::Contains("regularize is not applied") && Catch::Contains(c.warning));
         }
     }
-    const SceneDesc off = loadScene(write("noreg.pbrt", "Integrator \"path\" \"bool regularize\" false\n" + kHead + kFloor + "LightSource \"point\"\n"));
+    const SceneDesc off =
+        loadScene(write("noreg.pbrt", "Integrator \"path\" \"bool regularize\" false\n" + kHead + kFloor + "LightSource \"point\"\n"));
     CHECK_FALSE(off.regularize);
     CHECK(off.warnings.empty());
 }
@@ -191,7 +193,8 @@ Texture "checks" "spectrum" "checkerboard" "float uscale" 4 "float vscale" 2 "rg
 Texture "half" "spectrum" "scale" "texture tex" "checks" "float scale" 0.5
 MakeNamedMaterial "h" "string type" "diffuse" "texture reflectance" "half"
 )" + std::string("NamedMaterial \"a\"\nShape \"sphere\"\nNamedMaterial \"b\"\nShape \"sphere\"\nNamedMaterial \"c\"\nShape \"sphere\"\n") +
-                             "NamedMaterial \"d\"\nShape \"sphere\"\nNamedMaterial \"e\"\nShape \"sphere\"\nNamedMaterial \"g\"\nShape \"sphere\"\nNamedMaterial \"h\"\nShape \"sphere\"\n",
+                                 "NamedMaterial \"d\"\nShape \"sphere\"\nNamedMaterial \"e\"\nShape \"sphere\"\nNamedMaterial \"g\"\nShape "
+                                 "\"sphere\"\nNamedMaterial \"h\"\nShape \"sphere\"\n",
                              "materials.pbrt");
     auto mat = [&](size_t shape) { return d.materials[size_t(d.shapes[shape].material)]; };
     CHECK(mat(0).kind == MaterialKind::RoughConductor);
@@ -267,8 +270,11 @@ Shape "disk" "float radius" 2
     CHECK(d.lights[2].radiance.x == Approx(2 * 10 / (M_PI * 0.5 * 2)).epsilon(1e-5));
     CHECK(d.lights[0].kind == LightKind::Mesh);  // a triangle
     // a quad light (a parallelogram of two triangles) is the analytic rectangle light
-    const SceneDesc q = load("AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  2 0 0  3 1 0  1 1 0 ] \"integer indices\" [ 0 1 2 2 3 0 ]\n"
-                             "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  2 0 0  3 1 0  1 1.5 0 ] \"integer indices\" [ 0 1 2 2 3 0 ]\n", "quad.pbrt");
+    const SceneDesc q = load(
+        "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  2 0 0  3 1 0  1 1 0 ] \"integer indices\" [ 0 "
+        "1 2 2 3 0 ]\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  2 0 0  3 1 0  1 1.5 0 ] \"integer indices\" [ 0 1 2 2 3 0 ]\n",
+        "quad.pbrt");
     CHECK(q.lights[0].kind == LightKind::Rect);
     CHECK(q.lights[1].kind == LightKind::Mesh);  // not a parallelogram
     CHECK(d.shapes[3].kind == ShapeKind::Sphere);
@@ -339,9 +345,11 @@ TEST_CASE("pbrt import: a two-sided area light lights the floor from its back fa
     // A 1.2 x 1.2 quad at height 1.2 over (0.3, 0), its front face up, away from the floor:
     // one-sided it leaves the floor black, two-sided its back face gives the floor
     // L rectangleIrradiance; `power` counts both faces (pbrt: k_e = 2 pi A L).
-    const std::string quad = R"(Shape "trianglemesh" "point3 P" [ -0.3 1.2 -0.6  -0.3 1.2 0.6  0.9 1.2 0.6  0.9 1.2 -0.6 ] "integer indices" [ 0 1 2 0 2 3 ]
+    const std::string quad =
+        R"(Shape "trianglemesh" "point3 P" [ -0.3 1.2 -0.6  -0.3 1.2 0.6  0.9 1.2 0.6  0.9 1.2 -0.6 ] "integer indices" [ 0 1 2 0 2 3 ]
 )";
-    const SceneDesc d = load(kFloor + "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] \"bool twosided\" true \"float power\" 9.0478\n" + quad, "two-sided.pbrt");
+    const SceneDesc d =
+        load(kFloor + "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] \"bool twosided\" true \"float power\" 9.0478\n" + quad, "two-sided.pbrt");
     REQUIRE(d.lights.size() == 1);
     CHECK(d.lights[0].kind == LightKind::Mesh);  // not the one-sided rectangle light
     CHECK(d.lights[0].twoSided);
@@ -393,7 +401,8 @@ TEST_CASE("pbrt import: an area light with an image, looked up at (u, 1 - v), an
         f.write(reinterpret_cast<const char*>(px), sizeof px);
     }
     // a 1.2 x 1.2 quad at height 1.2 over (0.3, 0), facing down, with (u, v)
-    const std::string quad = R"(Shape "trianglemesh" "point3 P" [ -0.3 1.2 -0.6  -0.3 1.2 0.6  0.9 1.2 0.6  0.9 1.2 -0.6 ] "integer indices" [ 0 2 1 0 3 2 ]
+    const std::string quad =
+        R"(Shape "trianglemesh" "point3 P" [ -0.3 1.2 -0.6  -0.3 1.2 0.6  0.9 1.2 0.6  0.9 1.2 -0.6 ] "integer indices" [ 0 2 1 0 3 2 ]
   "point2 uv" [ 0 0  0 1  1 1  1 0 ]
 )";
     const SceneDesc ab = load(kFloor + "AreaLightSource \"diffuse\" \"string filename\" \"ab.pfm\"\n" + quad, "image-light.pbrt");
@@ -406,13 +415,15 @@ TEST_CASE("pbrt import: an area light with an image, looked up at (u, 1 - v), an
     CHECK(evalTexture(t, 0.5f, 0.5f, Vec3(0.0f)).x == Approx(0.6f));  // bilinear between the rows' centres
     // One texel: uniform radiance (0.5, 1, 2) times power / (pi A mean luminance), on the floor
     // as the rectangle's closed form, in PT, LT and BPT.
-    const SceneDesc one = load(kFloor + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\" \"float power\" 5\n" + quad, "image-light-1.pbrt");
+    const SceneDesc one =
+        load(kFloor + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\" \"float power\" 5\n" + quad, "image-light-1.pbrt");
     const double lum = 0.2126 * 0.5 + 0.7152 * 1.0 + 0.0722 * 2.0, scale = 5 / (M_PI * 1.44 * lum);
     CHECK(one.lights[0].radiance.y == Approx(scale).epsilon(1e-5));
     floor_test::floorRadianceOf(one, [&](Vec3 p, Vec3) { return 0.6 / M_PI * scale * floor_test::rectangleIrradiance(p, 1.2, -0.3, 0.9, -0.6, 0.6); },
                                 "pbrt-image-light", {});
-    CHECK_THAT(errorOf(kHead + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n"),
-               Catch::Contains("bad.pbrt:6") && Catch::Contains("(u, v)"));
+    CHECK_THAT(
+        errorOf(kHead + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n"),
+        Catch::Contains("bad.pbrt:6") && Catch::Contains("(u, v)"));
     CHECK_THAT(errorOf(kHead + "AreaLightSource \"diffuse\" \"string filename\" \"one.pfm\" \"rgb L\" [ 1 1 1 ]\n" + quad),
                Catch::Contains("bad.pbrt:6") && Catch::Contains("not both"));
 }
@@ -424,8 +435,8 @@ TEST_CASE("pbrt import: cropwindow and pixelbounds render that part of the film"
     const std::string film = R"(LookAt 0 1 0  0 0 0  0 0 1
 Camera "perspective" "float fov" [ 90 ]
 Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] )";
-    const std::string rest = "\nPixelFilter \"box\"\nWorldBegin\n" + kFloor +
-                             "LightSource \"point\" \"rgb I\" [ 2 2 2 ] \"point3 from\" [ 0.2 1.3 -0.1 ]\n";
+    const std::string rest =
+        "\nPixelFilter \"box\"\nWorldBegin\n" + kFloor + "LightSource \"point\" \"rgb I\" [ 2 2 2 ] \"point3 from\" [ 0.2 1.3 -0.1 ]\n";
     const SceneDesc full = loadScene(write("full.pbrt", film + rest));
     for (const std::string& crop : {std::string("\"float cropwindow\" [ 0.25 0.75 1 0.5 ]"), std::string("\"integer pixelbounds\" [ 4 12 8 16 ]")}) {
         const SceneDesc d = loadScene(write("crop.pbrt", film + crop + rest));
@@ -450,10 +461,12 @@ Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ] )";
                 }
         }
         const Vec3 c(0.2f, 1.3f, -0.1f);
-        floor_test::floorRadianceOf(d, [&](Vec3 p, Vec3) {
-            const double r2 = double(lengthSquared(c - p));
-            return 0.6 / M_PI * 2 * c.y / std::sqrt(r2) / r2;
-        }, "pbrt-crop", {});
+        floor_test::floorRadianceOf(d,
+                                    [&](Vec3 p, Vec3) {
+                                        const double r2 = double(lengthSquared(c - p));
+                                        return 0.6 / M_PI * 2 * c.y / std::sqrt(r2) / r2;
+                                    },
+                                    "pbrt-crop", {});
     }
     // Mitsuba's hdrfilm crop: the same window
     auto mitsuba = [&](const std::string& crop) {
@@ -501,7 +514,7 @@ LightSource "point" "rgb I" [ 1 1 1 ]
     CHECK(d.lights[1].radiance.x == Approx(1.0f));
     const TextureDesc& t = d.textures[size_t(d.materials[size_t(d.shapes[2].material)].texture[MaterialParam::Diffuse])];
     CHECK(t.uvTransform[0] == Approx(4.0f));  // uscale
-    CHECK(d.warnings.empty());  // defaults a directive does not read (the texture's uscale on a sphere) are no mistake
+    CHECK(d.warnings.empty());                // defaults a directive does not read (the texture's uscale on a sphere) are no mistake
 }
 
 TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pbrt][render][instancing]") {
@@ -509,12 +522,13 @@ TEST_CASE("pbrt import: an instanced object renders as its flattened copy", "[pb
 Shape "sphere" "float radius" 0.3
 )";
     const std::string light = "LightSource \"point\" \"rgb I\" [ 3 3 3 ] \"point3 from\" [ 0 0.9 0 ]\n";
-    const std::string place1 = "Translate 0.3 0.2 0\nRotate 90 1 0 0\nScale 0.3 0.3 0.3\n", place2 = "Translate -0.4 0.1 0.2\nRotate 90 1 0 0\nScale 0.2 0.2 0.2\n";
+    const std::string place1 = "Translate 0.3 0.2 0\nRotate 90 1 0 0\nScale 0.3 0.3 0.3\n",
+                      place2 = "Translate -0.4 0.1 0.2\nRotate 90 1 0 0\nScale 0.2 0.2 0.2\n";
     const SceneDesc inst = load(kFloor + light + "ObjectBegin \"o\"\n" + box + "ObjectEnd\nAttributeBegin\n" + place1 +
                                     "ObjectInstance \"o\"\nAttributeEnd\nAttributeBegin\n" + place2 + "ObjectInstance \"o\"\nAttributeEnd\n",
                                 "instanced.pbrt");
-    const SceneDesc flat = load(kFloor + light + "AttributeBegin\n" + place1 + box + "AttributeEnd\nAttributeBegin\n" + place2 + box + "AttributeEnd\n",
-                                "flattened.pbrt");
+    const SceneDesc flat = load(
+        kFloor + light + "AttributeBegin\n" + place1 + box + "AttributeEnd\nAttributeBegin\n" + place2 + box + "AttributeEnd\n", "flattened.pbrt");
     CHECK(inst.instances.size() == 2);
     CHECK(inst.groups == 1);
     CHECK(flat.instances.empty());
@@ -575,7 +589,8 @@ AttributeBegin
 AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
 Shape "trianglemesh" "point3 P" [ -0.5 1.5 -0.5  -0.5 1.5 0.5  0.5 1.5 0.5  0.5 1.5 -0.5 ] "integer indices" [ 0 2 1 0 3 2 ]
 AttributeEnd
-)", "coated-tracers.pbrt");
+)",
+                       "coated-tracers.pbrt");
     d.settings.maxPathLength = 4;  // pbrt's maxdepth 3
     auto runs = [&](TracerKind t, int spp, uint64_t seed0) {
         power::Runs r(4);
@@ -620,8 +635,8 @@ TEST_CASE("pbrt import: the equal-area octahedral environment map against the sa
         const Vec3 e = equalAreaSquareToSphere(u, v);
         CHECK(dot(d, e) > 1 - 1e-5f);
     }
-    CHECK(std::fabs(z.mean(0)) < 4.5 * z.se(0));                // uniform on the sphere: E z = 0
-    CHECK(std::fabs(z2.mean(0) - 1.0 / 3) < 4.5 * z2.se(0));    // E z^2 = 1/3
+    CHECK(std::fabs(z.mean(0)) < 4.5 * z.se(0));              // uniform on the sphere: E z = 0
+    CHECK(std::fabs(z2.mean(0) - 1.0 / 3) < 4.5 * z2.se(0));  // E z^2 = 1/3
     CHECK(std::fabs(octant.mean(0) - 1.0 / 8) < 4.5 * octant.se(0));
     // A map of f(d) = (1 + d) / 2 in pbrt's layout (texel centres), under Rotate -90 about x
     // (pbrt's scenes put +z up so): the importer's latitude-longitude map is f of each
@@ -634,7 +649,8 @@ TEST_CASE("pbrt import: the equal-area octahedral environment map against the sa
             oct.set(x, y, (d + Vec3(1.0f)) * 0.5f);
         }
     writeImage(dir() + "/sky.pfm", oct);
-    const SceneDesc d = load(kFloor + "AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.pfm\"\nAttributeEnd\n", "sky.pbrt");
+    const SceneDesc d =
+        load(kFloor + "AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.pfm\"\nAttributeEnd\n", "sky.pbrt");
     REQUIRE(d.envMap.width == 2 * N);
     double worst = 0;
     for (int y = 0; y < d.envMap.height; ++y)
@@ -646,7 +662,9 @@ TEST_CASE("pbrt import: the equal-area octahedral environment map against the sa
         }
     CHECK(worst < 0.03);  // a 64 x 64 map of a linear function: bilinear error near the folds
     // illuminance: the sky scaled to give E = 3 on an upward surface
-    const SceneDesc e = load(kFloor + "AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.pfm\" \"float illuminance\" 3\nAttributeEnd\n", "sky-e.pbrt");
+    const SceneDesc e = load(
+        kFloor + "AttributeBegin\nRotate -90 1 0 0\nLightSource \"infinite\" \"string filename\" \"sky.pfm\" \"float illuminance\" 3\nAttributeEnd\n",
+        "sky-e.pbrt");
     double E = 0;
     for (int y = 0; y < e.envMap.height; ++y) {
         const double dOmega = 2 * M_PI / e.envMap.width * (std::cos(M_PI * y / e.envMap.height) - std::cos(M_PI * (y + 1) / e.envMap.height));
@@ -678,7 +696,7 @@ TEST_CASE("Loop subdivision: pbrt's scheme", "[pbrt][loopsubdiv]") {
         CHECK(length(O[size_t(i)]) == Approx(length(O[0])).epsilon(1e-5));
         CHECK(std::fabs(dot(N[size_t(i)], normalize(O[size_t(i)]))) == Approx(1.0f).epsilon(1e-5));
     }
-    CHECK(length(O[0]) < 1.0f);   // pulled in by the smoothing
+    CHECK(length(O[0]) < 1.0f);  // pulled in by the smoothing
     CHECK(length(O[0]) > 0.4f);
     // bad meshes: an edge of three faces
     std::vector<Vec3> T = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
@@ -688,7 +706,10 @@ TEST_CASE("Loop subdivision: pbrt's scheme", "[pbrt][loopsubdiv]") {
 
 TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-input]") {
     const std::string head = "WorldBegin\nLightSource \"point\"\n";
-    struct Bad { std::string text; std::string want; };
+    struct Bad {
+        std::string text;
+        std::string want;
+    };
     const std::vector<Bad> cases = {
         {head + "Shape \"sphere\" \"float radius\" [ 1\n", "bad.pbrt:3: \"float radius\": unterminated ["},
         {head + "Shape \"sphere\" \"string name\" \"unterminated\n", "bad.pbrt:3: unterminated string"},
@@ -705,12 +726,13 @@ TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-inpu
         {head + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"missing.png\"\n", "bad.pbrt:3:"},
         {head + "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"integer indices\" [ 0 1 3 ]\n",
          "bad.pbrt:3: \"indices\": index 3 out of range (3 points)"},
-        {head + "Include \"bad.pbrt\"\n", "bad.pbrt:3: \"" },
+        {head + "Include \"bad.pbrt\"\n", "bad.pbrt:3: \""},
         {head + "MakeNamedMedium \"fog\" \"string type\" \"cloud\"\n", "bad.pbrt:3: MakeNamedMedium type \"cloud\" is not supported yet"},
         {head + "Material \"hair\"\n", "bad.pbrt:3: Material \"hair\" is not supported yet"},
         {head + "ObjectBegin \"a\"\nObjectBegin \"b\"\n", "bad.pbrt:4: ObjectBegin inside an object"},
         {"Film \"rgb\" \"integer xresolution\" [ 0 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the film's resolution must be 1 to 16384"},
-        {"PixelFilter \"gaussian\" \"float xradius\" [ -1 ] \"float yradius\" [ -1 ]\n" + head + "Shape \"sphere\"\n", "bad.pbrt:1: the filter radius must be > 0"},
+        {"PixelFilter \"gaussian\" \"float xradius\" [ -1 ] \"float yradius\" [ -1 ]\n" + head + "Shape \"sphere\"\n",
+         "bad.pbrt:1: the filter radius must be > 0"},
         {head + "Shape \"sphere\"\nAttributeEnd\n", "bad.pbrt:4: AttributeEnd without a matching begin"},
         {head + "Attribute \"camera\" \"float fov\" 30\n", "bad.pbrt:3: Attribute \"camera\" is not"},
         {head + "Shape \"sphere\" \"float radius\" 1 2\n", "bad.pbrt:3: expected a directive, found 2"},
@@ -728,9 +750,14 @@ TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-inpu
     // a .gz that is not gzip; a PLY whose indices exceed its vertices
     write("notgz.pbrt.gz", "WorldBegin\n");
     std::string e;
-    try { loadScene(dir() + "/notgz.pbrt.gz"); } catch (const InputError& x) { e = x.what(); }
+    try {
+        loadScene(dir() + "/notgz.pbrt.gz");
+    } catch (const InputError& x) {
+        e = x.what();
+    }
     CHECK(e.find("notgz.pbrt.gz: the scene file is named .gz but is not gzip") != std::string::npos);
-    write("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                     "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+    write("bad.ply",
+          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
     CHECK(errorOf(head + "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n").find("vertex index 7 is out of range") != std::string::npos);
 }

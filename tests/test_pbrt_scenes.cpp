@@ -59,8 +59,8 @@ Match compare(const SceneDesc& d, const std::string& reference, int spp, int K, 
             const double excess = (std::fabs(runs[c].mean(i) - r[i]) - allowance * mean) / std::max(sigma, 1e-12);
             if (excess > m.worstExcess) {
                 m.worstExcess = excess;
-                m.worst = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": ours " +
-                          std::to_string(runs[c].mean(i)) + " pbrt " + std::to_string(r[i]) + " sigma " + std::to_string(sigma);
+                m.worst = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": ours " + std::to_string(runs[c].mean(i)) + " pbrt " +
+                          std::to_string(r[i]) + " sigma " + std::to_string(sigma);
             }
         }
     }
@@ -105,7 +105,8 @@ TEST_CASE("pbrt-v4 scenes: fog under pbrt's path integrator renders as pbrt rend
     for (double r : m.meanRatio) CHECK(std::fabs(r - 1) <= 0.03);
 }
 
-TEST_CASE("pbrt-v4 scenes: the gold killeroo (loopsubdiv, .spd metal, imagemap, distant light) renders what pbrt-v4 renders", "[pbrt][reference][render][stat]") {
+TEST_CASE("pbrt-v4 scenes: the gold killeroo (loopsubdiv, .spd metal, imagemap, distant light) renders what pbrt-v4 renders",
+          "[pbrt][reference][render][stat]") {
     check("killeroos/killeroo-gold.pbrt", "killeroos/reference/pbrt-killeroo-gold-256x192-1024spp.exr", 0.01, 256, 192);
 }
 

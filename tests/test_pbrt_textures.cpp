@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "kernels/bump.h"
 #include "chi2.h"
+#include "kernels/bump.h"
 #include "kernels/texture.h"
 #include "mitsuba_floor.h"
+#include "render_stats.h"
 #include "scene/scene.h"
 #include "stages/core/surface.h"
-#include "render_stats.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
@@ -65,27 +65,36 @@ void checkSt(const TextureDesc& t, float u, float v, Vec3 p, double s, double tt
 }  // namespace
 
 TEST_CASE("pbrt textures: uv, spherical, cylindrical and planar mappings", "[pbrt][texture]") {
-    const SceneDesc uv = withTexture("uv.pbrt", "Texture \"t\" \"spectrum\" \"bilerp\" \"float uscale\" 2 \"float vscale\" 0.5 "
-                                                "\"float udelta\" 0.1 \"float vdelta\" 0.2 " + kProbe + "\n");
+    const SceneDesc uv = withTexture("uv.pbrt",
+                                     "Texture \"t\" \"spectrum\" \"bilerp\" \"float uscale\" 2 \"float vscale\" 0.5 "
+                                     "\"float udelta\" 0.1 \"float vdelta\" 0.2 " +
+                                         kProbe + "\n");
     checkSt(reflectanceTexture(uv), 0.2f, 0.6f, Vec3(5.0f), 0.5, 0.5);
     checkSt(reflectanceTexture(uv), 0.4f, 1.2f, Vec3(5.0f), 0.9, 0.8);
     // The texture's space is the CTM at the directive: centred on (1, 2, 3) here.
     const std::string at = "AttributeBegin\nTranslate 1 2 3\n";
-    const SceneDesc sph = withTexture("sph.pbrt", at + "Texture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"spherical\" " + kProbe + "\nAttributeEnd\n");
+    const SceneDesc sph =
+        withTexture("sph.pbrt", at + "Texture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"spherical\" " + kProbe + "\nAttributeEnd\n");
     const TextureDesc& ts = reflectanceTexture(sph);
     const Vec3 c(1, 2, 3);
-    checkSt(ts, 0, 0, c + Vec3(0, 0, 2), 0, 0);        // theta 0
-    checkSt(ts, 0, 0, c + Vec3(3, 0, 0), 0.5, 0);      // theta pi / 2, phi 0
-    checkSt(ts, 0, 0, c + Vec3(0, 0.5f, 0), 0.5, 0.25);  // phi pi / 2
+    checkSt(ts, 0, 0, c + Vec3(0, 0, 2), 0, 0);                          // theta 0
+    checkSt(ts, 0, 0, c + Vec3(3, 0, 0), 0.5, 0);                        // theta pi / 2, phi 0
+    checkSt(ts, 0, 0, c + Vec3(0, 0.5f, 0), 0.5, 0.25);                  // phi pi / 2
     checkSt(ts, 0, 0, c + Vec3(-1, -1, -std::sqrt(2.0f)), 0.75, 0.625);  // theta 3 pi / 4, phi 5 pi / 4
-    const SceneDesc cyl = withTexture("cyl.pbrt", at + "Texture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"cylindrical\" " + kProbe + "\nAttributeEnd\n");
+    const SceneDesc cyl =
+        withTexture("cyl.pbrt", at + "Texture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"cylindrical\" " + kProbe + "\nAttributeEnd\n");
     checkSt(reflectanceTexture(cyl), 0, 0, c + Vec3(2, 0, 0.3f), 0.5, 0.3);
     checkSt(reflectanceTexture(cyl), 0, 0, c + Vec3(0, -1, 0.7f), 0.25, 0.7);
-    const SceneDesc pl = withTexture("planar.pbrt", at + "Texture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"planar\" \"vector3 v1\" [ 1 0 0 ] "
-                                                         "\"vector3 v2\" [ 0 0 1 ] \"float udelta\" 0.1 \"float vdelta\" 0.2 " + kProbe + "\nAttributeEnd\n");
+    const SceneDesc pl =
+        withTexture("planar.pbrt", at +
+                                       "Texture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"planar\" \"vector3 v1\" [ 1 0 0 ] "
+                                       "\"vector3 v2\" [ 0 0 1 ] \"float udelta\" 0.1 \"float vdelta\" 0.2 " +
+                                       kProbe + "\nAttributeEnd\n");
     checkSt(reflectanceTexture(pl), 0, 0, c + Vec3(0.3f, 5, 0.4f), 0.4, 0.6);
     // a rotated texture space: planar along the texture's x, which is world -z after Rotate 90 about y
-    const SceneDesc rot = withTexture("rot.pbrt", "AttributeBegin\nRotate 90 0 1 0\nTexture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"planar\" " + kProbe + "\nAttributeEnd\n");
+    const SceneDesc rot =
+        withTexture("rot.pbrt", "AttributeBegin\nRotate 90 0 1 0\nTexture \"t\" \"spectrum\" \"bilerp\" \"string mapping\" \"planar\" " + kProbe +
+                                    "\nAttributeEnd\n");
     checkSt(reflectanceTexture(rot), 0, 0, Vec3(0.1f, 0.2f, -0.7f), 0.7, 0.2);
 }
 
@@ -94,16 +103,15 @@ TEST_CASE("pbrt textures: fbm, wrinkled and windy are pbrt's sums of octaves", "
     CHECK(fbm(q, 0.5f, 1) == perlinNoise(q));
     CHECK(fbm(q, 0.7f, 2) == Approx(perlinNoise(q) + 0.7f * perlinNoise(q * 1.99f)).margin(1e-6));
     CHECK(turbulencePbrt(q, 0.6f, 0) == Approx(0.2f));
-    CHECK(turbulencePbrt(q, 0.6f, 2) ==
-          Approx(std::fabs(perlinNoise(q)) + 0.6f * std::fabs(perlinNoise(q * 1.99f)) + 0.2f * 0.36f).margin(1e-6));
+    CHECK(turbulencePbrt(q, 0.6f, 2) == Approx(std::fabs(perlinNoise(q)) + 0.6f * std::fabs(perlinNoise(q * 1.99f)) + 0.2f * 0.36f).margin(1e-6));
     // the noise is not trivially zero here (the sums above would pass on zeros)
     CHECK(std::fabs(perlinNoise(q)) > 0.01f);
     CHECK(std::fabs(perlinNoise(q * 1.99f)) > 0.01f);
     // as textures, of the point in the texture's space (Scale 2: q = p / 2)
-    const SceneDesc d = withTexture(
-        "noise.pbrt", "AttributeBegin\nScale 2 2 2\nTexture \"f\" \"float\" \"fbm\" \"integer octaves\" 3 \"float roughness\" 0.4\n"
-                      "Texture \"w\" \"float\" \"wrinkled\"\nTexture \"y\" \"float\" \"windy\"\nAttributeEnd\n"
-                      "Texture \"t\" \"spectrum\" \"mix\" \"rgb tex1\" [ 0 0 0 ] \"rgb tex2\" [ 1 1 1 ] \"texture amount\" \"f\"\n");
+    const SceneDesc d = withTexture("noise.pbrt",
+                                    "AttributeBegin\nScale 2 2 2\nTexture \"f\" \"float\" \"fbm\" \"integer octaves\" 3 \"float roughness\" 0.4\n"
+                                    "Texture \"w\" \"float\" \"wrinkled\"\nTexture \"y\" \"float\" \"windy\"\nAttributeEnd\n"
+                                    "Texture \"t\" \"spectrum\" \"mix\" \"rgb tex1\" [ 0 0 0 ] \"rgb tex2\" [ 1 1 1 ] \"texture amount\" \"f\"\n");
     const Vec3 p = q * 2.0f;
     auto find = [&](TextureKind k) -> const TextureDesc& {
         for (const TextureDesc& t : d.textures)
@@ -113,8 +121,7 @@ TEST_CASE("pbrt textures: fbm, wrinkled and windy are pbrt's sums of octaves", "
     };
     CHECK(evalTexture(find(TextureKind::Fbm), 0, 0, p).y == Approx(fbm(q, 0.4f, 3)).margin(1e-5));
     CHECK(evalTexture(find(TextureKind::Wrinkled), 0, 0, p).y == Approx(turbulencePbrt(q, 0.5f, 8)).margin(1e-5));
-    CHECK(evalTexture(find(TextureKind::Windy), 0, 0, p).y ==
-          Approx(std::fabs(fbm(q * 0.1f, 0.5f, 3)) * fbm(q, 0.5f, 6)).margin(1e-5));
+    CHECK(evalTexture(find(TextureKind::Windy), 0, 0, p).y == Approx(std::fabs(fbm(q * 0.1f, 0.5f, 3)) * fbm(q, 0.5f, 6)).margin(1e-5));
     // the mix reads fbm as its amount at the same point
     const Vec3 m = evalTextureOf(d.textures, size_t(d.materials.back().texture[MaterialParam::Diffuse]), 0, 0, p, Vec3(0, 1, 0));
     CHECK(m.x == Approx(fbm(q, 0.4f, 3)).margin(1e-5));
@@ -188,8 +195,9 @@ TEST_CASE("pbrt textures: marble's spline where sin() pins it", "[pbrt][texture]
 }
 
 TEST_CASE("pbrt textures: directionmix follows the geometric normal", "[pbrt][texture]") {
-    const SceneDesc d = withTexture("dm.pbrt", "AttributeBegin\nRotate 90 1 0 0\nTexture \"t\" \"spectrum\" \"directionmix\" "
-                                               "\"rgb tex1\" [ 0.8 0.8 0.8 ] \"rgb tex2\" [ 0.2 0.2 0.2 ] \"vector3 dir\" [ 0 1 0 ]\nAttributeEnd\n");
+    const SceneDesc d = withTexture("dm.pbrt",
+                                    "AttributeBegin\nRotate 90 1 0 0\nTexture \"t\" \"spectrum\" \"directionmix\" "
+                                    "\"rgb tex1\" [ 0.8 0.8 0.8 ] \"rgb tex2\" [ 0.2 0.2 0.2 ] \"vector3 dir\" [ 0 1 0 ]\nAttributeEnd\n");
     // dir (0, 1, 0) in the texture's space is world (0, 0, 1)
     const size_t t = size_t(d.materials.back().texture[MaterialParam::Diffuse]);
     auto at = [&](Vec3 n) { return evalTextureOf(d.textures, t, 0.3f, 0.4f, Vec3(1.0f), n).x; };
@@ -207,8 +215,9 @@ TEST_CASE("pbrt textures: imagemap's invert is 1 - scale texel, at least 0", "[p
         const float px[6] = {0.25f, 0.5f, 0.75f, 2.0f, 0.1f, 0.0f};
         f.write(reinterpret_cast<const char*>(px), sizeof px);
     }
-    const SceneDesc d = withTexture("invert.pbrt", "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"ramp.pfm\" "
-                                                   "\"bool invert\" true \"float scale\" 2 \"string filter\" \"point\"\n");
+    const SceneDesc d = withTexture("invert.pbrt",
+                                    "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"ramp.pfm\" "
+                                    "\"bool invert\" true \"float scale\" 2 \"string filter\" \"point\"\n");
     const TextureDesc& t = reflectanceTexture(d);
     const Vec3 a = evalTexture(t, 0.25f, 0.5f, Vec3(0.0f)), b = evalTexture(t, 0.75f, 0.5f, Vec3(0.0f));
     CHECK(a.x == Approx(0.5f));
@@ -237,14 +246,13 @@ LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.2 1.3 -0.1 ]
 )");
     const size_t t = size_t(d.materials.back().texture[MaterialParam::Diffuse]);
     const Vec3 c(0.2f, 1.3f, -0.1f);
-    floor_test::floorRadianceOf(
-        d,
-        [&](Vec3 p, Vec3) {
-            const double r2 = double(lengthSquared(c - p));
-            const double rho = evalTextureOf(d.textures, t, 0, 0, p, Vec3(0, 1, 0)).y;
-            return rho / M_PI * 2 * c.y / std::sqrt(r2) / r2;
-        },
-        "pbrt-textured-floor", {});
+    floor_test::floorRadianceOf(d,
+                                [&](Vec3 p, Vec3) {
+                                    const double r2 = double(lengthSquared(c - p));
+                                    const double rho = evalTextureOf(d.textures, t, 0, 0, p, Vec3(0, 1, 0)).y;
+                                    return rho / M_PI * 2 * c.y / std::sqrt(r2) / r2;
+                                },
+                                "pbrt-textured-floor", {});
 }
 
 // Every textured parameter (issue 43: the texture stage applies one rule per parameter,
@@ -299,7 +307,8 @@ LightSource "point" "rgb I" [ 2 2 2 ] "point3 from" [ 0.2 1.3 -0.1 ]
     };
     auto runs = [](const SceneDesc& d, uint64_t seed) {
         rstats::RunStats r;
-        for (int k = 0; k < 6; ++k) r.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 64, seed + uint64_t(k), 1, 8)).image, 4, 1));
+        for (int k = 0; k < 6; ++k)
+            r.add(rstats::blockMeans(render(d, rstats::renderOptions(TracerKind::PT, 64, seed + uint64_t(k), 1, 8)).image, 4, 1));
         return r;
     };
     const std::string cNone = rgbPair("0.5 0.5 0.5", "0.5 0.5 0.5");
@@ -336,9 +345,11 @@ TEST_CASE("pbrt textures: normalmap tilts a floor's shading normal, in PT, LT an
     }
     for (const double lx : {0.5, -0.5}) {
         const double ly = std::sqrt(1 - lx * lx);
-        const SceneDesc d = loadText(lx > 0 ? "nmap-a.pbrt" : "nmap-b.pbrt", R"(Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ] "string normalmap" "n.pfm"
+        const SceneDesc d =
+            loadText(lx > 0 ? "nmap-a.pbrt" : "nmap-b.pbrt", R"(Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ] "string normalmap" "n.pfm"
 Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ] "point2 uv" [ 0 0  1 0  1 1  0 1 ]
-LightSource "distant" "rgb L" [ 1 1 1 ] "point3 from" [ )" + std::to_string(lx) + " " + std::to_string(ly) + R"( 0 ] "point3 to" [ 0 0 0 ] "float illuminance" 2
+LightSource "distant" "rgb L" [ 1 1 1 ] "point3 from" [ )" + std::to_string(lx) +
+                                                                 " " + std::to_string(ly) + R"( 0 ] "point3 to" [ 0 0 0 ] "float illuminance" 2
 )");
         REQUIRE(d.materials.back().normalMap >= 0);
         const double cosN = 0.6 * lx + 0.8 * ly;
@@ -369,8 +380,8 @@ LightSource "point" "rgb I" [ 1 1 1 ] "point3 from" [ 0 1 0 ]
     const MaterialDesc& m = d.materials.back();
     REQUIRE(m.bump >= 0);
     CHECK(m.bumpPbrt);
-    const Vec3 n = bumpedNormalPbrt(heightOf(d.textures, size_t(m.bump), Vec3(0, 1, 0)), Vec3(0.1f, 0, 0.2f), 0.3f, 0.6f, Vec3(0, 1, 0), Vec3(0, 1, 0),
-                                    Vec3(2, 0, 0), Vec3(0, 0, -3));
+    const Vec3 n = bumpedNormalPbrt(heightOf(d.textures, size_t(m.bump), Vec3(0, 1, 0)), Vec3(0.1f, 0, 0.2f), 0.3f, 0.6f, Vec3(0, 1, 0),
+                                    Vec3(0, 1, 0), Vec3(2, 0, 0), Vec3(0, 0, -3));
     const Vec3 want = normalize(Vec3(-1.5f, 6, 0));
     CHECK(n.x == Approx(want.x).margin(1e-3));
     CHECK(n.y == Approx(want.y).margin(1e-3));
@@ -408,11 +419,14 @@ TEST_CASE("pbrt textures: a mix of bump-mapped or anisotropic parts", "[pbrt][te
         f.write(reinterpret_cast<const char*>(px), sizeof px);
     }
     const double amount = 0.3, lx = 0.5, ly = std::sqrt(1 - lx * lx);
-    const SceneDesc d = loadText("mix-bump.pbrt", R"(MakeNamedMaterial "tilted" "string type" "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ] "string normalmap" "nm.pfm"
+    const SceneDesc d =
+        loadText("mix-bump.pbrt", R"(MakeNamedMaterial "tilted" "string type" "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ] "string normalmap" "nm.pfm"
 MakeNamedMaterial "flat" "string type" "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ]
-Material "mix" "string materials" [ "flat" "tilted" ] "float amount" )" + std::to_string(amount) + R"(
+Material "mix" "string materials" [ "flat" "tilted" ] "float amount" )" +
+                                      std::to_string(amount) + R"(
 Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ] "point2 uv" [ 0 0  1 0  1 1  0 1 ]
-LightSource "distant" "rgb L" [ 1 1 1 ] "point3 from" [ )" + std::to_string(lx) + " " + std::to_string(ly) + R"( 0 ] "point3 to" [ 0 0 0 ] "float illuminance" 2
+LightSource "distant" "rgb L" [ 1 1 1 ] "point3 from" [ )" +
+                                      std::to_string(lx) + " " + std::to_string(ly) + R"( 0 ] "point3 to" [ 0 0 0 ] "float illuminance" 2
 )");
     const int mix = d.shapes[0].material;
     REQUIRE(d.materials[size_t(mix)].kind == MaterialKind::Blend);
@@ -437,7 +451,8 @@ LightSource "distant" "rgb L" [ 1 1 1 ] "point3 from" [ )" + std::to_string(lx) 
     const double cosN = 0.6 * lx + 0.8 * ly;
     floor_test::floorRadianceOf(d, [&](Vec3, Vec3) { return 0.6 / M_PI * 2 * (amount * cosN + (1 - amount) * ly); }, "pbrt-mix-bump", {});
 
-    const SceneDesc a = loadText("mix-aniso.pbrt", R"(MakeNamedMaterial "brushed" "string type" "conductor" "float uroughness" 0.05 "float vroughness" 0.3
+    const SceneDesc a =
+        loadText("mix-aniso.pbrt", R"(MakeNamedMaterial "brushed" "string type" "conductor" "float uroughness" 0.05 "float vroughness" 0.3
 MakeNamedMaterial "flat" "string type" "diffuse"
 Material "mix" "string materials" [ "flat" "brushed" ] "float amount" 0.5
 Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ] "point2 uv" [ 0 0  1 0  1 1  0 1 ]
@@ -460,8 +475,8 @@ LightSource "point" "rgb I" [ 1 1 1 ] "point3 from" [ 0 1 0 ]
     const MaterialDesc& m = d.materials.back();
     REQUIRE(m.bump >= 0);
     REQUIRE(d.textures[size_t(m.bump)].kind == TextureKind::Scale);
-    const Vec3 n = bumpedNormalPbrt(heightOf(d.textures, size_t(m.bump), Vec3(0, 1, 0)), Vec3(0.1f, 0, 0.2f), 0.3f, 0.6f, Vec3(0, 1, 0), Vec3(0, 1, 0),
-                                    Vec3(2, 0, 0), Vec3(0, 0, -3));
+    const Vec3 n = bumpedNormalPbrt(heightOf(d.textures, size_t(m.bump), Vec3(0, 1, 0)), Vec3(0.1f, 0, 0.2f), 0.3f, 0.6f, Vec3(0, 1, 0),
+                                    Vec3(0, 1, 0), Vec3(2, 0, 0), Vec3(0, 0, -3));
     const Vec3 want = normalize(Vec3(-1.5f, 6, 0));  // as the displacement test's slope 0.5
     CHECK(n.x == Approx(want.x).margin(1e-3));
     CHECK(n.y == Approx(want.y).margin(1e-3));

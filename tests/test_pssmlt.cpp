@@ -15,9 +15,9 @@
 //     chains, several passes;
 //  5. the formats and the command line: --tracer pssmlt, Tracer PSSMLT, Mitsuba's pssmlt
 //     integrator, --stats' pssmlt_* figures, length images refused.
-#include <catch2/catch.hpp>
 #include <sys/wait.h>
 #include <tbb/task_arena.h>
+#include <catch2/catch.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -39,8 +39,7 @@ namespace {
 
 constexpr double kP = 1e-4;
 
-RenderOptions pssmltOptions(int spp, uint64_t seed, int minLength, int maxLength, int chains, int bootstrap = 0,
-                            int threads = 2) {
+RenderOptions pssmltOptions(int spp, uint64_t seed, int minLength, int maxLength, int chains, int bootstrap = 0, int threads = 2) {
     RenderOptions o = rstats::renderOptions(TracerKind::PSSMLT, spp, seed, minLength, maxLength, threads);
     o.chains = chains;
     o.bootstrap = bootstrap;
@@ -87,11 +86,13 @@ SceneDesc seedRoom(int size, int maxLength) {
 // The grid furnace of test_media_mmlt.cpp: a closed box of black walls emitting 1 inwards,
 // the camera inside, all in a grid of scattering media of albedo 1: 1 everywhere.
 SceneDesc gridFurnace() {
-    return media_scenes::load("pssmlt-grid.pbrt", media_scenes::furnace(R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.5 1 1.5 ] "float g" 0.4
+    return media_scenes::load(
+        "pssmlt-grid.pbrt",
+        media_scenes::furnace(R"(MakeNamedMedium "smoke" "string type" "uniformgrid" "rgb sigma_a" [ 0 0 0 ] "rgb sigma_s" [ 0.5 1 1.5 ] "float g" 0.4
   "integer nx" 2 "integer ny" 2 "integer nz" 2 "point3 p0" [ -2.5 -2.5 -2.5 ] "point3 p1" [ 2.5 2.5 2.5 ]
   "float density" [ 0.3 1.2 0.7 1.9 0.5 1.1 1.6 0.2 ]
 )",
-                                                                                 "smoke"));
+                              "smoke"));
 }
 
 // K PSSMLT runs with the checks of renderPssmlt, seeds seed0 + i.
@@ -106,8 +107,7 @@ power::Runs pssmltRuns(const SceneDesc& desc, RenderOptions o, int K, uint64_t s
 
 // K = 32 runs of BPT (bptSpp, seeds seed0 + i) against 32 of PSSMLT (mutations per pixel, 1024
 // chains, seeds seed0 + 1000 + i) on desc's lengths 1..L; `claim`: the brightness error detected.
-void againstBpt(const SceneDesc& desc, int L, int bptSpp, int mutations, uint64_t seed0, double claim,
-                const std::string& what) {
+void againstBpt(const SceneDesc& desc, int L, int bptSpp, int mutations, uint64_t seed0, double claim, const std::string& what) {
     const int B = 4, K = 32;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, bptSpp, 0, 1, L), K, seed0, B)[0];
     const power::Runs m = pssmltRuns(desc, pssmltOptions(mutations, 0, 1, L, 1024, 1 << 14), K, seed0 + 1000, B);
@@ -118,9 +118,7 @@ void againstBpt(const SceneDesc& desc, int L, int bptSpp, int mutations, uint64_
 
 // ---- 2. PSSMLT image = BPT image ------------------------------------------------------------
 
-TEST_CASE("PSSMLT power: Cornell box against BPT", "[pssmlt][stat]") {
-    againstBpt(cornell(16, 5), 5, 64, 256, 20000, 0.005, "Cornell box");
-}
+TEST_CASE("PSSMLT power: Cornell box against BPT", "[pssmlt][stat]") { againstBpt(cornell(16, 5), 5, 64, 256, 20000, 0.005, "Cornell box"); }
 
 TEST_CASE("PSSMLT power: glass and mirror caustics against BPT", "[pssmlt][stat]") {
     againstBpt(caustic(16, 6), 6, 256, 1024, 22000, 0.05, "caustic scene");
@@ -160,7 +158,7 @@ TEST_CASE("PSSMLT and MMLT agree per path length where PSSMLT is asked for one l
 TEST_CASE("PSSMLT: a fixed seed gives a bit-identical image, for 1, 2 and 4 threads", "[pssmlt]") {
     const SceneDesc desc = caustic(16, 6);
     RenderOptions o = pssmltOptions(64, 42, 1, 6, 512, 4096);  // 32 iterations of 512 chains,
-    o.passLength = 8;                                            // in 4 passes
+    o.passLength = 8;                                          // in 4 passes
     const RenderResult a = renderPssmlt(desc, o);
     const RenderResult b = renderPssmlt(desc, o);
     CHECK(a.image.rgb == b.image.rgb);
@@ -198,8 +196,8 @@ TEST_CASE("PSSMLT: every seeded chain replays its pool sample bit for bit", "[ps
                 RenderOptions o = pssmltOptions(std::max(spp, 1), 77, 1, desc.settings.maxPathLength, chains, 2048, threads);
                 o.passLength = 16;
                 const RenderResult r = renderPssmlt(desc, o);
-                INFO(name << ", " << threads << " threads, " << chains << " chains: " << r.stats.mmlt.replayed
-                          << " seeds replayed in " << r.stats.mmlt.passes << " passes");
+                INFO(name << ", " << threads << " threads, " << chains << " chains: " << r.stats.mmlt.replayed << " seeds replayed in "
+                          << r.stats.mmlt.passes << " passes");
                 CHECK(r.stats.mmlt.passes >= 2);
                 CHECK(r.stats.mmlt.chainsRun == uint32_t(chains));
                 CHECK(r.stats.mmlt.replayed >= 2 * uint64_t(chains));
@@ -228,7 +226,8 @@ TEST_CASE("PSSMLT: length images are refused; --tracer pssmlt writes its --stats
     const std::string dir = rstats::tempDir("pssmlt-cli");
     const std::string cmd = std::string("'") + WAVEMMLT_BIN + "' '" + WAVEMMLT_TEST_DATA +
                             "/scenes/bitterli-cornell/bitterli-cornell-256.xml' --tracer pssmlt --width 32 --height 32 "
-                            "--spp 8 --chains 512 --quiet -o '" + dir + "/out.exr' --stats '" + dir + "/stats.json'";
+                            "--spp 8 --chains 512 --quiet -o '" +
+                            dir + "/out.exr' --stats '" + dir + "/stats.json'";
     const int status = std::system(cmd.c_str());
     REQUIRE(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);

@@ -44,8 +44,11 @@ Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
 PixelFilter "box"
 WorldBegin
 LightSource "spot" "point3 from" [ -1.5 0.3 0 ] "point3 to" [ -1.5 0 0 ] "float coneangle" 60 "rgb I" [ 10 10 10 ]
-)" + (caustic ? R"(LightSource "spot" "point3 from" [ 1.5 0.3 0 ] "point3 to" [ 0.5 1 0 ] "float coneangle" 10 "rgb I" [ 10 10 10 ]
-)" : "") + R"(AttributeBegin
+)" +
+           (caustic ? R"(LightSource "spot" "point3 from" [ 1.5 0.3 0 ] "point3 to" [ 0.5 1 0 ] "float coneangle" 10 "rgb I" [ 10 10 10 ]
+)"
+                    : "") +
+           R"(AttributeBegin
 Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
 Shape "trianglemesh" "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ] "integer indices" [ 0 2 1 0 3 2 ]
 AttributeEnd
@@ -237,8 +240,8 @@ TEST_CASE("regularize: PT and BPT agree where every mirror vertex lies between t
     regionMean(unreg, left, mUnreg, seUnreg);
     const double zDiff = (mReg - mUnreg) / std::sqrt(seReg * seReg + seUnreg * seUnreg);
     const double bound = rstats::studentQuantileTwoSided(1e-4, K - 1);
-    INFO("left column: regularized " << mReg << " +- " << seReg << ", unregularized " << mUnreg << " +- " << seUnreg
-                                     << ": z " << zDiff << " (must exceed " << bound << ")");
+    INFO("left column: regularized " << mReg << " +- " << seReg << ", unregularized " << mUnreg << " +- " << seUnreg << ": z " << zDiff
+                                     << " (must exceed " << bound << ")");
     CHECK(zDiff > bound);
 }
 

@@ -41,9 +41,9 @@ RenderOptions options(int spp, uint64_t seed, int minLength, int maxLength) {
 // ---- 1. plane under a sphere light ---------------------------------------------------
 
 constexpr int kPlaneW = 48, kPlaneH = 32;
-const double kRho[3] = {0.8, 0.6, 0.4};             // plane albedo
-const double kLightL[3] = {4.0, 2.0, 1.0};          // Intensity 4 * Colour (1, 0.5, 0.25)
-const double kLightC[3] = {0.6, 3.0, -0.3};         // light centre
+const double kRho[3] = {0.8, 0.6, 0.4};      // plane albedo
+const double kLightL[3] = {4.0, 2.0, 1.0};   // Intensity 4 * Colour (1, 0.5, 0.25)
+const double kLightC[3] = {0.6, 3.0, -0.3};  // light centre
 const double kLightR = 0.5;
 
 // The scene with a plane `width` units wide (the closed form does not depend on it as
@@ -56,9 +56,11 @@ std::string planeXml(const std::string& width) {
   <Camera Type="Camera"><Position x="0" y="2" z="0"/><LookAt x="0" y="0" z="0"/>
     <Up x="0" y="0" z="1"/><FOV value="60"/></Camera>
   <Shader Type="Matte" ID="0"><Diffuse r="0.8" g="0.6" b="0.4"/></Shader>
-  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value=")" + width +
+  <Geometry Type="Plane" ID="floor"><Position x="0" y="0" z="0"/><Width value=")" +
+           width +
            R"("/>
-    <Depth value=")" + width + R"("/><Shader value="0"/></Geometry>
+    <Depth value=")" +
+           width + R"("/><Shader value="0"/></Geometry>
   <Light Type="Area" ID="light"><Position x="0.6" y="3" z="-0.3"/><Radius value="0.5"/>
     <Intensity value="4"/><Colour r="1" g="0.5" b="0.25"/></Light>
 </Scene>
@@ -145,18 +147,18 @@ void planeTest(const std::string& width) {
         std::vector<double> expected = expectedPlaneImage(desc, c);
         rstats::ZTestResult z = rstats::zTest(runs[c], expected, 1e-4 / 3);
         double sumV = 0, sumE = 0;
-        for (size_t i = 0; i < expected.size(); ++i) { sumV += runs[c].mean(i); sumE += expected[i]; }
-        INFO("plane width " << width << ", channel " << c << ": image mean / expected = " << sumV / sumE
-             << "; " << z.describe());
+        for (size_t i = 0; i < expected.size(); ++i) {
+            sumV += runs[c].mean(i);
+            sumE += expected[i];
+        }
+        INFO("plane width " << width << ", channel " << c << ": image mean / expected = " << sumV / sumE << "; " << z.describe());
         CHECK(z.pass);
     }
 }
 
 }  // namespace
 
-TEST_CASE("plane under a sphere light, length 2: per-pixel closed form", "[render][analytic]") {
-    planeTest("10");
-}
+TEST_CASE("plane under a sphere light, length 2: per-pixel closed form", "[render][analytic]") { planeTest("10"); }
 
 // The same scene with a larger floor: nothing in view changes, but ray offsets grow with
 // the scene's bounds (Scene::epsilonScale), which must not change the image.
@@ -164,15 +166,15 @@ TEST_CASE("plane under a sphere light, length 2: per-pixel closed form", "[rende
 // offset origin along ls.wi, the direction from the un-offset point, so the segment ends
 // beside ls.p, up to the offset inside the light; with a 1000-unit floor about 19 % of
 // the next-event samples hit the light sphere itself and the image is 19 % dark.)
-TEST_CASE("plane under a sphere light, length 2, 1000-unit floor", "[render][analytic]") {
-    planeTest("1000");
-}
+TEST_CASE("plane under a sphere light, length 2, 1000-unit floor", "[render][analytic]") { planeTest("1000"); }
 
 // The furnace's image mean per channel against the closed form, K runs of `tracer` with
 // options o for each of all lengths and two single lengths.
 void furnaceTest(const RenderOptions& base, int K, uint64_t seed0) {
     const SceneDesc desc = loadSceneFromString(kFurnaceHead, "furnace.xml", ".");
-    struct Case { int minLength, maxLength; };
+    struct Case {
+        int minLength, maxLength;
+    };
     const Case cases[] = {{1, 64}, {2, 2}, {4, 4}};
     // Each configuration and channel: t = (mean - expected) / se with K - 1 dof, mapped to
     // z; channels are correlated, so only the Bonferroni bound over all 9 is used.
@@ -202,8 +204,8 @@ void furnaceTest(const RenderOptions& base, int K, uint64_t seed0) {
             double t = (runs.mean(c) - expected) / runs.se(c);
             double z = rstats::tToZ(t, runs.dof());
             INFO(tracerName(base.tracer) << ", lengths [" << cs.minLength << ", " << cs.maxLength << "] channel " << c << ": image mean "
-                 << runs.mean(c) << " expected " << expected << " se " << runs.se(c) << " (relative "
-                 << runs.se(c) / expected << ") z " << z << " bound " << bound);
+                                         << runs.mean(c) << " expected " << expected << " se " << runs.se(c) << " (relative " << runs.se(c) / expected
+                                         << ") z " << z << " bound " << bound);
             CHECK(std::fabs(z) <= bound);
         }
         ++caseIndex;
@@ -297,22 +299,19 @@ TEST_CASE("furnace: mean luminance by path length matches the closed form, PT an
             RenderResult r = render(desc, o);
             REQUIRE(r.stats.lengthMeanLuminance.size() > size_t(maxLength));
             double imageMean = 0;
-            for (int i = 0; i < r.image.width * r.image.height; ++i)
-                imageMean += luminance(r.image.at(i % r.image.width, i / r.image.width));
+            for (int i = 0; i < r.image.width * r.image.height; ++i) imageMean += luminance(r.image.at(i % r.image.width, i / r.image.width));
             imageMean /= double(r.image.width * r.image.height);
             double sum = 0;
             for (int len = 1; len <= maxLength; ++len) sum += r.stats.lengthMeanLuminance[len];
             CHECK(sum == Approx(imageMean).epsilon(1e-5));
             CHECK(r.stats.lengthMeanLuminance[1] == 0.0);  // no pixel sees the light
-            runs.add(std::vector<double>(r.stats.lengthMeanLuminance.begin() + 2,
-                                         r.stats.lengthMeanLuminance.begin() + maxLength + 1));
+            runs.add(std::vector<double>(r.stats.lengthMeanLuminance.begin() + 2, r.stats.lengthMeanLuminance.begin() + maxLength + 1));
         }
         for (int len = 2; len <= maxLength; ++len) {
-            double expected = 0.2126 * furnaceLength(len, 0) + 0.7152 * furnaceLength(len, 1) +
-                              0.0722 * furnaceLength(len, 2);
+            double expected = 0.2126 * furnaceLength(len, 0) + 0.7152 * furnaceLength(len, 1) + 0.0722 * furnaceLength(len, 2);
             double z = rstats::tToZ((runs.mean(len - 2) - expected) / runs.se(len - 2), runs.dof());
-            INFO((tracer == TracerKind::PT ? "PT" : "LT") << " length " << len << ": " << runs.mean(len - 2)
-                 << " expected " << expected << " se " << runs.se(len - 2) << " z " << z);
+            INFO((tracer == TracerKind::PT ? "PT" : "LT")
+                 << " length " << len << ": " << runs.mean(len - 2) << " expected " << expected << " se " << runs.se(len - 2) << " z " << z);
             CHECK(std::fabs(z) <= bound);
         }
     }

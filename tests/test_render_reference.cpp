@@ -46,12 +46,12 @@ std::vector<double> tentLike(const std::vector<double>& img, int w, int h) {
     auto clampi = [](int v, int lo, int hi) { return std::min(std::max(v, lo), hi); };
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            a[size_t(y) * w + x] = img[size_t(y) * w + clampi(x - 1, 0, w - 1)] / 32 +
-                                   img[size_t(y) * w + x] * 15 / 16 + img[size_t(y) * w + clampi(x + 1, 0, w - 1)] / 32;
+            a[size_t(y) * w + x] = img[size_t(y) * w + clampi(x - 1, 0, w - 1)] / 32 + img[size_t(y) * w + x] * 15 / 16 +
+                                   img[size_t(y) * w + clampi(x + 1, 0, w - 1)] / 32;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            b[size_t(y) * w + x] = a[size_t(clampi(y - 1, 0, h - 1)) * w + x] / 32 + a[size_t(y) * w + x] * 15 / 16 +
-                                   a[size_t(clampi(y + 1, 0, h - 1)) * w + x] / 32;
+            b[size_t(y) * w + x] =
+                a[size_t(clampi(y - 1, 0, h - 1)) * w + x] / 32 + a[size_t(y) * w + x] * 15 / 16 + a[size_t(clampi(y + 1, 0, h - 1)) * w + x] / 32;
     return b;
 }
 
@@ -78,8 +78,8 @@ TEST_CASE("Bitterli's Cornell box matches Tungsten's reference in 16x16 block me
     const int W = 256, H = 256, B = 16, nb = (W / B) * (H / B);
     const int K = 8, spp = 16;
 
-    rstats::RunStats blocks[3];          // our block means per run
-    std::vector<double> meanImage[3];    // our mean image over the runs
+    rstats::RunStats blocks[3];        // our block means per run
+    std::vector<double> meanImage[3];  // our mean image over the runs
     for (int c = 0; c < 3; ++c) meanImage[c].assign(size_t(W) * H, 0.0);
     for (int k = 0; k < K; ++k) {
         RenderOptions o;
@@ -120,9 +120,9 @@ TEST_CASE("Bitterli's Cornell box matches Tungsten's reference in 16x16 block me
         std::vector<double> value(nb), expected(nb), se(nb), dof(nb);
         double worstFilterRatio = 0;
         for (int b = 0; b < nb; ++b) {
-            double a = blocks[c].se(b) * blocks[c].se(b);                  // ours
-            double r = refVarSum[b] / refCount[b] / (double(B) * B);        // reference
-            double f = tentBlocks[b] - boxBlocks[b];                        // filter
+            double a = blocks[c].se(b) * blocks[c].se(b);             // ours
+            double r = refVarSum[b] / refCount[b] / (double(B) * B);  // reference
+            double f = tentBlocks[b] - boxBlocks[b];                  // filter
             double nuRef = refCount[b] - 1;
             value[b] = blocks[c].mean(b);
             expected[b] = refBlocks[b];
@@ -133,9 +133,9 @@ TEST_CASE("Bitterli's Cornell box matches Tungsten's reference in 16x16 block me
             imageRef[c] += expected[b] / nb;
         }
         rstats::ZTestResult z = rstats::zTest(value, expected, se, dof, 1e-4 / 3);
-        INFO("channel " << c << ": image mean ours " << imageOurs[c] << " reference " << imageRef[c]
-             << " (ratio " << imageOurs[c] / imageRef[c] << "); largest filter allowance " << worstFilterRatio
-             << " x our se; block " << z.worst % (W / B) << "," << z.worst / (W / B) << "; " << z.describe());
+        INFO("channel " << c << ": image mean ours " << imageOurs[c] << " reference " << imageRef[c] << " (ratio " << imageOurs[c] / imageRef[c]
+                        << "); largest filter allowance " << worstFilterRatio << " x our se; block " << z.worst % (W / B) << "," << z.worst / (W / B)
+                        << "; " << z.describe());
         CHECK(z.pass);
     }
 }

@@ -77,7 +77,10 @@ TEST_CASE("power cosine warp samples (n+1)/(2 pi) cos^n", "[sampling]") {
             float u1 = g.uniform(), u2 = g.uniform();
             Vec3 w = samplePowerCosine(n, u1, u2);
             double c = w.z, s2 = double(w.x) * w.x + double(w.y) * w.y;
-            sc += c; sc2 += c * c; ss += s2; ss2 += s2 * s2;
+            sc += c;
+            sc2 += c * c;
+            ss += s2;
+            ss2 += s2 * s2;
         }
         double mc = sc / N, ms = ss / N;
         double sec = std::sqrt(std::max(0.0, sc2 / N - mc * mc) / N);
@@ -147,7 +150,10 @@ TEST_CASE("sinCosQuarter and sinCos2Pi are within 2 ulp of sin and cos", "[sampl
 namespace {
 void concentricDiskBranches(float u1, float u2, float& x, float& y) {
     float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
-    if (a == 0 && b == 0) { x = y = 0; return; }
+    if (a == 0 && b == 0) {
+        x = y = 0;
+        return;
+    }
     float s, c;
     if (std::fabs(a) > std::fabs(b)) {
         sinCosQuarter((kPi / 4) * (b / a), s, c);
@@ -163,8 +169,8 @@ void concentricDiskBranches(float u1, float u2, float& x, float& y) {
 
 TEST_CASE("sampleCosineHemispheres equals sampleCosineHemisphere bit for bit", "[sampling]") {
     auto same = [](float p, float q) { return std::memcmp(&p, &q, sizeof p) == 0; };
-    std::vector<float> us = {0.0f, 0.5f, 1.0f, 0.25f, 0.75f, std::nextafter(0.5f, 0.0f), std::nextafter(0.5f, 1.0f),
-                             std::nextafter(1.0f, 0.0f), 0x1p-24f};
+    std::vector<float> us = {0.0f,    0.5f, 1.0f, 0.25f, 0.75f, std::nextafter(0.5f, 0.0f), std::nextafter(0.5f, 1.0f), std::nextafter(1.0f, 0.0f),
+                             0x1p-24f};
     for (int i = 0; i <= 1000; ++i) us.push_back(float(i) / 1000.0f);
     size_t differ = 0, checked = 0;
     for (float u1 : us)
@@ -205,7 +211,10 @@ TEST_CASE("uniform triangle warp is uniform in barycentrics", "[sampling]") {
         sampleUniformTriangle(u1, u2, b0, b1);
         valid = valid && b0 >= 0 && b1 >= 0 && b0 + b1 <= 1.0f + 1e-6f;
         obs[std::min(int(b0 * k), k - 1) * k + std::min(int(b1 * k), k - 1)] += 1;
-        m0 += b0; m1 += b1; m00 += double(b0) * b0; m01 += double(b0) * b1;
+        m0 += b0;
+        m1 += b1;
+        m00 += double(b0) * b0;
+        m01 += double(b0) * b1;
     }
     CHECK(valid);
     auto r = chi2::pearson(obs, expd);

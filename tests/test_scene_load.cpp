@@ -35,12 +35,12 @@ std::string geom(const std::string& type, const std::string& inner, const std::s
     return "<Geometry Type=\"" + type + "\" ID=\"" + id + "\">" + inner + "<Shader value=\"0\"/></Geometry>";
 }
 std::string checker(const std::string& id, const std::string& extra = "") {
-    return "<Texture Type=\"Checker\" ID=\"" + id + "\"><Colour1 r=\"0\" g=\"0\" b=\"0\"/>"
-           "<Colour2 r=\"1\" g=\"1\" b=\"1\"/>" + extra + "</Texture>";
+    return "<Texture Type=\"Checker\" ID=\"" + id +
+           "\"><Colour1 r=\"0\" g=\"0\" b=\"0\"/>"
+           "<Colour2 r=\"1\" g=\"1\" b=\"1\"/>" +
+           extra + "</Texture>";
 }
-std::string plane(const std::string& extra) {
-    return geom("Plane", "<Width value=\"2\"/><Depth value=\"4\"/>" + extra);
-}
+std::string plane(const std::string& extra) { return geom("Plane", "<Width value=\"2\"/><Depth value=\"4\"/>" + extra); }
 
 // The message of the InputError `f` throws ("" when none).
 template <class F>
@@ -60,8 +60,7 @@ void requireError(const std::string& xml, int line, const std::string& fragment)
 }
 
 Vec3 faceNormal(const TriangleMesh& m, int tri) {
-    Vec3 p0 = m.positions[m.indices[3 * tri]], p1 = m.positions[m.indices[3 * tri + 1]],
-         p2 = m.positions[m.indices[3 * tri + 2]];
+    Vec3 p0 = m.positions[m.indices[3 * tri]], p1 = m.positions[m.indices[3 * tri + 1]], p2 = m.positions[m.indices[3 * tri + 2]];
     return normalize(cross(p1 - p0, p2 - p0));
 }
 bool near(Vec3 a, Vec3 b, float eps = 1e-5f) { return length(a - b) <= eps; }
@@ -74,7 +73,10 @@ struct TempDir {
         path = fs::temp_directory_path() / ("wmlt-scene-test-" + std::to_string(getpid()) + "-" + std::to_string(count++));
         fs::create_directories(path);
     }
-    ~TempDir() { std::error_code ec; fs::remove_all(path, ec); }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
     std::string write(const std::string& name, const std::string& text) const {
         std::ofstream(path / name, std::ios::binary) << text;
         return (path / name).string();
@@ -98,9 +100,10 @@ TEST_CASE("Settings: values and defaults and tracer names and Output quotes", "[
     CHECK(d.envMap.width == 0);
     CHECK(d.warnings.empty());
 
-    d = load("<Settings><Width value=\"640\"/><Height value=\"+480\"/><Sample value=\"3\"/><Thread value=\"2\"/>"
-             "<Tracer name=\"bPt\"/><MaxPathLength value=\"64\"/><MinPathLength value=\"2\"/>"
-             "<ProbLarge value=\"1\"/><Output name=\"'out.png'\"/></Settings>");
+    d = load(
+        "<Settings><Width value=\"640\"/><Height value=\"+480\"/><Sample value=\"3\"/><Thread value=\"2\"/>"
+        "<Tracer name=\"bPt\"/><MaxPathLength value=\"64\"/><MinPathLength value=\"2\"/>"
+        "<ProbLarge value=\"1\"/><Output name=\"'out.png'\"/></Settings>");
     CHECK(d.settings.width == 640);
     CHECK(d.settings.height == 480);
     CHECK(d.settings.samples == 3);
@@ -135,8 +138,9 @@ TEST_CASE("Settings: EnvMap is resolved against the scene's folder and read", "[
 
 TEST_CASE("Transforms: translate then Rz Ry Rx then scale", "[scene]") {
     // The appendix: the plane at x = 4 rotated z = 90 becomes a wall facing -x.
-    SceneDesc d = load(geom("Plane", "<Position x=\"4\" y=\"0\" z=\"0\"/><Rotation x=\"0\" y=\"0\" z=\"90\"/>"
-                                     "<Width value=\"8\"/><Depth value=\"8\"/>"));
+    SceneDesc d = load(geom("Plane",
+                            "<Position x=\"4\" y=\"0\" z=\"0\"/><Rotation x=\"0\" y=\"0\" z=\"90\"/>"
+                            "<Width value=\"8\"/><Depth value=\"8\"/>"));
     REQUIRE(d.shapes.size() == 1);
     const ShapeDesc& wall = d.shapes[0];
     for (int t = 0; t < 2; ++t) CHECK(near(faceNormal(wall.mesh, t), Vec3(-1, 0, 0)));
@@ -147,11 +151,11 @@ TEST_CASE("Transforms: translate then Rz Ry Rx then scale", "[scene]") {
     d = load(plane("<Rotation x=\"90\" y=\"0\" z=\"90\"/>"));
     CHECK(near(faceNormal(d.shapes[0].mesh, 0), Vec3(0, 0, 1)));
     // Ry(90) takes +z to +x (counter-clockwise seen from +y); Rx(-90) takes +y to -z.
-    CHECK(near(load(plane("<Rotation x=\"-90\" y=\"90\" z=\"0\"/>")).shapes[0].toWorld.vector(Vec3(0, 1, 0)),
-               Vec3(-1, 0, 0)));
+    CHECK(near(load(plane("<Rotation x=\"-90\" y=\"90\" z=\"0\"/>")).shapes[0].toWorld.vector(Vec3(0, 1, 0)), Vec3(-1, 0, 0)));
 
     // Scale applies first, in local axes; toLocal inverts toWorld.
-    d = load(plane("<Position x=\"1\" y=\"2\" z=\"3\"/><Rotation x=\"10\" y=\"20\" z=\"30\"/>"
+    d =
+        load(plane("<Position x=\"1\" y=\"2\" z=\"3\"/><Rotation x=\"10\" y=\"20\" z=\"30\"/>"
                    "<Scale x=\"3\" y=\"1\" z=\"0.5\"/>"));
     const ShapeDesc& s = d.shapes[0];
     CHECK(near(s.toWorld.point(Vec3(0, 0, 0)), Vec3(1, 2, 3)));
@@ -187,8 +191,9 @@ TEST_CASE("Plane: two triangles with normal +y by their winding and uv over the 
 }
 
 TEST_CASE("Sphere: world centre and radius with a uniform Scale", "[scene]") {
-    SceneDesc d = load(geom("Sphere", "<Position x=\"1\" y=\"2\" z=\"3\"/><Rotation x=\"0\" y=\"45\" z=\"0\"/>"
-                                      "<Scale value=\"1.5\"/><Radius value=\"2\"/>"));
+    SceneDesc d = load(geom("Sphere",
+                            "<Position x=\"1\" y=\"2\" z=\"3\"/><Rotation x=\"0\" y=\"45\" z=\"0\"/>"
+                            "<Scale value=\"1.5\"/><Radius value=\"2\"/>"));
     const ShapeDesc& s = d.shapes[0];
     CHECK(s.kind == ShapeKind::Sphere);
     CHECK(s.uv == UvKind::Sphere);
@@ -199,8 +204,9 @@ TEST_CASE("Sphere: world centre and radius with a uniform Scale", "[scene]") {
 }
 
 TEST_CASE("ObjFile: loaded and transformed with normals by the inverse transpose", "[scene]") {
-    SceneDesc d = load(geom("ObjFile", "<Position x=\"0\" y=\"1\" z=\"0\"/><Scale value=\"10\"/>"
-                                       "<File name=\"small-cube.obj\"/><SmoothShading value=\"1\"/>"));
+    SceneDesc d = load(geom("ObjFile",
+                            "<Position x=\"0\" y=\"1\" z=\"0\"/><Scale value=\"10\"/>"
+                            "<File name=\"small-cube.obj\"/><SmoothShading value=\"1\"/>"));
     const ShapeDesc& s = d.shapes[0];
     CHECK(s.kind == ShapeKind::Mesh);
     CHECK(s.uv == UvKind::Mesh);
@@ -211,13 +217,13 @@ TEST_CASE("ObjFile: loaded and transformed with normals by the inverse transpose
         CHECK((p.y == Approx(1.0f) || p.y == Approx(3.0f)));
     }
     for (Vec3 n : s.mesh.normals) CHECK(length(n) == Approx(1.0f));
-    CHECK(load(geom("ObjFile", "<File name=\"small-cube.obj\"/><SmoothShading value=\"0\"/>"))
-              .shapes[0].mesh.normals.empty());
+    CHECK(load(geom("ObjFile", "<File name=\"small-cube.obj\"/><SmoothShading value=\"0\"/>")).shapes[0].mesh.normals.empty());
 
     TempDir t;  // a triangle in the plane x + y = 0 with its normal; stretched 2x along x
     t.write("tri.obj", "v 0 0 0\nv 1 -1 0\nv 0 0 1\nvn 1 1 0\nf 1//1 3//1 2//1\n");
-    d = loadSceneFromString(scene(geom("ObjFile", "<Scale x=\"2\" y=\"1\" z=\"1\"/><File name=\"tri.obj\"/>"
-                                                  "<SmoothShading value=\"1\"/>")),
+    d = loadSceneFromString(scene(geom("ObjFile",
+                                       "<Scale x=\"2\" y=\"1\" z=\"1\"/><File name=\"tri.obj\"/>"
+                                       "<SmoothShading value=\"1\"/>")),
                             "t.xml", t.path.string());
     const TriangleMesh& m = d.shapes[0].mesh;
     CHECK(d.shapes[0].uv == UvKind::None);
@@ -227,12 +233,13 @@ TEST_CASE("ObjFile: loaded and transformed with normals by the inverse transpose
 }
 
 TEST_CASE("Lights: rectangle and sphere with radiance Intensity times Colour", "[scene]") {
-    SceneDesc d = load("<Light Type=\"Area\" ID=\"0\"><Position x=\"0\" y=\"3\" z=\"0\"/><Rotation x=\"0\" y=\"0\" z=\"180\"/>"
-                       "<Width value=\"2\"/><Depth value=\"1\"/><Intensity value=\"10\"/>"
-                       "<Colour r=\"1\" g=\"0.5\" b=\"0.25\" t=\"0.7\"/></Light>\n"
-                       "<Light Type=\"Area\" ID=\"1\"><Position x=\"1\" y=\"1\" z=\"1\"/><Radius value=\"0.5\"/>"
-                       "<Intensity value=\"3\"/><Colour r=\"1\" g=\"1\" b=\"1\"/></Light>\n"
-                       "<Light Type=\"Sphere\" ID=\"2\"><Radius value=\"0.25\"/><Intensity value=\"1e-6\"/></Light>");
+    SceneDesc d = load(
+        "<Light Type=\"Area\" ID=\"0\"><Position x=\"0\" y=\"3\" z=\"0\"/><Rotation x=\"0\" y=\"0\" z=\"180\"/>"
+        "<Width value=\"2\"/><Depth value=\"1\"/><Intensity value=\"10\"/>"
+        "<Colour r=\"1\" g=\"0.5\" b=\"0.25\" t=\"0.7\"/></Light>\n"
+        "<Light Type=\"Area\" ID=\"1\"><Position x=\"1\" y=\"1\" z=\"1\"/><Radius value=\"0.5\"/>"
+        "<Intensity value=\"3\"/><Colour r=\"1\" g=\"1\" b=\"1\"/></Light>\n"
+        "<Light Type=\"Sphere\" ID=\"2\"><Radius value=\"0.25\"/><Intensity value=\"1e-6\"/></Light>");
     REQUIRE(d.lights.size() == 3);
     REQUIRE(d.shapes.size() == 3);
     CHECK(d.warnings.empty());
@@ -304,9 +311,10 @@ TEST_CASE("Shaders and textures: fields and Texture and Bump resolved to indices
 }
 
 TEST_CASE("Camera fields", "[scene]") {
-    std::string xml = "<Scene><Camera Type=\"Camera\" ID=\"0\"><Position x=\"1\" y=\"2\" z=\"3\"/><LookAt x=\"1\" y=\"2\" z=\"4\"/>"
-                      "<Up x=\"1\" y=\"0\" z=\"0\"/> <!-- a comment --> <FOV value=\"53.1301\"/><DOF value=\"1\"/>"
-                      "<F-Length value=\"12\"/><F-Stop value=\"2.8\"/></Camera></Scene>";
+    std::string xml =
+        "<Scene><Camera Type=\"Camera\" ID=\"0\"><Position x=\"1\" y=\"2\" z=\"3\"/><LookAt x=\"1\" y=\"2\" z=\"4\"/>"
+        "<Up x=\"1\" y=\"0\" z=\"0\"/> <!-- a comment --> <FOV value=\"53.1301\"/><DOF value=\"1\"/>"
+        "<F-Length value=\"12\"/><F-Stop value=\"2.8\"/></Camera></Scene>";
     const CameraDesc c = loadSceneFromString(xml, "t.xml", "").camera;
     CHECK(near(c.position, Vec3(1, 2, 3)));
     CHECK(near(c.lookAt, Vec3(1, 2, 4)));
@@ -321,7 +329,12 @@ TEST_CASE("Camera fields", "[scene]") {
 }
 
 TEST_CASE("Bad scenes: one InputError naming the file and the line", "[scene][errors]") {
-    struct Bad { const char* what; std::string xml; int line; const char* fragment; };
+    struct Bad {
+        const char* what;
+        std::string xml;
+        int line;
+        const char* fragment;
+    };
     const std::string sh = "<Shader value=\"0\"/>";
     const std::vector<Bad> cases = {
         // not well-formed
@@ -333,12 +346,16 @@ TEST_CASE("Bad scenes: one InputError naming the file and the line", "[scene][er
         {"empty file", "", 1, "not well-formed"},
         // unknown elements and attributes, structure
         {"unknown top-level element", scene("<Foo/>"), 4, "Foo: unknown element"},
-        {"unknown child", scene("<Geometry Type=\"Plane\" ID=\"p\">\n<Width value=\"2\"/><Depth value=\"2\"/>" + sh +
-                                "\n<Radius value=\"1\"/>\n</Geometry>"), 6, "Geometry ID=\"p\": Radius: unknown element"},
-        {"Scale on a light", scene("<Light Type=\"Area\">\n<Scale value=\"2\"/><Radius value=\"1\"/><Intensity value=\"1\"/></Light>"), 5, "unknown element"},
-        {"Texture on Reflective", scene("<Shader Type=\"Reflective\" ID=\"1\"><Reflect r=\"1\" g=\"1\" b=\"1\"/>\n<Texture value=\"0\"/></Shader>"), 5, "unknown element"},
+        {"unknown child",
+         scene("<Geometry Type=\"Plane\" ID=\"p\">\n<Width value=\"2\"/><Depth value=\"2\"/>" + sh + "\n<Radius value=\"1\"/>\n</Geometry>"), 6,
+         "Geometry ID=\"p\": Radius: unknown element"},
+        {"Scale on a light", scene("<Light Type=\"Area\">\n<Scale value=\"2\"/><Radius value=\"1\"/><Intensity value=\"1\"/></Light>"), 5,
+         "unknown element"},
+        {"Texture on Reflective", scene("<Shader Type=\"Reflective\" ID=\"1\"><Reflect r=\"1\" g=\"1\" b=\"1\"/>\n<Texture value=\"0\"/></Shader>"),
+         5, "unknown element"},
         {"unknown attribute", scene("<Settings>\n<Width value=\"5\" units=\"px\"/></Settings>"), 5, "unknown attribute \"units\""},
-        {"unknown attribute on Geometry", scene(geom("Plane", "<Width value=\"1\"/><Depth value=\"1\"/>").insert(10, "Name=\"x\" ")), 4, "unknown attribute \"Name\""},
+        {"unknown attribute on Geometry", scene(geom("Plane", "<Width value=\"1\"/><Depth value=\"1\"/>").insert(10, "Name=\"x\" ")), 4,
+         "unknown attribute \"Name\""},
         {"unknown Type", scene("<Geometry Type=\"Cone\" ID=\"1\"/>"), 4, "Type=\"Cone\""},
         {"text in an element", scene("<Settings><Width value=\"5\">wide</Width></Settings>"), 4, "unexpected text"},
         {"repeated element", scene("<Settings><Width value=\"5\"/>\n<Width value=\"6\"/></Settings>"), 5, "given twice"},
@@ -347,23 +364,32 @@ TEST_CASE("Bad scenes: one InputError naming the file and the line", "[scene][er
         {"Plane without Depth", scene("\n" + geom("Plane", "<Width value=\"1\"/>")), 5, "missing required element <Depth>"},
         {"Matte without Diffuse", scene("<Shader Type=\"Matte\" ID=\"1\"></Shader>"), 4, "missing required element <Diffuse>"},
         {"Geometry without Shader", scene("<Geometry Type=\"Sphere\" ID=\"1\"><Radius value=\"1\"/></Geometry>"), 4, "<Shader>"},
-        {"Camera without FOV", "<Scene>\n<Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/></Camera></Scene>", 2, "missing required element <FOV>"},
+        {"Camera without FOV", "<Scene>\n<Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/></Camera></Scene>", 2,
+         "missing required element <FOV>"},
         {"Position without z", scene(plane("\n<Position x=\"1\" y=\"2\"/>")), 5, "missing attribute \"z\""},
         {"Geometry without ID", scene("<Geometry Type=\"Sphere\"><Radius value=\"1\"/>" + sh + "</Geometry>"), 4, "missing attribute \"ID\""},
         {"light with neither size", scene("<Light Type=\"Area\"><Intensity value=\"1\"/></Light>"), 4, "<Radius>"},
-        {"light with both sizes", scene("<Light Type=\"Area\"><Radius value=\"1\"/><Width value=\"1\"/><Depth value=\"1\"/><Intensity value=\"1\"/></Light>"), 4, "not both"},
+        {"light with both sizes",
+         scene("<Light Type=\"Area\"><Radius value=\"1\"/><Width value=\"1\"/><Depth value=\"1\"/><Intensity value=\"1\"/></Light>"), 4, "not both"},
         // references and IDs
-        {"dangling Shader", scene("<Geometry Type=\"Sphere\" ID=\"g\"><Radius value=\"1\"/>\n<Shader value=\"9\"/></Geometry>"), 5, "Shader 9 is not defined"},
-        {"dangling Texture", scene("<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/>\n<Texture value=\"3\"/></Shader>"), 5, "texture 3 is not defined"},
-        {"dangling Bump", scene("<Shader Type=\"Reflective\" ID=\"1\"><Reflect r=\"1\" g=\"1\" b=\"1\"/>\n\n<Bump value=\"4\"/></Shader>"), 6, "texture 4 is not defined"},
+        {"dangling Shader", scene("<Geometry Type=\"Sphere\" ID=\"g\"><Radius value=\"1\"/>\n<Shader value=\"9\"/></Geometry>"), 5,
+         "Shader 9 is not defined"},
+        {"dangling Texture", scene("<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/>\n<Texture value=\"3\"/></Shader>"), 5,
+         "texture 3 is not defined"},
+        {"dangling Bump", scene("<Shader Type=\"Reflective\" ID=\"1\"><Reflect r=\"1\" g=\"1\" b=\"1\"/>\n\n<Bump value=\"4\"/></Shader>"), 6,
+         "texture 4 is not defined"},
         {"duplicate Geometry ID", scene(plane("") + "\n" + plane("")), 5, "ID \"g\" is already used by the Geometry on line 4"},
-        {"duplicate Shader ID", scene("\n<Shader Type=\"Matte\" ID=\"0\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/></Shader>"), 5, "already used by the Shader on line 3"},
+        {"duplicate Shader ID", scene("\n<Shader Type=\"Matte\" ID=\"0\"><Diffuse r=\"1\" g=\"1\" b=\"1\"/></Shader>"), 5,
+         "already used by the Shader on line 3"},
         {"duplicate Texture ID", scene(checker("1") + "\n" + checker("1")), 5, "already used by the Texture on line 4"},
         {"Texture ID 0", scene(checker("0")), 4, "ID=\"0\" is out of range"},
         // cameras
-        {"two cameras", scene("<Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/><FOV value=\"40\"/></Camera>"), 4, "a second camera (the first is on line 2)"},
+        {"two cameras", scene("<Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/><FOV value=\"40\"/></Camera>"), 4,
+         "a second camera (the first is on line 2)"},
         {"no camera", "<Scene>\n<Settings/>\n</Scene>", 1, "missing required element <Camera>"},
-        {"LookAt = Position", "<Scene>\n<Camera><Position x=\"1\" y=\"0\" z=\"0\"/>\n<LookAt x=\"1\" y=\"0\" z=\"0\"/><FOV value=\"40\"/></Camera></Scene>", 3, "LookAt equals Position"},
+        {"LookAt = Position",
+         "<Scene>\n<Camera><Position x=\"1\" y=\"0\" z=\"0\"/>\n<LookAt x=\"1\" y=\"0\" z=\"0\"/><FOV value=\"40\"/></Camera></Scene>", 3,
+         "LookAt equals Position"},
         // values out of range
         {"Width 0", scene("<Settings>\n<Width value=\"0\"/></Settings>"), 5, "out of range (1 to 16384)"},
         {"Width 1e9", scene("<Settings>\n<Width value=\"1000000000\"/></Settings>"), 5, "out of range"},
@@ -377,19 +403,27 @@ TEST_CASE("Bad scenes: one InputError naming the file and the line", "[scene][er
         {"Output extension", scene("<Settings><Output name=\"render.tiff\"/></Settings>"), 4, "extension"},
         {"negative Radius", scene(geom("Sphere", "\n<Radius value=\"-1\"/>")), 5, "value=\"-1\" is out of range (must be > 0)"},
         {"plane Width 0", scene(geom("Plane", "<Width value=\"0\"/><Depth value=\"1\"/>")), 4, "out of range"},
-        {"zero-size light", scene("<Light Type=\"Area\" ID=\"0\">\n<Width value=\"0\"/><Depth value=\"1\"/><Intensity value=\"1\"/></Light>"), 5, "out of range"},
+        {"zero-size light", scene("<Light Type=\"Area\" ID=\"0\">\n<Width value=\"0\"/><Depth value=\"1\"/><Intensity value=\"1\"/></Light>"), 5,
+         "out of range"},
         {"zero-radius light", scene("<Light Type=\"Sphere\"><Radius value=\"0\"/><Intensity value=\"1\"/></Light>"), 4, "out of range"},
         {"negative Intensity", scene("<Light Type=\"Sphere\"><Radius value=\"1\"/>\n<Intensity value=\"-1\"/></Light>"), 5, "out of range"},
         {"iIOR 0", scene("<Shader Type=\"Dielectric\" ID=\"1\">\n<iIOR value=\"0\"/><oIOR value=\"1\"/></Shader>"), 5, "out of range"},
         {"oIOR -1", scene("<Shader Type=\"Dielectric\" ID=\"1\"><iIOR value=\"1.5\"/>\n<oIOR value=\"-1\"/></Shader>"), 5, "out of range"},
-        {"Diffuse + Specular > 1", scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/>\n"
-                                         "<Specular r=\"0.5\" g=\"0.6\" b=\"0.5\"/><Shininess value=\"1\"/></Shader>"), 5, "green channel"},
-        {"Shininess < 0", scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/><Specular r=\"0.5\" g=\"0.5\" b=\"0.5\"/>"
-                                "<Shininess value=\"-1\"/></Shader>"), 4, "out of range"},
-        {"Colour above 1", scene("<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"1.5\" g=\"0\" b=\"0\"/></Shader>"), 4, "r=\"1.5\" is out of range (0 to 1)"},
+        {"Diffuse + Specular > 1",
+         scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/>\n"
+               "<Specular r=\"0.5\" g=\"0.6\" b=\"0.5\"/><Shininess value=\"1\"/></Shader>"),
+         5, "green channel"},
+        {"Shininess < 0",
+         scene("<Shader Type=\"Glossy\" ID=\"1\"><Diffuse r=\"0.5\" g=\"0.5\" b=\"0.5\"/><Specular r=\"0.5\" g=\"0.5\" b=\"0.5\"/>"
+               "<Shininess value=\"-1\"/></Shader>"),
+         4, "out of range"},
+        {"Colour above 1", scene("<Shader Type=\"Matte\" ID=\"1\"><Diffuse r=\"1.5\" g=\"0\" b=\"0\"/></Shader>"), 4,
+         "r=\"1.5\" is out of range (0 to 1)"},
         {"FOV 180", scene("").replace(kHead.find("45"), 2, "180"), 2, "out of range"},
-        {"F-Stop 0 with DOF", "<Scene><Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/><FOV value=\"40\"/>"
-                              "<DOF value=\"1\"/><F-Length value=\"5\"/>\n<F-Stop value=\"0\"/></Camera></Scene>", 2, "out of range"},
+        {"F-Stop 0 with DOF",
+         "<Scene><Camera><Position x=\"0\" y=\"0\" z=\"0\"/><LookAt x=\"0\" y=\"0\" z=\"1\"/><FOV value=\"40\"/>"
+         "<DOF value=\"1\"/><F-Length value=\"5\"/>\n<F-Stop value=\"0\"/></Camera></Scene>",
+         2, "out of range"},
         {"DOF 2", scene("").replace(kHead.find("</Camera>"), 0, "<DOF value=\"2\"/>"), 2, "out of range (0 to 1)"},
         {"Scale 0", scene(plane("\n<Scale value=\"0\"/>")), 5, "out of range"},
         {"Repeat 0", scene(checker("1", "\n<Repeat u=\"1\" v=\"-2\"/>")), 5, "v=\"-2\" is out of range"},
@@ -454,7 +488,7 @@ TEST_CASE("loadObj: polygons and vertex sharing and uvs and normals", "[scene][o
     CHECK(m.uvs[0] == 0.5f);
     CHECK(m.uvs[1] == 0.0f);
     for (int tri = 0; tri < 3; ++tri) CHECK(near(faceNormal(m, tri), Vec3(0, 0, 1)));  // winding kept
-    CHECK(near(m.positions[m.indices[0]], Vec3(0, 0, 0)));  // fan from the first corner
+    CHECK(near(m.positions[m.indices[0]], Vec3(0, 0, 0)));                             // fan from the first corner
     CHECK(near(m.positions[m.indices[8]], Vec3(0, 1, 0)));
 
     // The file's vn are used (normalised) when smooth shading is on.
@@ -467,7 +501,12 @@ TEST_CASE("loadObj: polygons and vertex sharing and uvs and normals", "[scene][o
 
 TEST_CASE("loadObj errors: file and line", "[scene][obj][errors]") {
     TempDir t;
-    struct Bad { const char* what; std::string text; int line; const char* fragment; };
+    struct Bad {
+        const char* what;
+        std::string text;
+        int line;
+        const char* fragment;
+    };
     const std::vector<Bad> cases = {
         {"index past the vertex list", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nv 1 1 0\nf 1 2 3\nf 1 2 7\n", 7, "face index 7 is past the 4 vertices"},
         {"negative index past the start", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", 4, "face index -4 is past the 3 vertices"},

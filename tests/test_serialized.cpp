@@ -3,8 +3,8 @@
 // double, with and without normals, uv and colours, several shapes), loaded back and
 // compared with what was written; the same mesh as ply and as serialized gives the same
 // SceneDesc and the same image; each kind of bad file is one InputError naming the problem.
-#include <catch2/catch.hpp>
 #include <zlib.h>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -43,8 +43,8 @@ void put(std::string& s, T v) {
 // The uncompressed stream of one shape.
 std::string stream(const Shape& m, int version) {
     std::string s;
-    put(s, uint32_t((m.nrm.empty() ? 0 : 0x0001) | (m.uv.empty() ? 0 : 0x0002) | (m.col.empty() ? 0 : 0x0008) |
-                    (m.dbl ? 0x2000 : 0x1000) | m.extraFlags));
+    put(s, uint32_t((m.nrm.empty() ? 0 : 0x0001) | (m.uv.empty() ? 0 : 0x0002) | (m.col.empty() ? 0 : 0x0008) | (m.dbl ? 0x2000 : 0x1000) |
+                    m.extraFlags));
     if (version == 4) s += m.name + '\0';
     put(s, uint64_t(m.vertices != ~0ull ? m.vertices : m.pos.size() / 3));
     put(s, uint64_t(m.triangles != ~0ull ? m.triangles : m.idx.size() / 3));
@@ -116,7 +116,7 @@ TEST_CASE("Mitsuba serialized: versions 3 and 4, float and double, two shapes, a
             INFO("version " << version << (dbl ? ", double" : ", float"));
             Shape q = quad(), t = triangle();
             q.dbl = t.dbl = dbl;
-            q.pos[1] = 0.1;  // not a float: rounded once, from the double when dbl
+            q.pos[1] = 0.1;         // not a float: rounded once, from the double when dbl
             q.extraFlags = 0x0010;  // face normals: ignored, as Mitsuba ignores it
             const std::string path = dir + "/two-" + std::to_string(version) + (dbl ? "d" : "f") + ".serialized";
             writeFile(path, file({q, t}, version));
@@ -163,9 +163,18 @@ std::string asPly(const Shape& m) {
     s += "element face " + std::to_string(m.idx.size() / 3) + "\nproperty list uchar int vertex_indices\nend_header\n";
     char b[64];
     for (size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) { std::snprintf(b, sizeof b, "%.9g ", double(float(m.pos[3 * i + size_t(k)]))); s += b; }
-        for (int k = 0; k < 3 && !m.nrm.empty(); ++k) { std::snprintf(b, sizeof b, "%.9g ", double(float(m.nrm[3 * i + size_t(k)]))); s += b; }
-        for (int k = 0; k < 2 && !m.uv.empty(); ++k) { std::snprintf(b, sizeof b, "%.9g ", double(float(m.uv[2 * i + size_t(k)]))); s += b; }
+        for (int k = 0; k < 3; ++k) {
+            std::snprintf(b, sizeof b, "%.9g ", double(float(m.pos[3 * i + size_t(k)])));
+            s += b;
+        }
+        for (int k = 0; k < 3 && !m.nrm.empty(); ++k) {
+            std::snprintf(b, sizeof b, "%.9g ", double(float(m.nrm[3 * i + size_t(k)])));
+            s += b;
+        }
+        for (int k = 0; k < 2 && !m.uv.empty(); ++k) {
+            std::snprintf(b, sizeof b, "%.9g ", double(float(m.uv[2 * i + size_t(k)])));
+            s += b;
+        }
         s += "\n";
     }
     for (size_t t = 0; t < m.idx.size(); t += 3)
@@ -220,11 +229,13 @@ TEST_CASE("Mitsuba serialized: the same meshes as ply and as serialized give the
             return std::string(kSceneHead) + "<shape type=\"" + grid + "<boolean name=\"face_normals\" value=\"" + normals +
                    "\"/>\n<transform name=\"to_world\"><rotate z=\"1\" angle=\"20\"/><scale x=\"1.5\"/></transform>"
                    "<bsdf type=\"roughplastic\"><float name=\"alpha\" value=\"0.3\"/></bsdf></shape>\n"
-                   "<shape type=\"" + lamp + "<boolean name=\"flip_normals\" value=\"true\"/><transform name=\"to_world\"><translate x=\"0.2\"/></transform>"
+                   "<shape type=\"" +
+                   lamp +
+                   "<boolean name=\"flip_normals\" value=\"true\"/><transform name=\"to_world\"><translate x=\"0.2\"/></transform>"
                    "<emitter type=\"area\"><rgb name=\"radiance\" value=\"5, 4, 3\"/></emitter></shape>\n</scene>\n";
         };
-        const SceneDesc a = loadMitsubaFromString(sceneWith("ply\"><string name=\"filename\" value=\"grid.ply\"/>",
-                                                            "ply\"><string name=\"filename\" value=\"light.ply\"/>"), "a.xml", dir);
+        const SceneDesc a = loadMitsubaFromString(
+            sceneWith("ply\"><string name=\"filename\" value=\"grid.ply\"/>", "ply\"><string name=\"filename\" value=\"light.ply\"/>"), "a.xml", dir);
         const SceneDesc b = loadMitsubaFromString(
             sceneWith("serialized\"><string name=\"filename\" value=\"both.serialized\"/>",
                       "serialized\"><string name=\"filename\" value=\"both.serialized\"/><integer name=\"shape_index\" value=\"1\"/>"),
@@ -252,7 +263,7 @@ TEST_CASE("Mitsuba serialized: the same meshes as ply and as serialized give the
         const RenderResult rb = render(b, rstats::renderOptions(TracerKind::PT, 4, 11, 1, 3));
         double sum = 0;
         for (float v : ra.image.rgb) sum += v;
-        CHECK(sum > 0);  // the light reaches the camera
+        CHECK(sum > 0);                       // the light reaches the camera
         CHECK(ra.image.rgb == rb.image.rgb);  // bit for bit
     }
     std::filesystem::remove_all(dir);
@@ -263,7 +274,11 @@ TEST_CASE("Mitsuba serialized: bad files are one InputError naming the file and 
     const std::string p = dir + "/x.serialized";
     auto errorIn = [&](const std::string& bytes, int index = 0) {
         writeFile(p, bytes);
-        try { loadSerialized(p, index, true); } catch (const InputError& e) { return std::string(e.what()); }
+        try {
+            loadSerialized(p, index, true);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
         return std::string();
     };
     const Shape q = quad();
@@ -293,15 +308,22 @@ TEST_CASE("Mitsuba serialized: bad files are one InputError naming the file and 
         {badVersion, p + ": byte 2: serialized format version 5 (wavemmlt reads 3 and 4)"},
         {cutStream, p + ": byte " + std::to_string(4 + z.size() / 2) + ": the file ends inside shape 0's compressed data"},
         {with([](Shape& m) { m.vertices = 1000; }), p + ": shape 0: the compressed data ends early"},
-        {with([](Shape& m) { m.vertices = 1000000; }),
-         p + ": shape 0: 1000000 vertices and 2 triangles need 44000024 bytes, more than its"},
+        {with([](Shape& m) { m.vertices = 1000000; }), p + ": shape 0: 1000000 vertices and 2 triangles need 44000024 bytes, more than its"},
         {with([](Shape& m) { m.triangles = 1ull << 40; }), p + ": shape 0: 4 vertices and 1099511627776 triangles need more than 8 GiB"},
         {with([](Shape& m) { m.vertices = 1ull << 33; }), p + ": shape 0: too many vertices (8589934592"},
         {with([](Shape& m) { m.idx[4] = 7; }), p + ": shape 0: triangle 1: vertex index 7 is out of range (4 vertices)"},
         {with([](Shape& m) { m.pos[7] = std::nan(""); }), p + ": shape 0: the position of vertex 2 is not finite"},
         {with([](Shape& m) { m.pos[3] = INFINITY; }, 3), p + ": shape 0: the position of vertex 1 is not finite"},
-        {with([](Shape& m) { m.dbl = true; m.uv[3] = 1e300; }), p + ": shape 0: the uv of vertex 1 does not fit a float"},
-        {with([](Shape& m) { m.triangles = 0; m.idx.clear(); }), p + ": shape 0: no triangles"},
+        {with([](Shape& m) {
+             m.dbl = true;
+             m.uv[3] = 1e300;
+         }),
+         p + ": shape 0: the uv of vertex 1 does not fit a float"},
+        {with([](Shape& m) {
+             m.triangles = 0;
+             m.idx.clear();
+         }),
+         p + ": shape 0: no triangles"},
         {with([](Shape& m) { m.extraFlags = 0x2000; }), p + ": shape 0: the flags say both single and double precision"},
         {with([](Shape& m) { m.name = std::string(70000, 'n'); }), p + ": shape 0: the shape's name has no terminating 0"},
         {countHuge, p + ": byte " + std::to_string(good.size() - 4) + ": the shape count 268435458 is more than the file holds"},
@@ -335,7 +357,8 @@ TEST_CASE("Mitsuba serialized: the importer (shape_index, face_normals) and its 
     auto sceneWith = [](const std::string& shape) { return std::string(kSceneHead) + shape + "\n<emitter type=\"constant\"/></scene>\n"; };
     SceneDesc d = loadMitsubaFromString(sceneWith(R"(<shape type="serialized"><string name="filename" value="m.serialized"/>
   <integer name="shape_index" value="1"/><transform name="to_world"><translate z="2"/></transform>
-  <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)"), "t.xml", dir);
+  <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)"),
+                                        "t.xml", dir);
     REQUIRE(d.shapes.size() == 1);
     CHECK(d.shapes[0].mesh.positions.size() == 4);
     CHECK(d.shapes[0].mesh.positions[2].z == Approx(2.1f));
@@ -343,16 +366,22 @@ TEST_CASE("Mitsuba serialized: the importer (shape_index, face_normals) and its 
     CHECK(d.shapes[0].uv == UvKind::Mesh);
     CHECK(d.lights.size() == 1);
     d = loadMitsubaFromString(sceneWith(R"(<shape type="serialized"><string name="filename" value="m.serialized"/>
-  <boolean name="face_normals" value="true"/></shape>)"), "t.xml", dir);
+  <boolean name="face_normals" value="true"/></shape>)"),
+                              "t.xml", dir);
     CHECK(d.shapes[0].mesh.positions.size() == 3);  // shape 0 by default
     CHECK(d.shapes[0].mesh.normals.empty());
     CHECK(d.shapes[0].uv == UvKind::None);
     // Mitsuba 0.6's camelCase spelling.
     d = loadMitsubaFromString(R"(<scene version="0.6.0"><sensor type="perspective"><float name="fov" value="40"/></sensor>
-<shape type="serialized"><string name="filename" value="m.serialized"/><integer name="shapeIndex" value="1"/></shape><emitter type="constant"/></scene>)", "t.xml", dir);
+<shape type="serialized"><string name="filename" value="m.serialized"/><integer name="shapeIndex" value="1"/></shape><emitter type="constant"/></scene>)",
+                              "t.xml", dir);
     CHECK(d.shapes[0].mesh.positions.size() == 4);
     auto errorOf = [&](const std::string& shape) {
-        try { loadMitsubaFromString(sceneWith(shape), "t.xml", dir); } catch (const InputError& e) { return std::string(e.what()); }
+        try {
+            loadMitsubaFromString(sceneWith(shape), "t.xml", dir);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
         return std::string();
     };
     const std::string kAt = "t.xml:6: <shape type=\"serialized\">: ";

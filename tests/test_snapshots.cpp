@@ -59,8 +59,8 @@ struct Case {
 }  // namespace
 
 TEST_CASE("snapshots: the last snapshot is the final image, bit for bit, for every tracer", "[snapshots]") {
-    for (const Case& c : {Case{TracerKind::PT, "pt", 64}, Case{TracerKind::LT, "lt", 64},
-                          Case{TracerKind::BPT, "bpt", 64}, Case{TracerKind::MMLT, "mmlt", 256}}) {
+    for (const Case& c :
+         {Case{TracerKind::PT, "pt", 64}, Case{TracerKind::LT, "lt", 64}, Case{TracerKind::BPT, "bpt", 64}, Case{TracerKind::MMLT, "mmlt", 256}}) {
         INFO(c.name);
         RecordingView view;
         RenderOptions opt = options(c.kind, c.spp);

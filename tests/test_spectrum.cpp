@@ -32,7 +32,11 @@ SceneDesc load(const std::string& body) {
                                  "t.xml", kSpds);
 }
 std::string errorOf(const std::string& body) {
-    try { load(body); } catch (const InputError& e) { return e.what(); }
+    try {
+        load(body);
+    } catch (const InputError& e) {
+        return e.what();
+    }
     return "";
 }
 void checkRgb(Vec3 got, Vec3 want, float rel) {
@@ -109,7 +113,8 @@ TEST_CASE("Mitsuba: <spectrum> parameters", "[spectrum][mitsuba][import]") {
         CHECK(d.warnings.empty());
     }
     {  // eta and k from .spd files: under D65 (Mitsuba's texture path), not like material="Au"
-        const SceneDesc d = load(R"(<shape type="cube"><bsdf type="conductor"><spectrum name="eta" filename="Au.eta.spd"/><spectrum name="k" filename="Au.k.spd"/></bsdf></shape>
+        const SceneDesc d = load(
+            R"(<shape type="cube"><bsdf type="conductor"><spectrum name="eta" filename="Au.eta.spd"/><spectrum name="k" filename="Au.k.spd"/></bsdf></shape>
   <shape type="sphere"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>)");
         const MaterialDesc& m = d.materials[size_t(d.shapes[0].material)];
         checkRgb(m.conductorEta, spectrumToRgb(spd("Au.eta.spd"), true), 1e-6);

@@ -38,8 +38,7 @@ struct TracerCase {
     TracerKind kind;
     const char* name;
 };
-const std::vector<TracerCase> kTracers = {
-    {TracerKind::PT, "pt"}, {TracerKind::LT, "lt"}, {TracerKind::BPT, "bpt"}, {TracerKind::MMLT, "mmlt"}};
+const std::vector<TracerCase> kTracers = {{TracerKind::PT, "pt"}, {TracerKind::LT, "lt"}, {TracerKind::BPT, "bpt"}, {TracerKind::MMLT, "mmlt"}};
 
 // Options for tracer t: MMLT with 256 chains and a bootstrap of 512 samples per length.
 RenderOptions optionsFor(const TracerCase& t, int spp, uint64_t seed, int maxLength) {
@@ -70,8 +69,8 @@ double checkRender(const RenderResult& r, const std::string& label, int spp) {
     }
     const double meanLum = lumSum / double(pixels);
     const double samples = double(pixels) * spp;
-    INFO(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples
-               << " pixel samples; mean luminance " << meanLum << "; " << r.stats.seconds << " s");
+    INFO(label << ": samplesNonfiniteDiscarded = " << r.stats.samplesNonfiniteDiscarded << " of " << samples << " pixel samples; mean luminance "
+               << meanLum << "; " << r.stats.seconds << " s");
     CHECK(nonfinite == 0);
     CHECK(negative == 0);
     CHECK(r.stats.samplesNonfiniteDiscarded == 0);
@@ -118,7 +117,8 @@ std::string boxXml(const std::string& intensity) {
   <Geometry Type="Sphere" ID="glass"><Position x="0.35" y="0.35" z="0.3"/><Radius value="0.3"/><Shader value="4"/></Geometry>
   <Geometry Type="Sphere" ID="mirror"><Position x="-0.45" y="0.3" z="0.45"/><Radius value="0.28"/><Shader value="5"/></Geometry>
   <Light Type="Area" ID="lamp"><Position x="0" y="1.75" z="0.2"/><Radius value="0.08"/>
-    <Intensity value=")" + intensity + R"("/><Colour r="1" g="1" b="1"/></Light>
+    <Intensity value=")" +
+           intensity + R"("/><Colour r="1" g="1" b="1"/></Light>
 </Scene>
 )";
 }
@@ -151,8 +151,8 @@ std::string lowPolySphereObj() {
             o << "f " << a << "//" << a << " " << c << "//" << c << " " << d << "//" << d << "\n";
         }
     for (int i = 0; i < nu; ++i)
-        o << "f " << south << "//" << south << " " << ring(nv - 1, i) << "//" << ring(nv - 1, i) << " " << ring(nv - 1, i + 1)
-          << "//" << ring(nv - 1, i + 1) << "\n";
+        o << "f " << south << "//" << south << " " << ring(nv - 1, i) << "//" << ring(nv - 1, i) << " " << ring(nv - 1, i + 1) << "//"
+          << ring(nv - 1, i + 1) << "\n";
     // The bent quad at y = 0 (face normal +y), x, z in [1.5, 3.5]: vertex normals 80-85
     // degrees from +y, leaning outwards in four directions.
     const int base = south;  // positions and normals so far
@@ -161,8 +161,8 @@ std::string lowPolySphereObj() {
     o << "vn -0.70 0.15 -0.70\nvn 0.70 0.12 -0.70\nvn 0.70 0.09 0.70\nvn -0.70 0.15 0.70\nvn 0.70 0.09 0.70\n";
     auto c = [&](int k) { return std::to_string(base + k) + "//" + std::to_string(base + k); };
     o << "f " << c(1) << " " << c(4) << " " << c(3) << "\n";
-    o << "f " << c(1) << " " << c(5) << " " << c(2) << "\n";   // uses the duplicate
-    o << "f " << c(1) << " " << c(3) << " " << c(5) << "\n";   // degenerate: zero area
+    o << "f " << c(1) << " " << c(5) << " " << c(2) << "\n";  // uses the duplicate
+    o << "f " << c(1) << " " << c(3) << " " << c(5) << "\n";  // degenerate: zero area
     return o.str();
 }
 
@@ -244,8 +244,7 @@ TEST_CASE("Stability: paths of length 64 in a closed high-albedo box stay finite
             lit += L[k] > 0;
             longShare += L[k];
         }
-        INFO(label << ": lengths 40-64 with energy: " << lit << " of 25, their share of the mean: " << longShare / mean
-                   << "; L[64] = " << L[64]);
+        INFO(label << ": lengths 40-64 with energy: " << lit << " of 25, their share of the mean: " << longShare / mean << "; L[64] = " << L[64]);
         CHECK(lit >= 20);
         CHECK(L[64] > 0);
         CHECK(longShare > 1e-3 * mean);
@@ -293,8 +292,8 @@ TEST_CASE("Stability: the image scales linearly with light intensity 1e-6 and 1e
             size_t differ = 0, first = 0;
             for (size_t i = 0; i < v.size(); ++i)
                 if (v[i] != base[i] && differ++ == 0) first = i;
-            INFO(label << ": image / 2^" << e << " differs from the image at intensity 1 in " << differ
-                       << " values (the first: " << v[first] << " vs " << base[first] << ")");
+            INFO(label << ": image / 2^" << e << " differs from the image at intensity 1 in " << differ << " values (the first: " << v[first]
+                       << " vs " << base[first] << ")");
             CHECK(differ == 0);
         }
     }
@@ -326,7 +325,8 @@ TEST_CASE("Stability: grazing angles, a smooth low-poly mesh and bent normals st
     {
         std::string xml = grazingXml("0");
         const std::string from = R"(<Camera Type="Camera"><Position x="0" y="0.05" z="0"/><LookAt x="0" y="0" z="5.7294"/><FOV value="4"/></Camera>)";
-        const std::string to = R"(<Camera Type="Camera"><Position x="0.055" y="0.2" z="2.075"/><LookAt x="0.055" y="0.03" z="2.075"/><Up x="0" y="0" z="1"/><FOV value="40"/></Camera>)";
+        const std::string to =
+            R"(<Camera Type="Camera"><Position x="0.055" y="0.2" z="2.075"/><LookAt x="0.055" y="0.03" z="2.075"/><Up x="0" y="0" z="1"/><FOV value="40"/></Camera>)";
         REQUIRE(xml.find(from) != std::string::npos);
         xml.replace(xml.find(from), from.size(), to);
         const SceneDesc desc = loadSceneFromString(xml, "bent.xml", dir);

@@ -52,17 +52,17 @@ TEST_CASE("Checker: 2 x 2 cells per unit of (u, v) * repeat", "[texture]") {
     TextureDesc t = checker();
     const Vec3 c1 = t.colour1, c2 = t.colour2, p;
     CHECK(same(evalTexture(t, 0.1f, 0.1f, p), c1));
-    CHECK(same(evalTexture(t, 0.3f, 0.4f, p), c1));   // still the first cell (cells are 0.5 wide)
+    CHECK(same(evalTexture(t, 0.3f, 0.4f, p), c1));  // still the first cell (cells are 0.5 wide)
     CHECK(same(evalTexture(t, 0.6f, 0.1f, p), c2));
     CHECK(same(evalTexture(t, 0.1f, 0.6f, p), c2));
     CHECK(same(evalTexture(t, 0.6f, 0.6f, p), c1));
     CHECK(same(evalTexture(t, 1.1f, 0.1f, p), c1));   // periodic with period 1
     CHECK(same(evalTexture(t, -0.1f, 0.1f, p), c2));  // floor(-0.2) = -1: odd
     CHECK(same(evalTexture(t, -0.6f, -0.6f, p), c1));
-    CHECK(same(evalTexture(t, 0.5f, 0.0f, p), c2));   // cell edges belong to the upper cell
+    CHECK(same(evalTexture(t, 0.5f, 0.0f, p), c2));  // cell edges belong to the upper cell
     TextureDesc r = checker(2, 3);
-    CHECK(same(evalTexture(r, 0.3f, 0.1f, p), c2));   // u' = 0.6
-    CHECK(same(evalTexture(r, 0.3f, 0.2f, p), c1));   // v' = 0.6
+    CHECK(same(evalTexture(r, 0.3f, 0.1f, p), c2));  // u' = 0.6
+    CHECK(same(evalTexture(r, 0.3f, 0.2f, p), c1));  // v' = 0.6
     CHECK(textureHeight(t, 0.1f, 0.1f, p) == Approx(0.2126f));
     CHECK(textureHeight(t, 0.6f, 0.1f, p) == Approx(0.0722f));
 }
@@ -143,9 +143,9 @@ TEST_CASE("Perlin noise: a permutation table, zero on the lattice, bounded", "[t
         CHECK(std::fabs(perlinNoise(p + Vec3(1e-3f, 0, 0)) - v) < 0.01f);
     }
     CHECK(maxAbs <= 1.1);
-    CHECK(maxAbs > 0.5);                      // not degenerate
-    CHECK(std::fabs(sum / n) < 0.02);         // zero mean
-    CHECK(std::sqrt(sumSq / n) > 0.1);        // and some variance
+    CHECK(maxAbs > 0.5);                // not degenerate
+    CHECK(std::fabs(sum / n) < 0.02);   // zero mean
+    CHECK(std::sqrt(sumSq / n) > 0.1);  // and some variance
     // Periodic with period 256 (the table), and defined far away.
     CHECK(perlinNoise(Vec3(0.3f, 0.6f, 0.2f)) == Approx(perlinNoise(Vec3(256.3f, 0.6f, 0.2f))).margin(1e-4));
     CHECK(std::isfinite(perlinNoise(Vec3(1e9f, -3e12f, 5e20f))));
@@ -166,8 +166,7 @@ TEST_CASE("Marble: deterministic, within its colours' hull, veined", "[texture]"
         CHECK(m <= 1.0f);
         tMin = std::min(tMin, m);
         tMax = std::max(tMax, m);
-        Vec3 expect = m < 0.5f ? t.colour1 * (1 - 2 * m) + t.colour2 * (2 * m)
-                               : t.colour2 * (2 - 2 * m) + t.colour3 * (2 * m - 1);
+        Vec3 expect = m < 0.5f ? t.colour1 * (1 - 2 * m) + t.colour2 * (2 * m) : t.colour2 * (2 - 2 * m) + t.colour3 * (2 * m - 1);
         CHECK(c.x == Approx(expect.x).margin(1e-5));
         CHECK(c.y == Approx(expect.y).margin(1e-5));
         CHECK(c.z == Approx(expect.z).margin(1e-5));
@@ -217,7 +216,7 @@ TEST_CASE("textureMean: checkers, images and the marble's approximation", "[text
 // their means.
 TEST_CASE("Scale and Mix textures combine their operands", "[texture]") {
     std::vector<TextureDesc> all;
-    all.push_back(checker());  // 0: red / blue cells
+    all.push_back(checker());          // 0: red / blue cells
     TextureDesc grey = checker(2, 2);  // 1: cells of 0.2 and 0.8 (twice as many)
     grey.colour1 = Vec3(0.2f);
     grey.colour2 = Vec3(0.8f);

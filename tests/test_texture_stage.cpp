@@ -63,7 +63,11 @@ TEST_CASE("Texture stage: a Scale texture renders as its constant folded in, in 
 
 TEST_CASE("Texture stage: combining textures only where it evaluates them", "[texture]") {
     auto errorOf = [](SceneDesc d) -> std::string {
-        try { Scene::build(std::move(d), 1); } catch (const InputError& e) { return e.what(); }
+        try {
+            Scene::build(std::move(d), 1);
+        } catch (const InputError& e) {
+            return e.what();
+        }
         return "";
     };
     SceneDesc d = floorScene();

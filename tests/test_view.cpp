@@ -124,8 +124,7 @@ TEST_CASE("view: the window opens before the scene is built and bootstrapped", "
     VirtualDisplay x;
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("view-early");
-    ViewRun run(x, dir, {"--tracer", "mmlt", "--width", "64", "--height", "48", "--spp", "4", "--bootstrap", "150000",
-                         "-o", dir + "/early.exr"});
+    ViewRun run(x, dir, {"--tracer", "mmlt", "--width", "64", "--height", "48", "--spp", "4", "--bootstrap", "150000", "-o", dir + "/early.exr"});
     INFO("stderr: " << run.err());
     REQUIRE_FALSE(run.window.empty());
     const std::string title = run.title();
@@ -154,23 +153,22 @@ TEST_CASE("view: --view and --interactive without a display exit 2 before render
         std::string says;
     };
     const std::vector<Case> cases = WAVEMMLT_HAVE_VIEW
-        ? std::vector<Case>{{{"DISPLAY", "WAYLAND_DISPLAY"}, "neither DISPLAY nor WAYLAND_DISPLAY is set"},
-                            {{"DISPLAY=:4095", "WAYLAND_DISPLAY"}, "cannot open a window"}}
-        : std::vector<Case>{{{}, "is not available"}};
+                                        ? std::vector<Case>{{{"DISPLAY", "WAYLAND_DISPLAY"}, "neither DISPLAY nor WAYLAND_DISPLAY is set"},
+                                                            {{"DISPLAY=:4095", "WAYLAND_DISPLAY"}, "cannot open a window"}}
+                                        : std::vector<Case>{{{}, "is not available"}};
     for (const Case& c : cases)
-    for (const std::string mode : {"--view", "--interactive"}) {
-        INFO(mode << ": " << c.says);
-        const auto t0 = Clock::now();
-        child::Process p = child::spawn({kBin, mode, "--width", "64", "--height", "48", "--spp", "4096", "-o", out},
-                                        c.env, "", dir + "/err.txt");
-        CHECK(p.wait(kLimit) == 2);
-        CHECK(since(t0) < 5);  // 4096 spp would take far longer
-        const std::string err = child::readText(dir + "/err.txt");
-        INFO("stderr: " << err);
-        CHECK(err.find(c.says) != std::string::npos);
-        CHECK(err.find(mode) != std::string::npos);
-        CHECK(std::count(err.begin(), err.end(), '\n') == 1);
-        CHECK_FALSE(fs::exists(out));
-    }
+        for (const std::string mode : {"--view", "--interactive"}) {
+            INFO(mode << ": " << c.says);
+            const auto t0 = Clock::now();
+            child::Process p = child::spawn({kBin, mode, "--width", "64", "--height", "48", "--spp", "4096", "-o", out}, c.env, "", dir + "/err.txt");
+            CHECK(p.wait(kLimit) == 2);
+            CHECK(since(t0) < 5);  // 4096 spp would take far longer
+            const std::string err = child::readText(dir + "/err.txt");
+            INFO("stderr: " << err);
+            CHECK(err.find(c.says) != std::string::npos);
+            CHECK(err.find(mode) != std::string::npos);
+            CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+            CHECK_FALSE(fs::exists(out));
+        }
     fs::remove_all(dir);
 }

@@ -24,7 +24,6 @@ const std::string kBin = WAVEMMLT_BIN;
 
 #if WAVEMMLT_HAVE_VIEW  // a build without SDL2 refuses --view: test_view.cpp's last test case checks that
 
-
 // An X server of its own: Xvfb -displayfd writes the free display number it took.
 // -noreset: by default the server resets when its last client leaves, and a client that
 // connects meanwhile (wavemmlt, just after an xdotool) is refused.
@@ -35,8 +34,7 @@ struct VirtualDisplay {
     VirtualDisplay() {
         int fds[2];
         if (pipe(fds) != 0) return;
-        server = child::spawn({"Xvfb", "-displayfd", std::to_string(fds[1]), "-screen", "0", "640x480x24",
-                               "-nolisten", "tcp", "-noreset"});
+        server = child::spawn({"Xvfb", "-displayfd", std::to_string(fds[1]), "-screen", "0", "640x480x24", "-nolisten", "tcp", "-noreset"});
         close(fds[1]);
         std::string number;
         pollfd p{fds[0], POLLIN, 0};
@@ -67,10 +65,8 @@ inline Screenshot readXwd(const std::string& path) {
     const uint32_t byteOrder = field(7), bitsPerPixel = field(11), bytesPerLine = field(12);
     const uint32_t masks[3] = {field(14), field(15), field(16)}, colors = field(19);
     const size_t start = size_t(headerSize) + size_t(colors) * 12;  // after the colour map
-    const uint32_t bytes = bitsPerPixel / 8;  // 4, or 3 (packed)
-    if (format != 2 || (bytes != 3 && bytes != 4) || bytesPerLine < width * bytes ||
-        d.size() < start + size_t(bytesPerLine) * height)
-        return s;
+    const uint32_t bytes = bitsPerPixel / 8;                        // 4, or 3 (packed)
+    if (format != 2 || (bytes != 3 && bytes != 4) || bytesPerLine < width * bytes || d.size() < start + size_t(bytesPerLine) * height) return s;
     s.width = int(width);
     s.height = int(height);
     for (uint32_t y = 0; y < height; ++y)
@@ -103,8 +99,8 @@ struct ViewRun {
     child::Process process;
     Clock::time_point start = Clock::now();
 
-    ViewRun(const VirtualDisplay& d, const std::string& folder, std::vector<std::string> args,
-            const std::string& mode = "--view", std::vector<std::string> env = {})
+    ViewRun(const VirtualDisplay& d, const std::string& folder, std::vector<std::string> args, const std::string& mode = "--view",
+            std::vector<std::string> env = {})
         : display(d), dir(folder) {
         args.insert(args.begin(), {kBin, mode, "--threads", "2"});
         for (const std::string& e : display.env()) env.push_back(e);

@@ -11,8 +11,7 @@ namespace wmlt {
 class InputError : public std::runtime_error {
 public:
     // "file:line: message" (line 0 means "the whole file").
-    InputError(const std::string& file, int line, const std::string& message)
-        : std::runtime_error(format(file, line, message)) {}
+    InputError(const std::string& file, int line, const std::string& message) : std::runtime_error(format(file, line, message)) {}
     explicit InputError(const std::string& message) : std::runtime_error(sanitized(message)) {}
 
 private:

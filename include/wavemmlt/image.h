@@ -20,7 +20,9 @@ struct Image {
     }
     void set(int x, int y, Vec3 c) {
         float* p = &rgb[(size_t(y) * width + x) * 3];
-        p[0] = c.x; p[1] = c.y; p[2] = c.z;
+        p[0] = c.x;
+        p[1] = c.y;
+        p[2] = c.z;
     }
 };
 

@@ -27,15 +27,25 @@ inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
 inline Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 inline Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 inline Vec3 operator*(float s, Vec3 a) { return {a.x * s, a.y * s, a.z * s}; }
-inline Vec3 operator/(Vec3 a, float s) { float r = 1.0f / s; return a * r; }
-inline Vec3& operator+=(Vec3& a, Vec3 b) { a = a + b; return a; }
-inline Vec3& operator*=(Vec3& a, Vec3 b) { a = a * b; return a; }
-inline Vec3& operator*=(Vec3& a, float s) { a = a * s; return a; }
+inline Vec3 operator/(Vec3 a, float s) {
+    float r = 1.0f / s;
+    return a * r;
+}
+inline Vec3& operator+=(Vec3& a, Vec3 b) {
+    a = a + b;
+    return a;
+}
+inline Vec3& operator*=(Vec3& a, Vec3 b) {
+    a = a * b;
+    return a;
+}
+inline Vec3& operator*=(Vec3& a, float s) {
+    a = a * s;
+    return a;
+}
 
 inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
 inline float lengthSquared(Vec3 a) { return dot(a, a); }
 inline Vec3 normalize(Vec3 a) { return a / length(a); }
@@ -62,8 +72,7 @@ inline FrameFloats frameFromNormal(float nx, float ny, float nz) {
 }
 // normalize(s x + t y + n z) (Frame::toWorld, then a / |a| as a * (1 / |a|)).
 inline void toWorldUnit(const FrameFloats& f, float x, float y, float z, float& dx, float& dy, float& dz) {
-    const float vx = (f.sx * x + f.tx * y) + f.nx * z, vy = (f.sy * x + f.ty * y) + f.ny * z,
-                vz = (f.sz * x + f.tz * y) + f.nz * z;
+    const float vx = (f.sx * x + f.tx * y) + f.nx * z, vy = (f.sy * x + f.ty * y) + f.ny * z, vz = (f.sz * x + f.tz * y) + f.nz * z;
     const float r = 1.0f / std::sqrt(vx * vx + vy * vy + vz * vz);
     dx = vx * r;
     dy = vy * r;
@@ -91,13 +100,11 @@ struct Frame {
 struct Affine {
     float m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
     Vec3 point(Vec3 p) const {
-        return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
-                m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
+        return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3], m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
                 m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
     }
     Vec3 vector(Vec3 v) const {
-        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-                m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+        return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
                 m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
     }
 };

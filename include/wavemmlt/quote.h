@@ -51,7 +51,7 @@ inline std::string quoteToken(std::string_view s, size_t max = 60) {
         ++shown;
     }
     out += '"';
-    if (i < s.size()) out.insert(out.size() - 1, "...") , out += " (" + std::to_string(s.size()) + " bytes)";
+    if (i < s.size()) out.insert(out.size() - 1, "..."), out += " (" + std::to_string(s.size()) + " bytes)";
     return out;
 }
 

@@ -43,18 +43,18 @@ class Distributed;  // the ranks of a render split across processes (stages/core
 
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
-    int spp = 16;              // samples per pixel
-    int strataPerAxis = 4;     // n: pixels are stratified n x n; n * n divides spp
-    double timeBudget = 0;     // seconds; > 0: render rounds of spp samples until spent
-    int threads = 0;           // 0: all hardware threads
+    int spp = 16;           // samples per pixel
+    int strataPerAxis = 4;  // n: pixels are stratified n x n; n * n divides spp
+    double timeBudget = 0;  // seconds; > 0: render rounds of spp samples until spent
+    int threads = 0;        // 0: all hardware threads
     uint64_t seed = 0;
     int minPathLength = 1, maxPathLength = 10;
-    float misBeta = 2;         // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
+    float misBeta = 2;  // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
     // MMLT (spp: mutations per pixel).
-    int chains = 0;            // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt/mmlt.h)
-    int bootstrap = 0;         // samples per path length in the first pass's pool; 0: automatic
-    float probLarge = 0.3f;    // probability of a large step, (0, 1]
-    int passLength = 0;        // iterations of every chain between restarts from a new pool; 0: automatic
+    int chains = 0;          // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt/mmlt.h)
+    int bootstrap = 0;       // samples per path length in the first pass's pool; 0: automatic
+    float probLarge = 0.3f;  // probability of a large step, (0, 1]
+    int passLength = 0;      // iterations of every chain between restarts from a new pool; 0: automatic
     // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
     std::string strategyImages;
     // BPT and MMLT: also return the image of each path length k (RenderResult::lengthImages;
@@ -85,7 +85,7 @@ struct RenderStats {
     std::string tracer;
     double seconds = 0;
     int threads = 0;
-    uint64_t spp = 0;                 // samples per pixel completed (minimum over pixels)
+    uint64_t spp = 0;  // samples per pixel completed (minimum over pixels)
     uint64_t raysIntersect = 0, raysOccluded = 0;
     uint64_t samplesNonfiniteDiscarded = 0;  // NaN or Inf contributions, left out of the image
     // Mean image luminance carried by paths of each length k (index k; 0 unused): the
@@ -105,14 +105,14 @@ struct RenderStats {
     // MMLT, indexed by path length k (0 unused). A pass: the chains start from a pool of
     // independent samples, run passLength iterations, and are restarted from the next pool.
     struct Mmlt {
-        std::vector<double> b;                    // b_k = E[c]: the pools' means, weighted by their passes' iterations
-        std::vector<double> bBootstrap;           // b_k of the first pass's pool (the bootstrap)
-        std::vector<uint32_t> chains;             // chains of length k in the last pass
-        std::vector<uint64_t> chainsSeeded;       // chains of length k started, all passes together
-        std::vector<uint64_t> distinctSeeds;      // distinct pool samples they started from, all passes
-        std::vector<uint64_t> bootstrapNonzero;   // bootstrap samples with c > 0
-        std::vector<uint64_t> poolSamples;        // pool samples of length k, all passes (fresh and large steps)
-        std::vector<uint64_t> proposals;          // proposals made by chains of length k
+        std::vector<double> b;                   // b_k = E[c]: the pools' means, weighted by their passes' iterations
+        std::vector<double> bBootstrap;          // b_k of the first pass's pool (the bootstrap)
+        std::vector<uint32_t> chains;            // chains of length k in the last pass
+        std::vector<uint64_t> chainsSeeded;      // chains of length k started, all passes together
+        std::vector<uint64_t> distinctSeeds;     // distinct pool samples they started from, all passes
+        std::vector<uint64_t> bootstrapNonzero;  // bootstrap samples with c > 0
+        std::vector<uint64_t> poolSamples;       // pool samples of length k, all passes (fresh and large steps)
+        std::vector<uint64_t> proposals;         // proposals made by chains of length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
         // Accepted and proposed steps summed over the lengths: [0] small, [1] large.
         void stepTotals(uint64_t accepted[2], uint64_t proposed[2]) const {
@@ -124,20 +124,20 @@ struct RenderStats {
                 proposed[1] += proposedLarge[k];
             }
         }
-        std::vector<uint64_t> bootstrapSamples;   // bootstrap samples of length k (the first pass's pool)
-        uint64_t mutations = 0;                   // proposals made in total
-        uint64_t iterations = 0;                  // proposals each chain made, all passes (the image's divisor)
-        uint32_t passes = 0, passLength = 0;      // passes started; iterations per pass
-        uint32_t tasksPerRound = 0;               // batches of chains run in parallel
-        double longestTaskRatio = 0;              // longest task / mean task of a round, averaged over rounds
-        uint64_t replayed = 0;                    // seeded chains replayed (all in the first pass, then 1 in 8)
-        uint64_t replayMismatches = 0;            // replays that differed from their pool entry (a bug)
-        uint64_t chainBytes = 0;                  // memory of the chain state (largest pass)
-        uint32_t chainsAsked = 0, chainsRun = 0;  // --chains (0: auto), and the chains run (fewer only under a tight --time)
-        bool chainsAuto = false;                  // --chains auto chose chainsRun
-        std::string chainsReason;                 // how the count was chosen
-        std::vector<std::vector<double>> bByRank; // b as each rank computed it (split across ranks)
-        std::vector<uint64_t> poolDigestByRank;   // a hash of each rank's pools, every pass (split across ranks)
+        std::vector<uint64_t> bootstrapSamples;    // bootstrap samples of length k (the first pass's pool)
+        uint64_t mutations = 0;                    // proposals made in total
+        uint64_t iterations = 0;                   // proposals each chain made, all passes (the image's divisor)
+        uint32_t passes = 0, passLength = 0;       // passes started; iterations per pass
+        uint32_t tasksPerRound = 0;                // batches of chains run in parallel
+        double longestTaskRatio = 0;               // longest task / mean task of a round, averaged over rounds
+        uint64_t replayed = 0;                     // seeded chains replayed (all in the first pass, then 1 in 8)
+        uint64_t replayMismatches = 0;             // replays that differed from their pool entry (a bug)
+        uint64_t chainBytes = 0;                   // memory of the chain state (largest pass)
+        uint32_t chainsAsked = 0, chainsRun = 0;   // --chains (0: auto), and the chains run (fewer only under a tight --time)
+        bool chainsAuto = false;                   // --chains auto chose chainsRun
+        std::string chainsReason;                  // how the count was chosen
+        std::vector<std::vector<double>> bByRank;  // b as each rank computed it (split across ranks)
+        std::vector<uint64_t> poolDigestByRank;    // a hash of each rank's pools, every pass (split across ranks)
     } mmlt;
     // Bytes of the render's large buffers (films, chain state, pools, splat lists), by name.
     std::vector<std::pair<std::string, uint64_t>> buffers;

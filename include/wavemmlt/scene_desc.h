@@ -16,10 +16,10 @@ enum class TracerKind : uint8_t { MMLT, BPT, LT, PT, PSSMLT };
 
 struct Settings {
     int width = 512, height = 512;
-    int samples = 4;          // N: N x N samples (MMLT: mutations) per pixel
-    int threads = 0;          // 0: all hardware threads
+    int samples = 4;  // N: N x N samples (MMLT: mutations) per pixel
+    int threads = 0;  // 0: all hardware threads
     TracerKind tracer = TracerKind::MMLT;
-    int maxPathLength = 10;   // segments, camera to light
+    int maxPathLength = 10;  // segments, camera to light
     int minPathLength = 1;
     float probLarge = 0.3f;
     std::string output = "render.exr";  // as written in the file (quotes stripped)
@@ -33,10 +33,10 @@ struct Settings {
 enum class FilterKind : uint8_t { Box, Tent, Gaussian, Mitchell, Lanczos };
 struct FilterDesc {
     FilterKind kind = FilterKind::Box;
-    float radius = 0.5f;        // pixels, > 0: f = 0 beyond it
-    float stddev = 0.5f;        // Gaussian: exp(-x^2 / 2 stddev^2) - its value at the radius
+    float radius = 0.5f;               // pixels, > 0: f = 0 beyond it
+    float stddev = 0.5f;               // Gaussian: exp(-x^2 / 2 stddev^2) - its value at the radius
     float B = 1 / 3.0f, C = 1 / 3.0f;  // Mitchell-Netravali's cubic at 2 |x| / radius
-    float tau = 3;              // Lanczos: sinc(x) sinc(x / tau)
+    float tau = 3;                     // Lanczos: sinc(x) sinc(x / tau)
 };
 
 struct CameraDesc {
@@ -66,11 +66,13 @@ struct CameraDesc {
 // coated and diffusetransmission (docs/pbrt.md), and Phase: not a material of any file, the
 // phase function of a scattering event in a medium, run by the stages as the BSDF of a
 // medium vertex (kernels/medium.h).
+// clang-format off
 #define WMLT_MATERIAL_KINDS(X)                                                                               \
     X(Matte, "matte") X(Glossy, "glossy") X(Reflective, "reflective") X(Dielectric, "dielectric")             \
     X(Conductor, "conductor") X(RoughConductor, "rough-conductor") X(RoughDielectric, "rough-dielectric")     \
     X(ThinDielectric, "thin-dielectric") X(Plastic, "plastic") X(RoughPlastic, "rough-plastic") X(Blend, "blend") \
     X(Principled, "principled") X(Coated, "coated") X(DiffuseTransmission, "diffuse-transmission") X(Phase, "phase")
+// clang-format on
 
 #define WMLT_KIND_ENUM(K, name) K,
 enum class MaterialKind : uint8_t { WMLT_MATERIAL_KINDS(WMLT_KIND_ENUM) };
@@ -86,24 +88,28 @@ enum class MicrofacetType : uint8_t { Beckmann, GGX };
 
 // The principled BSDF's float parameters (Mitsuba 3's names: roughness, anisotropic,
 // metallic, spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss).
-enum class PrincipledParam : uint8_t {
-    Roughness, Anisotropic, Metallic, SpecTrans, SpecTint, Sheen, SheenTint, Flatness, Clearcoat, ClearcoatGloss
-};
+enum class PrincipledParam : uint8_t { Roughness, Anisotropic, Metallic, SpecTrans, SpecTint, Sheen, SheenTint, Flatness, Clearcoat, ClearcoatGloss };
 constexpr int kPrincipledParams = 10;
 
 // Every material parameter a texture may drive (MaterialDesc::texture), and what the
 // texture's value at a hit does to the parameter's constant there (kernels/textured_params.h;
 // which kinds read which: readsParam, scene/features.h):
 enum class MaterialParam : uint8_t {
-    Diffuse, Specular, Reflect, Refract,  // colours (Kd, Ks, specular reflectance, transmittance): RGB times them
-    AlphaU, AlphaV,                       // roughness (rough kinds, a coat's interface): luminance (sqrt: alphaRemap) times it
-    BaseAlphaU, BaseAlphaV,               // a coated conductor's base roughness: the same
-    ConductorEta, ConductorK,             // a conductor's complex index (a coated one's base): RGB times it
-    ConductorReflectance,                 // pbrt's conductor reflectance r: k = 2 sqrt(r) / sqrt(1 - r) times k
-    Albedo,                               // a coating's medium albedo: RGB times it
-    Scale,                                // pbrt's diffusetransmission scale: luminance times Kd and transmittance
-    BlendWeight,                          // a blend's weight: luminance times it, in [0, 1]
-    Principled                            // the first of kPrincipledParams: luminance times each, in [0, 1]
+    Diffuse,
+    Specular,
+    Reflect,
+    Refract,  // colours (Kd, Ks, specular reflectance, transmittance): RGB times them
+    AlphaU,
+    AlphaV,  // roughness (rough kinds, a coat's interface): luminance (sqrt: alphaRemap) times it
+    BaseAlphaU,
+    BaseAlphaV,  // a coated conductor's base roughness: the same
+    ConductorEta,
+    ConductorK,            // a conductor's complex index (a coated one's base): RGB times it
+    ConductorReflectance,  // pbrt's conductor reflectance r: k = 2 sqrt(r) / sqrt(1 - r) times k
+    Albedo,                // a coating's medium albedo: RGB times it
+    Scale,                 // pbrt's diffusetransmission scale: luminance times Kd and transmittance
+    BlendWeight,           // a blend's weight: luminance times it, in [0, 1]
+    Principled             // the first of kPrincipledParams: luminance times each, in [0, 1]
 };
 constexpr int kMaterialParams = int(MaterialParam::Principled) + kPrincipledParams;
 constexpr MaterialParam principledParam(PrincipledParam q) { return MaterialParam(int(MaterialParam::Principled) + int(q)); }
@@ -121,32 +127,32 @@ struct ParamTextures {
 struct MaterialDesc {
     int id = 0;
     MaterialKind kind = MaterialKind::Matte;
-    Vec3 diffuse{0.5f};   // Matte, Glossy
-    Vec3 specular{0.0f};  // Glossy
-    float shininess = 0;  // Glossy exponent n
-    Vec3 reflect{1.0f};   // Reflective, Dielectric
-    Vec3 refract{1.0f};   // Dielectric; DiffuseTransmission: its transmittance (diffuse its reflectance)
+    Vec3 diffuse{0.5f};                         // Matte, Glossy
+    Vec3 specular{0.0f};                        // Glossy
+    float shininess = 0;                        // Glossy exponent n
+    Vec3 reflect{1.0f};                         // Reflective, Dielectric
+    Vec3 refract{1.0f};                         // Dielectric; DiffuseTransmission: its transmittance (diffuse its reflectance)
     float iorInside = 1.5f, iorOutside = 1.0f;  // Dielectric (iIOR, oIOR)
     // The textures of its parameters (MaterialParam): each drives its constant at a hit; the
     // thesis' <Texture> is the Diffuse one; an importer that maps a texture alone sets the
     // constant to 1 (a roughness's too: alpha 1, scaled by the texture).
     ParamTextures texture;
-    int bump = -1;        // index into SceneDesc::textures, -1: none
+    int bump = -1;  // index into SceneDesc::textures, -1: none
     // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
     // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.
     MicrofacetType distribution = MicrofacetType::Beckmann;
-    float alpha = 0.1f;                      // rough kinds (anisotropic: the roughness along u, alpha_u)
-    float alphaV = -1;                       // rough kinds: the roughness along v (alpha_v); < 0: alpha
+    float alpha = 0.1f;  // rough kinds (anisotropic: the roughness along u, alpha_u)
+    float alphaV = -1;   // rough kinds: the roughness along v (alpha_v); < 0: alpha
     // A textured roughness (texture[AlphaU], [AlphaV], [BaseAlphaU], [BaseAlphaV]): its
     // luminance r at the hit scales alpha by r itself, or by sqrt(r) with alphaRemap (pbrt's
     // remaproughness: the texture is a roughness, alpha = sqrt(roughness)); a textured `alpha`
     // sets both to the same texture (isotropic).
     bool alphaRemap = false;
     Vec3 conductorEta{0.0f}, conductorK{1.0f};  // Conductor, RoughConductor (relative index)
-    bool nonlinear = false;                  // Plastic, RoughPlastic
-    bool twoSided = true;                    // false: black seen from below the shading normal
-    bool bumpMitsuba = false;                // bump is Mitsuba's bumpmap: height = bumpScale * luminance
-    bool bumpPbrt = false;                   // bump is pbrt-v4's displacement: height = luminance, world units
+    bool nonlinear = false;                     // Plastic, RoughPlastic
+    bool twoSided = true;                       // false: black seen from below the shading normal
+    bool bumpMitsuba = false;                   // bump is Mitsuba's bumpmap: height = bumpScale * luminance
+    bool bumpPbrt = false;                      // bump is pbrt-v4's displacement: height = luminance, world units
     // Mitsuba's normalmap: a texture whose RGB at the hit is the shading normal in the
     // tangent frame (x along dp/du, z the interpolated normal) as (n + 1) / 2 (index into
     // SceneDesc::textures, -1: none; kernels/bump.h, normalMapped).
@@ -155,7 +161,7 @@ struct MaterialDesc {
     // Mitsuba's mask: the surface is there with probability opacity (or the texture's
     // luminance at the hit), else rays pass straight through (an any-hit test).
     float opacity = 1;
-    int opacityTexture = -1;                 // index into SceneDesc::textures, -1: none
+    int opacityTexture = -1;  // index into SceneDesc::textures, -1: none
     // Blend: its two parts (indices into SceneDesc::materials: kinds other than Blend, with
     // constant parameters and no bump, normal map or mask) and the weight w of part 1,
     // a constant in [0, 1] or (texture[BlendWeight]) that texture's luminance at the hit.
@@ -193,8 +199,7 @@ inline bool principledTransmits(const MaterialDesc& m) {
 // its shading frame's x axis follows dp/du (stages/core/surface.h).
 inline float alphaVOf(const MaterialDesc& m) { return m.alphaV < 0 ? m.alpha : m.alphaV; }
 inline bool isAnisotropic(const MaterialDesc& m) {
-    const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric ||
-                       m.kind == MaterialKind::RoughPlastic;
+    const bool rough = m.kind == MaterialKind::RoughConductor || m.kind == MaterialKind::RoughDielectric || m.kind == MaterialKind::RoughPlastic;
     const int a = int(PrincipledParam::Anisotropic);
     if (m.kind == MaterialKind::Principled) return m.principled[a] != 0 || m.texture[principledParam(PrincipledParam::Anisotropic)] >= 0;
     if (m.kind == MaterialKind::Coated) return alphaVOf(m) != m.alpha || m.coating.baseAlpha != m.coating.baseAlphaV;
@@ -209,7 +214,20 @@ inline bool isAnisotropic(const MaterialDesc& m) {
 // float noises Fbm, Wrinkled and Windy, and PbrtMarble (pbrt's marble, colour from its
 // spline); the noises and PbrtMarble are solid textures of the point textureFromWorld p.
 enum class TextureKind : uint8_t {
-    Checker, ImageFile, Marble, Bitmap, Checkerboard, Scale, Mix, Dots, DirectionMix, Bilerp, Fbm, Wrinkled, Windy, PbrtMarble
+    Checker,
+    ImageFile,
+    Marble,
+    Bitmap,
+    Checkerboard,
+    Scale,
+    Mix,
+    Dots,
+    DirectionMix,
+    Bilerp,
+    Fbm,
+    Wrinkled,
+    Windy,
+    PbrtMarble
 };
 enum class TextureWrap : uint8_t { Repeat, Mirror, Clamp };
 // How a texture turns a hit into its (s, t) before uvTransform (pbrt-v4's mappings): UV the
@@ -241,7 +259,7 @@ struct TextureDesc {
     // other than UV and for the solid kinds.
     float textureFromWorld[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
     Vec3 planarS{1, 0, 0}, planarT{0, 1, 0};
-    Vec3 colour4{1.0f};  // Bilerp: v11
+    Vec3 colour4{1.0f};       // Bilerp: v11
     Vec3 direction{0, 0, 1};  // DirectionMix: unit, world space
     // Fbm, Wrinkled, PbrtMarble: octaves and roughness (omega, each octave's weight relative
     // to the one before); PbrtMarble's scale and variation.
@@ -264,8 +282,8 @@ struct TriangleMesh {
 enum class ShapeKind : uint8_t { Mesh, Sphere };
 
 struct ShapeDesc {
-    std::string id;     // the element's ID
-    int line = 0;       // line of the element in the scene file
+    std::string id;  // the element's ID
+    int line = 0;    // line of the element in the scene file
     ShapeKind kind = ShapeKind::Mesh;
     UvKind uv = UvKind::None;
     int material = -1;  // index into SceneDesc::materials; -1: an emitter that only absorbs
@@ -380,7 +398,7 @@ struct SceneDesc {
     // regularizeAt: where the file asks for it ("file:line" of the parameter).
     bool regularize = false;
     std::string regularizeAt;
-    Image envMap;  // empty (0 x 0) when none
+    Image envMap;                       // empty (0 x 0) when none
     std::vector<std::string> warnings;  // "file:line: ..." ready to print
 };
 
@@ -398,18 +416,16 @@ struct LoadOptions {
 };
 SceneDesc loadScene(const std::string& path, const Defines& defines = {}, const LoadOptions& options = {});
 bool isMitsubaXml(const std::string& xml);
-SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
-                                const Defines& defines = {}, const LoadOptions& options = {});
+SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir, const Defines& defines = {},
+                                const LoadOptions& options = {});
 // The same from XML text in memory; `name` is used in messages, `baseDir` resolves
 // relative file names (OBJ, images).
-SceneDesc loadSceneFromString(const std::string& xml, const std::string& name,
-                              const std::string& baseDir);
+SceneDesc loadSceneFromString(const std::string& xml, const std::string& name, const std::string& baseDir);
 // The thesis-format text `xml` (named `name` in messages) with its camera and the settings
 // an interactive session sets (size, samples, tracer, path lengths, ProbLarge) replaced by
 // cam and st, the rest as it was (scene/thesis/write_scene.cpp). Throws InputError when the
 // text is not a thesis-format scene.
-std::string thesisSceneWithView(const std::string& xml, const std::string& name, const CameraDesc& cam,
-                                const Settings& st);
+std::string thesisSceneWithView(const std::string& xml, const std::string& name, const CameraDesc& cam, const Settings& st);
 // Loads a pbrt-v4 scene file (.pbrt, or gzipped .pbrt.gz; docs/pbrt.md). loadScene calls
 // it for those names. Throws InputError("file:line: problem").
 SceneDesc loadPbrt(const std::string& path, const LoadOptions& options = {});

@@ -25,10 +25,8 @@ long long parseInt(const std::string& opt, const std::string& v, long long lo, l
         if (*end == '\0' && std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9.2e18) x = (long long)d;
         else errno = ERANGE;
     }
-    if (v.empty() || *end != '\0' || errno == ERANGE)
-        fail(opt + ": '" + v + "' is not a whole number");
-    if (x < lo || x > hi)
-        fail(opt + ": " + v + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (v.empty() || *end != '\0' || errno == ERANGE) fail(opt + ": '" + v + "' is not a whole number");
+    if (x < lo || x > hi) fail(opt + ": " + v + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return x;
 }
 
@@ -44,18 +42,17 @@ double parseReal(const std::string& opt, const std::string& v, double lo, double
 void parseHostPort(const std::string& v, std::string& host, std::string& port) {
     const std::string opt = "--display-server: '" + v + "' ";
     const size_t colon = v.find_last_of(':');
-    if (colon == std::string::npos || (v[0] == '[' && colon < v.find(']')))
-        fail(opt + "has no port (HOST:PORT, e.g. 127.0.0.1:14158)");
+    if (colon == std::string::npos || (v[0] == '[' && colon < v.find(']'))) fail(opt + "has no port (HOST:PORT, e.g. 127.0.0.1:14158)");
     host = v.substr(0, colon);
     port = v.substr(colon + 1);
     const bool digits = !port.empty() && port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos;
-    if (!digits || std::stoi(port) < 1 || std::stoi(port) > 65535)
-        fail(opt + "has no valid port ('" + port + "': 1 to 65535)");
+    if (!digits || std::stoi(port) < 1 || std::stoi(port) > 65535) fail(opt + "has no valid port ('" + port + "': 1 to 65535)");
     if (host.size() > 2 && host.front() == '[' && host.back() == ']') {
         host = host.substr(1, host.size() - 2);
         if (host.find_first_not_of("0123456789abcdefABCDEF:.") == std::string::npos) return;
-    } else if (!host.empty() && host.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                       "0123456789.-") == std::string::npos &&
+    } else if (!host.empty() &&
+               host.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                      "0123456789.-") == std::string::npos &&
                host.front() != '-' && host.front() != '.') {
         return;
     }
@@ -98,50 +95,49 @@ FilterDesc parseFilter(const std::string& v) {
 }  // namespace
 
 std::string usageText() {
-    return
-        "usage: wavemmlt [scene.xml] [options]\n"
-        "Renders the scene (the built-in default scene when none is given): the thesis' format\n"
-        "or a Mitsuba 3 scene file (<scene version=\"3.x\">; see docs/mitsuba.md).\n"
-        "Options override the scene's Settings:\n"
-        "  --tracer pt|lt|bpt|mmlt|pssmlt  light transport algorithm (default: the scene's, else mmlt;\n"
-        "                           pssmlt: Kelemen's PSSMLT over BPT, MMLT's baseline, docs/pssmlt.md)\n"
-        "  --mis-beta B             BPT, MMLT, PSSMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
-        "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N);\n"
-        "                           MMLT, PSSMLT: mutations per pixel\n"
-        "  --chains N|auto          MMLT, PSSMLT: Markov chains in flight (default auto: one per 8000\n"
-        "                           mutations the render makes, 4096 to 65536, from --spp alone so\n"
-        "                           that a seed gives one image; under --time from the bootstrap's\n"
-        "                           rate, at least 1024 and 512 per worker; printed, and in --stats)\n"
-        "  --bootstrap N            MMLT: bootstrap samples per path length (PSSMLT: in all; default: automatic)\n"
-        "  --pass-length N          MMLT, PSSMLT: iterations of every chain between restarts from the\n"
-        "                           sample pools (default: automatic, 2 to 8 passes a render)\n"
-        "  --p-large P              MMLT, PSSMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
-        "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
-        "                           and _unweighted.exr (the folder is created)\n"
-        "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
-        "  --threads N              worker threads (0: all)\n"
-        "  --seed N                 random seed (same seed: same image, for any --threads)\n"
-        "  --width N, --height N    image size\n"
-        "  --max-length N, --min-length N   path lengths (segments) to render, 1..64\n"
-        "  --filter NAME[:P=V,...]  pixel filter: box, tent, gaussian, mitchell, catmullrom, lanczos,\n"
-        "                           with parameters radius, stddev, B, C, lobes, tau (e.g.\n"
-        "                           gaussian:stddev=0.5; default: the scene's, docs/filters.md)\n"
-        "  -o FILE                  output image, .exr/.pfm/.png (repeatable; default: the scene's Output)\n"
-        "  --exposure E             PNG exposure: pixels are scaled by 2^E before sRGB\n"
-        "  --stats FILE.json        write render statistics\n"
-        "  --view                   watch the render in a window: + / - exposure, s saves the outputs now,\n"
-        "                           p pauses, q / Esc / closing it stops like Ctrl-C; stays open when done\n"
-        "  --interactive            move the camera and change the settings in the window (docs/interactive.md):\n"
-        "                           the render restarts at each change; w writes the scene (--scene-out FILE)\n"
-        "                           and prints the command line that renders it\n"
-        "  --eye X,Y,Z, --look-at X,Y,Z, --up X,Y,Z, --fov DEGREES   the camera, over the scene's\n"
-        "  --focus-distance D, --f-stop N   the thin lens (aperture radius D / 2N; --f-stop 0: a pinhole)\n"
-        "  --display-server HOST:PORT  stream the render to a running tev (e.g. 127.0.0.1:14158)\n"
-        "  -D name=value            Mitsuba scene files: set a <default> parameter ($name)\n"
-        "  --describe               print the scene's feature set and exit\n"
-        "  --quiet                  no progress or warnings\n"
-        "  --help, --version\n"
-        "Ctrl-C saves the image so far and exits with status 130. Bad input exits with 2.\n";
+    return "usage: wavemmlt [scene.xml] [options]\n"
+           "Renders the scene (the built-in default scene when none is given): the thesis' format\n"
+           "or a Mitsuba 3 scene file (<scene version=\"3.x\">; see docs/mitsuba.md).\n"
+           "Options override the scene's Settings:\n"
+           "  --tracer pt|lt|bpt|mmlt|pssmlt  light transport algorithm (default: the scene's, else mmlt;\n"
+           "                           pssmlt: Kelemen's PSSMLT over BPT, MMLT's baseline, docs/pssmlt.md)\n"
+           "  --mis-beta B             BPT, MMLT, PSSMLT: power-heuristic exponent (default 2; 1: balance heuristic)\n"
+           "  --spp N                  samples per pixel (stratified n x n for the largest n*n dividing N);\n"
+           "                           MMLT, PSSMLT: mutations per pixel\n"
+           "  --chains N|auto          MMLT, PSSMLT: Markov chains in flight (default auto: one per 8000\n"
+           "                           mutations the render makes, 4096 to 65536, from --spp alone so\n"
+           "                           that a seed gives one image; under --time from the bootstrap's\n"
+           "                           rate, at least 1024 and 512 per worker; printed, and in --stats)\n"
+           "  --bootstrap N            MMLT: bootstrap samples per path length (PSSMLT: in all; default: automatic)\n"
+           "  --pass-length N          MMLT, PSSMLT: iterations of every chain between restarts from the\n"
+           "                           sample pools (default: automatic, 2 to 8 passes a render)\n"
+           "  --p-large P              MMLT, PSSMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
+           "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
+           "                           and _unweighted.exr (the folder is created)\n"
+           "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
+           "  --threads N              worker threads (0: all)\n"
+           "  --seed N                 random seed (same seed: same image, for any --threads)\n"
+           "  --width N, --height N    image size\n"
+           "  --max-length N, --min-length N   path lengths (segments) to render, 1..64\n"
+           "  --filter NAME[:P=V,...]  pixel filter: box, tent, gaussian, mitchell, catmullrom, lanczos,\n"
+           "                           with parameters radius, stddev, B, C, lobes, tau (e.g.\n"
+           "                           gaussian:stddev=0.5; default: the scene's, docs/filters.md)\n"
+           "  -o FILE                  output image, .exr/.pfm/.png (repeatable; default: the scene's Output)\n"
+           "  --exposure E             PNG exposure: pixels are scaled by 2^E before sRGB\n"
+           "  --stats FILE.json        write render statistics\n"
+           "  --view                   watch the render in a window: + / - exposure, s saves the outputs now,\n"
+           "                           p pauses, q / Esc / closing it stops like Ctrl-C; stays open when done\n"
+           "  --interactive            move the camera and change the settings in the window (docs/interactive.md):\n"
+           "                           the render restarts at each change; w writes the scene (--scene-out FILE)\n"
+           "                           and prints the command line that renders it\n"
+           "  --eye X,Y,Z, --look-at X,Y,Z, --up X,Y,Z, --fov DEGREES   the camera, over the scene's\n"
+           "  --focus-distance D, --f-stop N   the thin lens (aperture radius D / 2N; --f-stop 0: a pinhole)\n"
+           "  --display-server HOST:PORT  stream the render to a running tev (e.g. 127.0.0.1:14158)\n"
+           "  -D name=value            Mitsuba scene files: set a <default> parameter ($name)\n"
+           "  --describe               print the scene's feature set and exit\n"
+           "  --quiet                  no progress or warnings\n"
+           "  --help, --version\n"
+           "Ctrl-C saves the image so far and exits with status 130. Bad input exits with 2.\n";
 }
 
 CommandLine parseCommandLine(int argc, char** argv) {
@@ -164,22 +160,19 @@ CommandLine parseCommandLine(int argc, char** argv) {
             else if (v == "mmlt") cl.tracer = TracerKind::MMLT;
             else if (v == "pssmlt") cl.tracer = TracerKind::PSSMLT;
             else fail("--tracer: '" + v + "' is not one of pt, lt, bpt, mmlt, pssmlt");
-        }
-        else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
+        } else if (a == "--spp") cl.spp = int(parseInt(a, value(), 1, 1 << 24));
         else if (a == "--time") cl.timeBudget = parseReal(a, value(), 1e-3, 1e9);
         else if (a == "--threads") cl.threads = int(parseInt(a, value(), 0, 4096));
         // Any count is accepted here; main() refuses one that would not fit in memory.
         else if (a == "--chains") {
             const std::string v = value();
             cl.chains = v == "auto" ? 0 : parseInt(a, v, 1, 1000000000000000LL);  // 0: auto
-        }
-        else if (a == "--bootstrap") cl.bootstrap = int(parseInt(a, value(), 1, 1 << 30));
+        } else if (a == "--bootstrap") cl.bootstrap = int(parseInt(a, value(), 1, 1 << 30));
         else if (a == "--pass-length") cl.passLength = int(parseInt(a, value(), 1, 1 << 30));
         else if (a == "--p-large") {
             cl.probLarge = float(parseReal(a, value(), 0, 1));
             if (!(*cl.probLarge > 0)) fail("--p-large: must be greater than 0");
-        }
-        else if (a == "--strategy-images") cl.strategyImages = value();
+        } else if (a == "--strategy-images") cl.strategyImages = value();
         else if (a == "--mis-beta") cl.misBeta = float(parseReal(a, value(), 0.5, 16));
         else if (a == "--seed") cl.seed = uint64_t(parseInt(a, value(), 0, (1LL << 62)));
         else if (a == "--width") cl.width = int(parseInt(a, value(), 1, 16384));
@@ -193,8 +186,7 @@ CommandLine parseCommandLine(int argc, char** argv) {
             const size_t eq = d.find('=');
             if (eq == std::string::npos || eq == 0) fail("-D: '" + d + "' is not name=value");
             cl.defines.emplace_back(d.substr(0, eq), d.substr(eq + 1));
-        }
-        else if (a == "--exposure") cl.exposure = float(parseReal(a, value(), -64, 64));
+        } else if (a == "--exposure") cl.exposure = float(parseReal(a, value(), -64, 64));
         else if (a == "--stats") cl.statsPath = value();
         else if (a == "--view") cl.view = true;
         else if (a == "--interactive") cl.interactive = true;
@@ -221,11 +213,9 @@ void applyCommandLine(const CommandLine& cl, Settings& s) {
     if (cl.maxLength) s.maxPathLength = *cl.maxLength;
     if (cl.minLength) s.minPathLength = *cl.minLength;
     if (cl.probLarge) s.probLarge = *cl.probLarge;
-    if (!cl.strategyImages.empty() && s.tracer != TracerKind::BPT)
-        fail("--strategy-images needs --tracer bpt");
+    if (!cl.strategyImages.empty() && s.tracer != TracerKind::BPT) fail("--strategy-images needs --tracer bpt");
     if (s.minPathLength > s.maxPathLength)
-        fail("the minimum path length " + std::to_string(s.minPathLength) + " exceeds the maximum " +
-             std::to_string(s.maxPathLength));
+        fail("the minimum path length " + std::to_string(s.minPathLength) + " exceeds the maximum " + std::to_string(s.maxPathLength));
 }
 
 void applyCamera(const CommandLine& cl, CameraDesc& c) {

@@ -13,21 +13,21 @@ struct CommandLine {
     std::optional<TracerKind> tracer;
     std::optional<int> spp, threads, width, height, maxLength, minLength;
     std::optional<double> timeBudget;
-    std::optional<float> misBeta;  // BPT's power-heuristic exponent
-    std::optional<long long> chains;       // MMLT, 0: auto; checked against memory in main()
-    std::optional<int> bootstrap;          // MMLT
-    std::optional<int> passLength;         // MMLT
-    std::optional<float> probLarge;        // MMLT
-    std::string strategyImages;            // BPT: folder for per-strategy EXRs
-    std::optional<FilterDesc> filter;      // --filter NAME[:param=value,...]
+    std::optional<float> misBeta;      // BPT's power-heuristic exponent
+    std::optional<long long> chains;   // MMLT, 0: auto; checked against memory in main()
+    std::optional<int> bootstrap;      // MMLT
+    std::optional<int> passLength;     // MMLT
+    std::optional<float> probLarge;    // MMLT
+    std::string strategyImages;        // BPT: folder for per-strategy EXRs
+    std::optional<FilterDesc> filter;  // --filter NAME[:param=value,...]
     uint64_t seed = 0;
     std::vector<std::string> outputs;
-    Defines defines;                       // -D name=value (Mitsuba scene files)
+    Defines defines;  // -D name=value (Mitsuba scene files)
     std::string statsPath;
     float exposure = 0;
-    bool view = false;                     // --view: the SDL2 window
-    bool interactive = false;              // --interactive: the window, the camera and settings changed in it
-    std::string sceneOut;                  // --scene-out: where the interactive mode writes the scene
+    bool view = false;         // --view: the SDL2 window
+    bool interactive = false;  // --interactive: the window, the camera and settings changed in it
+    std::string sceneOut;      // --scene-out: where the interactive mode writes the scene
     // The camera, over the scene's (the interactive mode prints them): --eye, --look-at, --up,
     // --fov, --focus-distance, --f-stop (0: a pinhole).
     std::optional<Vec3> eye, lookAt, up;

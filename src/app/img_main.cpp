@@ -56,9 +56,14 @@ std::string jsonString(const std::string& s) {
     std::string out = "\"";
     for (char c : s) {
         unsigned char u = static_cast<unsigned char>(c);
-        if (c == '"' || c == '\\') { out += '\\'; out += c; }
-        else if (u < 0x20) { char buf[8]; std::snprintf(buf, sizeof buf, "\\u%04x", u); out += buf; }
-        else out += c;
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (u < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", u);
+            out += buf;
+        } else out += c;
     }
     return out + "\"";
 }
@@ -107,8 +112,8 @@ Args parseArgs(int argc, char** argv, int first) {
 
 void expectPositional(const Args& a, size_t n, const char* cmd) {
     if (a.positional.size() != n)
-        throw UsageError(std::string(cmd) + " takes " + std::to_string(n) + " file name" + (n > 1 ? "s" : "") +
-                         ", got " + std::to_string(a.positional.size()));
+        throw UsageError(std::string(cmd) + " takes " + std::to_string(n) + " file name" + (n > 1 ? "s" : "") + ", got " +
+                         std::to_string(a.positional.size()));
 }
 
 int cmdDiff(const Args& args) {
@@ -119,8 +124,8 @@ int cmdDiff(const Args& args) {
         throw InputError(args.mask, 0, "cannot write: unknown image extension (writable: .exr, .pfm, .png)");
     Image a = readImage(pa), b = readImage(pb);
     if (a.width != b.width || a.height != b.height)
-        throw InputError("size mismatch: " + pa + " is " + std::to_string(a.width) + " x " + std::to_string(a.height) +
-                         ", " + pb + " is " + std::to_string(b.width) + " x " + std::to_string(b.height));
+        throw InputError("size mismatch: " + pa + " is " + std::to_string(a.width) + " x " + std::to_string(a.height) + ", " + pb + " is " +
+                         std::to_string(b.width) + " x " + std::to_string(b.height));
     const size_t nPix = size_t(a.width) * size_t(a.height);
     double se = 0, rel = 0, ae = 0, maxAbs = 0;
     size_t n = 0, nonFinite = 0;
@@ -165,10 +170,11 @@ int cmdDiff(const Args& args) {
     }
 
     if (args.json) {
-        std::printf("{\"a\": %s, \"b\": %s, \"width\": %d, \"height\": %d, \"rmse\": %s, \"relmse\": %s, "
-                    "\"relmse_epsilon\": %s, \"mae\": %s, \"max_abs\": %s, \"nonfinite\": %zu}\n",
-                    jsonString(pa).c_str(), jsonString(pb).c_str(), a.width, a.height, num(rmse).c_str(),
-                    num(relmse).c_str(), num(kRelEpsilon).c_str(), num(mae).c_str(), num(maxAbs).c_str(), nonFinite);
+        std::printf(
+            "{\"a\": %s, \"b\": %s, \"width\": %d, \"height\": %d, \"rmse\": %s, \"relmse\": %s, "
+            "\"relmse_epsilon\": %s, \"mae\": %s, \"max_abs\": %s, \"nonfinite\": %zu}\n",
+            jsonString(pa).c_str(), jsonString(pb).c_str(), a.width, a.height, num(rmse).c_str(), num(relmse).c_str(), num(kRelEpsilon).c_str(),
+            num(mae).c_str(), num(maxAbs).c_str(), nonFinite);
     } else {
         std::printf("size      %d x %d\n", a.width, a.height);
         std::printf("rmse      %s\n", num(rmse).c_str());
@@ -185,8 +191,7 @@ int cmdConvert(const Args& args) {
     expectPositional(args, 2, "convert");
     if (args.json || !args.mask.empty()) throw UsageError("convert takes only --exposure");
     const std::string &in = args.positional[0], &out = args.positional[1];
-    if (!isWritableImageExtension(out))
-        throw InputError(out, 0, "cannot write: unknown image extension (writable: .exr, .pfm, .png)");
+    if (!isWritableImageExtension(out)) throw InputError(out, 0, "cannot write: unknown image extension (writable: .exr, .pfm, .png)");
     Image img = readImage(in);
     if (args.exposure != 0) {
         const float s = std::exp2(args.exposure);
@@ -203,12 +208,22 @@ int cmdInfo(const Args& args) {
     Image img = readImage(path);
     double mn[3], mx[3], sum[3];
     size_t cnt[3] = {0, 0, 0}, nan = 0, inf = 0;
-    for (int c = 0; c < 3; ++c) { mn[c] = INFINITY; mx[c] = -INFINITY; sum[c] = 0; }
+    for (int c = 0; c < 3; ++c) {
+        mn[c] = INFINITY;
+        mx[c] = -INFINITY;
+        sum[c] = 0;
+    }
     for (size_t i = 0; i < img.rgb.size(); ++i) {
         const float v = img.rgb[i];
         const int c = int(i % 3);
-        if (std::isnan(v)) { ++nan; continue; }
-        if (std::isinf(v)) { ++inf; continue; }
+        if (std::isnan(v)) {
+            ++nan;
+            continue;
+        }
+        if (std::isinf(v)) {
+            ++inf;
+            continue;
+        }
         mn[c] = std::min(mn[c], double(v));
         mx[c] = std::max(mx[c], double(v));
         sum[c] += v;
@@ -216,20 +231,18 @@ int cmdInfo(const Args& args) {
     }
     const char* names[3] = {"R", "G", "B"};
     if (args.json) {
-        std::printf("{\"file\": %s, \"width\": %d, \"height\": %d, \"channels\": {", jsonString(path).c_str(),
-                    img.width, img.height);
+        std::printf("{\"file\": %s, \"width\": %d, \"height\": %d, \"channels\": {", jsonString(path).c_str(), img.width, img.height);
         for (int c = 0; c < 3; ++c)
-            std::printf("%s\"%s\": {\"min\": %s, \"max\": %s, \"mean\": %s}", c ? ", " : "", names[c],
-                        num(cnt[c] ? mn[c] : NAN).c_str(), num(cnt[c] ? mx[c] : NAN).c_str(),
-                        num(cnt[c] ? sum[c] / double(cnt[c]) : NAN).c_str());
+            std::printf("%s\"%s\": {\"min\": %s, \"max\": %s, \"mean\": %s}", c ? ", " : "", names[c], num(cnt[c] ? mn[c] : NAN).c_str(),
+                        num(cnt[c] ? mx[c] : NAN).c_str(), num(cnt[c] ? sum[c] / double(cnt[c]) : NAN).c_str());
         std::printf("}, \"nan\": %zu, \"inf\": %zu}\n", nan, inf);
     } else {
         std::printf("file      %s\n", path.c_str());
         std::printf("size      %d x %d\n", img.width, img.height);
         std::printf("channel   min              max              mean\n");
         for (int c = 0; c < 3; ++c)
-            std::printf("%-9s %-16s %-16s %s\n", names[c], num(cnt[c] ? mn[c] : NAN).c_str(),
-                        num(cnt[c] ? mx[c] : NAN).c_str(), num(cnt[c] ? sum[c] / double(cnt[c]) : NAN).c_str());
+            std::printf("%-9s %-16s %-16s %s\n", names[c], num(cnt[c] ? mn[c] : NAN).c_str(), num(cnt[c] ? mx[c] : NAN).c_str(),
+                        num(cnt[c] ? sum[c] / double(cnt[c]) : NAN).c_str());
         std::printf("nan       %zu\n", nan);
         std::printf("inf       %zu\n", inf);
     }

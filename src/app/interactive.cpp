@@ -16,7 +16,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr auto kStill = std::chrono::milliseconds(150);  // a gesture has ended after this long without change
-constexpr double kPreviewSeconds = 0.04;                // the preview's aim: 25 frames a second
+constexpr double kPreviewSeconds = 0.04;                 // the preview's aim: 25 frames a second
 constexpr int kMaxPreviewScale = 8;
 
 std::string number(double v) {
@@ -29,8 +29,8 @@ bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::is
 
 bool same(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 bool sameCamera(const CameraDesc& a, const CameraDesc& b) {
-    return same(a.position, b.position) && same(a.lookAt, b.lookAt) && same(a.up, b.up) && a.fovDegrees == b.fovDegrees &&
-           a.dof == b.dof && a.focalLength == b.focalLength && a.fStop == b.fStop;  // (what the session changes)
+    return same(a.position, b.position) && same(a.lookAt, b.lookAt) && same(a.up, b.up) && a.fovDegrees == b.fovDegrees && a.dof == b.dof &&
+           a.focalLength == b.focalLength && a.fStop == b.fStop;  // (what the session changes)
 }
 
 // The image at `scale` times its size, each pixel repeated (the preview, shown in the window).
@@ -38,8 +38,7 @@ Image enlarged(const Image& small, int width, int height) {
     Image out(width, height);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
-            out.set(x, y, small.at(std::min(small.width - 1, x * small.width / width),
-                                  std::min(small.height - 1, y * small.height / height)));
+            out.set(x, y, small.at(std::min(small.width - 1, x * small.width / width), std::min(small.height - 1, y * small.height / height)));
     return out;
 }
 
@@ -75,11 +74,9 @@ std::string checkViewSettings(const ViewSettings& s) {
     if (!(c.fovDegrees >= 1 && c.fovDegrees <= 170)) return "FOV must be in [1, 170] degrees";
     if (c.dof && !(c.fStop > 0 && c.focalLength > 0 && std::isfinite(c.focalLength / c.fStop)))
         return "the aperture must not be negative, and the focus distance must be positive";
-    if (s.minPathLength < 1 || s.maxPathLength > kMaxPathLength)
-        return "path lengths must be in [1, " + std::to_string(kMaxPathLength) + "]";
+    if (s.minPathLength < 1 || s.maxPathLength > kMaxPathLength) return "path lengths must be in [1, " + std::to_string(kMaxPathLength) + "]";
     if (s.maxPathLength < s.minPathLength)
-        return "MaxPathLength " + std::to_string(s.maxPathLength) + " is less than MinPathLength " +
-               std::to_string(s.minPathLength);
+        return "MaxPathLength " + std::to_string(s.maxPathLength) + " is less than MinPathLength " + std::to_string(s.minPathLength);
     if (!(s.probLarge > 0 && s.probLarge <= 1)) return "ProbLarge must be in (0, 1]";
     if (s.chains < 0) return "chains must be positive (0: auto)";
     if (!(s.misBeta >= 0.5f && s.misBeta <= 16)) return "the MIS exponent must be in [0.5, 16]";
@@ -87,19 +84,17 @@ std::string checkViewSettings(const ViewSettings& s) {
     return "";
 }
 
-std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, const RenderOptions& base, int width,
-                           int height, const std::vector<std::string>& outputs) {
+std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, const RenderOptions& base, int width, int height,
+                           const std::vector<std::string>& outputs) {
     const CameraDesc& c = s.camera;
     std::string cmd = "wavemmlt";
     if (!scenePath.empty()) cmd += " '" + scenePath + "'";
     cmd += std::string(" --tracer ") + tracerName(s.tracer);
-    cmd += " --eye " + triple(c.position) + " --look-at " + triple(c.lookAt) + " --up " + triple(c.up) +
-           " --fov " + number(c.fovDegrees);
+    cmd += " --eye " + triple(c.position) + " --look-at " + triple(c.lookAt) + " --up " + triple(c.up) + " --fov " + number(c.fovDegrees);
     cmd += " --focus-distance " + number(c.focalLength) + " --f-stop " + (c.dof ? number(c.fStop) : "0");
     cmd += " --min-length " + std::to_string(s.minPathLength) + " --max-length " + std::to_string(s.maxPathLength);
     const bool metropolis = s.tracer == TracerKind::MMLT || s.tracer == TracerKind::PSSMLT;
-    if (metropolis)
-        cmd += " --p-large " + number(s.probLarge) + " --chains " + (s.chains ? std::to_string(s.chains) : "auto");
+    if (metropolis) cmd += " --p-large " + number(s.probLarge) + " --chains " + (s.chains ? std::to_string(s.chains) : "auto");
     if (metropolis || s.tracer == TracerKind::BPT) cmd += " --mis-beta " + number(s.misBeta);
     cmd += " --width " + std::to_string(width) + " --height " + std::to_string(height);
     cmd += base.timeBudget > 0 ? " --time " + number(base.timeBudget) : " --spp " + std::to_string(base.spp);
@@ -109,8 +104,7 @@ std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, 
     return cmd;
 }
 
-InteractiveSession::InteractiveSession(std::unique_ptr<Scene> scene, RenderOptions base, ViewSettings initial,
-                                       ViewHub& hub)
+InteractiveSession::InteractiveSession(std::unique_ptr<Scene> scene, RenderOptions base, ViewSettings initial, ViewHub& hub)
     : scene_(std::move(scene)), base_(std::move(base)), hub_(hub), settings_(std::move(initial)) {
     width_ = scene_->camera.width;
     height_ = scene_->camera.height;
@@ -161,10 +155,9 @@ std::string InteractiveSession::change(const ViewSettings& next, bool moving) {
     if (!problem.empty()) return problem;
     ViewSettings shown = settings_;
     shown.exposure = next.exposure;
-    const bool sameRender = sameCamera(shown.camera, next.camera) &&
-                            shown.tracer == next.tracer && shown.minPathLength == next.minPathLength &&
-                            shown.maxPathLength == next.maxPathLength && shown.probLarge == next.probLarge &&
-                            shown.chains == next.chains && shown.misBeta == next.misBeta;
+    const bool sameRender = sameCamera(shown.camera, next.camera) && shown.tracer == next.tracer && shown.minPathLength == next.minPathLength &&
+                            shown.maxPathLength == next.maxPathLength && shown.probLarge == next.probLarge && shown.chains == next.chains &&
+                            shown.misBeta == next.misBeta;
     settings_ = next;
     if (sameRender) return "";  // the exposure is the display's: no restart
     ++generation_;

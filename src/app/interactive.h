@@ -43,8 +43,8 @@ std::string checkViewSettings(const ViewSettings& s);
 
 // The command line that renders `s` as the session does (the scene, the camera, the
 // settings, the budget and the outputs), with 9 significant digits (the same floats).
-std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, const RenderOptions& base, int width,
-                           int height, const std::vector<std::string>& outputs);
+std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, const RenderOptions& base, int width, int height,
+                           const std::vector<std::string>& outputs);
 
 class InteractiveSession {
 public:
@@ -78,7 +78,7 @@ private:
     std::unique_ptr<Scene> scene_;
     RenderOptions base_;
     ViewHub& hub_;
-    int width_, height_;  // the full image's
+    int width_, height_;    // the full image's
     int previewScale_ = 4;  // the preview renders 1 / previewScale_ of the width and height
 
     mutable std::mutex mutex_;

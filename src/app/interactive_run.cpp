@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "app/interactive.h"
@@ -58,8 +58,8 @@ void writeText(const std::string& path, const std::string& text) {
 
 }  // namespace
 
-int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& base, Watchers& watchers,
-                   const std::atomic<bool>& interrupted, std::function<void(const Snapshot&, float)> writeOutputs) {
+int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& base, Watchers& watchers, const std::atomic<bool>& interrupted,
+                   std::function<void(const Snapshot&, float)> writeOutputs) {
     ViewHub& hub = *watchers.hub();
     const ViewSettings initial = viewSettingsOf(scene.camera, base, cl.exposure);
     const Settings fileSettings = scene.settings;

@@ -10,7 +10,7 @@
 
 namespace wmlt {
 
-int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& base, Watchers& watchers,
-                   const std::atomic<bool>& interrupted, std::function<void(const Snapshot&, float)> writeOutputs);
+int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& base, Watchers& watchers, const std::atomic<bool>& interrupted,
+                   std::function<void(const Snapshot&, float)> writeOutputs);
 
 }  // namespace wmlt

@@ -5,8 +5,8 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -18,8 +18,8 @@
 #include "app/cli.h"
 #include "app/interactive_run.h"
 #include "app/progress.h"
-#include "app/watchers.h"
 #include "app/ranks.h"
+#include "app/watchers.h"
 #include "scene/features.h"
 #include "stages/core/distributed.h"
 #include "stages/core/memory.h"
@@ -28,7 +28,9 @@
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
 
-namespace wmlt { extern const char* const kDefaultSceneXml; }
+namespace wmlt {
+extern const char* const kDefaultSceneXml;
+}
 
 namespace {
 
@@ -43,17 +45,13 @@ void onInterrupt(int signal) {
 
 // The folder of an output path must exist and be writable before hours of rendering.
 void checkOutputPath(const std::string& path, bool image) {
-    if (image && !wmlt::isWritableImageExtension(path))
-        throw wmlt::InputError(path, 0, "unknown image format (use .exr, .pfm or .png)");
+    if (image && !wmlt::isWritableImageExtension(path)) throw wmlt::InputError(path, 0, "unknown image format (use .exr, .pfm or .png)");
     size_t slash = path.find_last_of('/');
     std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
     std::error_code ec;
-    if (access(dir.c_str(), W_OK) != 0)
-        throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': " + std::strerror(errno));
-    if (!std::filesystem::is_directory(dir, ec))
-        throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': not a folder");
-    if (std::filesystem::is_directory(path, ec))
-        throw wmlt::InputError(path, 0, "cannot write the file: a folder of that name exists");
+    if (access(dir.c_str(), W_OK) != 0) throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': " + std::strerror(errno));
+    if (!std::filesystem::is_directory(dir, ec)) throw wmlt::InputError(path, 0, "cannot write to folder '" + dir + "': not a folder");
+    if (std::filesystem::is_directory(path, ec)) throw wmlt::InputError(path, 0, "cannot write the file: a folder of that name exists");
 }
 
 // MMLT's chain state must fit in memory: refused before anything is allocated, with the
@@ -62,14 +60,13 @@ void checkOutputPath(const std::string& path, bool image) {
 // machine's physical memory.
 void checkChainMemory(long long chains, const wmlt::Settings& s, bool media) {
     const double mem = wmlt::physicalMemoryBytes();
-    const uint64_t perChain = s.tracer == wmlt::TracerKind::PSSMLT ? wmlt::pssmltChainBytes(s.maxPathLength, media)
-                                                                    : wmlt::mmltChainBytes(s.maxPathLength, media);
+    const uint64_t perChain =
+        s.tracer == wmlt::TracerKind::PSSMLT ? wmlt::pssmltChainBytes(s.maxPathLength, media) : wmlt::mmltChainBytes(s.maxPathLength, media);
     const double bytes = double(chains) * double(perChain);
     if (mem > 0 && bytes > 0.75 * mem)
-        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + wmlt::bytesText(bytes) +
-                               " of chain state (" + std::to_string(perChain) + " bytes per chain at MaxPathLength " +
-                               std::to_string(s.maxPathLength) + "), more than 3/4 of this machine's " +
-                               wmlt::bytesText(mem) + " of memory");
+        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + wmlt::bytesText(bytes) + " of chain state (" +
+                               std::to_string(perChain) + " bytes per chain at MaxPathLength " + std::to_string(s.maxPathLength) +
+                               "), more than 3/4 of this machine's " + wmlt::bytesText(mem) + " of memory");
     if (chains > std::numeric_limits<int>::max())
         throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " is more than the " +
                                std::to_string(std::numeric_limits<int>::max()) + " chains wavemmlt can run");
@@ -81,8 +78,7 @@ void prepareFolder(const std::string& dir) {
     if (!std::filesystem::exists(dir, ec) && !std::filesystem::create_directory(dir, ec))
         throw wmlt::InputError(dir, 0, "cannot create the folder: " + ec.message());
     if (!std::filesystem::is_directory(dir, ec)) throw wmlt::InputError(dir, 0, "not a folder");
-    if (access(dir.c_str(), W_OK) != 0)
-        throw wmlt::InputError(dir, 0, std::string("cannot write to the folder: ") + std::strerror(errno));
+    if (access(dir.c_str(), W_OK) != 0) throw wmlt::InputError(dir, 0, std::string("cannot write to the folder: ") + std::strerror(errno));
 }
 
 // MMLT's figures, each an object keyed by path length where it is per length. PSSMLT's the
@@ -117,19 +113,16 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
     uint64_t acc[2], prop[2];
     m.stepTotals(acc, prop);
-    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": "
-      << rate(acc[1], prop[1]) << ", \"all\": " << rate(acc[0] + acc[1], prop[0] + prop[1]) << "}"
-      << ",\n  \"" << prefix << "mutations\": " << m.mutations
-      << ",\n  \"" << prefix << "mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0)
-      << ",\n  \"" << prefix << "iterations\": " << m.iterations
-      << ",\n  \"" << prefix << "passes\": " << m.passes << ",\n  \"" << prefix << "pass_length\": " << m.passLength
-      << ",\n  \"" << prefix << "renewals\": " << (m.passes > 0 ? m.passes - 1 : 0)
-      << ",\n  \"" << prefix << "tasks_per_round\": " << m.tasksPerRound
-      << ",\n  \"" << prefix << "longest_task_ratio\": " << m.longestTaskRatio
-      << ",\n  \"" << prefix << "replay_mismatches\": " << m.replayMismatches
-      << ",\n  \"" << prefix << "chain_state_bytes\": " << m.chainBytes
-      << ",\n  \"" << prefix << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked))
-      << ",\n  \"" << prefix << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
+    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": " << rate(acc[1], prop[1])
+      << ", \"all\": " << rate(acc[0] + acc[1], prop[0] + prop[1]) << "}"
+      << ",\n  \"" << prefix << "mutations\": " << m.mutations << ",\n  \"" << prefix
+      << "mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0) << ",\n  \"" << prefix
+      << "iterations\": " << m.iterations << ",\n  \"" << prefix << "passes\": " << m.passes << ",\n  \"" << prefix
+      << "pass_length\": " << m.passLength << ",\n  \"" << prefix << "renewals\": " << (m.passes > 0 ? m.passes - 1 : 0) << ",\n  \"" << prefix
+      << "tasks_per_round\": " << m.tasksPerRound << ",\n  \"" << prefix << "longest_task_ratio\": " << m.longestTaskRatio << ",\n  \"" << prefix
+      << "replay_mismatches\": " << m.replayMismatches << ",\n  \"" << prefix << "chain_state_bytes\": " << m.chainBytes << ",\n  \"" << prefix
+      << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked)) << ",\n  \"" << prefix
+      << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
     if (!m.poolDigestByRank.empty()) o << ",\n  \"" << prefix << "pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
     if (st.ranks.count > 1) {  // what each rank computed: the same on every rank (docs/mpi.md)
         o << ",\n  \"" << prefix << "b_by_rank\": [";
@@ -144,8 +137,7 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
             o << "}";
         }
         o << std::setprecision(9) << "],\n  \"" << prefix << "pool_digest_by_rank\": [";
-        for (size_t r = 0; r < m.poolDigestByRank.size(); ++r)
-            o << (r ? ", " : "") << '"' << std::hex << m.poolDigestByRank[r] << std::dec << '"';
+        for (size_t r = 0; r < m.poolDigestByRank.size(); ++r) o << (r ? ", " : "") << '"' << std::hex << m.poolDigestByRank[r] << std::dec << '"';
         o << "]";
     }
 }
@@ -167,8 +159,8 @@ void writeRankStats(std::ostream& o, const wmlt::RenderStats& st) {
         o << (r ? ", " : "") << st.ranks.seconds[r];
         seconds = std::max(seconds, st.ranks.seconds[r]);
     }
-    o << "],\n  \"mpi_bytes\": " << bytes << ",\n  \"mpi_seconds_max\": " << seconds
-      << ",\n  \"mpi_exchanges\": " << st.ranks.exchanges << ",\n  \"mpi_boundaries\": " << st.ranks.boundaries
+    o << "],\n  \"mpi_bytes\": " << bytes << ",\n  \"mpi_seconds_max\": " << seconds << ",\n  \"mpi_exchanges\": " << st.ranks.exchanges
+      << ",\n  \"mpi_boundaries\": " << st.ranks.boundaries
       << ",\n  \"mpi_bytes_per_boundary\": " << (st.ranks.boundaries ? double(bytes) / double(st.ranks.boundaries) : 0.0)
       << ",\n  \"mpi_seconds_per_boundary\": " << (st.ranks.boundaries ? seconds / double(st.ranks.boundaries) : 0.0);
 }
@@ -177,14 +169,11 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
     std::ostringstream o;
     o.precision(9);
     const wmlt::RenderStats& st = r.stats;
-    o << "{\n  \"tracer\": \"" << st.tracer << "\",\n  \"seconds\": " << st.seconds
-      << ",\n  \"threads\": " << st.threads << ",\n  \"spp\": " << st.spp
-      << ",\n  \"width\": " << s.width << ",\n  \"height\": " << s.height
+    o << "{\n  \"tracer\": \"" << st.tracer << "\",\n  \"seconds\": " << st.seconds << ",\n  \"threads\": " << st.threads
+      << ",\n  \"spp\": " << st.spp << ",\n  \"width\": " << s.width << ",\n  \"height\": " << s.height
       << ",\n  \"rays_intersect\": " << st.raysIntersect << ",\n  \"rays_occluded\": " << st.raysOccluded
-      << ",\n  \"mrays_per_second\": " << st.mraysPerSecond()
-      << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
-      << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false")
-      << ",\n  \"mean_luminance_by_length\": {";
+      << ",\n  \"mrays_per_second\": " << st.mraysPerSecond() << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
+      << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false") << ",\n  \"mean_luminance_by_length\": {";
     // Path length k (segments) -> the image's mean luminance carried by length-k paths.
     for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
@@ -192,8 +181,7 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
     writeRankStats(o, st);
     if (st.tracer == "mmlt" || st.tracer == "pssmlt") writeMmltStats(o, st, s);
     o << ",\n  \"buffers_bytes\": {";
-    for (size_t i = 0; i < st.buffers.size(); ++i)
-        o << (i ? ", " : "") << '"' << st.buffers[i].first << "\": " << st.buffers[i].second;
+    for (size_t i = 0; i < st.buffers.size(); ++i) o << (i ? ", " : "") << '"' << st.buffers[i].first << "\": " << st.buffers[i].second;
     o << "}";
     o << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
     std::string tmp = path + ".tmp-" + std::to_string(getpid());
@@ -218,8 +206,9 @@ struct Job {
 // The scene file (or the built-in scene) with the command line's settings, filter and camera.
 wmlt::SceneDesc loadJobScene(const wmlt::CommandLine& cl) {
     using namespace wmlt;
-    SceneDesc scene = cl.scenePath.empty() ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
-                                           : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value(), cl.tracer.value_or(TracerKind::MMLT)});
+    SceneDesc scene = cl.scenePath.empty()
+                          ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
+                          : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value(), cl.tracer.value_or(TracerKind::MMLT)});
     applyCommandLine(cl, scene.settings);
     applyCamera(cl, scene.camera);
     if (cl.filter) scene.filter = *cl.filter;
@@ -242,8 +231,7 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
         throw InputError("wavemmlt: --interactive needs one process (run it without mpirun; --view watches a render across ranks)");
     if (cl.interactive && !cl.statsPath.empty())
         throw InputError("wavemmlt: --stats is not written by --interactive (render the printed command line with --stats)");
-    if (cl.interactive && !cl.strategyImages.empty())
-        throw InputError("wavemmlt: --strategy-images is not made by --interactive");
+    if (cl.interactive && !cl.strategyImages.empty()) throw InputError("wavemmlt: --strategy-images is not made by --interactive");
     if (root && (cl.view || cl.interactive) && !cl.describe) checkViewPossible(cl.interactive ? "--interactive" : "--view");
     if (ranks.many() && !cl.strategyImages.empty())
         throw InputError("wavemmlt: --strategy-images is made by one process only (run it without mpirun)");
@@ -252,8 +240,7 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     job.scene = loadJobScene(cl);
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
-    if (cl.chains && *cl.chains > 0 &&
-        (job.scene.settings.tracer == TracerKind::MMLT || job.scene.settings.tracer == TracerKind::PSSMLT))
+    if (cl.chains && *cl.chains > 0 && (job.scene.settings.tracer == TracerKind::MMLT || job.scene.settings.tracer == TracerKind::PSSMLT))
         checkChainMemory(*cl.chains, job.scene.settings, deriveFeatures(job.scene).media);
     if (cl.describe) {
         if (root) std::cout << deriveFeatures(job.scene).describe();
@@ -316,8 +303,7 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
             std::fprintf(stderr, "\nwarning: %s\n", e.what());
         }
     };
-    const std::string imageName = std::filesystem::path(outputs[0]).filename().string() + " (" +
-                                  std::to_string(getpid()) + ")";
+    const std::string imageName = std::filesystem::path(outputs[0]).filename().string() + " (" + std::to_string(getpid()) + ")";
     CommandLine viewers = cl;  // rank 0 watches the job; the other ranks have no viewers
     if (!root) viewers.view = viewers.interactive = false, viewers.displayHost.clear();
     Watchers watchers(viewers, tracerName(opt.tracer), s.width, s.height, imageName, &gCancel, saveNow, !ranks.many());
@@ -358,9 +344,8 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     if (!cl.statsPath.empty()) writeStats(cl.statsPath, r, settings);
     if (!cl.quiet) {
         const std::string across = ranks.many() ? " on " + std::to_string(ranks.size()) + " ranks" : "";
-        std::fprintf(stderr, "%s: %llu spp in %.2f s%s, %.2f Mrays/s%s\n", tracerName(opt.tracer),
-                     (unsigned long long)r.stats.spp, r.stats.seconds, across.c_str(), r.stats.mraysPerSecond(),
-                     r.stats.cancelled ? " (interrupted: image so far saved)" : "");
+        std::fprintf(stderr, "%s: %llu spp in %.2f s%s, %.2f Mrays/s%s\n", tracerName(opt.tracer), (unsigned long long)r.stats.spp, r.stats.seconds,
+                     across.c_str(), r.stats.mraysPerSecond(), r.stats.cancelled ? " (interrupted: image so far saved)" : "");
     }
     for (const std::string& w : renderWarnings(r))  // (an estimator's replay mismatch even with --quiet)
         if (!cl.quiet || r.stats.mmlt.replayMismatches) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -27,8 +27,8 @@ using std::chrono::milliseconds;
 constexpr milliseconds kFrameInterval{250};   // frames asked of the render
 constexpr milliseconds kRetryInterval{1000};  // between connection attempts
 constexpr milliseconds kConnectTimeout{1000};
-constexpr milliseconds kFrameTimeout{3000};   // to send one frame; then the connection is dropped
-constexpr int kTile = 128;                    // tile side, as pbrt-v4 sends
+constexpr milliseconds kFrameTimeout{3000};  // to send one frame; then the connection is dropped
+constexpr int kTile = 128;                   // tile side, as pbrt-v4 sends
 
 struct Address {
     sockaddr_storage addr;
@@ -59,12 +59,11 @@ struct TevSender::Thread {
     std::thread thread;
 
     int fd = -1;
-    bool warned = false;    // a warning stands since the last connection
+    bool warned = false;  // a warning stands since the last connection
     std::string lastError;
-    Image sent;             // the values tev has: black after CreateImage
+    Image sent;  // the values tev has: black after CreateImage
 
-    Thread(ViewHub& h, std::string w, std::string name, bool q)
-        : hub(h), where(std::move(w)), imageName(std::move(name)), quiet(q) {}
+    Thread(ViewHub& h, std::string w, std::string name, bool q) : hub(h), where(std::move(w)), imageName(std::move(name)), quiet(q) {}
     void warn(const std::string& what) {
         if (!quiet && !warned) std::fprintf(stderr, "warning: --display-server %s: %s\n", where.c_str(), what.c_str());
         warned = true;
@@ -183,7 +182,7 @@ void TevSender::Thread::run() {
             }
             nextAttempt = Clock::now() + kRetryInterval;
             if (!connect()) continue;
-            sentVersion = 0;     // a new connection: the image again, from CreateImage on
+            sentVersion = 0;  // a new connection: the image again, from CreateImage on
             sent = Image();
         }
         if (!newest.final) hub.requestFrame();
@@ -195,8 +194,7 @@ void TevSender::Thread::run() {
     if (fd >= 0) ::close(fd);
 }
 
-TevSender::TevSender(ViewHub& hub, const std::string& host, const std::string& port, std::string imageName,
-                     bool quiet)
+TevSender::TevSender(ViewHub& hub, const std::string& host, const std::string& port, std::string imageName, bool quiet)
     : thread_(std::make_unique<Thread>(hub, host + ":" + port, std::move(imageName), quiet)) {
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
@@ -204,8 +202,7 @@ TevSender::TevSender(ViewHub& hub, const std::string& host, const std::string& p
     hints.ai_flags = AI_NUMERICSERV;
     addrinfo* found = nullptr;
     const int err = getaddrinfo(host.c_str(), port.c_str(), &hints, &found);
-    if (err != 0)
-        throw InputError("wavemmlt: --display-server: cannot resolve the host '" + host + "': " + gai_strerror(err));
+    if (err != 0) throw InputError("wavemmlt: --display-server: cannot resolve the host '" + host + "': " + gai_strerror(err));
     for (addrinfo* a = found; a; a = a->ai_next) {
         Address addr{};
         std::memcpy(&addr.addr, a->ai_addr, a->ai_addrlen);

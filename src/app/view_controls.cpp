@@ -4,8 +4,8 @@
 // SDL_RenderGeometryRaw (SDL 2.0.18), into the window's existing renderer.
 #include "app/view_controls.h"
 
-#include <imgui.h>
 #include <backends/imgui_impl_sdl.h>
+#include <imgui.h>
 
 #include <cmath>
 #include <cstdio>
@@ -20,8 +20,8 @@ namespace wmlt {
 
 namespace {
 
-constexpr float kFlyStep = 0.05f;     // of the distance to LookAt, per key press
-constexpr float kWheelDolly = 0.1f;   // per wheel notch
+constexpr float kFlyStep = 0.05f;    // of the distance to LookAt, per key press
+constexpr float kWheelDolly = 0.1f;  // per wheel notch
 
 std::string number(double v, const char* fmt = "%.6g") {
     char buf[48];
@@ -61,9 +61,9 @@ void renderDrawData(SDL_Renderer* renderer, const ImDrawData* data) {
             const ImDrawVert* first = v + cmd.VtxOffset;
             // ImDrawVert's colour is 4 bytes R, G, B, A in memory: SDL_Color's layout.
             SDL_RenderGeometryRaw(renderer, static_cast<SDL_Texture*>(cmd.GetTexID()), &first->pos.x, sizeof(ImDrawVert),
-                                  reinterpret_cast<const SDL_Color*>(&first->col), sizeof(ImDrawVert), &first->uv.x,
-                                  sizeof(ImDrawVert), list->VtxBuffer.Size - int(cmd.VtxOffset),
-                                  list->IdxBuffer.Data + cmd.IdxOffset, int(cmd.ElemCount), sizeof(ImDrawIdx));
+                                  reinterpret_cast<const SDL_Color*>(&first->col), sizeof(ImDrawVert), &first->uv.x, sizeof(ImDrawVert),
+                                  list->VtxBuffer.Size - int(cmd.VtxOffset), list->IdxBuffer.Data + cmd.IdxOffset, int(cmd.ElemCount),
+                                  sizeof(ImDrawIdx));
         }
     }
     SDL_RenderSetClipRect(renderer, nullptr);
@@ -71,8 +71,7 @@ void renderDrawData(SDL_Renderer* renderer, const ImDrawData* data) {
 
 }  // namespace
 
-ViewControls::ViewControls(SDL_Window* window, SDL_Renderer* renderer, InteractiveSession& session,
-                           ControlsOptions options)
+ViewControls::ViewControls(SDL_Window* window, SDL_Renderer* renderer, InteractiveSession& session, ControlsOptions options)
     : window_(window), renderer_(renderer), session_(session), opt_(std::move(options)) {
     NotLeakChecked notChecked;
     IMGUI_CHECKVERSION();
@@ -146,8 +145,11 @@ bool ViewControls::key(SDL_Keycode k, Uint16 mod, const SDL_Rect& image) {
         case SDLK_LEFTBRACKET: --s.maxPathLength; break;
         case SDLK_PERIOD: ++s.minPathLength; break;
         case SDLK_COMMA: --s.minPathLength; break;
-        case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS: s.exposure += 0.5f; break;
-        case SDLK_MINUS: case SDLK_KP_MINUS: s.exposure -= 0.5f; break;
+        case SDLK_PLUS:
+        case SDLK_EQUALS:
+        case SDLK_KP_PLUS: s.exposure += 0.5f; break;
+        case SDLK_MINUS:
+        case SDLK_KP_MINUS: s.exposure -= 0.5f; break;
         case SDLK_f:
             if (mouseX_ >= 0) focusAt(mouseX_, mouseY_, image);
             return true;
@@ -156,8 +158,7 @@ bool ViewControls::key(SDL_Keycode k, Uint16 mod, const SDL_Rect& image) {
         case SDLK_TAB: shown_ = !shown_; return true;
         default: return false;  // the window's keys (s, p, q, Esc)
     }
-    const bool moving = k == SDLK_LEFT || k == SDLK_RIGHT || k == SDLK_UP || k == SDLK_DOWN || k == SDLK_PAGEUP ||
-                        k == SDLK_PAGEDOWN;
+    const bool moving = k == SDLK_LEFT || k == SDLK_RIGHT || k == SDLK_UP || k == SDLK_DOWN || k == SDLK_PAGEUP || k == SDLK_PAGEDOWN;
     apply(s, moving);
     return true;
 }
@@ -175,11 +176,10 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
             if (!inImage(e.button.x, e.button.y)) return true;
             const Uint16 mod = SDL_GetModState();
             focusClick_ = e.button.button == SDL_BUTTON_LEFT && (mod & KMOD_CTRL);
-            drag_ = e.button.button == SDL_BUTTON_RIGHT || (e.button.button == SDL_BUTTON_LEFT && (mod & KMOD_SHIFT))
-                        ? Drag::Pan
-                    : e.button.button == SDL_BUTTON_MIDDLE ? Drag::Dolly
-                    : e.button.button == SDL_BUTTON_LEFT && !focusClick_ ? Drag::Orbit
-                                                                          : Drag::None;
+            drag_ = e.button.button == SDL_BUTTON_RIGHT || (e.button.button == SDL_BUTTON_LEFT && (mod & KMOD_SHIFT)) ? Drag::Pan
+                    : e.button.button == SDL_BUTTON_MIDDLE                                                            ? Drag::Dolly
+                    : e.button.button == SDL_BUTTON_LEFT && !focusClick_                                              ? Drag::Orbit
+                                                                                                                      : Drag::None;
             pressX_ = e.button.x;
             pressY_ = e.button.y;
             moved_ = false;
@@ -211,16 +211,15 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
         case SDL_MOUSEWHEEL: {
             if (mouseX_ < 0 || e.wheel.y == 0) return true;
             ViewSettings s = session_.settings();
-            s.camera = (SDL_GetModState() & KMOD_SHIFT) ? zoom(s.camera, kWheelDolly * float(e.wheel.y))
-                                                        : dolly(s.camera, kWheelDolly * float(e.wheel.y));
+            s.camera =
+                (SDL_GetModState() & KMOD_SHIFT) ? zoom(s.camera, kWheelDolly * float(e.wheel.y)) : dolly(s.camera, kWheelDolly * float(e.wheel.y));
             apply(s, true);
             return true;
         }
         case SDL_KEYDOWN:
             if (io.WantTextInput) return true;
             return key(e.key.keysym.sym, e.key.keysym.mod, image);
-        default:
-            return io.WantCaptureKeyboard && (e.type == SDL_KEYUP || e.type == SDL_TEXTINPUT);
+        default: return io.WantCaptureKeyboard && (e.type == SDL_KEYUP || e.type == SDL_TEXTINPUT);
     }
 }
 
@@ -234,8 +233,7 @@ bool ViewControls::field(const char* label, const std::string& current, std::str
     std::string& text = edits_[label];
     char buf[64];
     std::snprintf(buf, sizeof buf, "%s", text.c_str());
-    const bool entered = ImGui::InputText(label, buf, sizeof buf, ImGuiInputTextFlags_EnterReturnsTrue |
-                                                                      ImGuiInputTextFlags_AutoSelectAll);
+    const bool entered = ImGui::InputText(label, buf, sizeof buf, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     note(label);
     layout_[label].w = int(ImGui::CalcItemWidth());  // the text box, not its label beside it
     text = ImGui::IsItemActive() || entered ? std::string(buf) : current;
@@ -256,8 +254,8 @@ void ViewControls::drawPanel(const std::string& progress) {
         ImGui::SetNextWindowPos(ImVec2(float(W - kPanelWidth), 0));
         ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(H)));
         ImGui::Begin("settings", nullptr,
-                     ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
-                         ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+                     ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                         ImGuiWindowFlags_NoSavedSettings);
         ImGui::PushItemWidth(120);
         // One line, whatever it says (the widgets below stay where they are).
         const std::string line = progress.substr(0, progress.find(" | "));
@@ -331,8 +329,9 @@ void ViewControls::drawPanel(const std::string& progress) {
             ImGui::TextWrapped("%s", message_.c_str());
             if (messageIsError_) ImGui::PopStyleColor();
         }
-        ImGui::TextWrapped("drag: orbit; right or shift drag: pan; middle drag or wheel: dolly; shift wheel: zoom; "
-                           "ctrl click or f: focus; arrows, PgUp, PgDn: fly; Tab hides this panel");
+        ImGui::TextWrapped(
+            "drag: orbit; right or shift drag: pan; middle drag or wheel: dolly; shift wheel: zoom; "
+            "ctrl click or f: focus; arrows, PgUp, PgDn: fly; Tab hides this panel");
         ImGui::PopItemWidth();
         ImGui::End();
     }
@@ -341,8 +340,7 @@ void ViewControls::drawPanel(const std::string& progress) {
     if (!layoutPath_.empty()) {  // for the tests: where each widget is (written when it moves)
         std::string text;
         for (const auto& [label, r] : layout_)
-            text += label + "\t" + std::to_string(r.x) + " " + std::to_string(r.y) + " " + std::to_string(r.w) + " " +
-                    std::to_string(r.h) + "\n";
+            text += label + "\t" + std::to_string(r.x) + " " + std::to_string(r.y) + " " + std::to_string(r.w) + " " + std::to_string(r.h) + "\n";
         if (text != layoutWritten_) {
             const std::string tmp = layoutPath_ + ".tmp";
             std::ofstream(tmp) << text;

@@ -22,9 +22,9 @@ namespace wmlt {
 class ViewHub : public RenderView {
 public:
     struct Frame {
-        uint64_t version = 0;                    // 0: nothing published yet
+        uint64_t version = 0;  // 0: nothing published yet
         std::shared_ptr<const Snapshot> snapshot;
-        bool final = false;                      // the render's result, as written
+        bool final = false;  // the render's result, as written
     };
 
     // `cancel` is the render's cancel flag (also set by Ctrl-C).

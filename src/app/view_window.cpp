@@ -17,7 +17,6 @@
 #include "app/view_controls.h"
 #include "wavemmlt/error.h"
 
-
 namespace wmlt {
 
 namespace {
@@ -25,9 +24,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kFrameInterval = std::chrono::milliseconds(250);  // frames asked of the render
 constexpr auto kInteractiveFrameInterval = std::chrono::milliseconds(100);
-constexpr int kEventWaitMs = 50;                                  // the loop's tick
-constexpr int kInteractiveWaitMs = 10;                            // (previews shown as they come)
-constexpr float kExposureStep = 0.5f;                             // stops per + or -
+constexpr int kEventWaitMs = 50;        // the loop's tick
+constexpr int kInteractiveWaitMs = 10;  // (previews shown as they come)
+constexpr float kExposureStep = 0.5f;   // stops per + or -
 
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
     char buf[128];
@@ -44,7 +43,8 @@ bool isSet(const char* name) {
 
 void checkViewPossible(const char* option) {
     if (!isSet("DISPLAY") && !isSet("WAYLAND_DISPLAY"))
-        throw InputError(std::string("wavemmlt: ") + option + " needs a display, and neither DISPLAY nor WAYLAND_DISPLAY is set "
+        throw InputError(std::string("wavemmlt: ") + option +
+                         " needs a display, and neither DISPLAY nor WAYLAND_DISPLAY is set "
                          "(render without a window, or watch in tev with --display-server HOST:PORT)");
 }
 
@@ -60,7 +60,7 @@ struct ViewWindow::Thread {
     std::shared_ptr<const Snapshot> shown;
     bool final = false;
     float exposure = 0, uploadedExposure = 0;
-    int panelFrames = 0;  // frames still to draw after an event (the interactive panel)
+    int panelFrames = 0;           // frames still to draw after an event (the interactive panel)
     int mouseX = -1, mouseY = -1;  // image pixel under the mouse; -1: none
     Clock::time_point start = Clock::now();
     std::string title;
@@ -99,9 +99,7 @@ bool ViewWindow::Thread::open() {
     // Only the display named by the environment: SDL would otherwise fall back to drivers
     // that show nothing (KMSDRM, offscreen) and the render would run in an unseen window.
     if (!isSet("SDL_VIDEODRIVER"))
-        SDL_SetHint(SDL_HINT_VIDEODRIVER, isSet("DISPLAY") && isSet("WAYLAND_DISPLAY") ? "x11,wayland"
-                                          : isSet("DISPLAY")                          ? "x11"
-                                                                                      : "wayland");
+        SDL_SetHint(SDL_HINT_VIDEODRIVER, isSet("DISPLAY") && isSet("WAYLAND_DISPLAY") ? "x11,wayland" : isSet("DISPLAY") ? "x11" : "wayland");
     if (SDL_Init(SDL_INIT_VIDEO) != 0) return false;
     // The image's size, enlarged by a whole factor when tiny, shrunk to fit the display.
     const int zoom = std::max(1, int(std::ceil(64.0 / std::max(opt.width, opt.height))));
@@ -114,8 +112,7 @@ bool ViewWindow::Thread::open() {
     }
     // Hidden and untitled until the renderer exists: SDL may replace the X window then (for
     // OpenGL), and whoever looks for the window by its title must find the one that stays.
-    window = SDL_CreateWindow("", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h,
-                              SDL_WINDOW_RESIZABLE | SDL_WINDOW_HIDDEN);
+    window = SDL_CreateWindow("", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h, SDL_WINDOW_RESIZABLE | SDL_WINDOW_HIDDEN);
     if (!window) return false;
     renderer = SDL_CreateRenderer(window, -1, 0);
     if (!renderer) return false;
@@ -202,12 +199,10 @@ std::string ViewWindow::Thread::titleText() const {
         return t + "switching to the interactive mode";
     }
     const double mrays = shown && shown->seconds > 0 ? double(shown->rays) / shown->seconds * 1e-6 : 0;
-    if (final)
-        t += format("done, %.0f spp in %.1f s, %.2f Mrays/s", double(shown->spp), shown->seconds, mrays);
+    if (final) t += format("done, %.0f spp in %.1f s, %.2f Mrays/s", double(shown->spp), shown->seconds, mrays);
     else
         t += format("%.0f%%, %.1f s", std::floor(hub.progress() * 100), session ? (shown ? shown->seconds : 0.0) : wall) +
-             (shown ? format(", %.2f Mrays/s", mrays) : std::string(", preparing")) +
-             (hub.paused() ? ", paused" : "");
+             (shown ? format(", %.2f Mrays/s", mrays) : std::string(", preparing")) + (hub.paused() ? ", paused" : "");
     const float ev = controls ? controls->exposure() : exposure;
     if (ev != 0) t += format(", exposure %+.1f", ev);
     if (shown && mouseX >= 0 && mouseY >= 0 && mouseX < opt.width && mouseY < opt.height) {
@@ -228,21 +223,21 @@ void ViewWindow::Thread::updateTitle() {
 
 void ViewWindow::Thread::onKey(SDL_Keycode key) {
     switch (key) {
-        case SDLK_PLUS: case SDLK_EQUALS: case SDLK_KP_PLUS:  // '+' is shift + '=' on many layouts
+        case SDLK_PLUS:
+        case SDLK_EQUALS:
+        case SDLK_KP_PLUS:  // '+' is shift + '=' on many layouts
             exposure += kExposureStep;
             break;
-        case SDLK_MINUS: case SDLK_KP_MINUS:
-            exposure -= kExposureStep;
-            break;
+        case SDLK_MINUS:
+        case SDLK_KP_MINUS: exposure -= kExposureStep; break;
         case SDLK_p:
             if (!final) hub.setPaused(!hub.paused());
             return;
         case SDLK_s:
             if (shown) opt.save(*shown, controls ? controls->exposure() : opt.exposure);
             return;
-        case SDLK_q: case SDLK_ESCAPE:
-            hub.cancel();
-            return;
+        case SDLK_q:
+        case SDLK_ESCAPE: hub.cancel(); return;
         case SDLK_i:  // --view: on to the interactive mode (main() takes it from here)
             if (session || hub.interactiveRequested()) return;
             if (!opt.interactiveAllowed) {
@@ -251,8 +246,7 @@ void ViewWindow::Thread::onKey(SDL_Keycode key) {
             }
             hub.requestInteractive();
             return;
-        default:
-            return;
+        default: return;
     }
     upload();
     draw();
@@ -261,8 +255,7 @@ void ViewWindow::Thread::onKey(SDL_Keycode key) {
 void ViewWindow::Thread::run() {
     if (!open()) {
         const char* display = std::getenv(isSet("DISPLAY") ? "DISPLAY" : "WAYLAND_DISPLAY");
-        opened.set_value(std::string("cannot open a window on display '") + (display ? display : "") +
-                         "': " + SDL_GetError());
+        opened.set_value(std::string("cannot open a window on display '") + (display ? display : "") + "': " + SDL_GetError());
         close();
         return;
     }

@@ -27,12 +27,12 @@ namespace wmlt {
 
 struct ViewWindowOptions {
     std::string tracer;
-    int width = 0, height = 0;                     // the image's size
-    float exposure = 0;                            // the PNG's --exposure: the initial one
+    int width = 0, height = 0;  // the image's size
+    float exposure = 0;         // the PNG's --exposure: the initial one
     // The s key: writes the outputs (PNG with this exposure: --exposure, or the interactive one).
     std::function<void(const Snapshot&, float exposure)> save;
-    bool interactive = false;                      // --interactive (its name in messages)
-    bool interactiveAllowed = true;                // the i key may switch (not under mpirun)
+    bool interactive = false;        // --interactive (its name in messages)
+    bool interactiveAllowed = true;  // the i key may switch (not under mpirun)
 };
 
 // Throws InputError (exit status 2) when --view cannot work here: a build without SDL2,

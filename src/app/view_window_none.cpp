@@ -13,9 +13,7 @@ void checkViewPossible(const char* option) {
 
 struct ViewWindow::Thread {};
 
-ViewWindow::ViewWindow(ViewHub&, ViewWindowOptions options) {
-    checkViewPossible(options.interactive ? "--interactive" : "--view");
-}
+ViewWindow::ViewWindow(ViewHub&, ViewWindowOptions options) { checkViewPossible(options.interactive ? "--interactive" : "--view"); }
 ViewWindow::~ViewWindow() = default;
 void ViewWindow::waitClosed() {}
 bool ViewWindow::waitClosedOrInteractive() { return false; }

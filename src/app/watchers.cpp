@@ -2,16 +2,14 @@
 
 namespace wmlt {
 
-Watchers::Watchers(const CommandLine& cl, const std::string& tracer, int width, int height,
-                   const std::string& imageName, std::atomic<bool>* cancel,
+Watchers::Watchers(const CommandLine& cl, const std::string& tracer, int width, int height, const std::string& imageName, std::atomic<bool>* cancel,
                    std::function<void(const Snapshot&, float)> save, bool interactiveAllowed) {
     if (!cl.view && !cl.interactive && cl.displayHost.empty()) return;
     hub_ = std::make_unique<ViewHub>(cancel);
-    if (!cl.displayHost.empty())
-        sender_ = std::make_unique<TevSender>(*hub_, cl.displayHost, cl.displayPort, imageName, cl.quiet);
+    if (!cl.displayHost.empty()) sender_ = std::make_unique<TevSender>(*hub_, cl.displayHost, cl.displayPort, imageName, cl.quiet);
     if (cl.view || cl.interactive)
-        window_ = std::make_unique<ViewWindow>(
-            *hub_, ViewWindowOptions{tracer, width, height, cl.exposure, save, cl.interactive, interactiveAllowed});
+        window_ =
+            std::make_unique<ViewWindow>(*hub_, ViewWindowOptions{tracer, width, height, cl.exposure, save, cl.interactive, interactiveAllowed});
 }
 
 Watchers::~Watchers() {

@@ -18,8 +18,8 @@ public:
     // Opens the window (before the scene is built) and resolves the display server: throws
     // InputError (exit status 2) when either cannot be. `save` writes the outputs (the s key).
     // interactiveAllowed: the i key may switch to the interactive mode (one process).
-    Watchers(const CommandLine& cl, const std::string& tracer, int width, int height, const std::string& imageName,
-             std::atomic<bool>* cancel, std::function<void(const Snapshot&, float)> save, bool interactiveAllowed);
+    Watchers(const CommandLine& cl, const std::string& tracer, int width, int height, const std::string& imageName, std::atomic<bool>* cancel,
+             std::function<void(const Snapshot&, float)> save, bool interactiveAllowed);
     // Without finish() (an error ended the render): closes the window without waiting.
     ~Watchers();
 

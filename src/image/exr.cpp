@@ -48,9 +48,8 @@ Image readLuminanceChroma(const std::string& path) {
         px.assign(size_t(w) * size_t(n), Imf::Rgba(0.0f, 0.0f, 0.0f, 0.0f));
         // Imf's own base-pointer arithmetic (as Slice::Make does): pixel (x, y) of the
         // data window lands at px[(y - first) * w + (x - dw.min.x)].
-        const intptr_t base = intptr_t(px.data()) -
-                              (intptr_t(dw.min.x) + (intptr_t(dw.min.y) + intptr_t(y0)) * intptr_t(w)) *
-                                  intptr_t(sizeof(Imf::Rgba));
+        const intptr_t base =
+            intptr_t(px.data()) - (intptr_t(dw.min.x) + (intptr_t(dw.min.y) + intptr_t(y0)) * intptr_t(w)) * intptr_t(sizeof(Imf::Rgba));
         file.setFrameBuffer(reinterpret_cast<Imf::Rgba*>(base), 1, size_t(w));
         file.readPixels(int(dw.min.y + y0), int(dw.min.y + y0 + n - 1));
         const size_t at = img.rgb.size();
@@ -94,8 +93,7 @@ Image readExrImpl(const std::string& path) {
     const bool hasRgb = rgb[0] || rgb[1] || rgb[2];
     if (!hasRgb && (chans.findChannel("RY") || chans.findChannel("BY"))) return readLuminanceChroma(path);
     auto fullRes = [&](const Imf::Channel* c, const char* name) {
-        if (c && (c->xSampling != 1 || c->ySampling != 1))
-            throw InputError(path, 0, std::string("subsampled channel ") + name + " is not supported");
+        if (c && (c->xSampling != 1 || c->ySampling != 1)) throw InputError(path, 0, std::string("subsampled channel ") + name + " is not supported");
     };
     if (!hasRgb && !y) {
         std::string names;
@@ -105,8 +103,7 @@ Image readExrImpl(const std::string& path) {
     const char* names[3] = {"R", "G", "B"};
     if (hasRgb)
         for (int c = 0; c < 3; ++c) fullRes(rgb[c], names[c]);
-    else
-        fullRes(y, "Y");
+    else fullRes(y, "Y");
     Image img;
     img.width = static_cast<int>(w);
     img.height = static_cast<int>(h);
@@ -120,12 +117,10 @@ Image readExrImpl(const std::string& path) {
             // A channel absent from the file is filled with the slice's fill value, 0.
             strip.assign(size_t(w) * size_t(n) * 3, 0.0f);
             for (int c = 0; c < 3; ++c)
-                fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, strip.data() + c, origin, w, n, 3 * sizeof(float),
-                                                     3 * sizeof(float) * size_t(w)));
+                fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, strip.data() + c, origin, w, n, 3 * sizeof(float), 3 * sizeof(float) * size_t(w)));
         } else {
             strip.assign(size_t(w) * size_t(n), 0.0f);
-            fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, strip.data(), origin, w, n, sizeof(float),
-                                            sizeof(float) * size_t(w)));
+            fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, strip.data(), origin, w, n, sizeof(float), sizeof(float) * size_t(w)));
         }
         file.setFrameBuffer(fb);
         file.readPixels(origin.y, int(origin.y + n - 1));
@@ -134,8 +129,7 @@ Image readExrImpl(const std::string& path) {
         } else {
             const size_t at = img.rgb.size();
             img.rgb.resize(at + strip.size() * 3);
-            for (size_t i = 0; i < strip.size(); ++i)
-                img.rgb[at + 3 * i] = img.rgb[at + 3 * i + 1] = img.rgb[at + 3 * i + 2] = strip[i];
+            for (size_t i = 0; i < strip.size(); ++i) img.rgb[at + 3 * i] = img.rgb[at + 3 * i + 1] = img.rgb[at + 3 * i + 2] = strip[i];
         }
     }
     return img;
@@ -162,8 +156,8 @@ void writeExr(const std::string& tmpPath, const Image& img) {
     Imf::OutputFile file(tmpPath.c_str(), hdr);
     Imf::FrameBuffer fb;
     for (int c = 0; c < 3; ++c)
-        fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, Imath::V2i(0, 0), img.width,
-                                             img.height, 3 * sizeof(float), 3 * sizeof(float) * size_t(img.width)));
+        fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, Imath::V2i(0, 0), img.width, img.height, 3 * sizeof(float),
+                                             3 * sizeof(float) * size_t(img.width)));
     file.setFrameBuffer(fb);
     file.writePixels(img.height);
 }

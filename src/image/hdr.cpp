@@ -46,20 +46,17 @@ Image readHdr(const std::string& path) {
     char ys[3] = {0}, xs[3] = {0};
     long long hh = -1, ww = -1;
     char extra = 0;
-    if (std::sscanf(l.c_str(), "%2s %lld %2s %lld %c", ys, &hh, xs, &ww, &extra) != 4 ||
-        (std::strcmp(ys, "-Y") != 0 && std::strcmp(ys, "+Y") != 0) || std::strcmp(xs, "+X") != 0)
+    if (std::sscanf(l.c_str(), "%2s %lld %2s %lld %c", ys, &hh, xs, &ww, &extra) != 4 || (std::strcmp(ys, "-Y") != 0 && std::strcmp(ys, "+Y") != 0) ||
+        std::strcmp(xs, "+X") != 0)
         throw InputError(path, 0, "unsupported Radiance resolution line '" + l + "' (expected \"-Y H +X W\")");
     checkSize(path, ww, hh);
     const bool bottomUp = ys[0] == '+';
     const int w = int(ww), h = int(hh);
 
     auto truncated = [&](int row) {
-        return InputError(path, 0, "truncated Radiance data (scanline " + std::to_string(row + 1) + " of " +
-                                       std::to_string(h) + ")");
+        return InputError(path, 0, "truncated Radiance data (scanline " + std::to_string(row + 1) + " of " + std::to_string(h) + ")");
     };
-    auto corrupt = [&](int row) {
-        return InputError(path, 0, "corrupt Radiance data (scanline " + std::to_string(row + 1) + ")");
-    };
+    auto corrupt = [&](int row) { return InputError(path, 0, "corrupt Radiance data (scanline " + std::to_string(row + 1) + ")"); };
     // The pixels grow scanline by scanline as they decode, so a short file that claims a huge
     // size fails before it has cost more memory than its data can fill (fuzz_hdr).
     Image img;
@@ -67,8 +64,7 @@ Image readHdr(const std::string& path) {
     img.height = h;
     std::vector<unsigned char> rgbe(size_t(w) * 4);
     for (int row = 0; row < h; ++row) {
-        const bool newRle = w >= 8 && w < 32768 && pos + 4 <= size && data[pos] == 2 && data[pos + 1] == 2 &&
-                            (data[pos + 2] & 0x80) == 0;
+        const bool newRle = w >= 8 && w < 32768 && pos + 4 <= size && data[pos] == 2 && data[pos + 1] == 2 && (data[pos + 2] & 0x80) == 0;
         if (newRle) {
             if (((data[pos + 2] << 8) | data[pos + 3]) != w) throw corrupt(row);
             pos += 4;

@@ -35,11 +35,9 @@ float linearToSrgb(float v) {
 namespace imageio {
 
 void checkSize(const std::string& path, int64_t w, int64_t h) {
-    if (w <= 0 || h <= 0)
-        throw InputError(path, 0, "empty image (" + std::to_string(w) + " x " + std::to_string(h) + " pixels)");
+    if (w <= 0 || h <= 0) throw InputError(path, 0, "empty image (" + std::to_string(w) + " x " + std::to_string(h) + " pixels)");
     if (w > kMaxDimension || h > kMaxDimension || w * h > kMaxPixels)
-        throw InputError(path, 0, "image size " + std::to_string(w) + " x " + std::to_string(h) +
-                                      " is too large (corrupt header?)");
+        throw InputError(path, 0, "image size " + std::to_string(w) + " x " + std::to_string(h) + " is too large (corrupt header?)");
 }
 
 void checkReadable(const std::string& path) {
@@ -49,7 +47,6 @@ void checkReadable(const std::string& path) {
     if (!S_ISREG(st.st_mode)) throw InputError(path, 0, "cannot open: not a regular file (a device, FIFO or socket)");
     if (::access(path.c_str(), R_OK) != 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
 }
-
 
 // The whole file, or an InputError naming the path and the system's reason.
 std::string readFileBytes(const std::string& path) {
@@ -80,7 +77,6 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
-
 std::string stbReason() {
     const char* r = stbi_failure_reason();
     return (r && *r) ? std::string(r) : std::string("corrupt or truncated data");
@@ -97,7 +93,7 @@ void checkJpegTables(const std::string& path, const unsigned char* d, size_t siz
     if (size < 4 || d[0] != 0xFF || d[1] != 0xD8) return;
     auto byte = [&](size_t i) { return i < size ? d[i] : 0; };  // past the end: 0, as stb_image reads
     bool progressive = false;
-    unsigned huffman[2] = {0, 0};  // per class (0 DC, 1 AC): a bit per table id 0-3 a DHT defined
+    unsigned huffman[2] = {0, 0};        // per class (0 DC, 1 AC): a bit per table id 0-3 a DHT defined
     unsigned quant = 0, frameQuant = 0;  // the quantisation tables DQTs defined; the frame's components use
     auto undefined = [&](const std::string& what) {
         throw InputError(path, 0, "corrupt JPEG data (a scan uses " + what + ", which no segment before it defines)");
@@ -115,7 +111,7 @@ void checkJpegTables(const std::string& path, const unsigned char* d, size_t siz
         if (pos >= size) return;
         const unsigned char m = d[pos++];
         if (m == 0x00 || m == 0x01 || (m >= 0xD0 && m <= 0xD8)) continue;  // stuffed 0, TEM, RSTn, SOI
-        if (m == 0xD9) return;                                               // EOI
+        if (m == 0xD9) return;                                             // EOI
         if (pos + 2 > size) return;
         const size_t len = (size_t(d[pos]) << 8) | d[pos + 1];
         if (len < 2) return;
@@ -135,17 +131,14 @@ void checkJpegTables(const std::string& path, const unsigned char* d, size_t siz
             for (size_t q = pos + 2; q < pos + len && q < size;) {
                 size_t n = 0;
                 for (int i = 0; i < 16; ++i) n += byte(q + 1 + i);
-                if (n > 256)
-                    throw InputError(path, 0, "corrupt JPEG data (a Huffman table declares " + std::to_string(n) +
-                                                  " codes, at most 256)");
+                if (n > 256) throw InputError(path, 0, "corrupt JPEG data (a Huffman table declares " + std::to_string(n) + " codes, at most 256)");
                 const int cls = byte(q) >> 4, id = byte(q) & 15;
                 if (cls <= 1 && id <= 3) huffman[cls] |= 1u << id;
                 q += 17 + n;
             }
         }
         if (m == 0xDA) {  // SOS: components (id, DC/AC table), then Ss, Se, Ah/Al
-            if (const unsigned missing = frameQuant & ~quant)
-                undefined("quantisation table " + std::to_string(__builtin_ctz(missing)));
+            if (const unsigned missing = frameQuant & ~quant) undefined("quantisation table " + std::to_string(__builtin_ctz(missing)));
             const size_t ns = byte(pos + 2), after = pos + 3 + 2 * ns;
             const int ss = byte(after), ah = byte(after + 2) >> 4;
             for (size_t c = 0; c < ns; ++c) {
@@ -172,8 +165,7 @@ Image readStb(const std::string& path, const char* format) {
     // reports "unknown image type").
     if (bytes.size() >= 24 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 && bytes.compare(12, 4, "IHDR") == 0) {
         auto be32 = [&](size_t o) {
-            return (uint32_t(data[o]) << 24) | (uint32_t(data[o + 1]) << 16) | (uint32_t(data[o + 2]) << 8) |
-                   uint32_t(data[o + 3]);
+            return (uint32_t(data[o]) << 24) | (uint32_t(data[o + 1]) << 16) | (uint32_t(data[o + 2]) << 8) | uint32_t(data[o + 3]);
         };
         imageio::checkSize(path, be32(16), be32(20));
     }
@@ -201,9 +193,9 @@ Image readStb(const std::string& path, const char* format) {
         const uint64_t body = data[2] >= 9 ? (pixels + 127) / 128 * (1 + pixelBytes) : pixels * pixelBytes;
         const uint64_t need = 18 + uint64_t(data[0]) + map + body;
         if (bytes.size() < need)
-            throw InputError(path, 0, "the file holds " + std::to_string(bytes.size()) + " bytes, fewer than its " +
-                                          std::to_string(w) + " x " + std::to_string(h) + " pixels need (" +
-                                          std::to_string(need) + ")");
+            throw InputError(path, 0,
+                             "the file holds " + std::to_string(bytes.size()) + " bytes, fewer than its " + std::to_string(w) + " x " +
+                                 std::to_string(h) + " pixels need (" + std::to_string(need) + ")");
     }
     Image img;  // allocated once stb_image has decoded the data (a header alone proves little)
     size_t n = 0;
@@ -214,8 +206,14 @@ Image readStb(const std::string& path, const char* format) {
             const auto* p = px + i * size_t(c);
             float r, g, b;
             if (c <= 2) r = g = b = lin(p[0]);
-            else { r = lin(p[0]); g = lin(p[1]); b = lin(p[2]); }
-            img.rgb[3 * i] = r; img.rgb[3 * i + 1] = g; img.rgb[3 * i + 2] = b;
+            else {
+                r = lin(p[0]);
+                g = lin(p[1]);
+                b = lin(p[2]);
+            }
+            img.rgb[3 * i] = r;
+            img.rgb[3 * i + 1] = g;
+            img.rgb[3 * i + 2] = b;
         }
     };
     if (stbi_is_16_bit_from_memory(data, len)) {
@@ -249,8 +247,7 @@ void writePng(std::FILE* f, const Image& img, float exposure) {
         auto* s = static_cast<WriteSink*>(ctx);
         if (std::fwrite(data, 1, size_t(size), s->f) != size_t(size)) s->failed = true;
     };
-    if (!stbi_write_png_to_func(write, &sink, img.width, img.height, 3, bytes.data(), img.width * 3))
-        throw std::runtime_error("PNG encoder failed");
+    if (!stbi_write_png_to_func(write, &sink, img.width, img.height, 3, bytes.data(), img.width * 3)) throw std::runtime_error("PNG encoder failed");
     if (sink.failed) throw std::runtime_error(std::strerror(errno));
 }
 
@@ -281,18 +278,16 @@ Image readImage(const std::string& path) {
     if (ext == ".png") return readStb(path, "PNG");
     if (ext == ".jpg" || ext == ".jpeg") return readStb(path, "JPEG");
     if (ext == ".tga") return readStb(path, "TGA");
-    throw InputError(path, 0,
-                     "unknown image extension '" + ext + "' (readable: .exr, .pfm, .hdr, .png, .jpg, .jpeg, .tga)");
+    throw InputError(path, 0, "unknown image extension '" + ext + "' (readable: .exr, .pfm, .hdr, .png, .jpg, .jpeg, .tga)");
 }
 
 void writeImage(const std::string& path, const Image& image, float exposure) {
     std::string ext = lowerExtension(path);
     if (!isWritableImageExtension(path))
         throw InputError(path, 0, "cannot write: unknown image extension '" + ext + "' (writable: .exr, .pfm, .png)");
-    if (image.width <= 0 || image.height <= 0 ||
-        image.rgb.size() != size_t(image.width) * size_t(image.height) * 3)
-        throw InputError(path, 0, "cannot write an empty or malformed image (" + std::to_string(image.width) +
-                                      " x " + std::to_string(image.height) + ")");
+    if (image.width <= 0 || image.height <= 0 || image.rgb.size() != size_t(image.width) * size_t(image.height) * 3)
+        throw InputError(path, 0,
+                         "cannot write an empty or malformed image (" + std::to_string(image.width) + " x " + std::to_string(image.height) + ")");
     const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) throw InputError("cannot write " + path + ": " + std::strerror(errno));
@@ -310,7 +305,10 @@ void writeImage(const std::string& path, const Image& image, float exposure) {
             errno = 0;
             bool bad = std::fflush(f) != 0 || std::ferror(f) != 0;
             int err = errno;
-            if (std::fclose(f) != 0 && !bad) { bad = true; err = errno; }
+            if (std::fclose(f) != 0 && !bad) {
+                bad = true;
+                err = errno;
+            }
             f = nullptr;
             if (bad) throw std::runtime_error(err ? std::strerror(err) : "write error");
         }

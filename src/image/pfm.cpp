@@ -48,8 +48,7 @@ Image readPfm(const std::string& path) {
         while (pos < head.size() && isSpace(head[pos])) ++pos;
         size_t start = pos;
         while (pos < head.size() && !isSpace(head[pos])) ++pos;
-        if (pos >= head.size() || start == pos)
-            throw InputError(path, 0, std::string("truncated PFM header (missing ") + what + ")");
+        if (pos >= head.size() || start == pos) throw InputError(path, 0, std::string("truncated PFM header (missing ") + what + ")");
         return head.substr(start, pos - start);
     };
     auto integer = [&](const char* what) {
@@ -65,16 +64,14 @@ Image readPfm(const std::string& path) {
     std::string st = token("scale");
     char* end = nullptr;
     double scale = std::strtod(st.c_str(), &end);
-    if (*end != '\0' || !std::isfinite(scale) || scale == 0)
-        throw InputError(path, 0, "bad PFM scale '" + st + "'");
+    if (*end != '\0' || !std::isfinite(scale) || scale == 0) throw InputError(path, 0, "bad PFM scale '" + st + "'");
     ++pos;  // the single white-space byte after the scale (token() stopped on it)
     checkSize(path, w, h);
 
     const size_t count = size_t(w) * size_t(h) * size_t(channels);
     const std::streamoff need = std::streamoff(pos) + std::streamoff(count * 4);
     if (fileSize < need)
-        throw InputError(path, 0, "truncated PFM data (" + std::to_string(fileSize) + " bytes, expected " +
-                                      std::to_string(need) + ")");
+        throw InputError(path, 0, "truncated PFM data (" + std::to_string(fileSize) + " bytes, expected " + std::to_string(need) + ")");
     std::vector<float> data(count);
     in.clear();
     in.seekg(std::streamoff(pos), std::ios::beg);
@@ -108,8 +105,7 @@ Image readPfm(const std::string& path) {
 
 void writePfm(std::FILE* f, const Image& img) {
     std::string header = "PF\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n-1.0\n";
-    if (std::fwrite(header.data(), 1, header.size(), f) != header.size())
-        throw std::runtime_error(std::strerror(errno));
+    if (std::fwrite(header.data(), 1, header.size(), f) != header.size()) throw std::runtime_error(std::strerror(errno));
     const bool swap = !hostIsLittleEndian();
     std::vector<float> row(size_t(img.width) * 3);
     for (int y = img.height - 1; y >= 0; --y) {

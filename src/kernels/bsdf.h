@@ -43,14 +43,14 @@ struct CoatingExtra : MaterialDesc::Coating {
     Vec3 baseScale{1.0f};  // the conductor base's Fresnel times this (MaterialDesc::reflect)
 };
 struct BsdfExtra {
-    Microfacet dist;                   // rough kinds (a textured roughness: the constants it scales)
-    bool anisotropic = false;          // rough kinds: isAnisotropic (the frame follows dp/du)
-    float specularWeight = 0.5f;       // plastics: mean(Ks) / (mean(Kd) + mean(Ks))
-    float fdrInt = 0;                  // plastics: diffuse reflectance of the coating from inside
-    bool nonlinear = false;            // plastics: Mitsuba's `nonlinear`
-    static constexpr int kRes = 64;    // roughplastic: T(cos) at cos = i / (kRes - 1)
+    Microfacet dist;                 // rough kinds (a textured roughness: the constants it scales)
+    bool anisotropic = false;        // rough kinds: isAnisotropic (the frame follows dp/du)
+    float specularWeight = 0.5f;     // plastics: mean(Ks) / (mean(Kd) + mean(Ks))
+    float fdrInt = 0;                // plastics: diffuse reflectance of the coating from inside
+    bool nonlinear = false;          // plastics: Mitsuba's `nonlinear`
+    static constexpr int kRes = 64;  // roughplastic: T(cos) at cos = i / (kRes - 1)
     float transmittance[kRes] = {};
-    const BsdfParams* blendParts = nullptr;  // Blend: its two parts (owned by the Scene)
+    const BsdfParams* blendParts = nullptr;        // Blend: its two parts (owned by the Scene)
     const BlendTextures* blendTextures = nullptr;  // Blend: its parts' textures (null: constant parts)
     // Principled: whether it transmits (spec_trans given: a back side of its own; else it
     // reflects only and is two-sided here, as the other reflecting kinds), and the sampling
@@ -71,8 +71,8 @@ struct BsdfParams {
     float shininess = 0;
     Vec3 reflect{0.0f};
     Vec3 refract{0.0f};
-    float eta = 1.5f;  // iorInside / iorOutside
-    float blendWeight = 0;  // Blend: the weight of part 1 at this hit (x->blendParts)
+    float eta = 1.5f;              // iorInside / iorOutside
+    float blendWeight = 0;         // Blend: the weight of part 1 at this hit (x->blendParts)
     const BsdfExtra* x = nullptr;  // the Mitsuba kinds' constants (owned by the Scene)
     // Rough conductors and dielectrics with a textured roughness: the alphas at this hit
     // (0: x->dist's; materialAt writes them). Principled: always its GGX alphas here.
@@ -118,8 +118,7 @@ inline void blendPoint(const BsdfParams& m, float& u, float& v, Vec3& p, Vec3& n
 // slots the kind has no other use for (shininess, specular, reflect, refract), so that
 // BsdfParams stays 80 bytes for every kind. Read and written only through these two.
 struct PrincipledLobes {
-    float roughness = 0.5f, metallic = 0, specTrans = 0, specTint = 0, sheen = 0, sheenTint = 0, flatness = 0,
-          clearcoat = 0, clearcoatGloss = 0;
+    float roughness = 0.5f, metallic = 0, specTrans = 0, specTint = 0, sheen = 0, sheenTint = 0, flatness = 0, clearcoat = 0, clearcoatGloss = 0;
 };
 inline PrincipledLobes principledLobes(const BsdfParams& m) {
     return {m.shininess, m.specular.x, m.specular.y, m.specular.z, m.reflect.x, m.reflect.y, m.reflect.z, m.refract.x, m.refract.y};
@@ -140,9 +139,7 @@ inline void setPrincipled(BsdfParams& m, const float v[kPrincipledParams]) {
 }
 
 // The microfacet distribution at a hit: the material's, or its textured roughness'.
-inline Microfacet distributionAt(const BsdfParams& m) {
-    return m.alphaX > 0 ? Microfacet(m.x->dist.type, m.alphaX, m.alphaY) : m.x->dist;
-}
+inline Microfacet distributionAt(const BsdfParams& m) { return m.alphaX > 0 ? Microfacet(m.x->dist.type, m.alphaX, m.alphaY) : m.x->dist; }
 
 struct BsdfSample {
     Vec3 wi;
@@ -153,8 +150,7 @@ struct BsdfSample {
 
 // Every lobe is a delta (Plastic mixes a delta coating with a diffuse base: not delta).
 inline bool isDeltaMaterial(MaterialKind k) {
-    return k == MaterialKind::Reflective || k == MaterialKind::Dielectric || k == MaterialKind::Conductor ||
-           k == MaterialKind::ThinDielectric;
+    return k == MaterialKind::Reflective || k == MaterialKind::Dielectric || k == MaterialKind::Conductor || k == MaterialKind::ThinDielectric;
 }
 
 inline float absCosTheta(Vec3 w) { return std::fabs(w.z); }
@@ -183,12 +179,8 @@ inline bool phaseSample(const BsdfParams& m, float u1, float u2, BsdfSample& s) 
 inline bool sameHemisphere(Vec3 a, Vec3 b) { return a.z * b.z > 0; }
 
 // ---- Matte: f = Kd / pi --------------------------------------------------------
-inline Vec3 matteF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
-    return sameHemisphere(wo, wi) ? m.diffuse * kInvPi : Vec3(0.0f);
-}
-inline float mattePdf(const BsdfParams&, Vec3 wo, Vec3 wi) {
-    return sameHemisphere(wo, wi) ? absCosTheta(wi) * kInvPi : 0.0f;
-}
+inline Vec3 matteF(const BsdfParams& m, Vec3 wo, Vec3 wi) { return sameHemisphere(wo, wi) ? m.diffuse * kInvPi : Vec3(0.0f); }
+inline float mattePdf(const BsdfParams&, Vec3 wo, Vec3 wi) { return sameHemisphere(wo, wi) ? absCosTheta(wi) * kInvPi : 0.0f; }
 // The matte sample from a cosine-weighted direction wi about +z (sampleCosineHemisphere).
 inline bool matteSampleFrom(const BsdfParams& m, Vec3 wo, Vec3 wi, BsdfSample& s) {
     if (wo.z < 0) wi.z = -wi.z;
@@ -206,9 +198,7 @@ inline bool matteSample(const BsdfParams& m, Vec3 wo, float, float u1, float u2,
 // f = R / pi on wo's side, T / pi on the other (R = diffuse, T = refract); a side chosen in
 // proportion to max(R) and max(T), then a cosine-weighted direction there. Symmetric: no
 // adjoint correction.
-inline Vec3 diffuseTransmissionF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
-    return (sameHemisphere(wo, wi) ? m.diffuse : m.refract) * kInvPi;
-}
+inline Vec3 diffuseTransmissionF(const BsdfParams& m, Vec3 wo, Vec3 wi) { return (sameHemisphere(wo, wi) ? m.diffuse : m.refract) * kInvPi; }
 inline float diffuseTransmissionPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     const float pr = std::max(m.diffuse.x, std::max(m.diffuse.y, m.diffuse.z));
     const float pt = std::max(m.refract.x, std::max(m.refract.y, m.refract.z));
@@ -271,12 +261,18 @@ inline bool blendSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, flo
 namespace wmlt {
 
 // ---- Dispatch by kind (tests, rare paths and a blend's parts; stages call the kind's function) ----
+// clang-format off
 #define WMLT_KIND_F(K, name) \
     case MaterialKind::K: return BsdfOf<MaterialKind::K>::f(m, wo, wi);
+// clang-format on
+// clang-format off
 #define WMLT_KIND_PDF(K, name) \
     case MaterialKind::K: return BsdfOf<MaterialKind::K>::pdf(m, wo, wi);
+// clang-format on
+// clang-format off
 #define WMLT_KIND_SAMPLE(K, name) \
     case MaterialKind::K: return BsdfOf<MaterialKind::K>::sample(m, wo, uLobe, u1, u2, mode, s);
+// clang-format on
 inline Vec3 bsdfF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     switch (m.kind) { WMLT_MATERIAL_KINDS(WMLT_KIND_F) }
     return Vec3(0.0f);
@@ -294,9 +290,7 @@ inline bool bsdfSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, floa
 #undef WMLT_KIND_SAMPLE
 
 // The parts are never blends (the importer refuses that), so these recurse one level.
-inline Vec3 blendFOf(const BsdfParams* part, float w, Vec3 wo, Vec3 wi) {
-    return bsdfF(part[0], wo, wi) * (1.0f - w) + bsdfF(part[1], wo, wi) * w;
-}
+inline Vec3 blendFOf(const BsdfParams* part, float w, Vec3 wo, Vec3 wi) { return bsdfF(part[0], wo, wi) * (1.0f - w) + bsdfF(part[1], wo, wi) * w; }
 inline float blendPdfOf(const BsdfParams* part, float w, Vec3 wo, Vec3 wi) {
     return bsdfPdf(part[0], wo, wi) * (1.0f - w) + bsdfPdf(part[1], wo, wi) * w;
 }
@@ -329,8 +323,7 @@ inline float blendPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
 // a delta lobe of it: f and pdf times that weight (their ratio the part's); any other
 // direction: the mixture's f (its adjoint f(wi, wo) in importance mode, as every kind's
 // sample gives) and pdf, as both parts could have sampled it.
-inline bool blendSampleOf(const BsdfParams* part, float w1, Vec3 wo, float uLobe, float u1, float u2,
-                          TransportMode mode, BsdfSample& s) {
+inline bool blendSampleOf(const BsdfParams* part, float w1, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s) {
     const float w0 = 1.0f - w1;
     const int k = uLobe < w0 ? 0 : 1;
     const float wk = k ? w1 : w0;

@@ -118,9 +118,7 @@ struct Dielectric {
 struct Diffuse {
     Vec3 R;
     Vec3 f(Vec3 wo, Vec3 wi) const { return sameSide(wo, wi) ? R * kInvPi : Vec3(0.0f); }
-    float pdf(Vec3 wo, Vec3 wi, int restrict) const {
-        return restrict & kReflect && sameSide(wo, wi) ? std::fabs(wi.z) * kInvPi : 0.0f;
-    }
+    float pdf(Vec3 wo, Vec3 wi, int restrict) const { return restrict & kReflect && sameSide(wo, wi) ? std::fabs(wi.z) * kInvPi : 0.0f; }
     Sample sample(Vec3 wo, float u1, float u2, int restrict) const {
         Sample s;
         if (!(restrict & kReflect)) return s;
@@ -190,8 +188,7 @@ struct Layers {
     explicit Layers(const BsdfParams& m)
         : top{m.eta, Microfacet(MicrofacetType::GGX, m.alphaX, m.alphaY)},
           diffuse{m.diffuse},
-          conductor{conductorEta(m), conductorK(m), m.x->coating.baseScale,
-                    Microfacet(MicrofacetType::GGX, coatBaseAlphaU(m), coatBaseAlphaV(m))},
+          conductor{conductorEta(m), conductorK(m), m.x->coating.baseScale, Microfacet(MicrofacetType::GGX, coatBaseAlphaU(m), coatBaseAlphaV(m))},
           conductorBase(m.x->coating.conductorBase),
           thickness(m.x->coating.thickness),
           g(m.x->coating.g),

@@ -18,7 +18,10 @@ namespace {
 // on the same side.
 inline bool upper(Vec3& wo, Vec3& wi) {
     if (!(wo.z * wi.z > 0)) return false;
-    if (wo.z < 0) { wo.z = -wo.z; wi.z = -wi.z; }
+    if (wo.z < 0) {
+        wo.z = -wo.z;
+        wi.z = -wi.z;
+    }
     return true;
 }
 }  // namespace

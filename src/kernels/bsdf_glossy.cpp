@@ -24,7 +24,10 @@ inline float phongTerm(Vec3 wo, Vec3 wi, float n) {
 // Probability of picking the diffuse lobe: lum(Kd) / (lum(Kd) + lum(Ks)); false if both are 0.
 inline bool lobeProbs(const BsdfParams& m, float& pd, float& ps) {
     float ld = std::max(0.0f, luminance(m.diffuse)), ls = std::max(0.0f, luminance(m.specular));
-    if (!(ld + ls > 0)) { pd = ps = 0; return false; }
+    if (!(ld + ls > 0)) {
+        pd = ps = 0;
+        return false;
+    }
     pd = ld / (ld + ls);
     ps = 1.0f - pd;
     return true;

@@ -11,7 +11,8 @@ namespace wmlt {
 // the stages do not load them: MMLT proposes only numbers that are read).
 constexpr uint8_t kReadsLobe = 1, kReadsDirection = 2;
 
-template <MaterialKind K> struct BsdfOf;
+template <MaterialKind K>
+struct BsdfOf;
 
 // The kinds whose every lobe is a delta: f and the densities of any given pair of
 // directions are 0 (only their own samples find them).
@@ -21,7 +22,8 @@ struct DeltaBsdf {
     static float pdf(const BsdfParams&, Vec3, Vec3) { return 0.0f; }
 };
 
-template <> struct BsdfOf<MaterialKind::Matte> {
+template <>
+struct BsdfOf<MaterialKind::Matte> {
     static constexpr uint8_t reads = kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return matteF(m, wo, wi); }
@@ -30,7 +32,8 @@ template <> struct BsdfOf<MaterialKind::Matte> {
         return matteSample(m, wo, ul, u1, u2, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::Glossy> {
+template <>
+struct BsdfOf<MaterialKind::Glossy> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return glossyF(m, wo, wi); }
@@ -39,13 +42,13 @@ template <> struct BsdfOf<MaterialKind::Glossy> {
         return glossySample(m, wo, ul, u1, u2, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::Reflective> : DeltaBsdf {
+template <>
+struct BsdfOf<MaterialKind::Reflective> : DeltaBsdf {
     static constexpr uint8_t reads = 0;
-    static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) {
-        return mirrorSample(m, wo, s);
-    }
+    static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) { return mirrorSample(m, wo, s); }
 };
-template <> struct BsdfOf<MaterialKind::Dielectric> : DeltaBsdf {
+template <>
+struct BsdfOf<MaterialKind::Dielectric> : DeltaBsdf {
     static constexpr uint8_t reads = kReadsLobe;
     static bool sample(const BsdfParams& m, Vec3 wo, float ul, float, float, TransportMode mode, BsdfSample& s) {
         return dielectricSample(m, wo, ul, mode, s);
@@ -55,13 +58,13 @@ template <> struct BsdfOf<MaterialKind::Dielectric> : DeltaBsdf {
 // The Mitsuba kinds (bsdf_microfacet.h). `delta`: every lobe is a delta, so no light
 // sampling or connection is tried there; Plastic mixes a delta coating with a diffuse base
 // and is not (its sample reports which lobe it took).
-template <> struct BsdfOf<MaterialKind::Conductor> : DeltaBsdf {
+template <>
+struct BsdfOf<MaterialKind::Conductor> : DeltaBsdf {
     static constexpr uint8_t reads = 0;
-    static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) {
-        return conductorSample(m, wo, s);
-    }
+    static bool sample(const BsdfParams& m, Vec3 wo, float, float, float, TransportMode, BsdfSample& s) { return conductorSample(m, wo, s); }
 };
-template <> struct BsdfOf<MaterialKind::RoughConductor> {
+template <>
+struct BsdfOf<MaterialKind::RoughConductor> {
     static constexpr uint8_t reads = kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughConductorF(m, wo, wi); }
@@ -70,7 +73,8 @@ template <> struct BsdfOf<MaterialKind::RoughConductor> {
         return roughConductorSample(m, wo, u1, u2, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::RoughDielectric> {
+template <>
+struct BsdfOf<MaterialKind::RoughDielectric> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughDielectricF(m, wo, wi); }
@@ -79,13 +83,15 @@ template <> struct BsdfOf<MaterialKind::RoughDielectric> {
         return roughDielectricSample(m, wo, ul, u1, u2, mode, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::ThinDielectric> : DeltaBsdf {
+template <>
+struct BsdfOf<MaterialKind::ThinDielectric> : DeltaBsdf {
     static constexpr uint8_t reads = kReadsLobe;
     static bool sample(const BsdfParams& m, Vec3 wo, float ul, float, float, TransportMode, BsdfSample& s) {
         return thinDielectricSample(m, wo, ul, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::Plastic> {
+template <>
+struct BsdfOf<MaterialKind::Plastic> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return plasticF(m, wo, wi); }
@@ -94,7 +100,8 @@ template <> struct BsdfOf<MaterialKind::Plastic> {
         return plasticSample(m, wo, ul, u1, u2, s);
     }
 };
-template <> struct BsdfOf<MaterialKind::RoughPlastic> {
+template <>
+struct BsdfOf<MaterialKind::RoughPlastic> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return roughPlasticF(m, wo, wi); }
@@ -104,7 +111,8 @@ template <> struct BsdfOf<MaterialKind::RoughPlastic> {
     }
 };
 
-template <> struct BsdfOf<MaterialKind::Blend> {
+template <>
+struct BsdfOf<MaterialKind::Blend> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return blendF(m, wo, wi); }
@@ -114,7 +122,8 @@ template <> struct BsdfOf<MaterialKind::Blend> {
     }
 };
 
-template <> struct BsdfOf<MaterialKind::Principled> {
+template <>
+struct BsdfOf<MaterialKind::Principled> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return principledF(m, wo, wi); }
@@ -124,7 +133,8 @@ template <> struct BsdfOf<MaterialKind::Principled> {
     }
 };
 
-template <> struct BsdfOf<MaterialKind::Coated> {
+template <>
+struct BsdfOf<MaterialKind::Coated> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return coatedF(m, wo, wi); }
@@ -134,7 +144,8 @@ template <> struct BsdfOf<MaterialKind::Coated> {
     }
 };
 
-template <> struct BsdfOf<MaterialKind::DiffuseTransmission> {
+template <>
+struct BsdfOf<MaterialKind::DiffuseTransmission> {
     static constexpr uint8_t reads = kReadsLobe | kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return diffuseTransmissionF(m, wo, wi); }
@@ -144,14 +155,13 @@ template <> struct BsdfOf<MaterialKind::DiffuseTransmission> {
     }
 };
 
-template <> struct BsdfOf<MaterialKind::Phase> {
+template <>
+struct BsdfOf<MaterialKind::Phase> {
     static constexpr uint8_t reads = kReadsDirection;
     static constexpr bool delta = false;
     static Vec3 f(const BsdfParams& m, Vec3 wo, Vec3 wi) { return phaseF(m, wo, wi); }
     static float pdf(const BsdfParams& m, Vec3 wo, Vec3 wi) { return phasePdf(m, wo, wi); }
-    static bool sample(const BsdfParams& m, Vec3, float, float u1, float u2, TransportMode, BsdfSample& s) {
-        return phaseSample(m, u1, u2, s);
-    }
+    static bool sample(const BsdfParams& m, Vec3, float, float u1, float u2, TransportMode, BsdfSample& s) { return phaseSample(m, u1, u2, s); }
 };
 
 }  // namespace wmlt

@@ -28,8 +28,7 @@ bool thinDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, BsdfSample&
 // refraction otherwise; radiance-mode f carries 1/eta'^2 on refraction (eta' = n_i / n_o).
 Vec3 roughDielectricF(const BsdfParams& m, Vec3 wo, Vec3 wi);
 float roughDielectricPdf(const BsdfParams& m, Vec3 wo, Vec3 wi);
-bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode,
-                           BsdfSample& s);
+bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s);
 
 // Plastic (Mitsuba's `plastic`): a smooth dielectric coating (delta mirror, weight
 // reflect * F_i) over a diffuse base seen through it: f = Kd' (1 - F_i)(1 - F_o) / (eta^2 pi),

@@ -9,7 +9,10 @@ namespace {
 
 inline float flipUp(Vec3& wo, Vec3& wi) {  // two-sided: wo's hemisphere computed as the upper
     if (!(wo.z * wi.z > 0)) return 0.0f;
-    if (wo.z < 0) { wo.z = -wo.z; wi.z = -wi.z; }
+    if (wo.z < 0) {
+        wo.z = -wo.z;
+        wi.z = -wi.z;
+    }
     return 1.0f;
 }
 

@@ -62,16 +62,17 @@ inline Vec3 sampleGtr1(float a, float u1, float u2) {
 struct Weights {
     float brdf, bsdf;
 };
-inline Weights weightsOf(const PrincipledLobes& p) {
-    return {(1.0f - p.metallic) * (1.0f - p.specTrans), (1.0f - p.metallic) * p.specTrans};
-}
+inline Weights weightsOf(const PrincipledLobes& p) { return {(1.0f - p.metallic) * (1.0f - p.specTrans), (1.0f - p.metallic) * p.specTrans}; }
 
 // A reflecting-only principled is two-sided here (one-sided in Mitsuba: materialAt makes
 // its back black unless twosided): wo's hemisphere is computed as the upper.
 inline bool flipUp(const BsdfParams& m, Vec3& wo, Vec3& wi) {
     if (m.x->transmits) return true;
     if (!(wo.z * wi.z > 0)) return false;
-    if (wo.z < 0) { wo.z = -wo.z; wi.z = -wi.z; }
+    if (wo.z < 0) {
+        wo.z = -wo.z;
+        wi.z = -wi.z;
+    }
     return true;
 }
 
@@ -172,8 +173,7 @@ float principledPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     const float pdfH = visibleNormalPdf(distributionAt(m), wo, h);
     if (reflect) {
         pdf += c.specular * R * pdfH / (4.0f * std::fabs(cosOH));  // dh/dwi = 1 / (4 |wo.h|)
-        if (front && c.clearcoat > 0)
-            pdf += c.clearcoat * gtr1D(clearcoatAlpha(p.clearcoatGloss), h) * h.z / (4.0f * std::fabs(cosOH));
+        if (front && c.clearcoat > 0) pdf += c.clearcoat * gtr1D(clearcoatAlpha(p.clearcoatGloss), h) * h.z / (4.0f * std::fabs(cosOH));
         return pdf;
     }
     const float cosIH = dot(wi, h), a = cosOH + etap * cosIH;

@@ -36,8 +36,7 @@ float roughDielectricPdf(const BsdfParams& m, Vec3 wo, Vec3 wi) {
     return denom > 0 ? (1.0f - F) * pdfM * std::fabs(a) / denom : 0.0f;  // dwm/dwi (Walter eq. 17)
 }
 
-bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode,
-                           BsdfSample& s) {
+bool roughDielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, float u1, float u2, TransportMode mode, BsdfSample& s) {
     if (wo.z == 0) return false;
     const Vec3 wm = sampleVisibleNormal(distributionAt(m), wo, u1, u2);  // wm.z > 0
     const float cosM = dot(wo, wm);

@@ -31,7 +31,10 @@ bool dielectricSample(const BsdfParams& m, Vec3 wo, float uLobe, TransportMode m
     // cos_t^2 = (etaRel^2 - 1 + cos_o^2) / etaRel^2, in double as in fresnelDielectric
     // (the float form 1 - sin_t^2 cancels near the critical angle).
     double e = m.eta, d = (e - 1.0) * (e + 1.0), c = absCosTheta(wo);
-    if (wo.z < 0) { d = -d / (e * e); e = 1.0 / e; }
+    if (wo.z < 0) {
+        d = -d / (e * e);
+        e = 1.0 / e;
+    }
     double cos2T = (d + c * c) / (e * e);
     if (!(cos2T > 0)) return false;  // unreachable: F == 1 then
     float etaRel = float(e), cosT = float(std::sqrt(cos2T));

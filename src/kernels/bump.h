@@ -43,8 +43,7 @@ inline auto heightOf(const std::vector<TextureDesc>& all, size_t i, Vec3 n) {
 // Mitsuba's bumpmap: height h = scale * the bitmap's luminance, its exact gradient in
 // (u, v); the tangents lose their normal component and gain the height's slope,
 // dp/du' = dp/du + n (scale dh/du - n.dp/du), and the normal is theirs, on ng's side.
-inline Vec3 bumpedNormalMitsuba(const TextureDesc& tex, float scale, float u, float v, Vec3 ns, Vec3 ng, Vec3 dpdu,
-                                Vec3 dpdv) {
+inline Vec3 bumpedNormalMitsuba(const TextureDesc& tex, float scale, float u, float v, Vec3 ns, Vec3 ng, Vec3 dpdu, Vec3 dpdv) {
     float gu, gv;
     bitmapLuminanceGradient(tex, u, v, gu, gv);
     const Vec3 dpu = dpdu + ns * (scale * gu - dot(ns, dpdu));

@@ -74,10 +74,9 @@ struct CameraFloats {
 inline float cameraPlaneArea(const Camera& c);
 inline float cameraLensArea(const Camera& c);
 inline CameraFloats cameraFloats(const Camera& c) {
-    return {c.forward.x,     c.forward.y,    c.forward.z,      c.right.x,    c.right.y,          c.right.z,
-            c.up.x,          c.up.y,         c.up.z,           float(c.width), float(c.height),  c.scaleX,
-            c.scaleY,        c.position.x,   c.position.y,     c.position.z, c.focusDistance,    cameraPlaneArea(c),
-            cameraLensArea(c), c.shiftX,     c.shiftY};
+    return {c.forward.x,  c.forward.y,  c.forward.z,     c.right.x,          c.right.y,         c.right.z, c.up.x,
+            c.up.y,       c.up.z,       float(c.width),  float(c.height),    c.scaleX,          c.scaleY,  c.position.x,
+            c.position.y, c.position.z, c.focusDistance, cameraPlaneArea(c), cameraLensArea(c), c.shiftX,  c.shiftY};
 }
 
 // Direction (unnormalised, forward component 1) through the raster point (px, py),
@@ -108,8 +107,7 @@ inline uint32_t rasterPixel(const Camera& cam, float px, float py) {
 // it stays unbiased. (A fixed order would cover the top rows of every pixel first.) Per
 // axis the point is stratumPoint: x + (stratum + u) / n.
 inline float stratumPoint(float x, float stratum, float u, float n) { return x + (stratum + u) / n; }
-inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, uint64_t pixelKey, float u1, float u2, float& px,
-                                  float& py) {
+inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, uint64_t pixelKey, float u1, float u2, float& px, float& py) {
     const uint32_t nn = uint32_t(n) * uint32_t(n);
     const uint32_t stratum = permuteIndex(s % nn, nn, mix64(pixelKey + s / nn));
     px = stratumPoint(float(x), float(stratum % uint32_t(n)), u1, float(n));
@@ -120,10 +118,9 @@ inline void stratifiedRasterPoint(int x, int y, uint32_t s, int n, uint64_t pixe
 // raster points (stratumPoint(x[i], sx[i], sampleDimension(key[i], dimX), n), the same in
 // y): into d[3 i .. 3 i + 2], in one loop the compiler vectorises (the hashes, the
 // divisions, the square root).
-__attribute__((noinline)) inline void pinholeCameraDirections(
-    const CameraFloats c, const uint64_t* __restrict key, const float* __restrict x, const float* __restrict y,
-    const float* __restrict sx, const float* __restrict sy, size_t m, float n, uint32_t dimX, uint32_t dimY,
-    float* __restrict d) {
+__attribute__((noinline)) inline void pinholeCameraDirections(const CameraFloats c, const uint64_t* __restrict key, const float* __restrict x,
+                                                              const float* __restrict y, const float* __restrict sx, const float* __restrict sy,
+                                                              size_t m, float n, uint32_t dimX, uint32_t dimY, float* __restrict d) {
     for (size_t i = 0; i < m; ++i) {
         const float px = stratumPoint(x[i], sx[i], sampleDimension(key[i], dimX), n);
         const float py = stratumPoint(y[i], sy[i], sampleDimension(key[i], dimY), n);
@@ -139,8 +136,7 @@ __attribute__((noinline)) inline void pinholeCameraDirections(
 // Primary ray through raster point (px, py); (u1, u2) pick the lens point when the
 // camera has a thin lens (pbrt-v4 5.2.3): rays through a lens point converge on the
 // plane of focus at distance focusDistance along the view direction.
-inline void generateCameraRay(const Camera& c, float px, float py, float u1, float u2,
-                              Vec3& origin, Vec3& dir) {
+inline void generateCameraRay(const Camera& c, float px, float py, float u1, float u2, Vec3& origin, Vec3& dir) {
     if (c.ortho) {  // the film point (the unit plane's offsets, in world units), along forward
         const Vec3 d = cameraPlaneDirection(c, px, py) - c.forward;
         origin = c.position + d + c.forward * c.nearClip;
@@ -184,9 +180,7 @@ inline bool cameraRasterOf(const Camera& c, Vec3 w, float& px, float& py) {
 // The light tracer estimates the double integral with N = W H spp light paths; summing
 // their splats on pixel j and dividing by spp gives W H times their mean: I_j.
 inline float cameraPlaneArea(const Camera& c) { return 4.0f * c.scaleX * c.scaleY; }
-inline float cameraLensArea(const Camera& c) {
-    return c.thinLens && c.lensRadius > 0 ? kPi * c.lensRadius * c.lensRadius : 1.0f;
-}
+inline float cameraLensArea(const Camera& c) { return c.thinLens && c.lensRadius > 0 ? kPi * c.lensRadius * c.lensRadius : 1.0f; }
 
 // Raster point of a ray leaving lens point `lens` in unit direction w (towards the scene):
 // through the focus plane for a thin lens (pbrt-v4 PerspectiveCamera::We). False when
@@ -215,9 +209,8 @@ inline float cameraWe(const Camera& c, Vec3 lens, Vec3 w) {
 // False when ref is at l, behind the camera or outside the image, or pdf is not finite and
 // positive (the outputs are then unspecified).
 template <bool ThinLens>
-inline bool cameraSampleAt(const CameraFloats c, float lx, float ly, float lz, float refX, float refY, float refZ,
-                           float& wx, float& wy, float& wz, float& dist2, float& px, float& py, float& cosTheta,
-                           float& We, float& pdf) {
+inline bool cameraSampleAt(const CameraFloats c, float lx, float ly, float lz, float refX, float refY, float refZ, float& wx, float& wy, float& wz,
+                           float& dist2, float& px, float& py, float& cosTheta, float& We, float& pdf) {
     const float dx = lx - refX, dy = ly - refY, dz = lz - refZ;
     dist2 = dx * dx + dy * dy + dz * dz;
     const float r = 1.0f / std::sqrt(dist2);  // d / |d| as d * (1 / |d|)
@@ -241,18 +234,17 @@ inline bool cameraSampleAt(const CameraFloats c, float lx, float ly, float lz, f
     const float cos2 = cosTheta * cosTheta;
     We = 1.0f / (c.planeArea * c.lensArea * cos2 * cos2);
     pdf = dist2 / (cosTheta * c.lensArea);
-    return dist2 > 0 && cosTheta > 0 && z > 0 && px >= 0 && px < c.width && py >= 0 && py < c.height &&
-           std::isfinite(pdf) && pdf > 0;
+    return dist2 > 0 && cosTheta > 0 && z > 0 && px >= 0 && px < c.width && py >= 0 && py < c.height && std::isfinite(pdf) && pdf > 0;
 }
 
 struct CameraSample {
-    Vec3 lens;            // point on the lens (pinhole: the position)
-    Vec3 wi;              // unit, from ref to lens
-    float dist = 0;       // |lens - ref|
-    float px = 0, py = 0; // raster position
+    Vec3 lens;             // point on the lens (pinhole: the position)
+    Vec3 wi;               // unit, from ref to lens
+    float dist = 0;        // |lens - ref|
+    float px = 0, py = 0;  // raster position
     float We = 0;
-    float pdf = 0;        // solid angle at ref: dist^2 / (cos(theta) A_lens)
-    bool valid = false;   // (else the other fields are unspecified)
+    float pdf = 0;       // solid angle at ref: dist^2 / (cos(theta) A_lens)
+    bool valid = false;  // (else the other fields are unspecified)
 };
 
 // A lens point seen from ref (uniform on the lens disc) and the importance it receives
@@ -287,10 +279,10 @@ inline CameraSample sampleProjectiveFrom(const Camera& c, Vec3 ref, float u1, fl
     s.lens = cameraLensPoint(c, u1, u2);
     const CameraFloats f = cameraFloats(c);
     float dist2, cosTheta;
-    s.valid = c.thinLens ? cameraSampleAt<true>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y,
-                                                s.wi.z, dist2, s.px, s.py, cosTheta, s.We, s.pdf)
-                         : cameraSampleAt<false>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y,
-                                                 s.wi.z, dist2, s.px, s.py, cosTheta, s.We, s.pdf);
+    s.valid = c.thinLens ? cameraSampleAt<true>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y, s.wi.z, dist2, s.px, s.py,
+                                                cosTheta, s.We, s.pdf)
+                         : cameraSampleAt<false>(f, s.lens.x, s.lens.y, s.lens.z, ref.x, ref.y, ref.z, s.wi.x, s.wi.y, s.wi.z, dist2, s.px, s.py,
+                                                 cosTheta, s.We, s.pdf);
     s.dist = std::sqrt(dist2);
     return s;
 }
@@ -303,26 +295,19 @@ inline CameraSample sampleCameraFrom(const Camera& c, Vec3 ref, float u1, float 
 // pdfArea[h] = solidAngleToArea(1 / (A cos^3 theta), lens, ref, refN[3 h ..], true) (the
 // reverse density a t = 1 strategy's MIS weight reads; cameraPdfOfRay). In one loop the
 // compiler vectorises.
-__attribute__((noinline)) inline void pinholeCameraSamples(const CameraFloats c, size_t n, const float* __restrict ref,
-                                                          const float* __restrict refN, float* __restrict wi,
-                                                          float* __restrict px, float* __restrict py,
-                                                          float* __restrict We, float* __restrict pdf,
-                                                          float* __restrict pdfArea, uint32_t* __restrict valid) {
+__attribute__((noinline)) inline void pinholeCameraSamples(const CameraFloats c, size_t n, const float* __restrict ref, const float* __restrict refN,
+                                                           float* __restrict wi, float* __restrict px, float* __restrict py, float* __restrict We,
+                                                           float* __restrict pdf, float* __restrict pdfArea, uint32_t* __restrict valid) {
     for (size_t h = 0; h < n; ++h) {
         const float rx = ref[3 * h], ry = ref[3 * h + 1], rz = ref[3 * h + 2];
         float wx, wy, wz, dist2, cosTheta;
-        valid[h] = cameraSampleAt<false>(c, c.ox, c.oy, c.oz, rx, ry, rz, wx, wy, wz, dist2, px[h], py[h], cosTheta,
-                                         We[h], pdf[h])
-                       ? 1u
-                       : 0u;
+        valid[h] = cameraSampleAt<false>(c, c.ox, c.oy, c.oz, rx, ry, rz, wx, wy, wz, dist2, px[h], py[h], cosTheta, We[h], pdf[h]) ? 1u : 0u;
         wi[3 * h] = wx;
         wi[3 * h + 1] = wy;
         wi[3 * h + 2] = wz;
         // cameraPdfOfRay(-wi), then solidAngleToArea from the lens to ref: d = ref - lens.
         const float pdfSa = 1.0f / (c.planeArea * cosTheta * cosTheta * cosTheta);
-        const float cosRef = std::fabs(refN[3 * h] * (rx - c.ox) + refN[3 * h + 1] * (ry - c.oy) +
-                                       refN[3 * h + 2] * (rz - c.oz)) /
-                             std::sqrt(dist2);
+        const float cosRef = std::fabs(refN[3 * h] * (rx - c.ox) + refN[3 * h + 1] * (ry - c.oy) + refN[3 * h + 2] * (rz - c.oz)) / std::sqrt(dist2);
         pdfArea[h] = pdfSa * cosRef / dist2;
     }
 }

@@ -20,8 +20,7 @@ inline uint32_t dimNormal(uint32_t d) { return 3 + 2 * d; }
 // chain's last accepted large step; the fresh value is drawn only when it is read.
 inline float smallStepOf(uint64_t key, uint32_t d, float value, uint32_t lastModified, uint32_t lastLarge, uint32_t n) {
     const float uFresh = lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
-    return proposeCoordinate(value, lastModified, lastLarge, n, false, kSmallStepSigma, uFresh,
-                             standardNormal(key, dimNormal(d)));
+    return proposeCoordinate(value, lastModified, lastLarge, n, false, kSmallStepSigma, uFresh, standardNormal(key, dimNormal(d)));
 }
 
 }  // namespace wmlt

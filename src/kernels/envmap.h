@@ -39,14 +39,20 @@ inline void envUv(Vec3 d, float& u, float& v) {
 }
 
 struct EnvMapSampler {
-    Image image;            // linear RGB radiance, top row first
-    Distribution2D dist;    // over (u, v)
+    Image image;              // linear RGB radiance, top row first
+    Distribution2D dist;      // over (u, v)
     float meanLuminance = 0;  // (1 / 4 pi) * integral of luminance(Le) over the sphere
 
     bool valid() const { return image.width > 0 && image.height > 0; }
 
-    void build(const Image& img) { image = img; prepare(); }
-    void build(Image&& img) { image = std::move(img); prepare(); }
+    void build(const Image& img) {
+        image = img;
+        prepare();
+    }
+    void build(Image&& img) {
+        image = std::move(img);
+        prepare();
+    }
 
     // Radiance arriving along -d, i.e. seen looking in direction d: nearest pixel.
     Vec3 Le(Vec3 d) const {

@@ -38,8 +38,7 @@ inline float filterValue(const FilterDesc& d, float x) {
         case FilterKind::Mitchell: {  // Mitchell and Netravali 1988, at t = 2 |x| / radius in [0, 2)
             const float t = 2.0f * a / d.radius, t2 = t * t, t3 = t2 * t, B = d.B, C = d.C;
             return (1.0f / 6.0f) * (t < 1 ? (12 - 9 * B - 6 * C) * t3 + (-18 + 12 * B + 6 * C) * t2 + (6 - 2 * B)
-                                          : (-B - 6 * C) * t3 + (6 * B + 30 * C) * t2 + (-12 * B - 48 * C) * t +
-                                                (8 * B + 24 * C));
+                                          : (-B - 6 * C) * t3 + (6 * B + 30 * C) * t2 + (-12 * B - 48 * C) * t + (8 * B + 24 * C));
         }
         case FilterKind::Lanczos: {  // sinc(x) sinc(x / tau)
             if (a < 1e-5f) return 1.0f;
@@ -56,9 +55,9 @@ inline float filterValue(const FilterDesc& d, float x) {
 struct PixelFilter {
     static constexpr int kBins = 256;
     FilterDesc desc;
-    bool box = true;       // box of radius 1/2: each sample in its pixel, weight 1
+    bool box = true;  // box of radius 1/2: each sample in its pixel, weight 1
     float radius = 0.5f;
-    double integral = 1;   // int f over one axis
+    double integral = 1;  // int f over one axis
     float cdf[kBins + 1] = {};
     float binPdf[kBins] = {};  // the density (per pixel of x) in bin i
     // guide[j]: the last bin i with cdf[i] <= j / kGuide, where sampleFilter's search for
@@ -94,8 +93,8 @@ inline double integrateFilter(const FilterDesc& d, double a, double b) {
         const double h = (cuts[s + 1] - cuts[s]) / 256;
         for (int i = 0; i < 256; ++i) {
             const double m = cuts[s] + (i + 0.5) * h, r = 0.5 * h * node;
-            sum += h * (5 * double(filterValue(d, float(m - r))) + 8 * double(filterValue(d, float(m))) +
-                        5 * double(filterValue(d, float(m + r)))) / 18;
+            sum +=
+                h * (5 * double(filterValue(d, float(m - r))) + 8 * double(filterValue(d, float(m))) + 5 * double(filterValue(d, float(m + r)))) / 18;
         }
     }
     return sum;
@@ -115,8 +114,7 @@ inline PixelFilter makePixelFilter(const FilterDesc& d) {
     const double width = 2.0 * double(d.radius) / PixelFilter::kBins;
     for (int i = 0; i < PixelFilter::kBins; ++i) {
         double m = 0;
-        for (int j = 0; j < 16; ++j)
-            m += std::fabs(double(filterValue(d, float(-double(d.radius) + (i + (j + 0.5) / 16) * width))));
+        for (int j = 0; j < 16; ++j) m += std::fabs(double(filterValue(d, float(-double(d.radius) + (i + (j + 0.5) / 16) * width))));
         total += mass[i] = m / 16;
     }
     double acc = 0;
@@ -182,8 +180,7 @@ inline double filterNorm(const PixelFilter& f, int i, int n) {
 
 // The pixels [x0, x1] x [y0, y1] whose centres are within the radius of (px, py) (a film point
 // of a filter that is not the box of radius 1/2).
-inline void filterFootprint(const PixelFilter& f, int width, int height, float px, float py, int& x0, int& x1, int& y0,
-                            int& y1) {
+inline void filterFootprint(const PixelFilter& f, int width, int height, float px, float py, int& x0, int& x1, int& y0, int& y1) {
     const float r = f.radius;
     x0 = std::max(0, int(std::ceil(px - 0.5f - r)));
     x1 = std::min(width - 1, int(std::floor(px - 0.5f + r)));
@@ -196,8 +193,7 @@ inline void filterFootprint(const PixelFilter& f, int width, int height, float p
 // normX[x] f(py - cy) normY[y]; zero weights are left out). The box filter of radius 1/2:
 // the pixel holding the point, weight 1 (the far edges belong to the last pixels).
 template <class Add>
-inline void forEachFilterPixel(const PixelFilter& f, const float* normX, const float* normY, int width, int height,
-                               float px, float py, Add&& add) {
+inline void forEachFilterPixel(const PixelFilter& f, const float* normX, const float* normY, int width, int height, float px, float py, Add&& add) {
     if (f.box) {
         const int x = std::min(int(px), width - 1), y = std::min(int(py), height - 1);
         add(uint32_t(y) * uint32_t(width) + uint32_t(x), 1.0f);

@@ -19,7 +19,11 @@ namespace wmlt {
 inline float fresnelDielectric(float cosThetaI, float etaF) {
     double c = std::min(1.0, std::max(-1.0, double(cosThetaI))), eta = etaF;
     double d = (eta - 1.0) * (eta + 1.0);  // eta^2 - 1
-    if (c < 0) { d = -d / (eta * eta); eta = 1.0 / eta; c = -c; }
+    if (c < 0) {
+        d = -d / (eta * eta);
+        eta = 1.0 / eta;
+        c = -c;
+    }
     double cos2T = (d + c * c) / (eta * eta);
     if (cos2T <= 0) return 1.0f;  // total internal reflection
     double cosT = std::sqrt(cos2T);
@@ -34,7 +38,11 @@ inline float fresnelDielectric(float cosThetaI, float etaF) {
 inline float fresnelSchlick(float cosThetaI, float etaF) {
     double c = std::min(1.0, std::max(-1.0, double(cosThetaI))), eta = etaF;
     double d = (eta - 1.0) * (eta + 1.0);  // eta^2 - 1, as in fresnelDielectric
-    if (c < 0) { d = -d / (eta * eta); eta = 1.0 / eta; c = -c; }
+    if (c < 0) {
+        d = -d / (eta * eta);
+        eta = 1.0 / eta;
+        c = -c;
+    }
     double r0 = (eta - 1.0) / (eta + 1.0);
     r0 *= r0;
     if (eta < 1.0) {  // from the denser side: use the transmitted angle
@@ -60,8 +68,7 @@ inline float fresnelComplex(float cosThetaI, float etaRe, float etaIm) {
     return float(0.5 * (std::norm(rPar) + std::norm(rPerp)));
 }
 inline Vec3 fresnelConductor(float cosThetaI, Vec3 eta, Vec3 k) {
-    return {fresnelComplex(cosThetaI, eta.x, k.x), fresnelComplex(cosThetaI, eta.y, k.y),
-            fresnelComplex(cosThetaI, eta.z, k.z)};
+    return {fresnelComplex(cosThetaI, eta.x, k.x), fresnelComplex(cosThetaI, eta.y, k.y), fresnelComplex(cosThetaI, eta.z, k.z)};
 }
 
 }  // namespace wmlt

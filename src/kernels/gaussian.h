@@ -19,13 +19,13 @@ namespace wmlt {
 
 struct ZigguratTables {
     static constexpr int kLayers = 128;
-    double x[kLayers + 1];   // x[0] = v / f(r), x[1] = r, ..., x[128] = 0
-    double f[kLayers + 1];   // f(x[i])
-    double inner[kLayers];   // x[i + 1] / x[i]: u below it is inside the curve
+    double x[kLayers + 1];  // x[0] = v / f(r), x[1] = r, ..., x[128] = 0
+    double f[kLayers + 1];  // f(x[i])
+    double inner[kLayers];  // x[i + 1] / x[i]: u below it is inside the curve
 };
 extern const ZigguratTables kZiggurat;
-constexpr double kZigguratR = 3.442619855899;          // x_1 (Marsaglia and Tsang, 128 layers)
-constexpr double kZigguratV = 9.91256303526217e-3;     // every layer's area
+constexpr double kZigguratR = 3.442619855899;       // x_1 (Marsaglia and Tsang, 128 layers)
+constexpr double kZigguratV = 9.91256303526217e-3;  // every layer's area
 
 // The bits of draw `attempt` of dimension dim of a key (a stream apart from sampleDimension's).
 inline uint64_t normalBits(uint64_t key, uint32_t dim, uint32_t attempt) {

@@ -19,8 +19,8 @@ struct Light {
     Vec3 corner, e1, e2, n;  // Rect: corner + s e1 + t e2, unit normal on the emitting side
     Vec3 center;             // Sphere; Point: the position
     float radius = 0;
-    float area = 0;          // Rect, Sphere, Mesh: the emitting area; Point: 0
-    int mesh = -1;           // Mesh: index into Scene::meshLights
+    float area = 0;  // Rect, Sphere, Mesh: the emitting area; Point: 0
+    int mesh = -1;   // Mesh: index into Scene::meshLights
     // Point as a spot (Mitsuba's `spot`): L is the intensity on the unit axis, scaled by
     // spotFalloff; cosCutoff < -1: a point light, emitting alike in every direction.
     // Directional (Mitsuba's `directional`, a delta in direction at infinity): L is the
@@ -63,12 +63,12 @@ inline float pointEmissionPdf(const Light& l, Vec3 w) {
 }
 
 struct LightSample {
-    Vec3 p;         // point on the light
-    Vec3 n;         // the light's normal at p (the emitting side; Env: -wi; Point: -wi)
-    Vec3 wi;        // unit direction from the reference point to p
-    float dist = 0; // distance to p (infinite lights: +inf)
-    Vec3 Le;        // radiance arriving along -wi (Point: I / dist^2, the irradiance's factor)
-    float pdf = 0;  // solid angle (Point: 1, a discrete choice)
+    Vec3 p;              // point on the light
+    Vec3 n;              // the light's normal at p (the emitting side; Env: -wi; Point: -wi)
+    Vec3 wi;             // unit direction from the reference point to p
+    float dist = 0;      // distance to p (infinite lights: +inf)
+    Vec3 Le;             // radiance arriving along -wi (Point: I / dist^2, the irradiance's factor)
+    float pdf = 0;       // solid angle (Point: 1, a discrete choice)
     bool delta = false;  // a point light: no other strategy finds it (MIS weight 1)
     float pdfA = -1;     // a textured emitter: the area density of p (else < 0: 1 / area)
 };
@@ -83,8 +83,7 @@ struct RectFloats {
     float cx, cy, cz, ax, ay, az, bx, by, bz, nx, ny, nz, area;
 };
 inline RectFloats rectFloats(const Light& l) {
-    return {l.corner.x, l.corner.y, l.corner.z, l.e1.x, l.e1.y, l.e1.z, l.e2.x, l.e2.y, l.e2.z,
-            l.n.x,      l.n.y,      l.n.z,      l.area};
+    return {l.corner.x, l.corner.y, l.corner.z, l.e1.x, l.e1.y, l.e1.z, l.e2.x, l.e2.y, l.e2.z, l.n.x, l.n.y, l.n.z, l.area};
 }
 
 // The point corner + e1 u1 + e2 u2 (rounded left to right, as Vec3's operators do).
@@ -98,8 +97,8 @@ inline void rectPoint(const RectFloats& g, float u1, float u2, float& px, float&
 // eq. 4.9). In floats (a / s as a * (1 / s), as Vec3's operators round), so that loops of it
 // vectorise (rectLightSamples); false at the back of the one-sided light or at its plane
 // (the outputs are then unspecified).
-inline bool rectLightSampleAt(const RectFloats& g, float u1, float u2, float rx, float ry, float rz, float& px,
-                              float& py, float& pz, float& wx, float& wy, float& wz, float& dist, float& pdf) {
+inline bool rectLightSampleAt(const RectFloats& g, float u1, float u2, float rx, float ry, float rz, float& px, float& py, float& pz, float& wx,
+                              float& wy, float& wz, float& dist, float& pdf) {
     rectPoint(g, u1, u2, px, py, pz);
     const float dx = px - rx, dy = py - ry, dz = pz - rz;
     const float dist2 = dx * dx + dy * dy + dz * dz;
@@ -115,33 +114,30 @@ inline bool rectLightSampleAt(const RectFloats& g, float u1, float u2, float rx,
 inline bool sampleRectLight(const Light& l, Vec3 ref, float u1, float u2, LightSample& s) {
     s.n = l.n;
     s.Le = l.L;
-    return rectLightSampleAt(rectFloats(l), u1, u2, ref.x, ref.y, ref.z, s.p.x, s.p.y, s.p.z, s.wi.x, s.wi.y, s.wi.z,
-                             s.dist, s.pdf);
+    return rectLightSampleAt(rectFloats(l), u1, u2, ref.x, ref.y, ref.z, s.p.x, s.p.y, s.p.z, s.wi.x, s.wi.y, s.wi.z, s.dist, s.pdf);
 }
 // sampleRectLight for h < n (reference point ref[3h .. 3h + 2]): s.p into p (three floats
 // each), s.wi into (wx, wy, wz), s.dist, s.pdf, and ok[h] what it returned. Restrict
 // parameters: the loop vectorises.
-__attribute__((noinline)) inline void rectLightSamples(const RectFloats g, const float* __restrict u1,
-                                                       const float* __restrict u2, const float* __restrict ref,
-                                                       size_t n, float* __restrict p, float* __restrict wx,
-                                                       float* __restrict wy, float* __restrict wz,
-                                                       float* __restrict dist, float* __restrict pdf,
+__attribute__((noinline)) inline void rectLightSamples(const RectFloats g, const float* __restrict u1, const float* __restrict u2,
+                                                       const float* __restrict ref, size_t n, float* __restrict p, float* __restrict wx,
+                                                       float* __restrict wy, float* __restrict wz, float* __restrict dist, float* __restrict pdf,
                                                        uint8_t* __restrict ok) {
     for (size_t h = 0; h < n; ++h)
-        ok[h] = rectLightSampleAt(g, u1[h], u2[h], ref[3 * h], ref[3 * h + 1], ref[3 * h + 2], p[3 * h], p[3 * h + 1],
-                                  p[3 * h + 2], wx[h], wy[h], wz[h], dist[h], pdf[h]);
+        ok[h] = rectLightSampleAt(g, u1[h], u2[h], ref[3 * h], ref[3 * h + 1], ref[3 * h + 2], p[3 * h], p[3 * h + 1], p[3 * h + 2], wx[h], wy[h],
+                                  wz[h], dist[h], pdf[h]);
 }
 
 // rectLightSamples with each hit's own light: rects[light[h]] (a light that is no
 // rectangle has all zeros there, which no sample passes: ok[h] = 0).
 __attribute__((noinline)) inline void rectLightSamplesOf(const RectFloats* __restrict rects, const uint32_t* __restrict light,
-                                                         const float* __restrict u1, const float* __restrict u2,
-                                                         const float* __restrict ref, size_t n, float* __restrict p,
-                                                         float* __restrict wx, float* __restrict wy, float* __restrict wz,
-                                                         float* __restrict dist, float* __restrict pdf, uint8_t* __restrict ok) {
+                                                         const float* __restrict u1, const float* __restrict u2, const float* __restrict ref,
+                                                         size_t n, float* __restrict p, float* __restrict wx, float* __restrict wy,
+                                                         float* __restrict wz, float* __restrict dist, float* __restrict pdf,
+                                                         uint8_t* __restrict ok) {
     for (size_t h = 0; h < n; ++h)
-        ok[h] = rectLightSampleAt(rects[light[h]], u1[h], u2[h], ref[3 * h], ref[3 * h + 1], ref[3 * h + 2], p[3 * h],
-                                  p[3 * h + 1], p[3 * h + 2], wx[h], wy[h], wz[h], dist[h], pdf[h]);
+        ok[h] = rectLightSampleAt(rects[light[h]], u1[h], u2[h], ref[3 * h], ref[3 * h + 1], ref[3 * h + 2], p[3 * h], p[3 * h + 1], p[3 * h + 2],
+                                  wx[h], wy[h], wz[h], dist[h], pdf[h]);
 }
 
 inline float rectLightPdf(const Light& l, Vec3 ref, Vec3 pLight) {
@@ -217,7 +213,7 @@ inline bool samplePointLight(const Light& l, Vec3 ref, LightSample& s) {
 // lights (cosine-weighted; twice that from both faces), 4 pi I for a point light.
 inline float lightPower(const Light& l) {
     if (l.type == LightType::Directional) return l.area * luminance(l.L);  // E through the disc pi R^2
-    if (l.type == LightType::Point && isSpot(l))  // the cone to mid-falloff (pbrt-v4's SpotLight::Phi)
+    if (l.type == LightType::Point && isSpot(l))                           // the cone to mid-falloff (pbrt-v4's SpotLight::Phi)
         return 2.0f * kPi * (1.0f - 0.5f * (l.cosCutoff + l.cosBeam)) * luminance(l.L);
     if (l.type == LightType::Point) return 4.0f * kPi * luminance(l.L);
     return (l.twoSided ? 2.0f : 1.0f) * kPi * l.area * luminance(l.L);
@@ -259,12 +255,10 @@ inline bool sampleRectEmission(const Light& l, float u1, float u2, float u3, flo
 // sampleRectEmission for i < n (frame: frameFromNormal of l.n, made once): e.p into p
 // (three floats each), e.dir into (dx, dy, dz), e.pdfDir, and in ok[i] what it returned
 // (e.n is l.n, e.pdfPos 1 / l.area, e.Le l.L). Restrict parameters: the loop vectorises.
-__attribute__((noinline)) inline void rectEmissionSamples(const RectFloats g, const FrameFloats frame,
-                                                          const float* __restrict u1, const float* __restrict u2,
-                                                          const float* __restrict u3, const float* __restrict u4,
-                                                          size_t n, float* __restrict p, float* __restrict dx,
-                                                          float* __restrict dy, float* __restrict dz,
-                                                          float* __restrict pdfDir, uint8_t* __restrict ok) {
+__attribute__((noinline)) inline void rectEmissionSamples(const RectFloats g, const FrameFloats frame, const float* __restrict u1,
+                                                          const float* __restrict u2, const float* __restrict u3, const float* __restrict u4,
+                                                          size_t n, float* __restrict p, float* __restrict dx, float* __restrict dy,
+                                                          float* __restrict dz, float* __restrict pdfDir, uint8_t* __restrict ok) {
     for (size_t i = 0; i < n; ++i) {
         rectPoint(g, u1[i], u2[i], p[3 * i], p[3 * i + 1], p[3 * i + 2]);
         pdfDir[i] = cosineAboutAt(frame, u3[i], u4[i], dx[i], dy[i], dz[i]);

@@ -25,9 +25,9 @@ namespace wmlt {
 struct Medium {
     Vec3 sigmaT{0.0f}, sigmaS{0.0f};
     float g = 0;
-    const float* density = nullptr;                                // a density grid, or
-    const Vec3 *gridSigmaA = nullptr, *gridSigmaS = nullptr;       // RGB coefficient grids
-    int nx = 0, ny = 0, nz = 0;                                    // > 0: heterogeneous
+    const float* density = nullptr;                           // a density grid, or
+    const Vec3 *gridSigmaA = nullptr, *gridSigmaS = nullptr;  // RGB coefficient grids
+    int nx = 0, ny = 0, nz = 0;                               // > 0: heterogeneous
     Affine worldToGrid;
     bool clampEdges = false;
     float majorant = 0;  // over the whole grid
@@ -281,9 +281,7 @@ inline Vec3 gridTransmittance(const Medium& m, Vec3 o, Vec3 d, float tMax, Mediu
 // tentative collisions, T_i ratio tracking's transmittance up to them (unbiased).
 inline Vec3 emissionAlong(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng& rng) {
     if (m.nx == 0) {
-        auto one = [&](float sA, float sT, float Le) {
-            return sT > 0 ? sA * Le * (std::isinf(tMax) ? 1.0f : -std::expm1(-sT * tMax)) / sT : 0.0f;
-        };
+        auto one = [&](float sA, float sT, float Le) { return sT > 0 ? sA * Le * (std::isinf(tMax) ? 1.0f : -std::expm1(-sT * tMax)) / sT : 0.0f; };
         const Vec3 sA = m.sigmaT - m.sigmaS;
         return Vec3(one(sA.x, m.sigmaT.x, m.Le.x), one(sA.y, m.sigmaT.y, m.Le.y), one(sA.z, m.sigmaT.z, m.Le.z));
     }

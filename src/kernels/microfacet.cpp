@@ -34,11 +34,15 @@ double beckmannSlopeX(double mu, double u) {
     double x = std::max(lo, std::min(hi, 0.0));
     for (int i = 0; i < 60; ++i) {
         const double f = C(x) - target;
-        if (f > 0) hi = x; else lo = x;
+        if (f > 0) hi = x;
+        else lo = x;
         const double df = (mu - x) * std::exp(-x * x);
         double xn = df > 0 ? x - f / df : 0.5 * (lo + hi);
         if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);  // Newton left the bracket: bisect
-        if (std::fabs(xn - x) < 1e-12) { x = xn; break; }
+        if (std::fabs(xn - x) < 1e-12) {
+            x = xn;
+            break;
+        }
         x = xn;
     }
     return x;
@@ -88,8 +92,7 @@ Vec3 sampleBeckmann(float ax, float ay, Vec3 wo, float u1, float u2) {
 
 Vec3 sampleVisibleNormal(const Microfacet& d, Vec3 wo, float u1, float u2) {
     if (wo.z < 0) wo = -wo;
-    return d.type == MicrofacetType::GGX ? sampleGgx(d.alphaX, d.alphaY, wo, u1, u2)
-                                         : sampleBeckmann(d.alphaX, d.alphaY, wo, u1, u2);
+    return d.type == MicrofacetType::GGX ? sampleGgx(d.alphaX, d.alphaY, wo, u1, u2) : sampleBeckmann(d.alphaX, d.alphaY, wo, u1, u2);
 }
 
 }  // namespace wmlt

@@ -31,9 +31,7 @@ struct Microfacet {
 // Path regularisation (pbrt-v4's "bool regularize", TrowbridgeReitzDistribution::Regularize):
 // a roughness below 0.3 is doubled into [0.1, 0.3], so a smooth surface (alpha 0) becomes
 // one of alpha 0.1; 0.3 and above are kept.
-inline float regularizedAlpha(float alpha) {
-    return alpha < 0.3f ? std::fmin(std::fmax(2.0f * alpha, 0.1f), 0.3f) : alpha;
-}
+inline float regularizedAlpha(float alpha) { return alpha < 0.3f ? std::fmin(std::fmax(2.0f * alpha, 0.1f), 0.3f) : alpha; }
 
 // D(m), normalised so that the projected area int D(m) m.z dm = 1 (Walter 2007, eqs. 25, 33;
 // anisotropic: Heitz 2014's anisotropic forms, pbrt-v4 9.6: tan^2 / alpha^2 ->
@@ -87,9 +85,7 @@ inline float microfacetG1(const Microfacet& d, Vec3 w, Vec3 m) {
 }
 
 // The separable shadowing-masking term.
-inline float microfacetG(const Microfacet& d, Vec3 wo, Vec3 wi, Vec3 m) {
-    return microfacetG1(d, wo, m) * microfacetG1(d, wi, m);
-}
+inline float microfacetG(const Microfacet& d, Vec3 wo, Vec3 wi, Vec3 m) { return microfacetG1(d, wo, m) * microfacetG1(d, wi, m); }
 
 // Density of the visible normal m seen from wo (solid angle of m), D_wo(m) (Heitz 2018,
 // eq. 2); wo on either side: the distribution of -wo's upper-side mirror is used.

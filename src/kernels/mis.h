@@ -62,14 +62,12 @@ inline void bptStepFraction(int j, const float* pL, const float* pE, float pL0Ne
     }
 }
 
-inline double bptRatioPow(double r, float beta) {
-    return beta == 2.0f ? r * r : beta == 1.0f ? r : std::pow(r, double(beta));
-}
+inline double bptRatioPow(double r, float beta) { return beta == 2.0f ? r * r : beta == 1.0f ? r : std::pow(r, double(beta)); }
 
 // The MIS weight of strategy s for a path of length k (see above). 0 when s cannot
 // sample the path.
-inline float bptMisWeight(int k, int s, const float* pL, const float* pE, const uint8_t* delta,
-                          float pL0Nee, float beta, bool x0AtInfinity = false, bool x0Delta = false) {
+inline float bptMisWeight(int k, int s, const float* pL, const float* pE, const uint8_t* delta, float pL0Nee, float beta, bool x0AtInfinity = false,
+                          bool x0Delta = false) {
     if (!bptStrategyValid(k, s, delta, x0AtInfinity, x0Delta)) return 0.0f;
     auto step = [&](int j) { return bptStep(j, pL, pE, pL0Nee); };
     double sum = 1.0;  // strategy s itself
@@ -119,8 +117,8 @@ inline double bptLightMisSum1(double sum0, float pL0, float pL0Nee, float pL1, f
 
 // bptMisWeight from the partial sums: pL, pE and delta are read at x_0 and at [s - 3,
 // s + 2] only; cameraSum = T_{t-3} (t >= 3), lightSum = L(s - 3) (s >= 3), else unread.
-inline float bptMisWeightCached(int k, int s, const float* pL, const float* pE, const uint8_t* delta, float pL0Nee,
-                                float beta, bool x0AtInfinity, bool x0Delta, double cameraSum, double lightSum) {
+inline float bptMisWeightCached(int k, int s, const float* pL, const float* pE, const uint8_t* delta, float pL0Nee, float beta, bool x0AtInfinity,
+                                bool x0Delta, double cameraSum, double lightSum) {
     if (!bptStrategyValid(k, s, delta, x0AtInfinity, x0Delta)) return 0.0f;
     auto step = [&](int j) { return bptStep(j, pL, pE, pL0Nee); };
     auto v = [&](int j) { return bptStrategyValid(k, j, delta, x0AtInfinity, x0Delta) ? 1.0 : 0.0; };

@@ -39,8 +39,8 @@ inline float wrapUnit(float x) {
 //   so one step of sigma sqrt(nSmall) equals nSmall eager steps in distribution.
 // uFresh is a fresh uniform in [0, 1) and z a standard normal number (gaussian.h), both
 // drawn for this proposal.
-inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t lastLargeStep, uint32_t n,
-                               bool largeStep, float sigma, float uFresh, float z) {
+inline float proposeCoordinate(float value, uint32_t lastModified, uint32_t lastLargeStep, uint32_t n, bool largeStep, float sigma, float uFresh,
+                               float z) {
     if (largeStep) return uFresh;
     // Written without branches (selects only), so that a loop of small steps vectorises
     // (mmlt_stages.cpp, drawSmallSteps).

@@ -29,13 +29,11 @@ struct RectNeeConsts {
 // PerHit: each hit's light radiance Le[3 h ..] and choice pmf pmfs[h] (a scene of several
 // lights) instead of c's (its one light; Le and pmfs are then not read).
 template <bool PerHit>
-__attribute__((noinline)) inline void matteNeeValuesOf(const RectNeeConsts c, const float* __restrict Le,
-                                                      const float* __restrict pmfs, size_t n, const float* __restrict ns,
-                                                      const float* __restrict wo, const float* __restrict wix,
-                                                      const float* __restrict wiy, const float* __restrict wiz,
-                                                      const float* __restrict pdf, const float* __restrict diffuse,
-                                                      const float* __restrict beta, float* __restrict L,
-                                                      uint32_t* __restrict send) {
+__attribute__((noinline)) inline void matteNeeValuesOf(const RectNeeConsts c, const float* __restrict Le, const float* __restrict pmfs, size_t n,
+                                                       const float* __restrict ns, const float* __restrict wo, const float* __restrict wix,
+                                                       const float* __restrict wiy, const float* __restrict wiz, const float* __restrict pdf,
+                                                       const float* __restrict diffuse, const float* __restrict beta, float* __restrict L,
+                                                       uint32_t* __restrict send) {
     for (size_t h = 0; h < n; ++h) {
         const float Lx = PerHit ? Le[3 * h] : c.Lx, Ly = PerHit ? Le[3 * h + 1] : c.Ly, Lz = PerHit ? Le[3 * h + 2] : c.Lz;
         const float pmf = PerHit ? pmfs[h] : c.pmf;
@@ -67,11 +65,10 @@ __attribute__((noinline)) inline void matteNeeValuesOf(const RectNeeConsts c, co
 // side (Scene::offsetRayOrigin with the scene's epsilonScale), the direction from it to the
 // light point itself (the one from the surface point would pass beside it by up to the
 // offset, into the light) and tfar just short of it.
-__attribute__((noinline)) inline void shadowRaysTo(float epsilonScale, size_t n, const float* __restrict p,
-                                                  const float* __restrict ng, const float* __restrict wix,
-                                                  const float* __restrict wiy, const float* __restrict wiz,
-                                                  const float* __restrict lp, float* __restrict origin,
-                                                  float* __restrict dir, float* __restrict tfar) {
+__attribute__((noinline)) inline void shadowRaysTo(float epsilonScale, size_t n, const float* __restrict p, const float* __restrict ng,
+                                                   const float* __restrict wix, const float* __restrict wiy, const float* __restrict wiz,
+                                                   const float* __restrict lp, float* __restrict origin, float* __restrict dir,
+                                                   float* __restrict tfar) {
     for (size_t h = 0; h < n; ++h) {
         const float px = p[3 * h], py = p[3 * h + 1], pz = p[3 * h + 2];
         const float nx = ng[3 * h], ny = ng[3 * h + 1], nz = ng[3 * h + 2];

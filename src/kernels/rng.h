@@ -25,9 +25,7 @@ inline float sampleDimension(uint64_t key, uint32_t dim) {
 }
 
 // The key of a pixel's strata (kernels/camera.h): one per seed and pixel.
-inline uint64_t strataKey(uint64_t seed, uint32_t pixel) {
-    return mix64(mix64(seed ^ 0x5851f42d4c957f2dull) + pixel);
-}
+inline uint64_t strataKey(uint64_t seed, uint32_t pixel) { return mix64(mix64(seed ^ 0x5851f42d4c957f2dull) + pixel); }
 
 // Element i of a pseudo-random permutation of [0, n), n >= 1, chosen by `key`: a balanced
 // Feistel network of 8 rounds (Luby and Rackoff 1988; round function mix64) on the smallest
@@ -72,8 +70,8 @@ inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint64_t key) { return Perm
 
 // Permutation::network on v[j] with key[j], j < m, in place, in one loop the compiler
 // vectorises (the walk of the values it leaves >= n is the caller's: permuteWalks).
-__attribute__((noinline)) inline void permutationNetworks(uint32_t* __restrict v, const uint64_t* __restrict key,
-                                                         size_t m, uint32_t half, uint32_t mask) {
+__attribute__((noinline)) inline void permutationNetworks(uint32_t* __restrict v, const uint64_t* __restrict key, size_t m, uint32_t half,
+                                                          uint32_t mask) {
     for (size_t j = 0; j < m; ++j) v[j] = Permutation::network(v[j], key[j], half, mask);
 }
 
@@ -82,8 +80,8 @@ __attribute__((noinline)) inline void permutationNetworks(uint32_t* __restrict v
 // rotated). One flat pass of the networks over all, then over the values still >= n, moved
 // to the front of (walkV, walkKey, walkSample) (scratch of m entries), until none is left:
 // each pass leaves about a share 1 - n / 2^(2 half) (under 3/4) of its values to the next.
-inline void permuteWalks(uint32_t n, uint32_t* __restrict v, const uint64_t* __restrict key, size_t m,
-                         uint32_t* __restrict walkV, uint64_t* __restrict walkKey, uint32_t* __restrict walkSample) {
+inline void permuteWalks(uint32_t n, uint32_t* __restrict v, const uint64_t* __restrict key, size_t m, uint32_t* __restrict walkV,
+                         uint64_t* __restrict walkKey, uint32_t* __restrict walkSample) {
     if (n <= 1) {
         for (size_t j = 0; j < m; ++j) v[j] = 0;
         return;

@@ -34,10 +34,22 @@ inline void sinCos2Pi(float u, float& s, float& c) {
     float st, ct;
     sinCosQuarter((kPi / 2) * (4.0f * u - q), st, ct);
     switch (int(q) & 3) {
-        case 0: s = st; c = ct; break;
-        case 1: s = ct; c = -st; break;
-        case 2: s = -st; c = -ct; break;
-        default: s = -ct; c = st; break;
+        case 0:
+            s = st;
+            c = ct;
+            break;
+        case 1:
+            s = ct;
+            c = -st;
+            break;
+        case 2:
+            s = -st;
+            c = -ct;
+            break;
+        default:
+            s = -ct;
+            c = st;
+            break;
     }
 }
 
@@ -69,14 +81,13 @@ inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosThet
 // sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2)) for i < n,
 // bit for bit, into (x[i], y[i], z[i]), in one loop the compiler vectorises (the hashes,
 // the polynomials, the square root).
-inline void sampleCosineHemispheres(const uint64_t* __restrict key, size_t n, uint32_t d1, uint32_t d2,
-                                    float* __restrict x, float* __restrict y, float* __restrict z) {
-    for (size_t i = 0; i < n; ++i)
-        sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2), x[i], y[i], z[i]);
+inline void sampleCosineHemispheres(const uint64_t* __restrict key, size_t n, uint32_t d1, uint32_t d2, float* __restrict x, float* __restrict y,
+                                    float* __restrict z) {
+    for (size_t i = 0; i < n; ++i) sampleCosineHemisphere(sampleDimension(key[i], d1), sampleDimension(key[i], d2), x[i], y[i], z[i]);
 }
 // The same from the numbers (u1[i], u2[i]).
-inline void sampleCosineHemispheres(const float* __restrict u1, const float* __restrict u2, size_t n,
-                                    float* __restrict x, float* __restrict y, float* __restrict z) {
+inline void sampleCosineHemispheres(const float* __restrict u1, const float* __restrict u2, size_t n, float* __restrict x, float* __restrict y,
+                                    float* __restrict z) {
     for (size_t i = 0; i < n; ++i) sampleCosineHemisphere(u1[i], u2[i], x[i], y[i], z[i]);
 }
 
@@ -101,9 +112,7 @@ inline Vec3 samplePowerCosine(float n, float u1, float u2) {
     sinCos2Pi(u2, s, c);
     return {sinTheta * c, sinTheta * s, cosTheta};
 }
-inline float powerCosinePdf(float n, float cosTheta) {
-    return cosTheta > 0 ? (n + 1.0f) * kInv2Pi * std::pow(cosTheta, n) : 0.0f;
-}
+inline float powerCosinePdf(float n, float cosTheta) { return cosTheta > 0 ? (n + 1.0f) * kInv2Pi * std::pow(cosTheta, n) : 0.0f; }
 
 // Uniform point on a triangle, as barycentrics (b0, b1) (Heitz 2019 is more uniform;
 // this is the square-root warp of pbrt-v3 and Osada et al. 2002).

@@ -23,12 +23,10 @@ namespace wmlt {
 // path goes on (else the other outputs are unspecified). The loop vectorises with 64-byte
 // vectors.
 template <bool Roulette>
-__attribute__((noinline)) void matteScatter(size_t n, const float* __restrict ns, const float* __restrict wo,
-                                            const float* __restrict lx, const float* __restrict ly,
-                                            const float* __restrict lz, const float* __restrict kd,
-                                            const float* __restrict beta, const float* __restrict u,
-                                            float* __restrict nextBeta, float* __restrict dir,
-                                            float* __restrict pdf, uint32_t* __restrict ok) {
+__attribute__((noinline)) void matteScatter(size_t n, const float* __restrict ns, const float* __restrict wo, const float* __restrict lx,
+                                            const float* __restrict ly, const float* __restrict lz, const float* __restrict kd,
+                                            const float* __restrict beta, const float* __restrict u, float* __restrict nextBeta,
+                                            float* __restrict dir, float* __restrict pdf, uint32_t* __restrict ok) {
     for (size_t h = 0; h < n; ++h) {
         const float nx = ns[3 * h], ny = ns[3 * h + 1], nz = ns[3 * h + 2];
         const float woZ = wo[3 * h] * nx + wo[3 * h + 1] * ny + wo[3 * h + 2] * nz;

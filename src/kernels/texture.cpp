@@ -51,8 +51,7 @@ float turbulence(Vec3 p, int octaves) {
 }
 
 float marbleParameter(Vec3 p) {
-    const float t =
-        0.5f + 0.5f * std::sin(kMarbleStripes * p.x + kMarbleTurbulence * turbulence(kMarbleFrequency * p));
+    const float t = 0.5f + 0.5f * std::sin(kMarbleStripes * p.x + kMarbleTurbulence * turbulence(kMarbleFrequency * p));
     return std::isfinite(t) ? std::min(1.0f, std::max(0.0f, t)) : 0.5f;
 }
 
@@ -89,9 +88,8 @@ bool insidePolkaDot(float s, float t) {
 
 Vec3 pbrtMarbleColour(const TextureDesc& tex, Vec3 q) {
     // pbrt's spline: nine control points, six cubic Bezier segments over t in [0, 1]
-    static const Vec3 c[9] = {{0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f},
-                              {0.5f, 0.5f, 0.5f},   {0.6f, 0.59f, 0.58f}, {0.58f, 0.58f, 0.6f},
-                              {0.58f, 0.58f, 0.6f}, {0.2f, 0.2f, 0.33f},  {0.58f, 0.58f, 0.6f}};
+    static const Vec3 c[9] = {{0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f}, {0.5f, 0.5f, 0.5f},  {0.6f, 0.59f, 0.58f},
+                              {0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f}, {0.2f, 0.2f, 0.33f},  {0.58f, 0.58f, 0.6f}};
     const Vec3 p = q * tex.noiseScale;
     float t = 0.5f + 0.5f * std::sin(p.y + tex.variation * fbm(p, tex.roughness, tex.octaves));
     if (!std::isfinite(t)) t = 0.5f;
@@ -100,8 +98,7 @@ Vec3 pbrtMarbleColour(const TextureDesc& tex, Vec3 q) {
     t = t * kSegments - float(first);
     auto lerp3 = [](float x, Vec3 a, Vec3 b) { return a * (1 - x) + b * x; };
     // de Casteljau
-    const Vec3 s0 = lerp3(t, c[first], c[first + 1]), s1 = lerp3(t, c[first + 1], c[first + 2]),
-               s2 = lerp3(t, c[first + 2], c[first + 3]);
+    const Vec3 s0 = lerp3(t, c[first], c[first + 1]), s1 = lerp3(t, c[first + 1], c[first + 2]), s2 = lerp3(t, c[first + 2], c[first + 3]);
     return lerp3(t, lerp3(t, s0, s1), lerp3(t, s1, s2)) * 1.5f;
 }
 

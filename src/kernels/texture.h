@@ -137,11 +137,13 @@ inline Vec3 lookupBilinearWrap(const Image& img, float u, float v) {
     const float fy = (1.0f - v) * float(img.height) - 0.5f;
     const float x0f = std::floor(fx), y0f = std::floor(fy);
     const float tx = fx - x0f, ty = fy - y0f;
-    auto wrap = [](int i, int n) { i %= n; return i < 0 ? i + n : i; };
+    auto wrap = [](int i, int n) {
+        i %= n;
+        return i < 0 ? i + n : i;
+    };
     const int x0 = wrap(int(x0f), img.width), x1 = wrap(int(x0f) + 1, img.width);
     const int y0 = wrap(int(y0f), img.height), y1 = wrap(int(y0f) + 1, img.height);
-    return img.at(x0, y0) * ((1 - tx) * (1 - ty)) + img.at(x1, y0) * (tx * (1 - ty)) +
-           img.at(x0, y1) * ((1 - tx) * ty) + img.at(x1, y1) * (tx * ty);
+    return img.at(x0, y0) * ((1 - tx) * (1 - ty)) + img.at(x1, y0) * (tx * (1 - ty)) + img.at(x0, y1) * ((1 - tx) * ty) + img.at(x1, y1) * (tx * ty);
 }
 
 inline int wrapTexel(int i, int n, TextureWrap w) {
@@ -211,8 +213,8 @@ inline Vec3 lookupBitmap(const TextureDesc& t, float u, float v) {
                       wrapTexel(int(std::floor(v * float(img.height))), img.height, t.wrap));
     }
     const BitmapCell c = bitmapCell(t, u, v);
-    return img.at(c.x0, c.y0) * ((1 - c.tx) * (1 - c.ty)) + img.at(c.x1, c.y0) * (c.tx * (1 - c.ty)) +
-           img.at(c.x0, c.y1) * ((1 - c.tx) * c.ty) + img.at(c.x1, c.y1) * (c.tx * c.ty);
+    return img.at(c.x0, c.y0) * ((1 - c.tx) * (1 - c.ty)) + img.at(c.x1, c.y0) * (c.tx * (1 - c.ty)) + img.at(c.x0, c.y1) * ((1 - c.tx) * c.ty) +
+           img.at(c.x1, c.y1) * (c.tx * c.ty);
 }
 
 // The gradient (d/du, d/dv, in the shape's (u, v)) of the bilinear bitmap's luminance,
@@ -225,7 +227,7 @@ inline void bitmapLuminanceGradient(const TextureDesc& t, float u, float v, floa
     const BitmapCell c = bitmapCell(t, u, v);
     const float h00 = luminance(img.at(c.x0, c.y0)), h10 = luminance(img.at(c.x1, c.y0));
     const float h01 = luminance(img.at(c.x0, c.y1)), h11 = luminance(img.at(c.x1, c.y1));
-    const float dfx = ((1 - c.ty) * (h10 - h00) + c.ty * (h11 - h01)) * float(img.width);  // per unit of u'
+    const float dfx = ((1 - c.ty) * (h10 - h00) + c.ty * (h11 - h01)) * float(img.width);   // per unit of u'
     const float dfy = ((1 - c.tx) * (h01 - h00) + c.tx * (h11 - h10)) * float(img.height);  // per unit of v'
     // Chain rule through to_uv: u' = a u + b v + c, v' = d u + e v + f.
     const float* a = t.uvTransform;
@@ -241,12 +243,9 @@ inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
             const bool oddU = std::fmod(cu, 2.0f) != 0, oddV = std::fmod(cv, 2.0f) != 0;
             return oddU == oddV ? t.colour1 : t.colour2;
         }
-        case TextureKind::ImageFile:
-            return lookupBilinearWrap(t.image, u * t.repeatU, v * t.repeatV);
-        case TextureKind::Marble:
-            return marbleColour(t, p);
-        case TextureKind::Bitmap:
-            return lookupBitmap(t, u, v);
+        case TextureKind::ImageFile: return lookupBilinearWrap(t.image, u * t.repeatU, v * t.repeatV);
+        case TextureKind::Marble: return marbleColour(t, p);
+        case TextureKind::Bitmap: return lookupBitmap(t, u, v);
         case TextureKind::Checkerboard: {
             mitsubaUv(t, u, v);
             const bool hu = u - std::floor(u) > 0.5f, hv = v - std::floor(v) > 0.5f;
@@ -257,8 +256,7 @@ inline Vec3 evalTexture(const TextureDesc& t, float u, float v, Vec3 p) {
             return insidePolkaDot(u, v) ? t.colour1 : t.colour2;
         case TextureKind::Bilerp:
             mitsubaUv(t, u, v);
-            return t.colour1 * ((1 - u) * (1 - v)) + t.colour3 * (u * (1 - v)) + t.colour2 * ((1 - u) * v) +
-                   t.colour4 * (u * v);
+            return t.colour1 * ((1 - u) * (1 - v)) + t.colour3 * (u * (1 - v)) + t.colour2 * ((1 - u) * v) + t.colour4 * (u * v);
         case TextureKind::Fbm: return Vec3(fbm(textureSpacePoint(t, p), t.roughness, t.octaves));
         case TextureKind::Wrinkled: return Vec3(turbulencePbrt(textureSpacePoint(t, p), t.roughness, t.octaves));
         case TextureKind::Windy: {  // pbrt: |FBm(0.1 q, 0.5, 3)| FBm(q, 0.5, 6)
@@ -312,8 +310,6 @@ Vec3 textureMean(const TextureDesc& t);
 Vec3 textureMeanOf(const std::vector<TextureDesc>& all, size_t i);
 
 // Height for bump mapping: the Rec. 709 luminance of the texture.
-inline float textureHeight(const TextureDesc& t, float u, float v, Vec3 p) {
-    return luminance(evalTexture(t, u, v, p));
-}
+inline float textureHeight(const TextureDesc& t, float u, float v, Vec3 p) { return luminance(evalTexture(t, u, v, p)); }
 
 }  // namespace wmlt

@@ -42,8 +42,7 @@ public:
         uint64_t total = 0;
         sizes.assign(n, 0);
         for (int r = 0; r < size_; ++r) {
-            if (all[size_t(r)] > uint64_t(std::numeric_limits<int>::max()) ||
-                total + all[size_t(r)] > uint64_t(std::numeric_limits<int>::max()))
+            if (all[size_t(r)] > uint64_t(std::numeric_limits<int>::max()) || total + all[size_t(r)] > uint64_t(std::numeric_limits<int>::max()))
                 throw std::runtime_error("an exchange between ranks of more than 2 GiB");
             sizes[size_t(r)] = size_t(all[size_t(r)]);
             counts[size_t(r)] = int(all[size_t(r)]);

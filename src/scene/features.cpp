@@ -7,8 +7,8 @@
 
 #include "kernels/bsdf.h"
 #include "kernels/textured_params.h"
-#include "scene/regularize.h"
 #include "scene/filter_desc.h"
+#include "scene/regularize.h"
 
 namespace wmlt {
 
@@ -42,7 +42,8 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (m.kind == MaterialKind::Blend)  // a part's delta lobes, bump and anisotropy count as the blend's
             for (int part : m.blendPart) {
                 const MaterialDesc& q = d.materials[size_t(part)];
-                if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic || q.kind == MaterialKind::Coated) f.delta = true;  // (a smooth coat's mirror)
+                if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic || q.kind == MaterialKind::Coated)
+                    f.delta = true;  // (a smooth coat's mirror)
                 if (isAnisotropic(q)) f.anisotropic = true;
             }
         // a blend of bump- or normal-mapped parts is one of them at each hit (Scene::choosesPart)
@@ -60,9 +61,11 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
     }
     for (const LightDesc& l : d.lights)
-        (l.kind == LightKind::Rect ? f.rectLights : l.kind == LightKind::Sphere ? f.sphereLights
-                                                 : l.kind == LightKind::Mesh ? f.meshLights
-                                                 : l.kind == LightKind::Directional ? f.directionalLights : f.pointLights) = true;
+        (l.kind == LightKind::Rect          ? f.rectLights
+         : l.kind == LightKind::Sphere      ? f.sphereLights
+         : l.kind == LightKind::Mesh        ? f.meshLights
+         : l.kind == LightKind::Directional ? f.directionalLights
+                                            : f.pointLights) = true;
     for (const LightDesc& l : d.lights)
         if (l.texture >= 0) f.texturedEmitters = true;
     f.envMap = d.envMap.width > 0;
@@ -88,8 +91,8 @@ std::string SceneFeatures::describe() const {
     o << "materials:";
     for (int k = 0; k < kMaterialKinds; ++k)
         if (material[k]) o << ' ' << kMaterialKindNames[k];
-    o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "") << (meshLights ? " mesh" : "")
-      << (pointLights ? " point" : "") << (directionalLights ? " directional" : "") << (envMap ? " environment-map" : "") << "\n";
+    o << "\nlights:" << (rectLights ? " rect" : "") << (sphereLights ? " sphere" : "") << (meshLights ? " mesh" : "") << (pointLights ? " point" : "")
+      << (directionalLights ? " directional" : "") << (envMap ? " environment-map" : "") << "\n";
     o << "textures: " << (textures ? "yes" : "no") << "\n";
     o << "textured emitters: " << (texturedEmitters ? "yes" : "no") << "\n";
     o << "bump mapping: " << (bump ? "yes" : "no") << "\n";
@@ -110,13 +113,16 @@ std::string SceneFeatures::json() const {
     o << "{\"materials\": [";
     bool first = true;
     for (int k = 0; k < kMaterialKinds; ++k)
-        if (material[k]) { o << (first ? "" : ", ") << '"' << kMaterialKindNames[k] << '"'; first = false; }
+        if (material[k]) {
+            o << (first ? "" : ", ") << '"' << kMaterialKindNames[k] << '"';
+            first = false;
+        }
     auto b = [](bool v) { return v ? "true" : "false"; };
-    o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights)
-      << ", \"mesh_lights\": " << b(meshLights) << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights)
-      << ", \"environment_map\": " << b(envMap) << ", \"textures\": " << b(textures) << ", \"textured_emitters\": " << b(texturedEmitters)
-      << ", \"bump\": " << b(bump) << ", \"depth_of_field\": " << b(depthOfField)
-      << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks) << ", \"media\": " << b(media) << ", \"pixel_filter\": \"" << filter << "\"}";
+    o << "], \"rect_lights\": " << b(rectLights) << ", \"sphere_lights\": " << b(sphereLights) << ", \"mesh_lights\": " << b(meshLights)
+      << ", \"point_lights\": " << b(pointLights) << ", \"directional_lights\": " << b(directionalLights) << ", \"environment_map\": " << b(envMap)
+      << ", \"textures\": " << b(textures) << ", \"textured_emitters\": " << b(texturedEmitters) << ", \"bump\": " << b(bump)
+      << ", \"depth_of_field\": " << b(depthOfField) << ", \"smooth_normals\": " << b(smoothNormals) << ", \"masks\": " << b(masks)
+      << ", \"media\": " << b(media) << ", \"pixel_filter\": \"" << filter << "\"}";
     return o.str();
 }
 

@@ -90,8 +90,7 @@ void transformMesh(TriangleMesh& mesh, const Matrix& M, bool flip) {
     const Matrix inv = M.inverse();
     for (Vec3& p : mesh.positions) p = M.point(p);
     for (Vec3& n : mesh.normals) {
-        Vec3 w(float(inv.m[0][0] * n.x + inv.m[1][0] * n.y + inv.m[2][0] * n.z),
-               float(inv.m[0][1] * n.x + inv.m[1][1] * n.y + inv.m[2][1] * n.z),
+        Vec3 w(float(inv.m[0][0] * n.x + inv.m[1][0] * n.y + inv.m[2][0] * n.z), float(inv.m[0][1] * n.x + inv.m[1][1] * n.y + inv.m[2][1] * n.z),
                float(inv.m[0][2] * n.x + inv.m[1][2] * n.y + inv.m[2][2] * n.z));
         const float l = length(w);
         n = l > 0 && std::isfinite(l) ? (flip ? -w : w) / l : Vec3(0, 0, 1);

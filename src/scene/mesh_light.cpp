@@ -7,12 +7,12 @@ namespace wmlt {
 
 namespace {
 
-constexpr int kMaxGrid = 64;   // cells along each side of a triangle's square, at most
+constexpr int kMaxGrid = 64;  // cells along each side of a triangle's square, at most
 // Meshes of more triangles than this: one cell each (the triangles are the grid; no
 // per-triangle tables for millions of small triangles).
 constexpr size_t kGridTriangles = 4096;
-constexpr int kCellPoints = 3; // a cell's mean from kCellPoints^2 points
-constexpr float kFloor = 0.1f;   // defensive: no cell below 1/10 of the mean (a sliver its points missed)
+constexpr int kCellPoints = 3;  // a cell's mean from kCellPoints^2 points
+constexpr float kFloor = 0.1f;  // defensive: no cell below 1/10 of the mean (a sliver its points missed)
 
 // Texels (or checker squares) triangle t's (u, v) covers, after the texture's to_uv.
 double texelsCovered(const TriangleMesh& m, size_t t, const TextureDesc& tex) {
@@ -25,7 +25,8 @@ double texelsCovered(const TriangleMesh& m, size_t t, const TextureDesc& tex) {
     const double uvArea = 0.5 * std::fabs(double(u[1] - u[0]) * (v[2] - v[0]) - double(u[2] - u[0]) * (v[1] - v[0]));
     const float* a = tex.uvTransform;
     const double det = std::fabs(double(a[0]) * a[4] - double(a[1]) * a[3]);
-    const double perUnit = tex.image.width > 0 ? double(tex.image.width) * tex.image.height : 1024.0;  // checkers (2 x 2 squares a unit): 32 x 32 cells a unit
+    const double perUnit =
+        tex.image.width > 0 ? double(tex.image.width) * tex.image.height : 1024.0;  // checkers (2 x 2 squares a unit): 32 x 32 cells a unit
     const double texels = uvArea * det * perUnit;
     return std::isfinite(texels) ? texels : 0.0;
 }
@@ -38,8 +39,7 @@ MeshLight buildMeshLight(const TriangleMesh& m, const TextureDesc* texture) {
     const size_t nt = m.indices.size() / 3;
     ml.areas.resize(nt);
     for (size_t t = 0; t < nt; ++t) {
-        const Vec3 p0 = m.positions[m.indices[3 * t]], p1 = m.positions[m.indices[3 * t + 1]],
-                   p2 = m.positions[m.indices[3 * t + 2]];
+        const Vec3 p0 = m.positions[m.indices[3 * t]], p1 = m.positions[m.indices[3 * t + 1]], p2 = m.positions[m.indices[3 * t + 2]];
         ml.areas[t] = 0.5f * length(cross(p1 - p0, p2 - p0));
         if (!std::isfinite(ml.areas[t])) ml.areas[t] = 0;
         ml.area += ml.areas[t];

@@ -24,7 +24,7 @@ namespace wmlt {
 struct MeshLight {
     const TriangleMesh* mesh = nullptr;
     Distribution1D triangles;
-    double area = 0;                     // the emitting area
+    double area = 0;  // the emitting area
     // Textured: the texture, each triangle's grid in `grids` (-1: one cell, uniform in it)
     // and area, and T's mean luminance over the surface (the light's power factor).
     const TextureDesc* texture = nullptr;

@@ -28,8 +28,7 @@ const char* kindOf(mode_t m) {
 
 std::string regularFileProblem(const std::string& path, const std::string& what) {
     struct stat st;
-    if (::stat(path.c_str(), &st) != 0)
-        return "cannot open " + what + (errno == ENOENT ? std::string() : std::string(": ") + std::strerror(errno));
+    if (::stat(path.c_str(), &st) != 0) return "cannot open " + what + (errno == ENOENT ? std::string() : std::string(": ") + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) return "cannot read " + what + ": it is a folder";
     if (!S_ISREG(st.st_mode)) return what + " is not a regular file (" + kindOf(st.st_mode) + "; it may never end)";
     return "";
@@ -91,8 +90,9 @@ size_t FileStream::read(char* out, size_t n) {
         if (z_.avail_in == 0) {
             const size_t got = readRaw(in_, sizeof in_);
             if (got == 0) {
-                throw InputError(path_, 0, what_ + " is not valid gzip data (truncated: the file ends inside a member, after " +
-                                                std::to_string(total_) + " inflated bytes)");
+                throw InputError(path_, 0,
+                                 what_ + " is not valid gzip data (truncated: the file ends inside a member, after " + std::to_string(total_) +
+                                     " inflated bytes)");
             }
             z_.next_in = reinterpret_cast<Bytef*>(in_);
             z_.avail_in = uInt(got);
@@ -149,8 +149,9 @@ Image readSceneImage(const std::string& path) {
     for (size_t i = 0; i < img.rgb.size(); ++i)
         if (!std::isfinite(img.rgb[i])) {
             const size_t px = i / 3;
-            throw InputError(path, 0, "pixel (" + std::to_string(px % size_t(img.width)) + ", " + std::to_string(px / size_t(img.width)) +
-                                          ") is " + (std::isnan(img.rgb[i]) ? "NaN" : "infinite"));
+            throw InputError(path, 0,
+                             "pixel (" + std::to_string(px % size_t(img.width)) + ", " + std::to_string(px / size_t(img.width)) + ") is " +
+                                 (std::isnan(img.rgb[i]) ? "NaN" : "infinite"));
         }
     return img;
 }

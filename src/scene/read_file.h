@@ -32,7 +32,7 @@ public:
     FileStream(const FileStream&) = delete;
     FileStream& operator=(const FileStream&) = delete;
 
-    size_t read(char* out, size_t n);  // up to n bytes; 0 at the end of the (inflated) data
+    size_t read(char* out, size_t n);             // up to n bytes; 0 at the end of the (inflated) data
     uint64_t consumed() const { return total_; }  // bytes returned so far
     bool gzip() const { return gzip_; }
     uint64_t fileBytes() const { return fileBytes_; }  // the size on disk

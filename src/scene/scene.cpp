@@ -30,18 +30,18 @@ void embreeError(void* user, RTCError, const char* str) {
 RTCGeometry buildMesh(RTCDevice device, TriangleMesh& m) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     m.positions.reserve(m.positions.size() + 2);  // Embree reads vertices with 16-byte loads
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0,
-                               sizeof(Vec3), m.positions.size());
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(), 0,
-                               3 * sizeof(uint32_t), m.indices.size() / 3);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.positions.data(), 0, sizeof(Vec3), m.positions.size());
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(), 0, 3 * sizeof(uint32_t), m.indices.size() / 3);
     return g;
 }
 
 RTCGeometry buildSphere(RTCDevice device, Vec3 c, float r) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
-    v[0] = c.x; v[1] = c.y; v[2] = c.z; v[3] = r;
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    v[0] = c.x;
+    v[1] = c.y;
+    v[2] = c.z;
+    v[3] = r;
     return g;
 }
 
@@ -80,9 +80,8 @@ void maskFilter(const RTCFilterFunctionNArguments* args) {
         const float alpha = maskAlpha(m, args->ray, args->hit, args->N, i);
         if (alpha >= 1) continue;
         uint64_t h = mix64(0x6d61736bull ^ (uint64_t(m.geomID) << 32 | RTCHitN_primID(args->hit, args->N, i)));
-        for (float f : {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                        RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
-                        RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)}) {
+        for (float f : {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i), RTCRayN_org_z(args->ray, args->N, i),
+                        RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)}) {
             uint32_t bits;
             std::memcpy(&bits, &f, 4);
             h = mix64(h ^ bits);
@@ -105,8 +104,15 @@ Light rectLight(const TriangleMesh& m, Vec3 L) {
         return false;
     };
     uint32_t corner = a, o1 = b, o2 = c;
-    if (!inSecond(b) && inSecond(a)) { corner = b; o1 = c; o2 = a; }
-    else if (!inSecond(c) && inSecond(a)) { corner = c; o1 = a; o2 = b; }
+    if (!inSecond(b) && inSecond(a)) {
+        corner = b;
+        o1 = c;
+        o2 = a;
+    } else if (!inSecond(c) && inSecond(a)) {
+        corner = c;
+        o1 = a;
+        o2 = b;
+    }
     Light l;
     l.type = LightType::Rect;
     l.L = L;
@@ -141,7 +147,11 @@ bool closedMesh(const TriangleMesh& m) {
     std::unordered_map<uint64_t, uint32_t> firstAt;  // position bits -> first vertex there
     std::vector<uint32_t> weld(m.positions.size());
     firstAt.reserve(m.positions.size());
-    auto bits = [](float f) { uint32_t b; std::memcpy(&b, &f, 4); return f == 0 ? 0u : b; };  // -0 == +0
+    auto bits = [](float f) {
+        uint32_t b;
+        std::memcpy(&b, &f, 4);
+        return f == 0 ? 0u : b;
+    };  // -0 == +0
     for (size_t i = 0; i < m.positions.size(); ++i) {
         const Vec3 p = m.positions[i];
         const uint64_t h = (uint64_t(bits(p.x)) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(bits(p.y)) * 0xC2B2AE3D27D4EB4Full) ^ bits(p.z);
@@ -263,8 +273,8 @@ void buildMedia(const SceneDesc& d, Scene& s) {
         // A surface that scatters decides a ray's medium by the side the ray leaves on, open or
         // not (pbrt-v4's walls between "" and fog); a ray crossing an open pass-through
         // boundary could end up "inside" something with no inside.
-        if (!d.mediaAsDeclared && sh.passThrough && sh.mediumBoundary && sh.mediumInside != sh.mediumOutside &&
-            sh.kind == ShapeKind::Mesh && !closedMesh(sh.mesh))
+        if (!d.mediaAsDeclared && sh.passThrough && sh.mediumBoundary && sh.mediumInside != sh.mediumOutside && sh.kind == ShapeKind::Mesh &&
+            !closedMesh(sh.mesh))
             throw InputError(d.path, sh.line, "a pass-through medium boundary on an open mesh (it has no inside): close it");
     }
 }
@@ -363,8 +373,7 @@ void Scene::setImage(const CameraDesc& c, int width, int height) {
 
 void Scene::setView(const CameraDesc& c, int width, int height) {
     if (!(width >= 1 && height >= 1)) throw InputError("an image needs at least one pixel");
-    if (c.position.x != desc.camera.position.x || c.position.y != desc.camera.position.y ||
-        c.position.z != desc.camera.position.z)
+    if (c.position.x != desc.camera.position.x || c.position.y != desc.camera.position.y || c.position.z != desc.camera.position.z)
         checkCameraMedium(desc, *this, c.position);
     setImage(c, width, height);
     desc.camera = c;
@@ -377,8 +386,7 @@ void Scene::checkCameraAt(Vec3 position) { checkCameraMedium(desc, *this, positi
 Vec3 Scene::hitNormal(const RTCRayHit& rh) const {
     const GeomRecord& g = geoms[rh.hit.geomID];
     if (g.kind == ShapeKind::Sphere) {
-        const Vec3 p(rh.ray.org_x + rh.ray.dir_x * rh.ray.tfar, rh.ray.org_y + rh.ray.dir_y * rh.ray.tfar,
-                     rh.ray.org_z + rh.ray.dir_z * rh.ray.tfar);
+        const Vec3 p(rh.ray.org_x + rh.ray.dir_x * rh.ray.tfar, rh.ray.org_y + rh.ray.dir_y * rh.ray.tfar, rh.ray.org_z + rh.ray.dir_z * rh.ray.tfar);
         return p - g.center;
     }
     const Vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
@@ -430,11 +438,13 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     for (size_t i = 0; i < d.lights.size(); ++i) {
         const Vec3 L = d.lights[i].radiance;
         if (!(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)))
-            throw InputError(d.path, 0, "light " + std::to_string(i + 1) + " of " + std::to_string(d.lights.size()) +
-                                            ": its emission is not finite (a product of its parameters overflows a float)");
+            throw InputError(d.path, 0,
+                             "light " + std::to_string(i + 1) + " of " + std::to_string(d.lights.size()) +
+                                 ": its emission is not finite (a product of its parameters overflows a float)");
     }
     for (float v : d.envMap.rgb)
-        if (!std::isfinite(v)) throw InputError(d.path, 0, "the environment map's emission is not finite (a product of its parameters overflows a float)");
+        if (!std::isfinite(v))
+            throw InputError(d.path, 0, "the environment map's emission is not finite (a product of its parameters overflows a float)");
 
     // The materials, then (pbrt's regularize) each one's regularized version, built alike:
     // index n + i is material i's (Scene::regularizedOffset).
@@ -474,8 +484,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             if (m.kind == MaterialKind::Plastic || m.kind == MaterialKind::RoughPlastic)
                 preparePlastic(x, b.eta, m.kind == MaterialKind::RoughPlastic);
             if (m.kind == MaterialKind::Principled) principledConstants(m, b, x);
-            if (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::RoughConductor)
-                setConductorIndex(b, m.conductorEta, m.conductorK);
+            if (m.kind == MaterialKind::Conductor || m.kind == MaterialKind::RoughConductor) setConductorIndex(b, m.conductorEta, m.conductorK);
             x.regularized = i >= n;
             b.x = &x;
         }
@@ -552,15 +561,16 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             r.mesh = &sh.mesh;
             if (!sh.mesh.normals.empty()) {
                 r.cornerNormals.resize(sh.mesh.indices.size());
-                for (size_t c = 0; c < sh.mesh.indices.size(); ++c)
-                    r.cornerNormals[c] = sh.mesh.normals[sh.mesh.indices[c]];
+                for (size_t c = 0; c < sh.mesh.indices.size(); ++c) r.cornerNormals[c] = sh.mesh.normals[sh.mesh.indices[c]];
             }
             Vec3& l = sh.group >= 0 ? groupLo[size_t(sh.group)] : lo;
             Vec3& h = sh.group >= 0 ? groupHi[size_t(sh.group)] : hi;
-            for (Vec3 p : sh.mesh.positions) { l = vmin(l, p); h = vmax(h, p); }
-            s->meshBytes += sh.mesh.positions.size() * sizeof(Vec3) + sh.mesh.normals.size() * sizeof(Vec3) +
-                            sh.mesh.uvs.size() * sizeof(float) + sh.mesh.indices.size() * sizeof(uint32_t) +
-                            s->geoms[i].cornerNormals.size() * sizeof(Vec3);
+            for (Vec3 p : sh.mesh.positions) {
+                l = vmin(l, p);
+                h = vmax(h, p);
+            }
+            s->meshBytes += sh.mesh.positions.size() * sizeof(Vec3) + sh.mesh.normals.size() * sizeof(Vec3) + sh.mesh.uvs.size() * sizeof(float) +
+                            sh.mesh.indices.size() * sizeof(uint32_t) + s->geoms[i].cornerNormals.size() * sizeof(Vec3);
             g = buildMesh(s->device, s->desc.shapes[i].mesh);
         } else {
             r.center = sh.center;
@@ -654,8 +664,7 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
         if (ld.kind == LightKind::Rect) {
             l = rectLight(sh.mesh, ld.radiance);
         } else if (ld.kind == LightKind::Mesh) {
-            if (ld.texture >= 0 && sh.mesh.uvs.empty())
-                throw InputError(d.path, sh.line, "a textured emitter on a mesh without (u, v)");
+            if (ld.texture >= 0 && sh.mesh.uvs.empty()) throw InputError(d.path, sh.line, "a textured emitter on a mesh without (u, v)");
             MeshLight ml = buildMeshLight(sh.mesh, ld.texture >= 0 ? &d.textures[size_t(ld.texture)] : nullptr);
             if (!(ml.area > 0)) throw InputError(d.path, sh.line, "an emitting mesh of zero area");
             l.type = LightType::Mesh;
@@ -691,7 +700,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
     if (s->lights.empty()) throw InputError(d.path, 0, "the scene has no light and no environment map");
     float total = 0;
     for (float p : power) total += p;
-    if (!(total > 0)) for (float& p : power) p = 1.0f;  // all black: choose uniformly
+    if (!(total > 0))
+        for (float& p : power) p = 1.0f;  // all black: choose uniformly
     s->lightDistribution = Distribution1D(power);
     // The very probabilities sampleDiscrete uses, so MIS sees what sampling did.
     for (size_t i = 0; i < power.size(); ++i) s->lightPmf.push_back(s->lightDistribution.discretePmf(int(i)));

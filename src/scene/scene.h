@@ -10,9 +10,9 @@
 
 #include "kernels/bsdf.h"
 #include "kernels/camera.h"
-#include "kernels/filter.h"
 #include "kernels/distribution.h"
 #include "kernels/envmap.h"
+#include "kernels/filter.h"
 #include "kernels/lights.h"
 #include "scene/features.h"
 #include "scene/mesh_light.h"
@@ -38,12 +38,11 @@ struct GeomRecord {
     int mediumInside = -1, mediumOutside = -1;
 };
 
-
 // Mitsuba's mask on a shape: what its Embree filter functions read (scene.cpp).
 struct MaskRecord {
     const TriangleMesh* mesh = nullptr;  // meshes: (u, v) from the hit's barycentrics
     UvKind uv = UvKind::None;
-    Affine toLocal;                      // spheres: (u, v) from the local normal
+    Affine toLocal;  // spheres: (u, v) from the local normal
     Vec3 center;
     float opacity = 1;
     const TextureDesc* texture = nullptr;  // opacity = its luminance at the hit
@@ -80,7 +79,7 @@ public:
     unsigned firstInstanceID = 0;
     std::atomic<int64_t> embreeBytes{0};  // Embree's memory now (its memory monitor)
     uint64_t meshBytes = 0;               // the triangle meshes' arrays (a group's once)
-    std::vector<BsdfParams> materials;  // by material index, before textures
+    std::vector<BsdfParams> materials;    // by material index, before textures
     // pbrt's regularize (SceneDesc::regularize): materials[m + regularizedOffset] is material
     // m's regularized version (scene/regularize.h), which the PT and BPT renders use after a
     // path's first non-specular bounce; 0: no such table.
@@ -89,20 +88,20 @@ public:
     // By material index: a blend whose parts perturb the normal (bump or normal maps), resolved
     // to one part per hit as pbrt-v4 resolves every mix (surface.cpp, choosePart).
     std::vector<uint8_t> choosesPart;
-    std::vector<BsdfExtra> bsdfExtras;  // by index into materials: the Mitsuba kinds' constants
-    std::vector<BsdfParams> blendParts; // each Blend's two parts (BsdfExtra::blendParts)
+    std::vector<BsdfExtra> bsdfExtras;         // by index into materials: the Mitsuba kinds' constants
+    std::vector<BsdfParams> blendParts;        // each Blend's two parts (BsdfExtra::blendParts)
     std::vector<BlendTextures> blendTextures;  // each Blend with textured parts (BsdfExtra::blendTextures)
-    std::vector<MaskRecord> masks;      // one per masked shape (Embree's filters point into it)
+    std::vector<MaskRecord> masks;             // one per masked shape (Embree's filters point into it)
     // Lights: the scene's emitters, then the environment map (if any) as the last one.
     std::vector<Light> lights;
     std::vector<MeshLight> meshLights;  // Light::mesh indexes it
-    std::vector<float> lightPmf;    // probability of choosing each light (in proportion to power)
+    std::vector<float> lightPmf;        // probability of choosing each light (in proportion to power)
     // Per light: its rectangle as floats for the flat light-sample loops, zeros (which no
     // sample passes) unless it is a Rect whose radiance is not black; anyRectLight: one is.
     std::vector<RectFloats> lightRects;
     bool anyRectLight = false;
     Distribution1D lightDistribution;
-    int envLight = -1;              // index of the environment light, -1: none
+    int envLight = -1;  // index of the environment light, -1: none
     EnvMapSampler env;
     // Participating media (kernels/medium.h), by SceneDesc::media index; the camera's.
     std::vector<Medium> media;
@@ -114,8 +113,8 @@ public:
     std::vector<std::vector<float>> majorantGrids;  // the grid media's, in their order (Medium::majorants)
     int cameraMedium = -1;
     Vec3 boundsMin, boundsMax, center;
-    float radius = 1;               // bounding sphere of the scene's geometry
-    float epsilonScale = 1e-4f;     // ray offsets scale with the scene's size
+    float radius = 1;            // bounding sphere of the scene's geometry
+    float epsilonScale = 1e-4f;  // ray offsets scale with the scene's size
 
     // Another camera and image size (the interactive mode, between renders): the camera,
     // the filter's normalisation per column and row, the depth-of-field feature. Throws

@@ -52,9 +52,7 @@ inline bool texturedEmitterHit(const Scene& s, int li, const RTCRayHit& rh, Vec3
 // The scene's light when it has exactly one and that is a rectangle, else nullptr: the
 // stages then sample it in flat loops (sampleLights, generateBptLightPaths), and the
 // choice among lights is certain (pmf lightDistribution.discretePmf(0), no number read).
-inline const Light* soleRectLight(const Scene& s) {
-    return s.lights.size() == 1 && s.lights[0].type == LightType::Rect ? &s.lights[0] : nullptr;
-}
+inline const Light* soleRectLight(const Scene& s) { return s.lights.size() == 1 && s.lights[0].type == LightType::Rect ? &s.lights[0] : nullptr; }
 
 // Samples light `li` from reference point ref (solid-angle pdf, without the choice pmf;
 // delta lights: 1).
@@ -116,8 +114,7 @@ inline float lightPdfFrom(const Scene& s, int li, Vec3 ref, Vec3 pLight, Vec3 di
 // The environment: direction d from its importance sampling (light travels along -d),
 // origin uniform on the disc of radius R (the scene's bounding sphere) perpendicular to
 // d, centred at center + R d, outside the bounds: pdfPos = 1 / (pi R^2), n = -d.
-inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, float u2, float u3,
-                                LightEmission& e) {
+inline bool sampleLightEmission(const Scene& s, int li, float u0, float u1, float u2, float u3, LightEmission& e) {
     const Light& l = s.lights[li];
     switch (l.type) {
         case LightType::Rect: return sampleRectEmission(l, u0, u1, u2, u3, e);

@@ -43,8 +43,7 @@ double integrate(F f) {
 
 std::string parsePair(const std::string& token, double& l, double& v) {
     const size_t colon = token.find(':');
-    if (colon == std::string::npos || !parseNumber(token.substr(0, colon), false, l) ||
-        !parseNumber(token.substr(colon + 1), false, v))
+    if (colon == std::string::npos || !parseNumber(token.substr(0, colon), false, l) || !parseNumber(token.substr(colon + 1), false, v))
         return "\"" + token + "\" is not a wavelength:value pair";
     return "";
 }
@@ -109,8 +108,7 @@ Vec3 xyzToLinearSrgb(Vec3 c) {
 
 Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped) {
     static const double yE = integrate([](double l) { return tableAt(cie::kXyz[1], 95, 360, l); });
-    static const double yD65 =
-        integrate([](double l) { return tableAt(cie::kXyz[1], 95, 360, l) * cieD65(l); });
+    static const double yD65 = integrate([](double l) { return tableAt(cie::kXyz[1], 95, 360, l) * cieD65(l); });
     double xyz[3] = {0, 0, 0};
     size_t j = 0;
     for (int i = 0; i < kSteps; ++i) {

@@ -17,8 +17,7 @@ struct Mat3d {
 inline Mat3d mul(const Mat3d& a, const Mat3d& b) {
     Mat3d r;
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+        for (int j = 0; j < 3; ++j) r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
     return r;
 }
 
@@ -27,10 +26,26 @@ inline Mat3d mul(const Mat3d& a, const Mat3d& b) {
 inline void sinCosDegrees(double deg, double& s, double& c) {
     double q = std::fmod(deg, 360.0);
     if (q < 0) q += 360.0;
-    if (q == 0) { s = 0; c = 1; return; }
-    if (q == 90) { s = 1; c = 0; return; }
-    if (q == 180) { s = 0; c = -1; return; }
-    if (q == 270) { s = -1; c = 0; return; }
+    if (q == 0) {
+        s = 0;
+        c = 1;
+        return;
+    }
+    if (q == 90) {
+        s = 1;
+        c = 0;
+        return;
+    }
+    if (q == 180) {
+        s = 0;
+        c = -1;
+        return;
+    }
+    if (q == 270) {
+        s = -1;
+        c = 0;
+        return;
+    }
     const double r = deg * 3.14159265358979323846 / 180.0;
     s = std::sin(r);
     c = std::cos(r);
@@ -42,8 +57,10 @@ inline Mat3d rotationDegrees(int axis, double deg) {
     sinCosDegrees(deg, s, c);
     Mat3d r;
     const int i = (axis + 1) % 3, j = (axis + 2) % 3;  // x: (y, z), y: (z, x), z: (x, y)
-    r.m[i][i] = c; r.m[i][j] = -s;
-    r.m[j][i] = s; r.m[j][j] = c;
+    r.m[i][i] = c;
+    r.m[i][j] = -s;
+    r.m[j][i] = s;
+    r.m[j][j] = c;
     return r;
 }
 
@@ -58,10 +75,8 @@ inline Affine toAffine(const Mat3d& l, const double t[3]) {
 
 // toWorld = T(position) * Rz * Ry * Rx * S(scale); toLocal is its inverse.
 // Scale components must be non-zero (the loader requires > 0).
-inline void objectTransform(Vec3 position, Vec3 rotationDeg, Vec3 scale, Affine& toWorld,
-                            Affine& toLocal) {
-    Mat3d rot = mul(rotationDegrees(2, rotationDeg.z),
-                    mul(rotationDegrees(1, rotationDeg.y), rotationDegrees(0, rotationDeg.x)));
+inline void objectTransform(Vec3 position, Vec3 rotationDeg, Vec3 scale, Affine& toWorld, Affine& toLocal) {
+    Mat3d rot = mul(rotationDegrees(2, rotationDeg.z), mul(rotationDegrees(1, rotationDeg.y), rotationDegrees(0, rotationDeg.x)));
     Mat3d l = rot;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) l.m[i][j] *= double(scale[j]);
@@ -72,8 +87,7 @@ inline void objectTransform(Vec3 position, Vec3 rotationDeg, Vec3 scale, Affine&
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) inv.m[i][j] = rot.m[j][i] / double(scale[i]);
     double ti[3];
-    for (int i = 0; i < 3; ++i)
-        ti[i] = -(inv.m[i][0] * t[0] + inv.m[i][1] * t[1] + inv.m[i][2] * t[2]);
+    for (int i = 0; i < 3; ++i) ti[i] = -(inv.m[i][0] * t[0] + inv.m[i][1] * t[1] + inv.m[i][2] * t[2]);
     toLocal = toAffine(inv, ti);
 }
 

@@ -4,15 +4,15 @@
 
 #include "stages/bpt/bidirectional.h"
 #include "stages/core/distributed.h"
-#include "stages/lt/light_tracer.h"
 #include "stages/core/memory.h"
 #include "stages/core/strategy_films.h"
+#include "stages/lt/light_tracer.h"
 #include "stages/mmlt/mmlt.h"
 #include "stages/pssmlt/pssmlt.h"
 #include "stages/pt/path_tracer.h"
+#include "stages/render_scene.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
-#include "stages/render_scene.h"
 
 namespace wmlt {
 
@@ -34,14 +34,12 @@ std::vector<std::pair<std::string, uint64_t>> filmBuffers(const RenderOptions& o
         case TracerKind::LT: return {{"splat film", splats}, {"image", image}};
         case TracerKind::BPT: {
             std::vector<std::pair<std::string, uint64_t>> b = {{"film", film}, {"splat film", splats}, {"image", image}};
-            if (!opt.strategyImages.empty() || opt.lengthImages)
-                b.push_back({"strategy films", StrategyFilms::bytes(w, h, opt.maxPathLength)});
+            if (!opt.strategyImages.empty() || opt.lengthImages) b.push_back({"strategy films", StrategyFilms::bytes(w, h, opt.maxPathLength)});
             return b;
         }
         case TracerKind::MMLT:
         case TracerKind::PSSMLT:
-            return {{"film", splats}, {"length films", opt.lengthImages ? splats * uint64_t(opt.maxPathLength) : 0},
-                    {"image", image}};
+            return {{"film", splats}, {"length films", opt.lengthImages ? splats * uint64_t(opt.maxPathLength) : 0}, {"image", image}};
     }
     return {};
 }
@@ -55,11 +53,9 @@ namespace {
 std::vector<std::pair<std::string, uint64_t>> checkOptions(const RenderOptions& opt, int width, int height) {
     if (opt.maxPathLength < 1 || opt.maxPathLength > kMaxPathLength || opt.minPathLength < 1 || opt.minPathLength > opt.maxPathLength)
         throw InputError("path lengths must satisfy 1 <= min <= max <= " + std::to_string(kMaxPathLength));
-    if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT)
-        throw InputError("strategy images need the BPT tracer");
+    if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT) throw InputError("strategy images need the BPT tracer");
     const bool metropolis = opt.tracer == TracerKind::MMLT || opt.tracer == TracerKind::PSSMLT;
-    if (metropolis && !(opt.probLarge > 0 && opt.probLarge <= 1))
-        throw InputError("ProbLarge must be in (0, 1]");
+    if (metropolis && !(opt.probLarge > 0 && opt.probLarge <= 1)) throw InputError("ProbLarge must be in (0, 1]");
     if (opt.lengthImages && opt.tracer != TracerKind::BPT && opt.tracer != TracerKind::MMLT)
         throw InputError("length images need the BPT or MMLT tracer (PSSMLT's chains carry every length at once)");
     if (opt.ranks && opt.ranks->many() && (!opt.strategyImages.empty() || opt.lengthImages))
@@ -69,8 +65,8 @@ std::vector<std::pair<std::string, uint64_t>> checkOptions(const RenderOptions& 
     for (const auto& b : buffers) bytes += double(b.second);
     const double mem = physicalMemoryBytes();
     if (mem > 0 && bytes > 0.75 * mem)
-        throw InputError("a " + std::to_string(width) + " x " + std::to_string(height) + " render needs " +
-                         bytesText(bytes) + " of films, more than 3/4 of this machine's " + bytesText(mem));
+        throw InputError("a " + std::to_string(width) + " x " + std::to_string(height) + " render needs " + bytesText(bytes) +
+                         " of films, more than 3/4 of this machine's " + bytesText(mem));
     return buffers;
 }
 
@@ -87,9 +83,9 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
                          "the light tracer cannot start paths in an emitting medium: render it with --tracer pt, bpt or mmlt (docs/media.md)");
     RenderResult r = opt.tracer == TracerKind::MMLT     ? renderMmlt(scene, opt)
                      : opt.tracer == TracerKind::PSSMLT ? renderPssmlt(scene, opt)
-                     : opt.tracer == TracerKind::LT  ? renderLightTracing(scene, opt)
-                     : opt.tracer == TracerKind::BPT ? renderBidirectional(scene, opt)
-                                                     : renderPathTracing(scene, opt);
+                     : opt.tracer == TracerKind::LT     ? renderLightTracing(scene, opt)
+                     : opt.tracer == TracerKind::BPT    ? renderBidirectional(scene, opt)
+                                                        : renderPathTracing(scene, opt);
     r.stats.threads = threads;
     if (r.stats.buffers.empty()) r.stats.buffers = buffers;
     // The scene: its triangle meshes' arrays (a shape group's once, however many instances)
@@ -102,8 +98,7 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
 std::vector<std::string> renderWarnings(const RenderResult& r) {
     std::vector<std::string> w;
     const RenderStats& s = r.stats;
-    if (s.samplesNonfiniteDiscarded)
-        w.push_back(std::to_string(s.samplesNonfiniteDiscarded) + " samples were NaN or infinite and were discarded");
+    if (s.samplesNonfiniteDiscarded) w.push_back(std::to_string(s.samplesNonfiniteDiscarded) + " samples were NaN or infinite and were discarded");
     if (s.mmlt.chainsRun < s.mmlt.chainsAsked)
         w.push_back("ran " + std::to_string(s.mmlt.chainsRun) + " chains, not " + std::to_string(s.mmlt.chainsAsked) +
                     ": one iteration of them all costs at most 2% of --time (a longer budget runs them all)");

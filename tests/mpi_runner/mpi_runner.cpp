@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
                 }
                 f << "ranks " << r.stats.ranks.count << " bytes";
                 for (uint64_t b : r.stats.ranks.bytes) f << ' ' << b;
-                f << "\nnonfinite " << r.stats.samplesNonfiniteDiscarded << " mismatches " << r.stats.mmlt.replayMismatches
-                  << "\nchains " << r.stats.mmlt.chainsRun << '\n';
+                f << "\nnonfinite " << r.stats.samplesNonfiniteDiscarded << " mismatches " << r.stats.mmlt.replayMismatches << "\nchains "
+                  << r.stats.mmlt.chainsRun << '\n';
             }
         }
     } catch (const std::exception& e) {

@@ -66,9 +66,16 @@ private:
 
     [[noreturn]] void fail(const std::string& msg) const { throw InputError(path_, line_, msg); }
     static bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-    void skipSpace() { while (p_ < end_ && isSpace(*p_)) ++p_; }
-    bool atEol() { skipSpace(); return p_ == end_ || *p_ == '\n' || *p_ == '#'; }
-    void skipLine() { while (p_ < end_ && *p_ != '\n') ++p_; }
+    void skipSpace() {
+        while (p_ < end_ && isSpace(*p_)) ++p_;
+    }
+    bool atEol() {
+        skipSpace();
+        return p_ == end_ || *p_ == '\n' || *p_ == '#';
+    }
+    void skipLine() {
+        while (p_ < end_ && *p_ != '\n') ++p_;
+    }
     // The next token, at most kMaxToken characters (a longer one is no keyword, and only
     // messages quote it).
     static constexpr size_t kMaxToken = 64;
@@ -122,8 +129,8 @@ private:
         long long k = i > 0 ? i - 1 : (long long)count + i;
         if (i == 0) fail("face index 0 is invalid (OBJ indices start at 1)");
         if (k < 0 || k >= (long long)count)
-            fail(std::string("face ") + what + "index " + std::to_string(i) + " is past the " +
-                 std::to_string(count) + " " + whats + " defined above");
+            fail(std::string("face ") + what + "index " + std::to_string(i) + " is past the " + std::to_string(count) + " " + whats +
+                 " defined above");
         return k;
     }
 
@@ -135,7 +142,10 @@ private:
         Corner c{index(q, e, pos_.size() / 3, "", "vertices"), -1, -1};
         if (q < e && *q == '/') {
             ++q;
-            if (q < e && *q != '/') { c.vt = index(q, e, tex_.size() / 2, "texture ", "texture coordinates"); anyVt_ = true; }
+            if (q < e && *q != '/') {
+                c.vt = index(q, e, tex_.size() / 2, "texture ", "texture coordinates");
+                anyVt_ = true;
+            }
             if (q < e && *q == '/') {
                 ++q;
                 c.vn = index(q, e, nrm_.size() / 3, "normal ", "normals");
@@ -152,7 +162,11 @@ private:
         while (!atEol()) {
             Corner c = corner();
             if (n == 0) first = c;
-            else if (n >= 2) { corners_.push_back(first); corners_.push_back(prev); corners_.push_back(c); }
+            else if (n >= 2) {
+                corners_.push_back(first);
+                corners_.push_back(prev);
+                corners_.push_back(c);
+            }
             prev = c;
             ++n;
         }
@@ -171,9 +185,7 @@ void ObjParser::run(bool smooth, TriangleMesh& out) {
             else if (kw == "vt") readFloats(tex_, 1, 2, 0);
             else if (kw == "vn") readFloats(nrm_, 3, 3, 0);
             else if (kw == "f") face();
-            else if (kw == "o" || kw == "g" || kw == "s" || kw == "usemtl" || kw == "mtllib" ||
-                     kw == "l" || kw == "p" || kw == "vp")
-                skipLine();
+            else if (kw == "o" || kw == "g" || kw == "s" || kw == "usemtl" || kw == "mtllib" || kw == "l" || kw == "p" || kw == "vp") skipLine();
             else if (kw.find('\0') != std::string::npos) fail("not a text file (a NUL byte)");
             else fail("unknown statement " + quoted(kw));
             if (!atEol()) fail("unexpected " + quoted(token()));
@@ -215,8 +227,7 @@ void ObjParser::build(bool smooth, TriangleMesh& out) {
                     out.uvs.push_back(c.vt >= 0 ? tex_[2 * c.vt + 1] : 0.0f);
                 }
                 if (useVn) {
-                    out.normals.push_back(c.vn >= 0 ? Vec3{nrm_[3 * c.vn], nrm_[3 * c.vn + 1], nrm_[3 * c.vn + 2]}
-                                                    : Vec3{0, 0, 0});
+                    out.normals.push_back(c.vn >= 0 ? Vec3{nrm_[3 * c.vn], nrm_[3 * c.vn + 1], nrm_[3 * c.vn + 2]} : Vec3{0, 0, 0});
                 }
             }
             out.indices[i] = it->second;
@@ -229,7 +240,10 @@ void ObjParser::build(bool smooth, TriangleMesh& out) {
     for (Vec3& n : out.normals) {
         float l = length(n);
         if (l > 0 && std::isfinite(l)) n = n / l;
-        else { n = Vec3{0, 0, 0}; needed = true; }
+        else {
+            n = Vec3{0, 0, 0};
+            needed = true;
+        }
     }
     if (!needed) return;
     std::vector<Vec3> acc(nPos, Vec3{0, 0, 0});
@@ -269,7 +283,9 @@ TriangleMesh loadObj(const std::string& path, bool smoothShading) {
     struct Unmap {
         void* p;
         size_t n;
-        ~Unmap() { if (p) ::munmap(p, n); }
+        ~Unmap() {
+            if (p) ::munmap(p, n);
+        }
     } unmap{data, size};
     if (size) ::madvise(data, size, MADV_SEQUENTIAL);
     const char* b = static_cast<const char*>(data);

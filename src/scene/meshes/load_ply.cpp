@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "scene/number.h"
 #include "scene/meshes/vertex_normals.h"
+#include "scene/number.h"
 #include "scene/read_file.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/scene_desc.h"
@@ -38,22 +38,28 @@ enum class Type : uint8_t { I8, U8, I16, U16, I32, U32, F32, F64 };
 
 int sizeOf(Type t) {
     switch (t) {
-        case Type::I8: case Type::U8: return 1;
-        case Type::I16: case Type::U16: return 2;
-        case Type::I32: case Type::U32: case Type::F32: return 4;
+        case Type::I8:
+        case Type::U8: return 1;
+        case Type::I16:
+        case Type::U16: return 2;
+        case Type::I32:
+        case Type::U32:
+        case Type::F32: return 4;
         case Type::F64: return 8;
     }
     return 1;
 }
 
 bool typeOf(const std::string& s, Type& t) {
-    static const std::pair<const char*, Type> names[] = {
-        {"char", Type::I8}, {"int8", Type::I8}, {"uchar", Type::U8}, {"uint8", Type::U8},
-        {"short", Type::I16}, {"int16", Type::I16}, {"ushort", Type::U16}, {"uint16", Type::U16},
-        {"int", Type::I32}, {"int32", Type::I32}, {"uint", Type::U32}, {"uint32", Type::U32},
-        {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
+    static const std::pair<const char*, Type> names[] = {{"char", Type::I8},   {"int8", Type::I8},     {"uchar", Type::U8},   {"uint8", Type::U8},
+                                                         {"short", Type::I16}, {"int16", Type::I16},   {"ushort", Type::U16}, {"uint16", Type::U16},
+                                                         {"int", Type::I32},   {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
+                                                         {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
     for (const auto& [n, ty] : names)
-        if (s == n) { t = ty; return true; }
+        if (s == n) {
+            t = ty;
+            return true;
+        }
     return false;
 }
 
@@ -151,22 +157,48 @@ private:
         const size_t at = pos_;
         pos_ += size_t(n);
         switch (t) {
-            case Type::I8: { int8_t x; std::memcpy(&x, b, 1); return x; }
+            case Type::I8: {
+                int8_t x;
+                std::memcpy(&x, b, 1);
+                return x;
+            }
             case Type::U8: return b[0];
-            case Type::I16: { int16_t x; std::memcpy(&x, b, 2); return x; }
-            case Type::U16: { uint16_t x; std::memcpy(&x, b, 2); return x; }
-            case Type::I32: { int32_t x; std::memcpy(&x, b, 4); return x; }
-            case Type::U32: { uint32_t x; std::memcpy(&x, b, 4); return x; }
+            case Type::I16: {
+                int16_t x;
+                std::memcpy(&x, b, 2);
+                return x;
+            }
+            case Type::U16: {
+                uint16_t x;
+                std::memcpy(&x, b, 2);
+                return x;
+            }
+            case Type::I32: {
+                int32_t x;
+                std::memcpy(&x, b, 4);
+                return x;
+            }
+            case Type::U32: {
+                uint32_t x;
+                std::memcpy(&x, b, 4);
+                return x;
+            }
             case Type::F32: {
                 float x;
                 std::memcpy(&x, b, 4);
-                if (!std::isfinite(x)) { pos_ = at; failHere("a number is not finite"); }
+                if (!std::isfinite(x)) {
+                    pos_ = at;
+                    failHere("a number is not finite");
+                }
                 return x;
             }
             case Type::F64: {
                 double x;
                 std::memcpy(&x, b, 8);
-                if (!std::isfinite(x) || std::fabs(x) > 3.4e38) { pos_ = at; failHere("a number is not finite or does not fit a float"); }
+                if (!std::isfinite(x) || std::fabs(x) > 3.4e38) {
+                    pos_ = at;
+                    failHere("a number is not finite or does not fit a float");
+                }
                 return x;
             }
         }
@@ -200,8 +232,7 @@ void PlyReader::header() {
             haveFormat = true;
         } else if (w[0] == "element") {
             double n = 0;
-            if (w.size() != 3 || !parseNumber(w[2], true, n) || n < 0)
-                failLine(line_, "expected \"element <name> <count>\" with a count >= 0");
+            if (w.size() != 3 || !parseNumber(w[2], true, n) || n < 0) failLine(line_, "expected \"element <name> <count>\" with a count >= 0");
             elements_.push_back({w[1], uint64_t(n), {}, line_});
         } else if (w[0] == "property") {
             if (elements_.empty()) failLine(line_, "a property before any element");
@@ -244,8 +275,12 @@ void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
             for (int i = 0; i < int(e.props.size()); ++i) {
                 const std::string& n = e.props[size_t(i)].name;
                 if (e.props[size_t(i)].list) continue;
-                if (n == "x") ix = i; else if (n == "y") iy = i; else if (n == "z") iz = i;
-                else if (n == "nx") inx = i; else if (n == "ny") iny = i; else if (n == "nz") inz = i;
+                if (n == "x") ix = i;
+                else if (n == "y") iy = i;
+                else if (n == "z") iz = i;
+                else if (n == "nx") inx = i;
+                else if (n == "ny") iny = i;
+                else if (n == "nz") inz = i;
                 else if (n == "u" || n == "s" || n == "texture_u" || n == "texture_s") iu = i;
                 else if (n == "v" || n == "t" || n == "texture_v" || n == "texture_t") iv = i;
             }
@@ -269,17 +304,21 @@ void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
                         continue;
                     }
                     const float v = float(value(p.type));
-                    if (i == ix) pos[3 * k] = v; else if (i == iy) pos[3 * k + 1] = v; else if (i == iz) pos[3 * k + 2] = v;
-                    else if (i == inx) nrm[3 * k] = v; else if (i == iny) nrm[3 * k + 1] = v; else if (i == inz) nrm[3 * k + 2] = v;
-                    else if (i == iu) uv[2 * k] = v; else if (i == iv) uv[2 * k + 1] = v;
+                    if (i == ix) pos[3 * k] = v;
+                    else if (i == iy) pos[3 * k + 1] = v;
+                    else if (i == iz) pos[3 * k + 2] = v;
+                    else if (i == inx) nrm[3 * k] = v;
+                    else if (i == iny) nrm[3 * k + 1] = v;
+                    else if (i == inz) nrm[3 * k + 2] = v;
+                    else if (i == iu) uv[2 * k] = v;
+                    else if (i == iv) uv[2 * k + 1] = v;
                 }
         } else if (e.name == "face") {
             if (haveFaces) failLine(e.line, "a second face element");
             haveFaces = true;
             int iList = -1;
             for (int i = 0; i < int(e.props.size()); ++i)
-                if (e.props[size_t(i)].list && (e.props[size_t(i)].name == "vertex_indices" || e.props[size_t(i)].name == "vertex_index"))
-                    iList = i;
+                if (e.props[size_t(i)].list && (e.props[size_t(i)].name == "vertex_indices" || e.props[size_t(i)].name == "vertex_index")) iList = i;
             if (iList < 0) failLine(e.line, "the face element needs a list property vertex_indices");
             if (e.props[size_t(iList)].type == Type::F32 || e.props[size_t(iList)].type == Type::F64)
                 failLine(e.line, "vertex_indices must be integers");
@@ -287,7 +326,10 @@ void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
             for (uint64_t k = 0; k < e.count; ++k)
                 for (int i = 0; i < int(e.props.size()); ++i) {
                     const Property& p = e.props[size_t(i)];
-                    if (!p.list) { value(p.type); continue; }
+                    if (!p.list) {
+                        value(p.type);
+                        continue;
+                    }
                     const double n = value(p.countType);
                     if (n < 0) failHere("a negative list length");
                     if (i != iList) {
@@ -299,8 +341,8 @@ void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
                     for (double j = 0; j < n; ++j) {
                         const double v = value(p.type);
                         if (!haveVertices || v < 0 || v >= double(nVertices))
-                            failHere("vertex index " + std::to_string(int64_t(v)) + " is out of range (" + std::to_string(nVertices) +
-                                     " vertices" + (haveVertices ? "" : ", none declared before the faces") + ")");
+                            failHere("vertex index " + std::to_string(int64_t(v)) + " is out of range (" + std::to_string(nVertices) + " vertices" +
+                                     (haveVertices ? "" : ", none declared before the faces") + ")");
                         poly.push_back(uint32_t(v));
                     }
                     for (size_t j = 1; j + 1 < poly.size(); ++j) idx.insert(idx.end(), {poly[0], poly[j], poly[j + 1]});
@@ -308,7 +350,10 @@ void PlyReader::run(bool smooth, bool computeMissing, TriangleMesh& out) {
         } else {  // read past it
             for (uint64_t k = 0; k < e.count; ++k)
                 for (const Property& p : e.props) {
-                    if (!p.list) { value(p.type); continue; }
+                    if (!p.list) {
+                        value(p.type);
+                        continue;
+                    }
                     const double n = value(p.countType);
                     if (n < 0) failHere("a negative list length");
                     for (double j = 0; j < n; ++j) value(p.type);

@@ -45,8 +45,8 @@ Image resampleEnvMap(const Image& src, const Matrix& toWorld, float scale) {
             const double px = u * W, py = v * (H - 1);
             const int x0 = std::min(int(px), W - 1), y0 = std::min(int(py), H - 2);
             const float tx = float(px - x0), ty = float(py - y0);
-            const Vec3 c = texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) +
-                           texel(x0, y0 + 1) * ((1 - tx) * ty) + texel(x0 + 1, y0 + 1) * (tx * ty);
+            const Vec3 c = texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) + texel(x0, y0 + 1) * ((1 - tx) * ty) +
+                           texel(x0 + 1, y0 + 1) * (tx * ty);
             out.set(x, y, c * scale);
         }
     return out;
@@ -131,8 +131,8 @@ void Importer::instance(Node n) {
     if (groups.size() != 1) p.fail(n, "an instance needs one <ref id=...> to a shapegroup");
     Node gn = groups[0];
     if (std::string(gn.attribute("type").value()) != "shapegroup")
-        p.fail(n, "an instance's <ref> must name a shapegroup (" + files_.where(gn) + " is a shape of type \"" +
-                      gn.attribute("type").value() + "\")");
+        p.fail(n,
+               "an instance's <ref> must name a shapegroup (" + files_.where(gn) + " is a shape of type \"" + gn.attribute("type").value() + "\")");
     InstanceDesc in;
     in.group = shapeGroup(gn);
     in.toWorld = M.affine();
@@ -164,7 +164,11 @@ void Importer::shape(Node n) {
         const std::string path = resolve(p.getString("filename", ""));
         const bool faceNormals = p.getBool("face_normals", false);
         const bool flipUv = p.getBool("flip_tex_coords", true);
-        try { sh.mesh = loadObj(path, !faceNormals); } catch (const InputError& e) { p.fail(n, e.what()); }
+        try {
+            sh.mesh = loadObj(path, !faceNormals);
+        } catch (const InputError& e) {
+            p.fail(n, e.what());
+        }
         if (flipUv)  // Mitsuba's v = 1 - the file's
             for (size_t i = 1; i < sh.mesh.uvs.size(); i += 2) sh.mesh.uvs[i] = 1 - sh.mesh.uvs[i];
         transformMesh(sh.mesh, M, flip);
@@ -175,7 +179,9 @@ void Importer::shape(Node n) {
         if (index < 0) p.fail(n, "shape_index must be >= 0");
         try {
             sh.mesh = t == "ply" ? loadPly(path, !faceNormals) : loadSerialized(path, index, !faceNormals);
-        } catch (const InputError& e) { p.fail(n, e.what()); }
+        } catch (const InputError& e) {
+            p.fail(n, e.what());
+        }
         transformMesh(sh.mesh, M, flip);
     } else if (t == "rectangle" || t == "cube" || t == "disk") {
         sh.mesh = t == "rectangle" ? rectangleMesh() : t == "cube" ? cubeMesh() : diskMesh(kDiskSegments);
@@ -202,7 +208,10 @@ void Importer::shape(Node n) {
         sh.radius = float(r * col[0]);
         // The unit sphere to world, rotation included (Mitsuba's (u, v) turn with to_world).
         Matrix T;
-        for (int i = 0; i < 3; ++i) { T.m[i][i] = r; T.m[i][3] = c[i]; }
+        for (int i = 0; i < 3; ++i) {
+            T.m[i][i] = r;
+            T.m[i][3] = c[i];
+        }
         const Matrix W = M * T;
         sh.toWorld = W.affine();
         sh.toLocal = W.inverse().affine();
@@ -211,8 +220,7 @@ void Importer::shape(Node n) {
     }
     if (sh.kind == ShapeKind::Mesh) sh.uv = sh.mesh.uvs.empty() ? UvKind::None : UvKind::Mesh;
     sh.group = currentGroup_;
-    if (sh.group >= 0 && sh.kind != ShapeKind::Mesh)
-        p.fail(n, "a sphere inside a shapegroup is not supported (triangle meshes are)");
+    if (sh.group >= 0 && sh.kind != ShapeKind::Mesh) p.fail(n, "a sphere inside a shapegroup is not supported (triangle meshes are)");
     std::vector<Node> bsdfs = p.nested("bsdf");
     if (bsdfs.size() > 1) p.fail(bsdfs[1], "a shape has one BSDF");
     std::vector<Node> emitters = p.nested("emitter");
@@ -249,8 +257,7 @@ void Importer::shape(Node n) {
         const MaterialDesc& m = s_.materials[sh.material];
         if (m.opacity < 1 || m.opacityTexture >= 0)
             p.fail(bsdfs[0], "a mask on an emitting shape is not supported (its light would be partly there)");
-        if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.texture[MaterialParam::Diffuse] < 0)
-            sh.material = -1;
+        if (m.kind == MaterialKind::Matte && isBlack(m.diffuse) && m.texture[MaterialParam::Diffuse] < 0) sh.material = -1;
         s_.shapes.push_back(std::move(sh));
         emitter(emitters[0], int(s_.shapes.size()) - 1);
         p.finish();
@@ -329,7 +336,11 @@ void Importer::emitter(Node n, int shape) {
         if (!p.has("filename")) p.fail(n, "an envmap needs a filename");
         const std::string path = resolve(p.getString("filename", ""));
         Image src;
-        try { src = readSceneImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        try {
+            src = readSceneImage(path);
+        } catch (const InputError& e) {
+            p.fail(n, e.what());
+        }
         if (src.width < 2 || src.height < 3) p.fail(n, "the environment map must be at least 2 x 3 pixels (Mitsuba's rule)");
         const float scale = p.getFloat("scale", 1.0f);
         if (!(scale >= 0)) p.fail(n, "scale must be >= 0");
@@ -338,8 +349,7 @@ void Importer::emitter(Node n, int shape) {
             for (int j = 0; j < 3; ++j) {
                 double d = 0;
                 for (int k = 0; k < 3; ++k) d += M.m[k][i] * M.m[k][j];
-                if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-4)
-                    p.fail(n, "an envmap's to_world must be a rotation (no scale or shear)");
+                if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-4) p.fail(n, "an envmap's to_world must be a rotation (no scale or shear)");
             }
         p.getBool("mis_compensation", false);  // sampling only
         s_.envMap = resampleEnvMap(src, M, scale);
@@ -364,8 +374,7 @@ void Importer::sensor(Node n) {
     haveSensor_ = true;
     Props p = props(n);
     const std::string t = p.type();
-    if (t != "perspective" && t != "thinlens" && t != "orthographic")
-        p.fail(n, "sensor not supported (perspective, thinlens and orthographic are)");
+    if (t != "perspective" && t != "thinlens" && t != "orthographic") p.fail(n, "sensor not supported (perspective, thinlens and orthographic are)");
     const bool ortho = t == "orthographic";
     // The medium the sensor is in (docs/media.md): <ref name="medium" id=...> or a nested one
     if (Node med = p.getNested("medium", "medium")) {
@@ -386,7 +395,8 @@ void Importer::sensor(Node n) {
         axis = p.getString("fov_axis", "x");
     } else if (!ortho) {
         Node fn = p.node().find_child_by_attribute("name", "focal_length");
-        std::string f = fn && std::string(fn.name()) == "float" ? std::to_string(p.getFloat("focal_length", 50)) : p.getString("focal_length", "50mm");
+        std::string f =
+            fn && std::string(fn.name()) == "float" ? std::to_string(p.getFloat("focal_length", 50)) : p.getString("focal_length", "50mm");
         if (f.size() > 2 && f.compare(f.size() - 2, 2, "mm") == 0) f.resize(f.size() - 2);
         char* end = nullptr;
         const double mm = std::strtod(f.c_str(), &end);
@@ -406,8 +416,7 @@ void Importer::sensor(Node n) {
     p.getFloat("far_clip", 1e4f);
     CameraDesc& c = s_.camera;
     // Mitsuba reads focus_distance on every projective sensor; a pinhole has no focus.
-    if (t == "perspective" && p.has("focus_distance") && !(p.getFloat("focus_distance", 1) > 0))
-        p.fail(n, "focus_distance must be > 0");
+    if (t == "perspective" && p.has("focus_distance") && !(p.getFloat("focus_distance", 1) > 0)) p.fail(n, "focus_distance must be > 0");
     if (t == "thinlens") {
         c.dof = true;
         const float r = p.getFloat("aperture_radius", 0.03f), f = p.getFloat("focus_distance", 0);
@@ -416,7 +425,7 @@ void Importer::sensor(Node n) {
         c.fStop = f / (2 * r);
     }
     int w = 768, h = 576;
-    int crop[4] = {0, 0, 0, 0};  // crop_offset_x, _y, crop_width, _height (0 x 0: none)
+    int crop[4] = {0, 0, 0, 0};          // crop_offset_x, _y, crop_width, _height (0 x 0: none)
     namedFilter("gaussian", s_.filter);  // Mitsuba's default rfilter
     for (Node film : p.nested("film")) {
         Props fp = props(film);
@@ -519,8 +528,7 @@ void Importer::integrator(Node n) {
     st.maxPathLength = depth;  // Mitsuba counts segments, as wavemmlt does
     if (depth == -1 || depth > kMaxPathLength) {
         st.maxPathLength = kMaxPathLength;
-        warn(n, "max_depth " + std::to_string(depth) + " is rendered as " + std::to_string(kMaxPathLength) +
-                    " (wavemmlt's longest paths)");
+        warn(n, "max_depth " + std::to_string(depth) + " is rendered as " + std::to_string(kMaxPathLength) + " (wavemmlt's longest paths)");
     }
     p.getInt("rr_depth", 5);  // Russian roulette: noise only
     if (p.getBool("hide_emitters", false)) p.fail(n, "hide_emitters is not supported");
@@ -554,8 +562,8 @@ bool isMitsubaXml(const std::string& xml) {
     return std::string(doc.document_element().name()) == "scene";
 }
 
-SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir,
-                                const Defines& defines, const LoadOptions& options) {
+SceneDesc loadMitsubaFromString(const std::string& xml, const std::string& name, const std::string& baseDir, const Defines& defines,
+                                const LoadOptions& options) {
     return mitsuba::Importer(baseDir, defines, options).run(xml, name);
 }
 

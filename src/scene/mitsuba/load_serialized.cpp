@@ -129,8 +129,8 @@ void SerializedReader::inflateTo(void* dst, size_t n) {
                       std::to_string(wanted) + ")");
         if (r == Z_DATA_ERROR || r == Z_NEED_DICT) {
             const size_t byte = size_t(reinterpret_cast<const char*>(zs_.next_in) - d_.data());
-            failAt(byte, "shape " + std::to_string(shape_) + ": " + (inflated_ == 0 ? "not zlib data" : "corrupt zlib data") + " (zlib: " +
-                             (zs_.msg ? zs_.msg : "a preset dictionary") + ")");
+            failAt(byte, "shape " + std::to_string(shape_) + ": " + (inflated_ == 0 ? "not zlib data" : "corrupt zlib data") +
+                             " (zlib: " + (zs_.msg ? zs_.msg : "a preset dictionary") + ")");
         }
         if (r == Z_MEM_ERROR) throw std::bad_alloc();
         // Z_OK, or Z_BUF_ERROR (no progress: the next round gives more input or stops)
@@ -146,7 +146,11 @@ void SerializedReader::values(float* dst, size_t count, bool dbl, const char* wh
         for (size_t i = 0; i < c && dst; ++i) {
             double v;
             if (dbl) v = buf[i];
-            else { float f; std::memcpy(&f, reinterpret_cast<const char*>(buf) + 4 * i, 4); v = f; }
+            else {
+                float f;
+                std::memcpy(&f, reinterpret_cast<const char*>(buf) + 4 * i, 4);
+                v = f;
+            }
             if (!std::isfinite(v) || std::fabs(v) > 3.4e38)
                 failShape(std::string("the ") + what + " of vertex " + std::to_string((done + i) / size_t(perVertex)) +
                           (std::isfinite(v) ? " does not fit a float" : " is not finite"));
@@ -179,8 +183,9 @@ void SerializedReader::run(int shapeIndex, bool smooth, TriangleMesh& out) {
                           " is past the shapes' data (which ends at byte " + std::to_string(table) + ")");
     uint16_t v = 0;
     header(size_t(offset), v);
-    if (v != version) failAt(size_t(offset) + 2, "shape " + std::to_string(shapeIndex) + " is version " + std::to_string(v) +
-                                                     ", the file's first shape version " + std::to_string(version));
+    if (v != version)
+        failAt(size_t(offset) + 2, "shape " + std::to_string(shapeIndex) + " is version " + std::to_string(v) + ", the file's first shape version " +
+                                       std::to_string(version));
 
     in_ = size_t(offset) + 4;
     inEnd_ = table;

@@ -12,13 +12,14 @@ namespace wmlt::mitsuba {
 namespace {
 
 // Mitsuba's named indices of refraction (its dielectric IOR table).
-const std::map<std::string, float> kIor = {
-    {"vacuum", 1.0f}, {"helium", 1.000036f}, {"hydrogen", 1.000132f}, {"air", 1.000277f},
-    {"carbon dioxide", 1.00045f}, {"water", 1.333f}, {"acetone", 1.36f}, {"ethanol", 1.361f},
-    {"carbon tetrachloride", 1.461f}, {"glycerol", 1.4729f}, {"benzene", 1.501f},
-    {"silicone oil", 1.52045f}, {"bromine", 1.661f}, {"water ice", 1.31f}, {"fused quartz", 1.458f},
-    {"pyrex", 1.47f}, {"acrylic glass", 1.49f}, {"polypropylene", 1.49f}, {"bk7", 1.5046f},
-    {"sodium chloride", 1.544f}, {"amber", 1.55f}, {"pet", 1.575f}, {"diamond", 2.419f}};
+const std::map<std::string, float> kIor = {{"vacuum", 1.0f},      {"helium", 1.000036f},        {"hydrogen", 1.000132f},
+                                           {"air", 1.000277f},    {"carbon dioxide", 1.00045f}, {"water", 1.333f},
+                                           {"acetone", 1.36f},    {"ethanol", 1.361f},          {"carbon tetrachloride", 1.461f},
+                                           {"glycerol", 1.4729f}, {"benzene", 1.501f},          {"silicone oil", 1.52045f},
+                                           {"bromine", 1.661f},   {"water ice", 1.31f},         {"fused quartz", 1.458f},
+                                           {"pyrex", 1.47f},      {"acrylic glass", 1.49f},     {"polypropylene", 1.49f},
+                                           {"bk7", 1.5046f},      {"sodium chloride", 1.544f},  {"amber", 1.55f},
+                                           {"pet", 1.575f},       {"diamond", 2.419f}};
 
 // Named conductors: the complex index eta + i k of each metal as RGB, Mitsuba 3's own
 // projection of its spectra (against E, no D65: scene/spectrum.h; Bitterli's veach-mis
@@ -66,7 +67,11 @@ int Importer::texture(Node n) {
         tex.kind = TextureKind::Bitmap;
         if (!p.has("filename")) p.fail(n, "a bitmap needs a filename");
         const std::string path = resolve(p.getString("filename", ""));
-        try { tex.image = readSceneImage(path); } catch (const InputError& e) { p.fail(n, e.what()); }
+        try {
+            tex.image = readSceneImage(path);
+        } catch (const InputError& e) {
+            p.fail(n, e.what());
+        }
         const std::string filter = p.getString("filter_type", "bilinear");
         if (filter == "nearest") tex.nearest = true;
         else if (filter != "bilinear") p.fail(n, "filter_type \"" + filter + "\" is not bilinear or nearest");
@@ -122,7 +127,7 @@ Node Importer::textureParam(Props& p, const std::string& name) {
 void Importer::principledParams(Props& p, MaterialDesc& m) {
     m.kind = MaterialKind::Principled;
     static const char* kNames[kPrincipledParams] = {"roughness", "anisotropic", "metallic", "spec_trans", "spec_tint",
-                                                    "sheen", "sheen_tint", "flatness", "clearcoat", "clearcoat_gloss"};
+                                                    "sheen",     "sheen_tint",  "flatness", "clearcoat",  "clearcoat_gloss"};
     for (int i = 0; i < kPrincipledParams; ++i) {
         if (Node tx = textureParam(p, kNames[i])) {
             m.texture[principledParam(PrincipledParam(i))] = texture(tx);
@@ -154,8 +159,7 @@ void Importer::principledParams(Props& p, MaterialDesc& m) {
     for (int i = 0; i < 3; ++i) {
         m.samplingRate[i] = p.getFloat(kRates[i], 1.0f);
         if (!(m.samplingRate[i] >= 0 && m.samplingRate[i] < 1e6f) || (i == 1 && !(m.samplingRate[i] > 0)))
-            p.fail(p.node().find_child_by_attribute("name", kRates[i]),
-                   std::string(kRates[i]) + (i == 1 ? " must be > 0" : " must be >= 0"));
+            p.fail(p.node().find_child_by_attribute("name", kRates[i]), std::string(kRates[i]) + (i == 1 ? " must be > 0" : " must be >= 0"));
     }
     m.twoSided = transmits;
 }
@@ -209,7 +213,7 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
             if (!(x > 0 && x <= 10)) p.fail(p.node(), "alpha must be in (0, 10]");
         m.alpha = std::max(a, 1e-4f);
         if (av != a) m.alphaV = std::max(av, 1e-4f);  // else isotropic: alphaV stays unset
-        p.getBool("sample_visible", true);  // sampling only: every choice gives the same image
+        p.getBool("sample_visible", true);            // sampling only: every choice gives the same image
     };
     auto iors = [&](float intDef) {
         m.iorInside = ior(p, "int_ior", intDef);
@@ -241,7 +245,8 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
                 std::string names;
                 for (const auto& c : kConductors) names += " " + c.first;
                 p.fail(p.node().find_child_by_attribute("name", "material"),
-                       "the conductor \"" + mat + "\" is not in wavemmlt's table (none" + names + "): give eta and k (numbers, rgb, or spectra such as <spectrum name=\"eta\" filename=\"" + mat + ".eta.spd\"/>)");
+                       "the conductor \"" + mat + "\" is not in wavemmlt's table (none" + names +
+                           "): give eta and k (numbers, rgb, or spectra such as <spectrum name=\"eta\" filename=\"" + mat + ".eta.spd\"/>)");
             }
             m.conductorEta = it->second.eta;
             m.conductorK = it->second.k;
@@ -298,8 +303,7 @@ int Importer::material(Node bsdf) {
         Node tn = tname.empty() ? p.nested("texture").at(0) : p.getNested("texture", tname);
         if (m.bump >= 0) p.fail(bsdf, "a bumpmap inside a bumpmap is not supported");
         m.bump = texture(tn);
-        if (s_.textures[m.bump].kind != TextureKind::Bitmap)
-            p.fail(tx[0], "a bumpmap's height must be a bitmap (Mitsuba differentiates only those)");
+        if (s_.textures[m.bump].kind != TextureKind::Bitmap) p.fail(tx[0], "a bumpmap's height must be a bitmap (Mitsuba differentiates only those)");
         m.bumpMitsuba = true;
         m.bumpScale = p.getFloat("scale", 1.0f);
     } else if (p.type() == "normalmap") {  // the `normalmap` texture over the nested BSDF
@@ -325,7 +329,7 @@ int Importer::material(Node bsdf) {
             const int part = material(b[size_t(k)]);
             const MaterialDesc& q = s_.materials[size_t(part)];
             // (bump- or normal-mapped parts: one of them per hit, Scene::choosesPart)
-            const char* why = q.kind == MaterialKind::Blend                 ? "a blendbsdf inside a blendbsdf"
+            const char* why = q.kind == MaterialKind::Blend            ? "a blendbsdf inside a blendbsdf"
                               : q.opacity < 1 || q.opacityTexture >= 0 ? "a mask"
                                                                        : nullptr;
             if (why) p.fail(b[size_t(k)], std::string(why) + " inside a blendbsdf is not supported");

@@ -31,12 +31,11 @@ VolFile readVol(const std::string& path) {
     VolFile v;
     v.nx = head[1], v.ny = head[2], v.nz = head[3], v.channels = head[4];
     if (v.nx < 1 || v.ny < 1 || v.nz < 1 || v.channels < 1 || double(v.nx) * v.ny * v.nz * v.channels > 2e9)
-        fail("a .vol file with a bad size " + std::to_string(v.nx) + " x " + std::to_string(v.ny) + " x " +
-             std::to_string(v.nz) + " x " + std::to_string(v.channels));
+        fail("a .vol file with a bad size " + std::to_string(v.nx) + " x " + std::to_string(v.ny) + " x " + std::to_string(v.nz) + " x " +
+             std::to_string(v.channels));
     std::memcpy(v.bbox, data.data() + 24, sizeof v.bbox);
     const size_t n = size_t(v.nx) * size_t(v.ny) * size_t(v.nz) * size_t(v.channels);
-    if (data.size() - 48 < n * 4)
-        fail("the .vol file is truncated: " + std::to_string((data.size() - 48) / 4) + " values for " + std::to_string(n));
+    if (data.size() - 48 < n * 4) fail("the .vol file is truncated: " + std::to_string((data.size() - 48) / 4) + " values for " + std::to_string(n));
     v.values.resize(n);
     std::memcpy(v.values.data(), data.data() + 48, n * 4);
     return v;
@@ -113,8 +112,7 @@ int Importer::medium(Node n) {
     const Vec3 albedo = constant("albedo", Vec3(0.75f), Props::ColorUse::Reflectance, heterogeneous ? &albedoGrid : nullptr);
     if (!sigmaGrid.empty()) {
         const Grid& g = sigmaGrid[0];
-        if (g.vol.channels != 1)
-            p.fail(g.at, "a sigma_t grid of " + std::to_string(g.vol.channels) + " channels (one is supported)");
+        if (g.vol.channels != 1) p.fail(g.at, "a sigma_t grid of " + std::to_string(g.vol.channels) + " channels (one is supported)");
         m.nx = g.vol.nx, m.ny = g.vol.ny, m.nz = g.vol.nz;
         m.density = g.vol.values;
         m.worldToGrid = g.worldToGrid;

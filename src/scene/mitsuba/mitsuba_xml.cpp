@@ -26,8 +26,7 @@ Node Files::add(const std::string& xml, const std::string& name) {
     Doc& doc = *d;
     docs_.push_back(std::move(d));
     auto lineOf = [&](ptrdiff_t off) {
-        return int(std::upper_bound(doc.lineStarts.begin(), doc.lineStarts.end(), size_t(std::max<ptrdiff_t>(off, 0))) -
-                   doc.lineStarts.begin());
+        return int(std::upper_bound(doc.lineStarts.begin(), doc.lineStarts.end(), size_t(std::max<ptrdiff_t>(off, 0))) - doc.lineStarts.begin());
     };
     if (!r) throw InputError(name, lineOf(r.offset), std::string("not well-formed XML: ") + r.description());
     // Before anything walks the tree recursively (substitute, the ids, nested plugins).
@@ -81,7 +80,10 @@ void substitute(const Files& f, Node n, const std::map<std::string, std::string>
         if (v.find('$') == std::string::npos) continue;
         std::string out;
         for (size_t i = 0; i < v.size();) {
-            if (v[i] != '$') { out += v[i++]; continue; }
+            if (v[i] != '$') {
+                out += v[i++];
+                continue;
+            }
             size_t j = i + 1;
             while (j < v.size() && (std::isalnum((unsigned char)v[j]) || v[j] == '_')) ++j;
             const std::string key = v.substr(i + 1, j - i - 1);
@@ -99,8 +101,7 @@ void substitute(const Files& f, Node n, const std::map<std::string, std::string>
 
 double number(const Files& f, Node n, const std::string& text, bool integer) {
     double v = 0;
-    if (!parseNumber(text, integer, v))
-        f.fail(n, "\"" + text.substr(0, 40) + "\" is not " + (integer ? "an integer" : "a finite number"));
+    if (!parseNumber(text, integer, v)) f.fail(n, "\"" + text.substr(0, 40) + "\" is not " + (integer ? "an integer" : "a finite number"));
     return v;
 }
 
@@ -356,8 +357,8 @@ std::vector<Node> Props::nested(const std::string& tag) {
 void Props::finish() const {
     for (const Item& it : items_)
         if (!it.used)
-            files_.fail(it.n, "not supported by wavemmlt's Mitsuba importer for <" + std::string(node_.name()) + " type=\"" +
-                                  type_ + "\"> (docs/mitsuba.md lists what is)");
+            files_.fail(it.n, "not supported by wavemmlt's Mitsuba importer for <" + std::string(node_.name()) + " type=\"" + type_ +
+                                  "\"> (docs/mitsuba.md lists what is)");
 }
 
 }  // namespace wmlt::mitsuba

@@ -90,7 +90,11 @@ private:
     Node node_;
     std::string type_;
     bool camel_;
-    struct Item { Node n; std::string name; bool used = false; };
+    struct Item {
+        Node n;
+        std::string name;
+        bool used = false;
+    };
     std::vector<Item> items_;
     const std::map<std::string, Node>* ids_ = nullptr;
     const std::string* base_ = nullptr;

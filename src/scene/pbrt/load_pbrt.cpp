@@ -63,8 +63,7 @@ void Importer::transform(const Directive& d) {
     // a finite float, or the shapes it places would be NaN and infinities.
     for (const auto& row : g_.ctm.m)
         for (double x : row)
-            if (!fitsFloat(x))
-                fail(d.at, d.name + ": the transform so far has an entry of " + numberText(x) + ", beyond a float's range");
+            if (!fitsFloat(x)) fail(d.at, d.name + ": the transform so far has an entry of " + numberText(x) + ", beyond a float's range");
     if (std::fabs(g_.ctm.det3()) < 1e-30) fail(d.at, d.name + ": the transform is singular");
 }
 
@@ -227,8 +226,7 @@ void Importer::directive(Directive& d) {
 
 void Importer::film() {
     Directive& f = film_;
-    if (!f.name.empty() && f.strings[0] != "rgb")
-        fail(f.at, "Film \"" + f.strings[0] + "\" is not supported (rgb is)");
+    if (!f.name.empty() && f.strings[0] != "rgb") fail(f.at, "Film \"" + f.strings[0] + "\" is not supported (rgb is)");
     Params& p = f.params;
     s_.settings.width = p.getInt("xresolution", 1280);
     s_.settings.height = p.getInt("yresolution", 720);
@@ -299,7 +297,7 @@ void Importer::camera() {
     c.lookAt = o + fwd;
     c.up = up;
     c.flipX = dot(right, cross(fwd, up)) < 0;  // pbrt: image right is camera +x
-    const float* win = c.window;  // the whole film's aspect, not a crop window's
+    const float* win = c.window;               // the whole film's aspect, not a crop window's
     const float aspect = (float(s_.settings.width) / (win[1] - win[0])) / (float(s_.settings.height) / (win[3] - win[2]));
     if (p.has("screenwindow")) fail(p.find("screenwindow")->at, "screenwindow is not supported");
     const double frame = p.getFloat("frameaspectratio", aspect);
@@ -333,7 +331,9 @@ void Importer::options() {
     constexpr int64_t kMaxSpp = int64_t(1) << 24;  // --spp's limit: 4096 x 4096
     const int64_t spp = sp.getInt("pixelsamples", 16, 1, kMaxSpp, "wavemmlt's limit, as --spp's");
     const int64_t n = int64_t(std::ceil(std::sqrt(double(spp)) - 1e-9));
-    if (n * n != spp) warn(sampler_.at, "pixelsamples " + std::to_string(spp) + " rounded up to " + std::to_string(n * n) + " (" + std::to_string(n) + " x " + std::to_string(n) + ")");
+    if (n * n != spp)
+        warn(sampler_.at, "pixelsamples " + std::to_string(spp) + " rounded up to " + std::to_string(n * n) + " (" + std::to_string(n) + " x " +
+                              std::to_string(n) + ")");
     for (const char* k : {"seed", "randomization", "jitter", "xsamples", "ysamples"})
         if (sp.has(k)) sp.find(k);
     s_.settings.samples = int(n);
@@ -346,9 +346,11 @@ void Importer::options() {
     else if (type == "lightpath") s_.settings.tracer = TracerKind::LT;
     else if (type == "mlt") s_.settings.tracer = TracerKind::MMLT;
     else if (options_.tracerGiven) {  // the command line's tracer renders the scene; the integrator's parameters mean nothing to it
-        warn(integrator_.at, "Integrator \"" + type + "\" is not one of wavemmlt's: replaced by the tracer the command line gives (its parameters are ignored)");
+        warn(integrator_.at,
+             "Integrator \"" + type + "\" is not one of wavemmlt's: replaced by the tracer the command line gives (its parameters are ignored)");
         for (Param& q : ip.list) q.used = true;
-    } else fail(integrator_.at, "Integrator \"" + type + "\" is not supported (path, volpath, bdpt, lightpath, mlt are; or choose one with --tracer)");
+    } else
+        fail(integrator_.at, "Integrator \"" + type + "\" is not supported (path, volpath, bdpt, lightpath, mlt are; or choose one with --tracer)");
     const int64_t maxDepth = ip.getInt("maxdepth", 5, 0, INT32_MAX);
     s_.settings.maxPathLength = int(std::min<int64_t>(maxDepth + 1, 64));
     if (maxDepth + 1 > 64) warn(ip.has("maxdepth") ? ip.find("maxdepth")->at : integrator_.at, "maxdepth above 63 becomes 63");
@@ -380,8 +382,9 @@ void Importer::options() {
     // scene as if they were not there (pass-through boundaries still pass), and so does
     // wavemmlt, to render what pbrt renders (docs/media.md)
     if ((type == "path" || type == "lightpath") && (!s_.media.empty() || s_.cameraMedium >= 0)) {
-        warn(integrator_.at, "the \"" + type + "\" integrator does not render participating media (pbrt-v4 ignores them "
-                             "too): rendered without them; use \"volpath\" (or bdpt, mlt) to render them");
+        warn(integrator_.at, "the \"" + type +
+                                 "\" integrator does not render participating media (pbrt-v4 ignores them "
+                                 "too): rendered without them; use \"volpath\" (or bdpt, mlt) to render them");
         s_.media.clear();
         s_.cameraMedium = -1;
         for (ShapeDesc& sh : s_.shapes) {
@@ -395,12 +398,26 @@ void Importer::options() {
     const std::string ft = filter_.name.empty() ? "gaussian" : filter_.strings[0];
     Params& fp = filter_.params;
     double r = 0;
-    if (ft == "box") { f.kind = FilterKind::Box; r = 0.5; }
-    else if (ft == "gaussian") { f.kind = FilterKind::Gaussian; r = 1.5; f.stddev = float(fp.getFloat("sigma", 0.5)); }
-    else if (ft == "triangle") { f.kind = FilterKind::Tent; r = 2; }
-    else if (ft == "mitchell") { f.kind = FilterKind::Mitchell; r = 2; f.B = float(fp.getFloat("B", 1 / 3.0)); f.C = float(fp.getFloat("C", 1 / 3.0)); }
-    else if (ft == "sinc") { f.kind = FilterKind::Lanczos; r = 4; f.tau = float(fp.getFloat("tau", 3)); }
-    else fail(filter_.at, "PixelFilter \"" + ft + "\" is not supported (box, gaussian, triangle, mitchell, sinc are)");
+    if (ft == "box") {
+        f.kind = FilterKind::Box;
+        r = 0.5;
+    } else if (ft == "gaussian") {
+        f.kind = FilterKind::Gaussian;
+        r = 1.5;
+        f.stddev = float(fp.getFloat("sigma", 0.5));
+    } else if (ft == "triangle") {
+        f.kind = FilterKind::Tent;
+        r = 2;
+    } else if (ft == "mitchell") {
+        f.kind = FilterKind::Mitchell;
+        r = 2;
+        f.B = float(fp.getFloat("B", 1 / 3.0));
+        f.C = float(fp.getFloat("C", 1 / 3.0));
+    } else if (ft == "sinc") {
+        f.kind = FilterKind::Lanczos;
+        r = 4;
+        f.tau = float(fp.getFloat("tau", 3));
+    } else fail(filter_.at, "PixelFilter \"" + ft + "\" is not supported (box, gaussian, triangle, mitchell, sinc are)");
     const double rx = fp.getFloat("xradius", r), ry = fp.getFloat("yradius", r);
     if (rx != ry) fail(filter_.at, "xradius and yradius differ: wavemmlt's filters have one radius");
     if (!(rx > 0)) fail(filter_.at, "the filter radius must be > 0");
@@ -425,8 +442,8 @@ void Importer::finish() {
         auto times = [&](float& v) {
             const double x = double(v) * imagingRatio_;
             if (!fitsFloat(x))
-                fail(at, "the film's imaging ratio (iso / 100 times the shutter time, " + numberText(imagingRatio_) +
-                             ") times an emitter's value (" + numberText(v) + ") is beyond a float's range");
+                fail(at, "the film's imaging ratio (iso / 100 times the shutter time, " + numberText(imagingRatio_) + ") times an emitter's value (" +
+                             numberText(v) + ") is beyond a float's range");
             v = float(x);
         };
         for (LightDesc& l : s_.lights) times(l.radiance.x), times(l.radiance.y), times(l.radiance.z);

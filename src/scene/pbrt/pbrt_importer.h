@@ -58,11 +58,11 @@ private:
     std::vector<Block> stack_;
     std::map<std::string, Matrix> namedCoords_;
     std::map<std::string, int> namedMaterials_;
-    std::map<std::string, int> textures_;       // spectrum and float textures by name (SceneDesc::textures)
-    std::map<std::string, Vec3> constTextures_; // "constant" textures: their value
-    std::map<std::string, bool> floatTexture_;  // whether a named texture is a float texture
-    std::map<std::string, int> objects_;        // ObjectBegin name -> group
-    std::map<std::string, int> namedMedia_;     // MakeNamedMedium name -> SceneDesc::media
+    std::map<std::string, int> textures_;        // spectrum and float textures by name (SceneDesc::textures)
+    std::map<std::string, Vec3> constTextures_;  // "constant" textures: their value
+    std::map<std::string, bool> floatTexture_;   // whether a named texture is a float texture
+    std::map<std::string, int> objects_;         // ObjectBegin name -> group
+    std::map<std::string, int> namedMedia_;      // MakeNamedMedium name -> SceneDesc::media
     std::vector<PendingMedia> pendingMedia_;
     std::map<int, std::string> subsurfaceMedium_;  // a subsurface material (its index) -> the name of its interior medium
     std::vector<PendingMedia> pendingLightMedia_;  // a light's front (outside) and back (inside) media

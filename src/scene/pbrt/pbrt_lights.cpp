@@ -35,8 +35,7 @@ Vec3 scaled(const Loc& at, Vec3 L, double scale, const std::string& what) {
 void scaleImage(const Loc& at, Image& im, double scale, const std::string& what) {
     for (float& v : im.rgb) {
         const double x = double(v) * scale;
-        if (!fitsFloat(x))
-            fail(at, what + ": a pixel (" + numberText(v) + ") times scale (" + numberText(scale) + ") is beyond a float's range");
+        if (!fitsFloat(x)) fail(at, what + ": a pixel (" + numberText(v) + ") times scale (" + numberText(scale) + ") is beyond a float's range");
         v = float(x);
     }
 }
@@ -49,8 +48,8 @@ double areaOf(const ShapeDesc& sh) {
     double a = 0;
     const TriangleMesh& m = sh.mesh;
     for (size_t t = 0; t + 2 < m.indices.size(); t += 3)
-        a += 0.5 * double(length(cross(m.positions[m.indices[t + 1]] - m.positions[m.indices[t]],
-                                       m.positions[m.indices[t + 2]] - m.positions[m.indices[t]])));
+        a += 0.5 * double(length(
+                       cross(m.positions[m.indices[t + 1]] - m.positions[m.indices[t]], m.positions[m.indices[t + 2]] - m.positions[m.indices[t]])));
     return a;
 }
 
@@ -100,8 +99,8 @@ Image resampleOctahedral(const Image& src, const Matrix& M) {
                     const double px = u * N - 0.5, py = v * N - 0.5;
                     const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
                     const float tx = float(px - x0), ty = float(py - y0);
-                    sum = sum + texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) +
-                          texel(x0, y0 + 1) * ((1 - tx) * ty) + texel(x0 + 1, y0 + 1) * (tx * ty);
+                    sum = sum + texel(x0, y0) * ((1 - tx) * (1 - ty)) + texel(x0 + 1, y0) * (tx * (1 - ty)) + texel(x0, y0 + 1) * ((1 - tx) * ty) +
+                          texel(x0 + 1, y0 + 1) * (tx * ty);
                 }
             out.set(x, y, sum * 0.25f);
         }
@@ -170,8 +169,9 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
         scale *= power / ke;
     }
     LightDesc l;
-    l.kind = sh.kind == ShapeKind::Sphere ? LightKind::Sphere
-             : isParallelogram(sh.mesh) && !twoSided && image < 0 ? LightKind::Rect : LightKind::Mesh;
+    l.kind = sh.kind == ShapeKind::Sphere                         ? LightKind::Sphere
+             : isParallelogram(sh.mesh) && !twoSided && image < 0 ? LightKind::Rect
+                                                                  : LightKind::Mesh;
     l.twoSided = twoSided;
     l.texture = image;
     l.radiance = scaled(d.at, L, scale, power > 0 ? "L (normalised to its power)" : "L");
@@ -198,7 +198,8 @@ void Importer::lightSource(Directive& d) {
             const Vec3 axis = g_.ctm.vector(to - from);
             if (!(length(axis) > 0)) fail(d.at, "spot: from equals to");
             const double cone = p.getFloat("coneangle", 30), delta = p.getFloat("conedeltaangle", 5);
-            if (!(cone > 0 && cone <= 180) || delta < 0 || delta > cone) fail(d.at, "spot: coneangle must be in (0, 180] and conedeltaangle in [0, coneangle]");
+            if (!(cone > 0 && cone <= 180) || delta < 0 || delta > cone)
+                fail(d.at, "spot: coneangle must be in (0, 180] and conedeltaangle in [0, coneangle]");
             l.spotAxis = normalize(axis);
             l.spotCutoff = float(cone * M_PI / 180);
             l.spotBeam = float((cone - delta) * M_PI / 180);

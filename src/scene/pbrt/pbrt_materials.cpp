@@ -30,7 +30,6 @@ bool decodedAsSrgb(const std::string& path) {
     return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga";
 }
 
-
 // pbrt-v4's named metal spectra (metal-X-eta, metal-X-k) projected as every other
 // unbounded spectrum is (scene/spectrum.h, under D65): computed once from the measured
 // indices pbrt-v4 and Mitsuba ship (the same data; its projection against E reproduces
@@ -39,12 +38,15 @@ struct NamedRgb {
     const char* name;
     Vec3 rgb;
 };
-const NamedRgb kNamed[] = {
-    {"metal-Ag-eta", {0.1284897f, 0.1235323f, 0.1508811f}}, {"metal-Ag-k", {4.0651789f, 3.2861540f, 2.3915668f}},
-    {"metal-Al-eta", {1.4075118f, 0.9266390f, 0.5840235f}}, {"metal-Al-k", {7.7409348f, 6.6023483f, 5.3599148f}},
-    {"metal-Au-eta", {0.0799591f, 0.4051012f, 1.5606973f}}, {"metal-Au-k", {3.3905025f, 2.5034795f, 1.7708745f}},
-    {"metal-Cu-eta", {0.1051726f, 0.9779023f, 1.2045629f}}, {"metal-Cu-k", {3.2737899f, 2.5924754f, 2.3689678f}},
-    {"stdillum-D65", {1.0f, 1.0f, 1.0f}}};
+const NamedRgb kNamed[] = {{"metal-Ag-eta", {0.1284897f, 0.1235323f, 0.1508811f}},
+                           {"metal-Ag-k", {4.0651789f, 3.2861540f, 2.3915668f}},
+                           {"metal-Al-eta", {1.4075118f, 0.9266390f, 0.5840235f}},
+                           {"metal-Al-k", {7.7409348f, 6.6023483f, 5.3599148f}},
+                           {"metal-Au-eta", {0.0799591f, 0.4051012f, 1.5606973f}},
+                           {"metal-Au-k", {3.3905025f, 2.5034795f, 1.7708745f}},
+                           {"metal-Cu-eta", {0.1051726f, 0.9779023f, 1.2045629f}},
+                           {"metal-Cu-k", {3.2737899f, 2.5924754f, 2.3689678f}},
+                           {"stdillum-D65", {1.0f, 1.0f, 1.0f}}};
 // Each metal's conductorAlbedoScale (scene/spectrum.h) from the same data.
 const NamedRgb kAlbedoScale[] = {{"metal-Ag", {1.0004823f, 1.0007459f, 1.0007850f}},
                                  {"metal-Al", {0.9986361f, 0.9997986f, 0.9989799f}},
@@ -144,9 +146,7 @@ Vec3 Importer::colourParam(Params& p, const std::string& name, Vec3 def, int& te
     return floatParam ? Vec3(float(p.getFloat(name, def.x))) : spectrum(p, name, def, SpectrumUse::Albedo);
 }
 
-float Importer::floatParam(Params& p, const std::string& name, float def, int& texture) {
-    return colourParam(p, name, Vec3(def), texture, true).x;
-}
+float Importer::floatParam(Params& p, const std::string& name, float def, int& texture) { return colourParam(p, name, Vec3(def), texture, true).x; }
 
 int Importer::currentMaterial() {
     if (g_.material >= 0 || g_.material == kInterfaceMaterial) return g_.material;
@@ -375,7 +375,8 @@ int Importer::material(const std::string& type, Directive& d) {
             const Vec3 r = colourParam(p, "reflectance", Vec3(1.0f), t);
             if (t >= 0) fail(p.find("reflectance")->at, "subsurface: a textured reflectance is not supported (a medium has one albedo)");
             const Vec3 mfp = spectrum(p, "mfp", Vec3(1.0f), SpectrumUse::Unbounded) * scale;
-            if (!(mfp.x > 0 && mfp.y > 0 && mfp.z > 0) || !isFinite(mfp)) fail(p.has("mfp") ? p.find("mfp")->at : d.at, "subsurface: mfp times scale must be > 0");
+            if (!(mfp.x > 0 && mfp.y > 0 && mfp.z > 0) || !isFinite(mfp))
+                fail(p.has("mfp") ? p.find("mfp")->at : d.at, "subsurface: mfp times scale must be > 0");
             const DiffusionAlbedo table = diffusionAlbedo(md.g, eta);
             for (int c = 0; c < 3; ++c) {
                 const double rho = albedoOf(table, std::clamp(double(r[c]), 0.0, 1.0));
@@ -586,7 +587,10 @@ void Importer::texture(Directive& d) {
         std::copy(uvScale, uvScale + 6, t.uvTransform);
     } else if (cls == "fbm" || cls == "wrinkled" || cls == "windy" || cls == "marble") {
         if (cls == "marble" ? isFloat : !isFloat) fail(d.at, "\"" + cls + "\" is a " + (isFloat ? "spectrum" : "float") + " texture in pbrt-v4");
-        t.kind = cls == "fbm" ? TextureKind::Fbm : cls == "wrinkled" ? TextureKind::Wrinkled : cls == "windy" ? TextureKind::Windy : TextureKind::PbrtMarble;
+        t.kind = cls == "fbm"        ? TextureKind::Fbm
+                 : cls == "wrinkled" ? TextureKind::Wrinkled
+                 : cls == "windy"    ? TextureKind::Windy
+                                     : TextureKind::PbrtMarble;
         if (cls != "windy") {
             t.octaves = p.getInt("octaves", 8);
             t.roughness = float(p.getFloat("roughness", 0.5));

@@ -51,8 +51,8 @@ void Importer::medium(Directive& d) {
             if (!q) fail(d.at, type + " needs \"" + name + "\"");
             const std::vector<double> v = p.getNumbers(name);
             if (v.size() != n * size_t(per))
-                fail(q->at, type + ": " + std::to_string(v.size() / size_t(per)) + " " + name + " values for a " + std::to_string(m.nx) +
-                                " x " + std::to_string(m.ny) + " x " + std::to_string(m.nz) + " grid");
+                fail(q->at, type + ": " + std::to_string(v.size() / size_t(per)) + " " + name + " values for a " + std::to_string(m.nx) + " x " +
+                                std::to_string(m.ny) + " x " + std::to_string(m.nz) + " grid");
             for (double x : v)
                 if (!(x >= 0) || !std::isfinite(x)) fail(q->at, type + ": " + name + " values must be finite and >= 0");
             return v;

@@ -30,14 +30,12 @@ bool Params::has(const std::string& name) const {
 
 namespace {
 bool isNumeric(const std::string& t) {
-    return t == "float" || t == "integer" || t == "point2" || t == "vector2" || t == "point3" || t == "vector3" ||
-           t == "point" || t == "vector" || t == "normal" || t == "normal3" || t == "rgb" || t == "color" ||
-           t == "blackbody";
+    return t == "float" || t == "integer" || t == "point2" || t == "vector2" || t == "point3" || t == "vector3" || t == "point" || t == "vector" ||
+           t == "normal" || t == "normal3" || t == "rgb" || t == "color" || t == "blackbody";
 }
 bool isStringy(const std::string& t) { return t == "string" || t == "texture"; }
-const std::vector<std::string> kTypes = {"integer", "float",  "point2", "vector2", "point3",  "vector3",  "point",
-                                         "vector",  "normal", "normal3", "bool",   "string",  "texture",  "rgb",
-                                         "color",   "spectrum", "blackbody"};
+const std::vector<std::string> kTypes = {"integer", "float", "point2", "vector2", "point3", "vector3", "point",    "vector",   "normal",
+                                         "normal3", "bool",  "string", "texture", "rgb",    "color",   "spectrum", "blackbody"};
 
 void expectType(const Param& p, std::initializer_list<const char*> types) {
     for (const char* t : types)
@@ -91,8 +89,8 @@ std::vector<double> Params::getNumbers(const std::string& name, int count) {
     if (!p) return {};
     if (!isNumeric(p->type)) fail(p->at, quoteToken(p->type + " " + p->name) + ": expected numbers");
     if (count > 0 && p->numbers.size() % size_t(count) != 0)
-        fail(p->at, quoteToken(p->type + " " + p->name) + ": " + std::to_string(p->numbers.size()) +
-                        " values, not a multiple of " + std::to_string(count));
+        fail(p->at,
+             quoteToken(p->type + " " + p->name) + ": " + std::to_string(p->numbers.size()) + " values, not a multiple of " + std::to_string(count));
     return p->numbers;
 }
 std::vector<int> Params::getInts(const std::string& name) {
@@ -208,8 +206,8 @@ bool Parser::read(Token& t) {
         t.at = Loc{f.name, f.line};
         auto add = [&](char d) {
             if (t.text.size() >= kMaxToken)
-                fail(t.at, std::string(t.quoted ? "a string" : "a token") + " longer than " + std::to_string(kMaxToken) +
-                               " bytes, starting " + quoteToken(t.text));
+                fail(t.at, std::string(t.quoted ? "a string" : "a token") + " longer than " + std::to_string(kMaxToken) + " bytes, starting " +
+                               quoteToken(t.text));
             t.text += d;
         };
         if (binaryByte(c)) fail(t.at, byteName(c));
@@ -236,7 +234,9 @@ bool Parser::read(Token& t) {
                         case 'n': d = '\n'; break;
                         case 'r': d = '\r'; break;
                         case 't': d = '\t'; break;
-                        case '\\': case '\'': case '"': d = e; break;
+                        case '\\':
+                        case '\'':
+                        case '"': d = e; break;
                         default:
                             fail(t.at, "unexpected escaped character " + quoteToken(std::string("\\") + char(e)) + " in the string " +
                                            quoteToken(t.text) + " (pbrt-v4 takes \\b \\f \\n \\r \\t \\\\ \\' \\\")");
@@ -271,33 +271,52 @@ namespace {
 // Each directive's positional arguments: how many quoted strings, numbers, a bare word.
 struct Shape {
     const char* name;
-    int strings;      // quoted strings (-1: one or two, MediumInterface)
-    int numbers;      // numbers (bracketed or not)
-    bool params;      // a parameter list follows
-    bool bareWord;    // ActiveTransform's StartTime / EndTime / All
+    int strings;    // quoted strings (-1: one or two, MediumInterface)
+    int numbers;    // numbers (bracketed or not)
+    bool params;    // a parameter list follows
+    bool bareWord;  // ActiveTransform's StartTime / EndTime / All
 };
-const Shape kDirectives[] = {
-    {"AttributeBegin", 0, 0, false, false}, {"AttributeEnd", 0, 0, false, false},
-    {"TransformBegin", 0, 0, false, false}, {"TransformEnd", 0, 0, false, false},
-    {"WorldBegin", 0, 0, false, false},     {"WorldEnd", 0, 0, false, false},
-    {"Identity", 0, 0, false, false},       {"ReverseOrientation", 0, 0, false, false},
-    {"ObjectEnd", 0, 0, false, false},      {"Translate", 0, 3, false, false},
-    {"Scale", 0, 3, false, false},          {"Rotate", 0, 4, false, false},
-    {"LookAt", 0, 9, false, false},         {"Transform", 0, 16, false, false},
-    {"ConcatTransform", 0, 16, false, false}, {"TransformTimes", 0, 2, false, false},
-    {"CoordinateSystem", 1, 0, false, false}, {"CoordSysTransform", 1, 0, false, false},
-    {"ActiveTransform", 0, 0, false, true}, {"ObjectBegin", 1, 0, false, false},
-    {"ObjectInstance", 1, 0, false, false}, {"NamedMaterial", 1, 0, false, false},
-    {"MediumInterface", -1, 0, false, false}, {"ColorSpace", 1, 0, false, false},
-    {"Option", 0, 0, true, false},          {"Attribute", 1, 0, true, false},
-    {"Camera", 1, 0, true, false},          {"Film", 1, 0, true, false},
-    {"Sampler", 1, 0, true, false},         {"PixelFilter", 1, 0, true, false},
-    {"Integrator", 1, 0, true, false},      {"Accelerator", 1, 0, true, false},
-    {"Material", 1, 0, true, false},        {"MakeNamedMaterial", 1, 0, true, false},
-    {"LightSource", 1, 0, true, false},     {"AreaLightSource", 1, 0, true, false},
-    {"Shape", 1, 0, true, false},           {"MakeNamedMedium", 1, 0, true, false},
-    {"Texture", 3, 0, true, false},         {"Include", 1, 0, false, false},
-    {"Import", 1, 0, false, false}};
+const Shape kDirectives[] = {{"AttributeBegin", 0, 0, false, false},
+                             {"AttributeEnd", 0, 0, false, false},
+                             {"TransformBegin", 0, 0, false, false},
+                             {"TransformEnd", 0, 0, false, false},
+                             {"WorldBegin", 0, 0, false, false},
+                             {"WorldEnd", 0, 0, false, false},
+                             {"Identity", 0, 0, false, false},
+                             {"ReverseOrientation", 0, 0, false, false},
+                             {"ObjectEnd", 0, 0, false, false},
+                             {"Translate", 0, 3, false, false},
+                             {"Scale", 0, 3, false, false},
+                             {"Rotate", 0, 4, false, false},
+                             {"LookAt", 0, 9, false, false},
+                             {"Transform", 0, 16, false, false},
+                             {"ConcatTransform", 0, 16, false, false},
+                             {"TransformTimes", 0, 2, false, false},
+                             {"CoordinateSystem", 1, 0, false, false},
+                             {"CoordSysTransform", 1, 0, false, false},
+                             {"ActiveTransform", 0, 0, false, true},
+                             {"ObjectBegin", 1, 0, false, false},
+                             {"ObjectInstance", 1, 0, false, false},
+                             {"NamedMaterial", 1, 0, false, false},
+                             {"MediumInterface", -1, 0, false, false},
+                             {"ColorSpace", 1, 0, false, false},
+                             {"Option", 0, 0, true, false},
+                             {"Attribute", 1, 0, true, false},
+                             {"Camera", 1, 0, true, false},
+                             {"Film", 1, 0, true, false},
+                             {"Sampler", 1, 0, true, false},
+                             {"PixelFilter", 1, 0, true, false},
+                             {"Integrator", 1, 0, true, false},
+                             {"Accelerator", 1, 0, true, false},
+                             {"Material", 1, 0, true, false},
+                             {"MakeNamedMaterial", 1, 0, true, false},
+                             {"LightSource", 1, 0, true, false},
+                             {"AreaLightSource", 1, 0, true, false},
+                             {"Shape", 1, 0, true, false},
+                             {"MakeNamedMedium", 1, 0, true, false},
+                             {"Texture", 3, 0, true, false},
+                             {"Include", 1, 0, false, false},
+                             {"Import", 1, 0, false, false}};
 
 // A bare token as the file has it (cut and escaped as quoteToken() does, without the quotes).
 std::string shownBare(const std::string& text) {
@@ -320,8 +339,7 @@ void Parser::param(Directive& d, const Token& decl) {
     const std::string& s = decl.text;
     const size_t b = s.find_first_not_of(" \t"), m = s.find_first_of(" \t", b == std::string::npos ? 0 : b);
     const size_t c = m == std::string::npos ? m : s.find_first_not_of(" \t", m);
-    if (b == std::string::npos || c == std::string::npos)
-        fail(decl.at, quoteToken(s) + " is not a parameter declaration (\"type name\")");
+    if (b == std::string::npos || c == std::string::npos) fail(decl.at, quoteToken(s) + " is not a parameter declaration (\"type name\")");
     p.type = s.substr(b, m - b);
     p.name = s.substr(c, s.find_last_not_of(" \t") + 1 - c);
     if (p.name.find_first_of(" \t") != std::string::npos) fail(decl.at, quoteToken(s) + " is not a parameter declaration (\"type name\")");
@@ -402,8 +420,7 @@ bool Parser::next(Directive& d) {
             while ((int)d.numbers.size() < shape->numbers) {
                 if (!read(a)) fail(d.at, d.name + ": expected " + std::to_string(shape->numbers) + " numbers");
                 if (a.quoted || a.text == "[" || a.text == "]")
-                    fail(a.at, d.name + ": expected " + std::to_string(shape->numbers) + " numbers, found " +
-                                   std::to_string(d.numbers.size()));
+                    fail(a.at, d.name + ": expected " + std::to_string(shape->numbers) + " numbers, found " + std::to_string(d.numbers.size()));
                 d.numbers.push_back(toNumber(a.text, a.at, d.name));
             }
             if (bracket && (!read(a) || a.text != "]" || a.quoted))

@@ -56,9 +56,9 @@ public:
 };
 
 struct Directive {
-    std::string name;                 // "Shape", "Translate", ...
+    std::string name;                  // "Shape", "Translate", ...
     std::vector<std::string> strings;  // quoted positional arguments ("trianglemesh") or a bare word (ActiveTransform)
-    std::vector<double> numbers;      // numeric positional arguments (Translate 1 2 3, Transform [16])
+    std::vector<double> numbers;       // numeric positional arguments (Translate 1 2 3, Transform [16])
     Params params;
     Loc at;
 };

@@ -68,8 +68,7 @@ void Importer::shape(Directive& d) {
     }
     if (auto ss = subsurfaceMedium_.find(sh.material); ss != subsurfaceMedium_.end())  // its interior, in the medium around it
         pendingMedia_.push_back({int(s_.shapes.size()), ss->second, g_.outsideMedium, d.at});
-    else if (g_.insideMedium != g_.outsideMedium)
-        pendingMedia_.push_back({int(s_.shapes.size()), g_.insideMedium, g_.outsideMedium, d.at});
+    else if (g_.insideMedium != g_.outsideMedium) pendingMedia_.push_back({int(s_.shapes.size()), g_.insideMedium, g_.outsideMedium, d.at});
     sh.toWorld = g_.ctm.affine();
     sh.toLocal = g_.ctm.inverse().affine();
     TriangleMesh& m = sh.mesh;
@@ -178,7 +177,8 @@ void Importer::shape(Directive& d) {
         for (size_t i = 0; i < P.size(); i += 3) m.positions.push_back(Vec3(float(P[i]), float(P[i + 1]), float(P[i + 2])));
         for (int i : idx) {
             if (i < 0 || size_t(i) >= m.positions.size())
-                fail(p.find("indices")->at, "\"indices\": index " + std::to_string(i) + " out of range (" + std::to_string(m.positions.size()) + " points)");
+                fail(p.find("indices")->at,
+                     "\"indices\": index " + std::to_string(i) + " out of range (" + std::to_string(m.positions.size()) + " points)");
             m.indices.push_back(uint32_t(i));
         }
         const std::string why = loopSubdivide(m.positions, m.indices, levels, m.normals);

@@ -21,8 +21,7 @@ double fresnelMoment2(double eta) {
     const double e2 = eta * eta, e3 = e2 * eta, e4 = e3 * eta, e5 = e4 * eta;
     if (eta < 1) return 0.27614 - 0.87350 * eta + 1.12077 * e2 - 0.65095 * e3 + 0.07883 * e4 + 0.04860 * e5;
     const double r = 1 / eta, r2 = r * r, r3 = r2 * r;
-    return -547.033 + 45.3087 * r3 - 218.725 * r2 + 458.843 * r + 404.557 * eta - 189.519 * e2 + 54.9327 * e3 - 9.00603 * e4 +
-           0.63942 * e5;
+    return -547.033 + 45.3087 * r3 - 218.725 * r2 + 458.843 * r + 404.557 * eta - 189.519 * e2 + 54.9327 * e3 - 9.00603 * e4 + 0.63942 * e5;
 }
 
 // Multiple scattering at distance r from the beam's entry: the dipole's exitance (the

@@ -59,8 +59,7 @@ struct Kids {
 
 class Loader {
 public:
-    Loader(const std::string& xml, const std::string& file, const std::string& baseDir)
-        : xml_(xml), file_(file), base_(baseDir) {
+    Loader(const std::string& xml, const std::string& file, const std::string& baseDir) : xml_(xml), file_(file), base_(baseDir) {
         lineStarts_.push_back(0);
         for (size_t i = 0; i < xml.size(); ++i)
             if (xml[i] == '\n') lineStarts_.push_back(i + 1);
@@ -91,9 +90,7 @@ private:
         return s;
     }
     [[noreturn]] void fail(Node n, const std::string& msg) const { throw InputError(file_, line(n), what(n) + ": " + msg); }
-    void warn(Node n, const std::string& msg) {
-        s_.warnings.push_back(InputError(file_, line(n), what(n) + ": " + msg).what());
-    }
+    void warn(Node n, const std::string& msg) { s_.warnings.push_back(InputError(file_, line(n), what(n) + ": " + msg).what()); }
     std::string resolve(const std::string& name) const {
         std::filesystem::path p(name);
         if (p.is_relative() && !base_.empty()) p = std::filesystem::path(base_) / p;
@@ -115,11 +112,9 @@ private:
     // second time as one to find it.
     void checkOutsideText() const {
         const size_t nul = xml_.find('\0');
-        if (nul != std::string::npos)
-            throw InputError(file_, lineOfOffset(ptrdiff_t(nul)), "not well-formed XML: a NUL byte (a binary file?)");
+        if (nul != std::string::npos) throw InputError(file_, lineOfOffset(ptrdiff_t(nul)), "not well-formed XML: a NUL byte (a binary file?)");
         pugi::xml_document frag;
-        if (!frag.load_buffer(xml_.data(), xml_.size(), pugi::parse_default | pugi::parse_fragment, pugi::encoding_utf8))
-            return;
+        if (!frag.load_buffer(xml_.data(), xml_.size(), pugi::parse_default | pugi::parse_fragment, pugi::encoding_utf8)) return;
         for (Node c : frag.children()) {
             if (c.type() != pugi::node_pcdata && c.type() != pugi::node_cdata) continue;
             const std::string v = c.value();
@@ -134,13 +129,11 @@ private:
     void attrs(Node n, const Names& allowed) const {
         for (pugi::xml_attribute a : n.attributes())
             if (!in(allowed, a.name()))
-                fail(n, std::string("unknown attribute \"") + a.name() + "\"" +
-                            (allowed.empty() ? "" : " (expected " + join(allowed) + ")"));
+                fail(n, std::string("unknown attribute \"") + a.name() + "\"" + (allowed.empty() ? "" : " (expected " + join(allowed) + ")"));
     }
     void noText(Node n) const {
         for (Node c : n.children())
-            if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata)
-                fail(n, "unexpected text \"" + excerpt(c.value()) + "\"");
+            if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) fail(n, "unexpected text \"" + excerpt(c.value()) + "\"");
     }
     // A leaf element with exactly the attributes `allowed`.
     void leaf(Node n, const Names& allowed) const {
@@ -176,21 +169,25 @@ private:
     double number(Node n, const char* a, bool integer = false) const {
         double v = 0;
         if (!parseNumber(attr(n, a), integer, v))
-            fail(n, std::string(a) + "=\"" + n.attribute(a).value() + "\" is not " +
-                        (integer ? "an integer" : "a finite number"));
+            fail(n, std::string(a) + "=\"" + n.attribute(a).value() + "\" is not " + (integer ? "an integer" : "a finite number"));
         return v;
     }
     double ranged(Node n, const char* a, double v, bool ok, const std::string& rule) const {
         if (!ok) fail(n, std::string(a) + "=\"" + n.attribute(a).value() + "\" is out of range (" + rule + ")");
         return v;
     }
-    double value(Node n) const { leaf(n, {"value"}); return number(n, "value"); }
-    double positive(Node n) const { double v = value(n); return ranged(n, "value", v, v > 0, "must be > 0"); }
+    double value(Node n) const {
+        leaf(n, {"value"});
+        return number(n, "value");
+    }
+    double positive(Node n) const {
+        double v = value(n);
+        return ranged(n, "value", v, v > 0, "must be > 0");
+    }
     int integer(Node n, long long lo, long long hi) const {
         leaf(n, {"value"});
         double v = number(n, "value", true);
-        return int(ranged(n, "value", v, v >= lo && v <= hi,
-                          std::to_string(lo) + " to " + std::to_string(hi)));
+        return int(ranged(n, "value", v, v >= lo && v <= hi, std::to_string(lo) + " to " + std::to_string(hi)));
     }
     Vec3 xyz(Node n) const {
         leaf(n, {"x", "y", "z"});
@@ -220,15 +217,21 @@ private:
     }
     Image image(Node n, const std::string& path) {
         Image img;
-        try { img = readSceneImage(path); } catch (const InputError& e) { fail(n, e.what()); }
+        try {
+            img = readSceneImage(path);
+        } catch (const InputError& e) {
+            fail(n, e.what());
+        }
         if (img.width <= 0 || img.height <= 0) fail(n, path + ": the image is empty (0 x 0)");
         // (choice) NaN or infinite pixels are an error (readSceneImage); negative ones
         // (filtering ringing in EXR files) are set to 0.
         size_t negative = 0;
         for (float& v : img.rgb)
-            if (v < 0) { v = 0; ++negative; }
-        if (negative)
-            warn(n, path + ": " + std::to_string(negative) + " negative pixel values set to 0");
+            if (v < 0) {
+                v = 0;
+                ++negative;
+            }
+        if (negative) warn(n, path + ": " + std::to_string(negative) + " negative pixel values set to 0");
         return img;
     }
 
@@ -237,8 +240,7 @@ private:
         const double id = number(n, "ID", true);
         ranged(n, "ID", id, id >= lo && id <= INT32_MAX, std::string(kind) + " IDs are >= " + std::to_string(lo));
         if (lines.count(int(id)))
-            fail(n, "ID " + std::to_string(int(id)) + " is already used by the " + kind + " on line " +
-                        std::to_string(lines[int(id)]));
+            fail(n, "ID " + std::to_string(int(id)) + " is already used by the " + kind + " on line " + std::to_string(lines[int(id)]));
         lines[int(id)] = line(n);
         return int(id);
     }
@@ -290,8 +292,8 @@ void Loader::rect(const Kids& k, Node n, ShapeDesc& sh) const {
 
 void Loader::settings(Node n) {
     attrs(n, {});
-    Kids k = kids(n, {"Width", "Height", "Sample", "Thread", "Tracer", "MaxPathLength",
-                      "MinPathLength", "ProbLarge", "Output", "EnvMap", "Filter", "Medium"});
+    Kids k = kids(
+        n, {"Width", "Height", "Sample", "Thread", "Tracer", "MaxPathLength", "MinPathLength", "ProbLarge", "Output", "EnvMap", "Filter", "Medium"});
     Settings& st = s_.settings;
     if (Node c = k["Width"]) st.width = integer(c, 1, 16384);
     if (Node c = k["Height"]) st.height = integer(c, 1, 16384);
@@ -311,8 +313,7 @@ void Loader::settings(Node n) {
     if (Node c = k["MinPathLength"]) st.minPathLength = integer(c, 1, 64);
     if (st.minPathLength > st.maxPathLength)
         fail(k["MinPathLength"] ? k["MinPathLength"] : k["MaxPathLength"],
-             "MinPathLength " + std::to_string(st.minPathLength) + " is greater than MaxPathLength " +
-                 std::to_string(st.maxPathLength));
+             "MinPathLength " + std::to_string(st.minPathLength) + " is greater than MaxPathLength " + std::to_string(st.maxPathLength));
     if (Node c = k["ProbLarge"]) {
         double p = value(c);
         st.probLarge = float(ranged(c, "value", p, p > 0 && p <= 1, "0 < p <= 1"));
@@ -337,8 +338,8 @@ void Loader::settings(Node n) {
         // (choice) a latitude-longitude map needs at least 2 x 2 pixels; a constant sky is
         // written as a 2 x 2 map of one colour.
         if (s_.envMap.width < 2 || s_.envMap.height < 2)
-            fail(c, st.envMap + ": an environment map of " + std::to_string(s_.envMap.width) + " x " +
-                        std::to_string(s_.envMap.height) + " pixels is too small (at least 2 x 2)");
+            fail(c, st.envMap + ": an environment map of " + std::to_string(s_.envMap.width) + " x " + std::to_string(s_.envMap.height) +
+                        " pixels is too small (at least 2 x 2)");
     }
 }
 
@@ -416,7 +417,10 @@ void Loader::texture(Node n) {
 // `Texture value=ID` / `Bump value=ID`: 0 is none; otherwise the texture must exist.
 void Loader::textureRef(Node n, int& slot) const {
     int id = integer(n, 0, INT32_MAX);
-    if (id == 0) { slot = -1; return; }
+    if (id == 0) {
+        slot = -1;
+        return;
+    }
     auto it = textureIndex_.find(id);
     if (it == textureIndex_.end()) fail(n, "texture " + std::to_string(id) + " is not defined");
     slot = it->second;
@@ -487,7 +491,10 @@ void Loader::shader(Node n) {
         m.shininess = float(ranged(sh, "value", e, e >= 0, "must be >= 0"));
         for (int i = 0; i < 3; ++i)  // energy conservation (tolerance for decimal rounding)
             if (m.diffuse[i] + m.specular[i] > 1.0f + 1e-6f)
-                fail(sp, "Diffuse + Specular exceeds 1 in the " + std::string(i == 0 ? "red" : i == 1 ? "green" : "blue") +
+                fail(sp, "Diffuse + Specular exceeds 1 in the " +
+                             std::string(i == 0   ? "red"
+                                         : i == 1 ? "green"
+                                                  : "blue") +
                              " channel (it would create energy)");
     } else if (t == "Reflective") {
         m.kind = MaterialKind::Reflective;
@@ -502,8 +509,7 @@ void Loader::shader(Node n) {
         m.iorInside = float(positive(ii));
         m.iorOutside = float(positive(oi));
         if (m.iorInside == m.iorOutside) {
-            warn(oi, "iIOR equals oIOR (" + std::string(oi.attribute("value").value()) +
-                         "): oIOR is taken as 1");
+            warn(oi, "iIOR equals oIOR (" + std::string(oi.attribute("value").value()) + "): oIOR is taken as 1");
             m.iorOutside = 1.0f;
         }
     }
@@ -525,8 +531,7 @@ void Loader::transform(const Kids& k, ShapeDesc& sh, Vec3& scale) const {
     if (Node s = k["Scale"]) {
         leaf(s, {"x", "y", "z", "value"});
         const bool uniform = bool(s.attribute("value"));
-        if (uniform && (s.attribute("x") || s.attribute("y") || s.attribute("z")))
-            fail(s, "give either value or x, y and z, not both");
+        if (uniform && (s.attribute("x") || s.attribute("y") || s.attribute("z"))) fail(s, "give either value or x, y and z, not both");
         const char* names[4] = {"x", "y", "z", "value"};
         for (int i = 0; i < 3; ++i) {
             const char* a = uniform ? names[3] : names[i];
@@ -544,8 +549,7 @@ void Loader::geometry(Node n) {
     sh.id = attr(n, "ID");
     sh.line = line(n);
     if (sh.id.empty()) fail(n, "ID is empty");
-    if (geometryLine_.count(sh.id))
-        fail(n, "ID \"" + sh.id + "\" is already used by the Geometry on line " + std::to_string(geometryLine_[sh.id]));
+    if (geometryLine_.count(sh.id)) fail(n, "ID \"" + sh.id + "\" is already used by the Geometry on line " + std::to_string(geometryLine_[sh.id]));
     Names allowed = {"Position", "Rotation", "Scale", "Shader"};
     if (t == "Plane") allowed.insert(allowed.end(), {"Width", "Depth"});
     else if (t == "Sphere") allowed.push_back("Radius");
@@ -579,7 +583,11 @@ void Loader::geometry(Node n) {
         Node f = need(k, n, "File");
         const std::string path = resolve(name(f));
         const bool smooth = k["SmoothShading"] ? integer(k["SmoothShading"], 0, 1) == 1 : false;  // (choice) default 0
-        try { sh.mesh = loadObj(path, smooth); } catch (const InputError& e) { fail(f, e.what()); }
+        try {
+            sh.mesh = loadObj(path, smooth);
+        } catch (const InputError& e) {
+            fail(f, e.what());
+        }
         meshToWorld(sh.mesh, sh.toWorld, sh.toLocal);
         sh.uv = sh.mesh.uvs.empty() ? UvKind::None : UvKind::Mesh;
     }
@@ -637,8 +645,7 @@ SceneDesc Loader::run() {
     }
     if (!r) throw InputError(file_, lineOfOffset(r.offset), std::string("not well-formed XML: ") + r.description());
     // Before anything walks the tree recursively (checkComments, what()).
-    if (Node deep = firstNestedDeeperThan(doc))
-        throw InputError(file_, line(deep), "elements nested deeper than " + std::to_string(kMaxXmlNesting));
+    if (Node deep = firstNestedDeeperThan(doc)) throw InputError(file_, line(deep), "elements nested deeper than " + std::to_string(kMaxXmlNesting));
     checkComments(doc);
     checkOutsideText();
     for (Node c : doc.children()) {
@@ -693,8 +700,7 @@ SceneDesc loadScene(const std::string& path, const Defines& defines, const LoadO
     const std::string xml = readWholeFile(path, "the scene file");  // a regular file only
     const std::string base = std::filesystem::path(path).parent_path().string();
     const bool mitsuba = isMitsubaXml(xml);
-    if (!mitsuba && !defines.empty())
-        throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
+    if (!mitsuba && !defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
     SceneDesc s = mitsuba ? loadMitsubaFromString(xml, path, base, defines, options) : Loader(xml, path, base).run();
     s.path = path;
     return s;

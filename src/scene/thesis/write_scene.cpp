@@ -39,14 +39,12 @@ void setValue(pugi::xml_node parent, const char* name, const std::string& value,
 }
 
 const char* tracerName(TracerKind t) {
-    return t == TracerKind::MMLT ? "MMLT" : t == TracerKind::BPT ? "BPT" : t == TracerKind::LT ? "LT"
-         : t == TracerKind::PSSMLT ? "PSSMLT" : "PT";
+    return t == TracerKind::MMLT ? "MMLT" : t == TracerKind::BPT ? "BPT" : t == TracerKind::LT ? "LT" : t == TracerKind::PSSMLT ? "PSSMLT" : "PT";
 }
 
 }  // namespace
 
-std::string thesisSceneWithView(const std::string& xml, const std::string& name, const CameraDesc& cam,
-                                const Settings& st) {
+std::string thesisSceneWithView(const std::string& xml, const std::string& name, const CameraDesc& cam, const Settings& st) {
     pugi::xml_document doc;
     const pugi::xml_parse_result parsed = doc.load_string(xml.c_str(), pugi::parse_default | pugi::parse_comments);
     pugi::xml_node scene = doc.child("Scene");

@@ -24,8 +24,7 @@ namespace wmlt {
 
 namespace {
 
-void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, BptBatch& b, Film& film,
-                RayCounters& counters, TileSplats& out) {
+void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, BptBatch& b, Film& film, RayCounters& counters, TileSplats& out) {
     b.splats.clear();
     b.points.clear();
     b.strategySplats.clear();
@@ -87,8 +86,7 @@ Image imageOfJob(Distributed* ranks, const Film& film, const SplatFilm& splatFil
 RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     // A batch stores every vertex of both subpaths: fewer samples per batch for long
     // paths keep it near its size at MaxPathLength 10 (about 13 MB per thread).
-    const uint32_t maxPaths = std::max<uint32_t>(kTileSize * kTileSize,
-                                                 kMaxPathsPerBatch * 11 / uint32_t(opt.maxPathLength + 1));
+    const uint32_t maxPaths = std::max<uint32_t>(kTileSize * kTileSize, kMaxPathsPerBatch * 11 / uint32_t(opt.maxPathLength + 1));
     const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt, maxPaths);
     Film film(scene.camera.width, scene.camera.height);
     SplatFilm splatFilm(scene.camera.width, scene.camera.height);
@@ -98,8 +96,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     const size_t filmBytes = StrategyFilms::bytes(scene.camera.width, scene.camera.height, opt.maxPathLength);
     if ((!opt.strategyImages.empty() || opt.lengthImages) && filmBytes > kStrategyFilmsLimit)
         throw InputError(opt.strategyImages, 0,
-                         "strategy images would need " + std::to_string(filmBytes >> 20) +
-                             " MiB (over 8 GiB): lower --max-length or the image size");
+                         "strategy images would need " + std::to_string(filmBytes >> 20) + " MiB (over 8 GiB): lower --max-length or the image size");
     if (!opt.strategyImages.empty() || opt.lengthImages)
         strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
@@ -112,10 +109,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<RayCounters> counters;
     SplatTotals totals;
     PassResult pr = runPasses(
-        schedule, opt,
-        [&](size_t t, const Tile& tile) {
-            traceBatch(scene, opt, tile, batches.local(), film, counters.local(), outputs[t]);
-        },
+        schedule, opt, [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), film, counters.local(), outputs[t]); },
         [&] { totals.addPass(scene, outputs, splatFilm, strategyFilms.get()); },
         {[&](uint32_t spp) { return imageOfJob(opt.ranks, film, splatFilm, spp); }, &counters});
 
@@ -126,8 +120,7 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
     if (opt.lengthImages) {  // the weighted strategies of each length add up to its image
         res.lengthImages.assign(size_t(opt.maxPathLength) + 1, Image(scene.camera.width, scene.camera.height));
         for (const StrategyImage& si : res.strategyImages)
-            for (size_t i = 0; i < si.weighted.rgb.size(); ++i)
-                res.lengthImages[size_t(si.s + si.t - 1)].rgb[i] += si.weighted.rgb[i];
+            for (size_t i = 0; i < si.weighted.rgb.size(); ++i) res.lengthImages[size_t(si.s + si.t - 1)].rgb[i] += si.weighted.rgb[i];
     }
     if (opt.strategyImages.empty()) res.strategyImages.clear();
     return res;

@@ -5,8 +5,8 @@
 // were listed. BPT lists all strategies of each slot (connectBpt), MMLT the one each
 // chain's proposal picked (connectStrategies). Visibility is decided by batched shadow
 // rays (traceBptConnections).
-#include "stages/core/bsdf_dispatch.h"
 #include "stages/bpt/bpt_stages.h"
+#include "stages/core/bsdf_dispatch.h"
 #include "stages/core/trace.h"
 
 namespace wmlt {
@@ -32,8 +32,8 @@ namespace {
 
 // Appends the shadow ray of a strategy sample (target: the slot; a t = 1 splat: the
 // pixel it lands on, or kFilmPoint to spread it about its film point, pushSplat).
-inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t slot, bool splat,
-                           int s, int pathLength, RayCounters& c) {
+inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample& ss, uint32_t slot, bool splat, int s, int pathLength,
+                           RayCounters& c) {
     if (b.numConn == b.connCapacity) traceBptConnections(scene, b, c);
     if (!connectionRay(scene, ss, b.conn[b.numConn])) return;
     b.connSlot[b.numConn] = !splat || b.splatsBySlot ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
@@ -51,20 +51,18 @@ inline void pushConnection(const Scene& scene, BptBatch& b, const StrategySample
 // (b.splatsBySlot): one traced as a shadow ray (queued) to Lqueued, added to L at the end
 // (connectBpt), so that L's sum does not depend on when the batch's rays were flushed
 // (which depends on the other slots of the batch: a replay must give the same bits).
-inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float weight, int s, int length,
-                          bool queued = false) {
+inline void addCameraSide(BptBatch& b, uint32_t slot, Vec3 unweighted, float weight, int s, int length, bool queued = false) {
     const Vec3 v = unweighted * weight;
     if (!b.tally.take(v, length)) return;
     (queued && b.splatsBySlot ? b.Lqueued : b.L)[slot] += v;
-    if (b.strategyFilms)
-        b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v * b.filmWeight[slot], unweighted * b.filmWeight[slot]);
+    if (b.strategyFilms) b.strategyFilms->addCamera(b.pixel[slot], s, length + 1 - s, v * b.filmWeight[slot], unweighted * b.filmWeight[slot]);
 }
 
 // A visible connection of strategy s of a path of length k: to its slot's camera side, or
 // a t = 1 splat at raster pixel `target` (kFilmPoint: spread about the film point (x, y);
 // b.splatsBySlot: kept with its slot `target` at (x, y)).
-void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, float y, bool splat, int s, int k,
-                   Vec3 unweighted, float weight, bool queued) {
+void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, float y, bool splat, int s, int k, Vec3 unweighted, float weight,
+                   bool queued) {
     if (!splat) {
         addCameraSide(b, target, unweighted, weight, s, k, queued);
         return;
@@ -81,9 +79,7 @@ void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, fl
         b.strategySplats.push_back({target, uint8_t(s), v, unweighted});
         return;
     }
-    scene.forEachFilmPixel(x, y, [&](uint32_t p, float fw) {
-        b.strategySplats.push_back({p, uint8_t(s), v * fw, unweighted * fw});
-    });
+    scene.forEachFilmPixel(x, y, [&](uint32_t p, float fw) { b.strategySplats.push_back({p, uint8_t(s), v * fw, unweighted * fw}); });
 }
 
 }  // namespace
@@ -126,19 +122,13 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
             b.filmX[slot] = ss.px;
             b.filmY[slot] = ss.py;
         }
-        if (s == 0)
-            addCameraSide(b, slot, ss.value, ss.weight, 0, k);
+        if (s == 0) addCameraSide(b, slot, ss.value, ss.weight, 0, k);
         else if (tracedThroughMedia) {  // visible as it stands
             const bool splatHere = w.t[i] == 1 && splat;
-            const uint32_t target = !splatHere || b.splatsBySlot ? slot
-                                    : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py)
-                                                       : kFilmPoint;
+            const uint32_t target = !splatHere || b.splatsBySlot ? slot : scene.filter.box ? rasterPixel(scene.camera, ss.px, ss.py) : kFilmPoint;
             addConnection(scene, b, target, ss.px, ss.py, splatHere, s, k, ss.value, ss.weight, false);
-        }
-        else if (w.t[i] == 1 && splat)
-            pushConnection(scene, b, ss, slot, true, s, k, counters);
-        else
-            pushConnection(scene, b, ss, slot, false, s, k, counters);
+        } else if (w.t[i] == 1 && splat) pushConnection(scene, b, ss, slot, true, s, k, counters);
+        else pushConnection(scene, b, ss, slot, false, s, k, counters);
     }
     w.n = 0;
 }
@@ -146,8 +136,7 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
 // A pinhole camera: the camera samples of the light vertices the t = 1 strategies of
 // slots [slot0, slot1) end at (BPT: every light vertex; MMLT: x_{s-1} of a slot whose
 // strategy has t = 1), in one flat loop (pinholeCameraSamples); setUpStrategy reads them.
-void sampleCameraFromLightVertices(const Scene& scene, BptBatch& b, uint32_t slot0, uint32_t slot1,
-                                   bool oneStrategyPerSlot) {
+void sampleCameraFromLightVertices(const Scene& scene, BptBatch& b, uint32_t slot0, uint32_t slot1, bool oneStrategyPerSlot) {
     uint32_t n = 0;
     auto list = [&](size_t a) {
         b.cameraSampleOf[a] = n;
@@ -166,8 +155,8 @@ void sampleCameraFromLightVertices(const Scene& scene, BptBatch& b, uint32_t slo
         const int s = b.strategyS[slot], t = b.pathLength[slot] + 1 - s;
         if (t == 1 && s >= 1 && s <= nL) list(b.light.at(slot, s - 1));
     }
-    pinholeCameraSamples(cameraFloats(scene.camera), n, &b.csRef[0].x, &b.csRefN[0].x, &b.csWi[0].x, b.csPx.data(),
-                         b.csPy.data(), b.csWe.data(), b.csPdf.data(), b.csPdfArea.data(), b.csValid.data());
+    pinholeCameraSamples(cameraFloats(scene.camera), n, &b.csRef[0].x, &b.csRefN[0].x, &b.csWi[0].x, b.csPx.data(), b.csPy.data(), b.csWe.data(),
+                         b.csPdf.data(), b.csPdfArea.data(), b.csValid.data());
 }
 
 }  // namespace
@@ -177,15 +166,14 @@ void traceBptConnections(const Scene& scene, BptBatch& b, RayCounters& c) {
     c.raysOccluded += b.numConn;
     for (size_t i = 0; i < b.numConn; ++i) {
         if (!(b.conn[i].tfar >= 0)) continue;
-        addConnection(scene, b, b.connSlot[i], b.connX[i], b.connY[i], b.connSplat[i] != 0, b.connS[i], b.connLength[i],
-                      b.connValue[i], b.connWeight[i], true);
+        addConnection(scene, b, b.connSlot[i], b.connX[i], b.connY[i], b.connSplat[i] != 0, b.connS[i], b.connLength[i], b.connValue[i],
+                      b.connWeight[i], true);
     }
     b.numConn = 0;
 }
 
 template <class U>
-void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int maxLength, float misBeta,
-                RayCounters& counters) {
+void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int maxLength, float misBeta, RayCounters& counters) {
     StrategyWave& w = b.strategies;
     cacheMisSums(scene, b, misBeta);
     b.numConn = 0;
@@ -200,8 +188,7 @@ void connectBpt(const Scene& scene, BptBatch& b, const U& u, int minLength, int 
             for (int s = 0; s <= std::max(nL, 1); ++s) {
                 const int k = s + t - 1;
                 if (k < std::max(1, minLength) || k > maxLength) continue;
-                if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity)
-                    finishStrategies(scene, b, misBeta, true, counters);
+                if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity) finishStrategies(scene, b, misBeta, true, counters);
             }
     }
     finishStrategies(scene, b, misBeta, true, counters);
@@ -224,8 +211,7 @@ void connectStrategies(const Scene& scene, BptBatch& b, const StoredSamples& u, 
         if (pinhole && slot % kCameraSampleSlots == 0)
             sampleCameraFromLightVertices(scene, b, slot, std::min<uint32_t>(uint32_t(b.numSlots), slot + kCameraSampleSlots), true);
         const int s = b.strategyS[slot], k = b.pathLength[slot], t = k + 1 - s;
-        if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity)
-            finishStrategies(scene, b, misBeta, false, counters);
+        if (setUpStrategy(scene, b, slot, s, t, u, w) && w.n == w.capacity) finishStrategies(scene, b, misBeta, false, counters);
     }
     finishStrategies(scene, b, misBeta, false, counters);
     traceBptConnections(scene, b, counters);

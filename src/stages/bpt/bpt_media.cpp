@@ -14,13 +14,11 @@ namespace {
 // stream). MMLT and PSSMLT: the proposal's number for the segment (the rows' media block),
 // the segments past pass-through boundaries and the stream hashed from it, so that a
 // replay of the same numbers traces the same path.
-inline void freePathNumber(const HashedSamples& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
-                           uint64_t& seed) {
+inline void freePathNumber(const HashedSamples& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x, uint64_t& seed) {
     hashedFreePathNumber(u.key[slot], bptDim(stream, mediumDim(d, k)), x, seed);
 }
 template <class U>
-inline void freePathNumber(const U& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x,
-                           uint64_t& seed) {
+inline void freePathNumber(const U& u, uint32_t slot, BptStream stream, int d, uint32_t k, float& x, uint64_t& seed) {
     const float x0 = u.medium(slot, stream, d);
     uint32_t bits;
     std::memcpy(&bits, &x0, sizeof bits);
@@ -32,12 +30,8 @@ inline void freePathNumber(const U& u, uint32_t slot, BptStream stream, int d, u
 // Whether the camera walk's segment d of slot gathers emitting media's light: BPT and
 // PSSMLT, a path length rendered; MMLT, the strategy s = 0 of its length (the camera walk alone finds
 // that light: it is weighed against no other strategy).
-inline bool gathersEmission(const HashedSamples&, const BptBatch& b, uint32_t, int d) {
-    return d >= b.minLength && d <= b.maxLength;
-}
-inline bool gathersEmission(const WholeSamples&, const BptBatch& b, uint32_t, int d) {
-    return d >= b.minLength && d <= b.maxLength;
-}
+inline bool gathersEmission(const HashedSamples&, const BptBatch& b, uint32_t, int d) { return d >= b.minLength && d <= b.maxLength; }
+inline bool gathersEmission(const WholeSamples&, const BptBatch& b, uint32_t, int d) { return d >= b.minLength && d <= b.maxLength; }
 inline bool gathersEmission(const StoredSamples&, const BptBatch& b, uint32_t slot, int d) {
     return b.strategyS[slot] == 0 && d == b.pathLength[slot];
 }
@@ -53,8 +47,8 @@ void traverseBptMediaOf(const Scene& scene, BptBatch& b, const BptVertices& v, b
         SegmentDensities rho;
         Vec3 emitted(0.0f);
         traverseMediumOf<true, Emission>(
-            scene, b.ray[i], m, [&](uint32_t k, float& x, uint64_t& seed) { freePathNumber(u, slot, stream, d, k, x, seed); },
-            b.pathBeta[i], b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, emitted, c);
+            scene, b.ray[i], m, [&](uint32_t k, float& x, uint64_t& seed) { freePathNumber(u, slot, stream, d, k, x, seed); }, b.pathBeta[i],
+            b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, emitted, c);
         b.medium[i] = m;
         b.rhoFwd[i] = rho.fwd;
         b.rhoRev[i] = rho.rev;
@@ -99,10 +93,8 @@ void recordBptMediumVertex(const Scene& scene, BptBatch& b, BptVertices& v, size
 
 template <class U>
 void traverseBptMedia(const Scene& scene, BptBatch& b, const BptVertices& v, bool cameraWalk, const U& u, RayCounters& c) {
-    if (cameraWalk && scene.features.emissiveMedia)
-        traverseBptMediaOf<true>(scene, b, v, cameraWalk, u, c);
-    else
-        traverseBptMediaOf<false>(scene, b, v, cameraWalk, u, c);
+    if (cameraWalk && scene.features.emissiveMedia) traverseBptMediaOf<true>(scene, b, v, cameraWalk, u, c);
+    else traverseBptMediaOf<false>(scene, b, v, cameraWalk, u, c);
 }
 template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const HashedSamples&, RayCounters&);
 template void traverseBptMedia(const Scene&, BptBatch&, const BptVertices&, bool, const StoredSamples&, RayCounters&);

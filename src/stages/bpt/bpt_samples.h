@@ -38,9 +38,7 @@ inline uint32_t bptLensJ(int s, uint32_t m) { return 5 * uint32_t(s) + 3 + m; }
 // strategy reads its own connection numbers.
 struct HashedSamples {
     const uint64_t* key;
-    float operator()(uint32_t slot, BptStream c, uint32_t j) const {
-        return sampleDimension(key[slot], bptDim(c, j));
-    }
+    float operator()(uint32_t slot, BptStream c, uint32_t j) const { return sampleDimension(key[slot], bptDim(c, j)); }
     static uint32_t connectJ(int s, int t, uint32_t m) { return s == 1 && t >= 2 ? bptNeeJ(t, m) : bptLensJ(s, m); }
 };
 
@@ -50,20 +48,16 @@ struct HashedSamples {
 // subpath's numbers where they are), the connection's block holding the one
 // connection's numbers (j = 0-2). Block sizes: the most any strategy of length k reads.
 struct StrategyLayout {
-    static uint32_t cameraSize(int k) { return 4 * uint32_t(k); }                   // t = k + 1
+    static uint32_t cameraSize(int k) { return 4 * uint32_t(k); }                            // t = k + 1
     static uint32_t lightSize(int k) { return std::max<uint32_t>(5, 4 * uint32_t(k) - 3); }  // s = k
     static constexpr uint32_t kConnectSize = 3;
-    static uint32_t base(int k, BptStream c) {
-        return c == kBptCamera ? 1 : c == kBptLight ? 1 + cameraSize(k) : 1 + cameraSize(k) + lightSize(k);
-    }
+    static uint32_t base(int k, BptStream c) { return c == kBptCamera ? 1 : c == kBptLight ? 1 + cameraSize(k) : 1 + cameraSize(k) + lightSize(k); }
     // Scenes with media: one more block, each walk segment's free-path number (the camera
     // walk's segment d = 1 .. t - 1 at j = d - 1, the light walk's d = 1 .. s - 1 at j = k + d - 1).
     static uint32_t mediaBase(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
     static uint32_t mediaSize(int k) { return 2 * uint32_t(k); }
     static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? mediaSize(k) : 0); }
-    static uint32_t blockSize(int k, BptStream c) {
-        return c == kBptCamera ? cameraSize(k) : c == kBptLight ? lightSize(k) : kConnectSize;
-    }
+    static uint32_t blockSize(int k, BptStream c) { return c == kBptCamera ? cameraSize(k) : c == kBptLight ? lightSize(k) : kConnectSize; }
     // The numbers strategy (s, t) reads from each block (a prefix of it).
     static uint32_t cameraUsed(int t) { return t >= 2 ? 4 * uint32_t(t) - 4 : 0; }
     static uint32_t lightUsed(int s, int t) { return s >= 2 ? 4 * uint32_t(s) - 3 : s == 1 && t == 1 ? 5 : 0; }
@@ -73,12 +67,10 @@ struct StrategyLayout {
 };
 
 struct StoredSamples {
-    const float* u;      // slot i's row at u + row[i]
+    const float* u;  // slot i's row at u + row[i]
     const uint32_t* row;
     const uint8_t* length;  // slot i's path length k
-    float operator()(uint32_t slot, BptStream c, uint32_t j) const {
-        return u[row[slot] + StrategyLayout::base(length[slot], c) + j];
-    }
+    float operator()(uint32_t slot, BptStream c, uint32_t j) const { return u[row[slot] + StrategyLayout::base(length[slot], c) + j]; }
     static uint32_t connectJ(int, int, uint32_t m) { return m; }
     // The free-path number of walk segment d (media block).
     float medium(uint32_t slot, BptStream c, int d) const {
@@ -97,8 +89,7 @@ struct StoredSamples {
 struct WholeLayout {
     static uint32_t connectSize(int k) { return 5 * uint32_t(k) + 5; }
     static uint32_t base(int k, BptStream c) {
-        return c == kBptCamera ? 0 : c == kBptLight ? StrategyLayout::cameraSize(k)
-                                                    : StrategyLayout::cameraSize(k) + StrategyLayout::lightSize(k);
+        return c == kBptCamera ? 0 : c == kBptLight ? StrategyLayout::cameraSize(k) : StrategyLayout::cameraSize(k) + StrategyLayout::lightSize(k);
     }
     static uint32_t mediaBase(int k) { return base(k, kBptConnect) + connectSize(k); }
     static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? StrategyLayout::mediaSize(k) : 0); }
@@ -123,14 +114,14 @@ struct WholeSamples {
     const WholeProposal* kind;
     const uint64_t *key, *seed;               // per slot: the proposal's key, its chain's seed
     const uint32_t *chainAt, *lastLarge, *n;  // per slot
-    const float* value;                        // the chains' coordinates (ChainGroup::value, lastModified)
+    const float* value;                       // the chains' coordinates (ChainGroup::value, lastModified)
     const uint32_t* lastModified;
-    float* proposed;                           // per slot and coordinate: the value read
-    uint8_t* read;                             // per slot and coordinate: read yet
-    uint16_t* readList;                        // per slot, dims of them: the coordinates read, in order
-    uint16_t* readCount;                       // per slot
+    float* proposed;      // per slot and coordinate: the value read
+    uint8_t* read;        // per slot and coordinate: read yet
+    uint16_t* readList;   // per slot, dims of them: the coordinates read, in order
+    uint16_t* readCount;  // per slot
     uint32_t dims;
-    int k;                                     // the longest path length
+    int k;  // the longest path length
     uint32_t base[3] = {WholeLayout::base(k, kBptCamera), WholeLayout::base(k, kBptLight), WholeLayout::base(k, kBptConnect)};
     uint32_t mediaBase = WholeLayout::mediaBase(k);
 

@@ -34,9 +34,7 @@ inline void startCameraPath(const Scene& scene, BptBatch& b, size_t i, Vec3 o, V
 
 }  // namespace
 
-uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
-    return sampleKey(mix64(seed ^ 0x425054u /* "BPT" */), pixel, sample);
-}
+uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) { return sampleKey(mix64(seed ^ 0x425054u /* "BPT" */), pixel, sample); }
 
 float cameraPdfOfRay(const Camera& c, Vec3 w) {
     if (c.ortho) return 1.0f / cameraPlaneArea(c);  // per unit of film area: projected at the first hit
@@ -45,8 +43,7 @@ float cameraPdfOfRay(const Camera& c, Vec3 w) {
 }
 
 // The camera ray's numbers: j = 0-3 of the camera stream (bpt_state.h).
-constexpr CameraDims kBptCameraDims{bptDim(kBptCamera, 0), bptDim(kBptCamera, 1), bptDim(kBptCamera, 2),
-                                    bptDim(kBptCamera, 3)};
+constexpr CameraDims kBptCameraDims{bptDim(kBptCamera, 0), bptDim(kBptCamera, 1), bptDim(kBptCamera, 2), bptDim(kBptCamera, 3)};
 
 void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int n, uint64_t seed) {
     b.numSlots = forEachCameraRay(
@@ -112,7 +109,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.light.ng[y0] = e.n;
         b.light.shading[y0] = shading;
         b.light.beta[y0] = e.tex * (1.0f / pdfOrigin);  // L is applied by each connection (T, 1 untextured, here)
-        if (!b.light.emitPdfA.empty())  // a textured emitter's density of y_0 (else 1 / area: -1)
+        if (!b.light.emitPdfA.empty())                  // a textured emitter's density of y_0 (else 1 / area: -1)
             b.light.emitPdfA[y0] = texturedMeshLight(scene, li) ? e.pdfPos : -1.0f;
         b.light.pdfFwd[y0] = pdfOrigin;
         b.light.pdfRev[y0] = 0.0f;
@@ -120,7 +117,7 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         b.light.kind[y0] = infinite ? BptVertexKind::Env : BptVertexKind::Light;
         b.light.light[y0] = int16_t(li);
         if (infinite) b.light.pdfFwd[y0] = pmf * e.pdfDir;  // the direction's density
-        if (b.light.media) {  // the face emission took (e.n): a two-sided light's back for u3 >= 1/2
+        if (b.light.media) {                                // the face emission took (e.n): a two-sided light's back for u3 >= 1/2
             const bool back = scene.lights[li].twoSided && u(uint32_t(i), kBptLight, 3) >= 0.5f;
             const int front = scene.lightMediumFront[size_t(li)], behind = scene.lightMediumBack[size_t(li)];
             b.light.mediumFront[y0] = back ? behind : front;
@@ -156,9 +153,8 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
             ++m;
         }
         const FrameFloats frame = frameFromNormal(l.n.x, l.n.y, l.n.z);  // the emission's and y_0's, once
-        rectEmissionSamples(rectFloats(l), frame, b.sortedU1.data(), b.sortedU2.data(), b.emitU3.data(),
-                            b.emitU4.data(), m, &b.emitP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
-                            b.emitPdfDir.data(), b.emitOk.data());
+        rectEmissionSamples(rectFloats(l), frame, b.sortedU1.data(), b.sortedU2.data(), b.emitU3.data(), b.emitU4.data(), m, &b.emitP[0].x,
+                            b.localX.data(), b.localY.data(), b.localZ.data(), b.emitPdfDir.data(), b.emitOk.data());
         LightEmission e;
         e.n = l.n;
         e.Le = l.L;
@@ -180,8 +176,8 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
         float pmf;
         int li = scene.lightDistribution.sampleDiscrete(u(slot, kBptLight, 0), &pmf);
         LightEmission e;
-        if (!(pmf > 0) || !sampleLightEmission(scene, li, u(slot, kBptLight, 1), u(slot, kBptLight, 2),
-                                               u(slot, kBptLight, 3), u(slot, kBptLight, 4), e))
+        if (!(pmf > 0) ||
+            !sampleLightEmission(scene, li, u(slot, kBptLight, 1), u(slot, kBptLight, 2), u(slot, kBptLight, 3), u(slot, kBptLight, 4), e))
             continue;
         start(i, li, pmf, e, Frame::fromNormal(e.n));
     }
@@ -250,11 +246,11 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         v.beta[cur] = b.pathBeta[i];
         const bool projected = v.kind[prev] == BptVertexKind::Env || (scene.camera.ortho && v.kind[prev] == BptVertexKind::Camera);
         v.pdfFwd[cur] = projected ? b.pathPdf[i] * std::fabs(dot(sp.ng, rayDir(rh)))  // disc's (film's) density projected
-                            : solidAngleToArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
+                                  : solidAngleToArea(b.pathPdf[i], v.p[prev], sp.p, sp.ng, true);
         v.pdfRev[cur] = 0.0f;
         v.delta[cur] = 0;
         v.light[cur] = int16_t(sp.light);  // a Surface on an emitter keeps its light (s = 0)
-        if (media) {  // a boundary's outside on the +ng side (media.h, mediumAcross), else the path's
+        if (media) {                       // a boundary's outside on the +ng side (media.h, mediumAcross), else the path's
             takeSegmentDensities(b, v, i, cur);
             const GeomRecord& g = scene.geoms[rh.hit.geomID];
             v.mediumFront[cur] = g.mediumBoundary ? g.mediumOutside : b.medium[i];
@@ -297,7 +293,7 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
         using B = BsdfOf<decltype(kind)::value>;
         constexpr bool matte = decltype(kind)::value == MaterialKind::Matte;
         const uint32_t r0 = b.kindStart[int(kind.value)], r1 = b.kindStart[int(kind.value) + 1];
-        if constexpr (matte) {  // the directions first, in one flat loop (scatterHits)
+        if constexpr (matte) {     // the directions first, in one flat loop (scatterHits)
             if (r0 == r1) return;  // (&v[r0] of a full wave would be past the end)
             for (uint32_t r = r0; r < r1; ++r) {
                 const uint32_t slot = b.pathSlot[b.hitPath[b.order[r]]];
@@ -318,10 +314,10 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
             Vec3 wo = fr.toLocal(woW);
             BsdfSample s;
             bool sampled;
-            if constexpr (matte)
-                sampled = matteSampleFrom(v.bsdf[cur], wo, Vec3(b.localX[r], b.localY[r], b.localZ[r]), s);
+            if constexpr (matte) sampled = matteSampleFrom(v.bsdf[cur], wo, Vec3(b.localX[r], b.localY[r], b.localZ[r]), s);
             else
-                sampled = sampleBsdfOf<B>(v.bsdf[cur], wo, [&](uint32_t m) { return u(slot, stream, jOf(d, m)); }, mode, s);
+                sampled = sampleBsdfOf<B>(
+                    v.bsdf[cur], wo, [&](uint32_t m) { return u(slot, stream, jOf(d, m)); }, mode, s);
             if (!sampled || !(s.pdf > 0) || isBlack(s.f)) continue;
             v.delta[cur] = s.delta ? 1 : 0;  // the lobe taken (Plastic: coating or base)
             Vec3 wi = normalize(fr.toWorld(s.wi));
@@ -333,13 +329,11 @@ void sampleBptBsdfs(const Scene& scene, BptBatch& b, BptVertices& v, bool camera
                 pdfFwd = s.pdf;
                 pdfRev = B::pdf(v.bsdf[cur], s.wi, wo);
             }
-            v.pdfRev[prev] = v.kind[prev] == BptVertexKind::Env
-                                 ? pdfRev
-                                 : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev], hasCosine(v.kind[prev]));
+            v.pdfRev[prev] =
+                v.kind[prev] == BptVertexKind::Env ? pdfRev : solidAngleToArea(pdfRev, v.p[cur], v.p[prev], v.ng[prev], hasCosine(v.kind[prev]));
             if (v.media) v.pdfRev[prev] *= v.rhoRev[cur];  // the reverse free path's density
             // Roulette (sampling.h): the light subpath's relative to its initial throughput.
-            if (b.roulette && d >= kRouletteDepth &&
-                !survivesRoulette(beta, cameraWalk ? 1.0f : b.betaScale[slot], u(slot, stream, jOf(d, 3))))
+            if (b.roulette && d >= kRouletteDepth && !survivesRoulette(beta, cameraWalk ? 1.0f : b.betaScale[slot], u(slot, stream, jOf(d, 3))))
                 continue;
             b.alive[h] = 1;
             b.nextDir[h] = wi;
@@ -354,8 +348,7 @@ template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const 
 template void sampleBptBsdfs(const Scene&, BptBatch&, BptVertices&, bool, const WholeSamples&);
 
 template <class U>
-void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters,
-             const U& u) {
+void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters, const U& u) {
     for (bool first = true; b.numPaths > 0; first = false) {
         intersect(scene, b, coherentFirst && first, counters);
         if (v.media) traverseBptMedia(scene, b, v, cameraWalk, u, counters);  // (bpt_media.cpp)

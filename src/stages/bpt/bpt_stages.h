@@ -31,8 +31,7 @@ uint64_t bptSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample);
 float cameraPdfOfRay(const Camera& c, Vec3 w);
 
 // Writes slots (pixel, key, L = 0), camera vertex z_0 and one path per slot.
-void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& tile, int strataPerAxis,
-                            uint64_t seed);
+void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& tile, int strataPerAxis, uint64_t seed);
 // MMLT and PSSMLT: camera vertex z_0 and the first path of each slot whose walk has room
 // for more than z_0 (t >= 2), the raster point u(camera, 0-1) over the whole image (kept in
 // filmX, filmY). Slots' cam.maxCount (t) and numSlots are set by the caller.
@@ -75,8 +74,7 @@ void advanceBptPaths(const Scene& scene, BptBatch& b, const BptVertices& v);
 // advance until no path is alive. coherentFirst: the first round's rays are camera rays
 // in tile order.
 template <class U>
-void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters,
-             const U& u);
+void walkBpt(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk, bool coherentFirst, RayCounters& counters, const U& u);
 
 // Working memory of weighStrategy, kept by its caller across calls.
 struct StrategyScratch {
@@ -86,11 +84,11 @@ struct StrategyScratch {
 
 // One strategy's sample of a slot's subpaths.
 struct StrategySample {
-    Vec3 value;          // unweighted contribution, visibility not yet tested
-    float weight = 0;    // its MIS weight
-    bool infinite = false;  // the shadow ray ends at infinity (the environment)
+    Vec3 value;                 // unweighted contribution, visibility not yet tested
+    float weight = 0;           // its MIS weight
+    bool infinite = false;      // the shadow ray ends at infinity (the environment)
     Vec3 from, nFrom, to, nTo;  // the shadow ray's ends (infinite: `to` is a direction; nTo = 0: not on a surface)
-    float px = 0, py = 0;  // t = 1: the film point (raster coordinates) the path lands on
+    float px = 0, py = 0;       // t = 1: the film point (raster coordinates) the path lands on
 };
 
 // Strategy (s, t) of slot's stored subpaths with the connection numbers of u, in three
@@ -111,8 +109,8 @@ void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w);
 // transmittance in the contribution and its free-path densities in the weight (bpt_media.cpp's
 // stage made the walks'); with pass-through boundaries it traces the connection here (the
 // contribution is then visible as it stands), else only its medium (the shadow ray decides).
-bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
-                   StrategyScratch& scratch, StrategySample& out, RayCounters& counters);
+bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta, StrategyScratch& scratch,
+                   StrategySample& out, RayCounters& counters);
 // The shadow ray of a strategy sample between its ends (offset off their surfaces); false
 // when they coincide.
 bool connectionRay(const Scene& scene, const StrategySample& ss, RTCRay& r);

@@ -50,10 +50,12 @@ inline bool hasCosine(BptVertexKind k) { return k != BptVertexKind::Camera && k 
 //   light: for a Light, its index into Scene::lights
 //   misSum: the MIS weights' ratios summed up to the vertex (kernels/mis.h,
 //     bptSubpathMisSum; written by cacheMisSums after the walks)
+// clang-format off
 #define WMLT_BPT_VERTEX_ARRAYS(X)                                                            \
     X(Vec3, p) X(Vec3, ng) X(Frame, shading) X(BsdfParams, bsdf) X(Vec3, beta)             \
     X(float, pdfFwd) X(float, pdfRev) X(uint8_t, delta) X(BptVertexKind, kind) X(int16_t, light) \
     X(double, misSum)
+// clang-format on
 // Scenes with a textured emitter (BatchNeeds::texturedEmitter); at an emitter vertex:
 //   emitTex: the texture's value T there
 //   emitPdfA: the area density of light sampling there (camera walk: s = 0; y_0: emission's)
@@ -68,9 +70,9 @@ inline bool hasCosine(BptVertexKind k) { return k != BptVertexKind::Camera && k 
 
 struct BptVertices {
     int capacity = 0;
-    std::vector<uint8_t> count;      // per slot: vertices stored
-    std::vector<uint8_t> maxCount;   // per slot: the walk stops at this many vertices (<= capacity)
-    std::vector<uint32_t> first;     // per slot: the index of its vertex 0
+    std::vector<uint8_t> count;     // per slot: vertices stored
+    std::vector<uint8_t> maxCount;  // per slot: the walk stops at this many vertices (<= capacity)
+    std::vector<uint32_t> first;    // per slot: the index of its vertex 0
     WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_MEDIA_VERTEX_ARRAYS(WMLT_SOA_ARRAY)
@@ -88,8 +90,12 @@ struct BptVertices {
     bool texturedEmitters = false, media = false;
     void resizeVertices(size_t n) {
         WMLT_BPT_VERTEX_ARRAYS(WMLT_SOA_RESIZE)
-        if (texturedEmitters) { WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_RESIZE) }
-        if (media) { WMLT_BPT_MEDIA_VERTEX_ARRAYS(WMLT_SOA_RESIZE) }
+        if (texturedEmitters) {
+            WMLT_BPT_EMITTER_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        if (media) {
+            WMLT_BPT_MEDIA_VERTEX_ARRAYS(WMLT_SOA_RESIZE)
+        }
     }
     // The medium a ray leaving vertex a along dir travels in.
     int mediumTowards(size_t a, Vec3 dir) const { return dot(dir, ng[a]) < 0 ? mediumBack[a] : mediumFront[a]; }
@@ -122,10 +128,12 @@ struct BptVertices {
 //   filmX, filmY: the film point it lands on (t = 1)
 //   cameraPdfArea: with a pinhole camera, the area density at x_{s-1} of the camera ray
 //     through that point (pinholeCameraSamples)
+// clang-format off
 #define WMLT_STRATEGY_ARRAYS(X)                                                              \
     X(uint32_t, slot) X(uint8_t, s) X(uint8_t, t) X(int16_t, light) X(Vec3, value)          \
     X(float, scale) X(float, tail) X(Vec3, endP) X(Vec3, endN) X(float, endPdfA) X(uint8_t, infinite)       \
     X(float, filmX) X(float, filmY) X(float, cameraPdfArea)
+// clang-format on
 // Per end (2 i: y = x_{s-1}, a light subpath vertex; 2 i + 1: z = x_s, a camera subpath
 // vertex), directions in the vertex's shading frame, wo on the camera side, wi on the light
 // side (s = 1 and t = 1: f towards the new endpoint, the densities from the stored positions):
@@ -135,9 +143,11 @@ struct BptVertices {
 //   f: f(wo, wi)
 //   pdfCam: pdf(wo, wi) (the camera walk's)
 //   pdfLight: pdf(wi, wo) (the light walk's)
+// clang-format off
 #define WMLT_STRATEGY_END_ARRAYS(X)                                                          \
     X(uint32_t, endVertex) X(Vec3, fWo) X(Vec3, fWi) X(Vec3, wo) X(Vec3, wi) X(Vec3, f)      \
     X(float, pdfCam) X(float, pdfLight)
+// clang-format on
 constexpr uint32_t kNoEnd = UINT32_MAX;
 
 struct StrategyWave {
@@ -173,16 +183,20 @@ struct StrategyWave {
 //     table, BptBatch::regularizedOffset)
 // Per hit:
 //   hitKind: its material's kind, for the kind sort
+// clang-format off
 #define WMLT_BPT_ARRAYS(X)                                                                   \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L) X(float, betaScale) X(float, lightNee)  \
     X(Vec3, pathBeta) X(float, pathPdf) X(uint8_t, pathNonSpecular) X(MaterialKind, hitKind)
+// clang-format on
 // Allocated only for a scene with media (docs/media.md); per path:
 //   medium: its medium
 //   mediumEvent: this round's free-path sample is a scattering event (traverseBptMedia)
 //   mediumT: where
 //   rhoFwd, rhoRev: the sample's free-path densities, forward and reverse
+// clang-format off
 #define WMLT_BPT_MEDIA_ARRAYS(X)                                                             \
     X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(float, rhoFwd) X(float, rhoRev)
+// clang-format on
 // Allocated only for a scene whose one light is a rectangle (soleRectLight); per light
 // subpath started, for generateBptLightPaths' flat loop (the first two numbers in
 // sortedU1/U2, the direction in localX/Y/Z):
@@ -191,9 +205,11 @@ struct StrategyWave {
 //   emitP: the emission sample's point
 //   emitPdfDir: its direction's density
 //   emitOk: the sample is valid
+// clang-format off
 #define WMLT_BPT_RECT_LIGHT_ARRAYS(X)                                                        \
     X(uint32_t, emitSlot) X(float, emitU3) X(float, emitU4) X(Vec3, emitP) X(float, emitPdfDir) \
     X(uint8_t, emitOk)
+// clang-format on
 // MMLT's (reserve's `oneStrategyPerSlot`) and PSSMLT's (its film point); per slot:
 //   strategyS: the one strategy's s
 //   pathLength: its path length k
@@ -210,9 +226,11 @@ struct StrategyWave {
 //   csPdf: its density
 //   csPdfArea: the reverse area density at the vertex
 //   csValid: the sample is valid
+// clang-format off
 #define WMLT_BPT_CAMERA_SAMPLE_ARRAYS(X)                                                     \
     X(Vec3, csRef) X(Vec3, csRefN) X(Vec3, csWi) X(float, csPx) X(float, csPy) X(float, csWe) \
     X(float, csPdf) X(float, csPdfArea) X(uint32_t, csValid)
+// clang-format on
 constexpr uint32_t kCameraSampleSlots = 256;
 
 // Connection shadow rays (index c < numConn; flushed when full):
@@ -224,9 +242,11 @@ constexpr uint32_t kCameraSampleSlots = 256;
 //   connValue: the unweighted unoccluded value
 //   connWeight: the MIS weight
 //   connS: the strategy's s (strategy images)
+// clang-format off
 #define WMLT_BPT_CONN_ARRAYS(X)                                                              \
     X(RTCRay, conn) X(uint32_t, connSlot) X(float, connX) X(float, connY) X(uint8_t, connSplat)  \
     X(uint8_t, connLength) X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
+// clang-format on
 
 // A t = 1 contribution kept with its slot (PSSMLT: a sample's splats are its chain's).
 struct SlotSplat {
@@ -243,7 +263,7 @@ struct BptBatch : PathWave {
     WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_ARRAY)
     std::vector<uint32_t> cameraSampleOf;  // per light vertex
-    bool roulette = true;            // Russian roulette in the walks (MMLT: off, lengths are fixed)
+    bool roulette = true;                  // Russian roulette in the walks (MMLT: off, lengths are fixed)
     // pbrt's regularize, chosen once per render: Scene::regularizedOffset in BPT's batches
     // (renderBidirectional), the table a subpath's vertices take once pathNonSpecular; 0 in
     // MMLT's and PSSMLT's (it would bias their chains' target) and without regularize.
@@ -260,8 +280,8 @@ struct BptBatch : PathWave {
     std::vector<PointSplat> points;  // filtered scenes: t = 1 contributions at film points
     bool splatsBySlot = false;       // PSSMLT: t = 1 contributions to slotSplats instead, in slot order
     std::vector<SlotSplat> slotSplats;
-    std::vector<Vec3> Lqueued;       // PSSMLT: the camera side's traced connections (addCameraSide)
-    StrategyFilms* strategyFilms = nullptr;  // --strategy-images: camera side added directly
+    std::vector<Vec3> Lqueued;                  // PSSMLT: the camera side's traced connections (addCameraSide)
+    StrategyFilms* strategyFilms = nullptr;     // --strategy-images: camera side added directly
     std::vector<StrategySplat> strategySplats;  // t = 1, merged in tile order
     ContributionTally tally;
 
@@ -270,8 +290,12 @@ struct BptBatch : PathWave {
         resizeWave(n, needs);
         WMLT_BPT_ARRAYS(WMLT_SOA_RESIZE)
         if (oneStrategyPerSlot) reserveStrategies(n);
-        if (needs.rectLight) { WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
-        if (needs.media) { WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.rectLight) {
+            WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        if (needs.media) {
+            WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_RESIZE)
+        }
         cam.reserve(n, maxLength + 1, needs.texturedEmitter, needs.media);
         light.reserve(n, maxLength, needs.texturedEmitter, needs.media);
         if (needs.pinhole) {

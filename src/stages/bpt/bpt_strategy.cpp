@@ -57,8 +57,7 @@ inline float originPdf(const Scene& scene, int li, const PathPoint& x0) {
 // cone) as area density;
 // the environment: the emission disc's density 1 / (pi R^2) projected onto x1's surface.
 inline float emissionPdfAt(const Scene& scene, int li, const PathPoint& x0, const PathPoint& x1) {
-    if (x0.kind == BptVertexKind::Env)
-        return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
+    if (x0.kind == BptVertexKind::Env) return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
     if (const Light& l = scene.lights[li]; isDeltaLight(l)) {
         const float pdf = isSpot(l) ? pointEmissionPdf(l, dirTo(x0.p, x1.p)) : kUniformSpherePdf;
         return solidAngleToArea(pdf, x0.p, x1.p, x1.ng, hasCosine(x1.kind));
@@ -73,9 +72,7 @@ inline float emissionPdfAt(const Scene& scene, int li, const PathPoint& x0, cons
 // Vertex i of the path of strategy (s, t) of slot, k = s + t - 1: the light subpath's
 // y_i below s, the camera subpath's z_{k-i} from s on.
 inline const BptVertices& sideOf(const BptBatch& b, int i, int s) { return i < s ? b.light : b.cam; }
-inline size_t indexOf(const BptBatch& b, uint32_t slot, int i, int s, int k) {
-    return i < s ? b.light.at(slot, i) : b.cam.at(slot, k - i);
-}
+inline size_t indexOf(const BptBatch& b, uint32_t slot, int i, int s, int k) { return i < s ? b.light.at(slot, i) : b.cam.at(slot, k - i); }
 
 // x_0's density under next-event estimation from x_1 (light l0; k >= 2, not a point light).
 inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathPoint& x1) {
@@ -89,8 +86,8 @@ inline float neePdf(const Scene& scene, int l0, const PathPoint& x0, const PathP
 // the connection's segment take its free-path densities (pE at y = x_{s-1}, pL at z =
 // x_s), and those of the segments next to it, sampled backwards, the walks' kept ones
 // (rhoRev). s = 0: the emission's density at x_1 crosses the camera walk's last segment.
-bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, RayCounters& c, float* pL,
-                  float* pE, const StrategySample& out, Vec3& value) {
+bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, RayCounters& c, float* pL, float* pE,
+                  const StrategySample& out, Vec3& value) {
     const uint32_t slot = w.slot[i];
     const int s = w.s[i], t = w.t[i], k = s + t - 1;
     const size_t zi = b.cam.at(slot, t - 1);
@@ -112,7 +109,7 @@ bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, 
                                               : transmittanceUnblocked<true>(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho);
     if (isBlack(T)) return false;
     value = value * T;
-    pE[s - 1] *= fromZ ? rho.fwd : rho.rev;  // ending at y
+    pE[s - 1] *= fromZ ? rho.fwd : rho.rev;          // ending at y
     if (t >= 2) pL[s] *= fromZ ? rho.rev : rho.fwd;  // ending at z
     if (t >= 2 && s + 1 < k) pL[s + 1] *= b.cam.rhoRev[zi];
     if (s >= 2) pE[s - 2] *= b.light.rhoRev[b.light.at(slot, s - 1)];
@@ -128,7 +125,10 @@ void cacheMisSums(const Scene& scene, BptBatch& b, float misBeta) {
         const BptVertices& c = b.cam;
         for (int i = 0; i < c.count[slot] - 2; ++i) {
             const size_t a = c.at(slot, i);
-            if (i == 0) { b.cam.misSum[a] = 0; continue; }
+            if (i == 0) {
+                b.cam.misSum[a] = 0;
+                continue;
+            }
             const size_t p = c.at(slot, i - 1);
             b.cam.misSum[a] = bptSubpathMisSum(c.misSum[p], c.pdfRev[a], c.pdfFwd[a], c.delta[a], i > 1 && c.delta[p], misBeta);
         }
@@ -166,14 +166,11 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
     // Which strategies exist for these subpaths.
     // s = 0: the camera subpath ends on an emitter (a Surface vertex of an emitter with a
     // material both ends this path and scatters for the longer ones).
-    const bool zEmits = zKind == BptVertexKind::Light || zKind == BptVertexKind::Env ||
-                        (zKind == BptVertexKind::Surface && b.cam.light[zi] >= 0);
+    const bool zEmits = zKind == BptVertexKind::Light || zKind == BptVertexKind::Env || (zKind == BptVertexKind::Surface && b.cam.light[zi] >= 0);
     if (s == 0 && !zEmits) return false;
     // A connection needs a non-delta lobe at both ends, whichever lobe the walk took there
     // (a medium vertex's phase function is one).
-    if (s >= 1 && t >= 2 && zKind != BptVertexKind::Medium &&
-        (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind)))
-        return false;
+    if (s >= 1 && t >= 2 && zKind != BptVertexKind::Medium && (zKind != BptVertexKind::Surface || isDeltaMaterial(b.cam.bsdf[zi].kind))) return false;
     if (s == 1 && t >= 2 && scene.lights.empty()) return false;
     if (s >= 2 || (s == 1 && t == 1)) {
         if (s > nL) return false;
@@ -191,8 +188,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
     if (s == 0) {  // value = beta_z Le
         const int li = b.cam.light[zi];
         const size_t x1 = b.cam.at(slot, t - 2);  // k >= 1: t >= 2
-        Vec3 Le = zKind == BptVertexKind::Env ? scene.env.Le(-b.cam.ng[zi])
-                                              : areaLe(scene.lights[li], b.cam.ng[zi], dirTo(b.cam.p[zi], b.cam.p[x1]));
+        Vec3 Le = zKind == BptVertexKind::Env ? scene.env.Le(-b.cam.ng[zi]) : areaLe(scene.lights[li], b.cam.ng[zi], dirTo(b.cam.p[zi], b.cam.p[x1]));
         if (!b.cam.emitTex.empty() && zKind != BptVertexKind::Env) Le = Le * b.cam.emitTex[zi];
         w.value[i] = b.cam.beta[zi] * Le;
         w.light[i] = int16_t(li);
@@ -281,8 +277,8 @@ template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, c
 template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const StoredSamples&, StrategyWave&);
 template bool setUpStrategy(const Scene&, const BptBatch&, uint32_t, int, int, const WholeSamples&, StrategyWave&);
 
-bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta,
-                   StrategyScratch& scratch, StrategySample& out, RayCounters& counters) {
+bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w, size_t i, float misBeta, StrategyScratch& scratch,
+                   StrategySample& out, RayCounters& counters) {
     const Camera& cam = scene.camera;
     const uint32_t slot = w.slot[i];
     const int s = w.s[i], t = w.t[i], k = s + t - 1;
@@ -290,14 +286,10 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
     const size_t zi = b.cam.at(slot, t - 1);
     // The contribution (setUpStrategy's factors, in the same order).
     Vec3 value;
-    if (s == 0 || (s == 1 && t == 1))
-        value = w.value[i];
-    else if (s == 1)
-        value = b.cam.beta[zi] * (w.f[ez] * w.scale[i]) * w.value[i] / w.tail[i];
-    else if (t == 1)
-        value = b.light.beta[w.endVertex[ey]] * w.f[ey] * w.tail[i];
-    else
-        value = b.light.beta[w.endVertex[ey]] * (w.f[ey] * w.scale[i]) * w.f[ez] * b.cam.beta[zi] * w.tail[i];
+    if (s == 0 || (s == 1 && t == 1)) value = w.value[i];
+    else if (s == 1) value = b.cam.beta[zi] * (w.f[ez] * w.scale[i]) * w.value[i] / w.tail[i];
+    else if (t == 1) value = b.light.beta[w.endVertex[ey]] * w.f[ey] * w.tail[i];
+    else value = b.light.beta[w.endVertex[ey]] * (w.f[ey] * w.scale[i]) * w.f[ez] * b.cam.beta[zi] * w.tail[i];
     if (isBlack(value)) return false;
     // The shadow ray's ends.
     out.infinite = false;
@@ -370,9 +362,9 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         const PathPoint y = x(s - 1);
         // The direction is -wi of setUpStrategy's camera sample bit for bit (the same
         // difference and length), whose raster point was inside the image: no check again.
-        pE[s - 1] = isPinhole(cam)  ? w.cameraPdfArea[i]
-                    : cam.ortho     ? cameraPdfOfRay(cam, cam.forward) * std::fabs(dot(y.ng, cam.forward))  // the film's, projected
-                                    : pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
+        pE[s - 1] = isPinhole(cam) ? w.cameraPdfArea[i]
+                    : cam.ortho    ? cameraPdfOfRay(cam, cam.forward) * std::fabs(dot(y.ng, cam.forward))  // the film's, projected
+                                   : pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
         if (s >= 2) pE[s - 2] = pdfAt(w.pdfCam[ey], y.p, x(s - 2));
     } else {  // s = 1, t >= 2
         const PathPoint z = x(1);

@@ -31,7 +31,8 @@ inline void groupByMaterialKind(KindOf&& kindOf, size_t n, uint32_t* order, uint
 
 // Calls fn(std::integral_constant<MaterialKind, K>{}) for each kind (a kind with no hits
 // costs one empty loop).
-template <class Fn> void forEachMaterialKind(Fn&& fn) {
+template <class Fn>
+void forEachMaterialKind(Fn&& fn) {
 #define WMLT_KIND_CALL(K, name) fn(std::integral_constant<MaterialKind, MaterialKind::K>{});
     WMLT_MATERIAL_KINDS(WMLT_KIND_CALL)
 #undef WMLT_KIND_CALL

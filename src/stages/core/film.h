@@ -11,13 +11,15 @@ namespace wmlt {
 
 struct Film {
     int width = 0, height = 0;
-    std::vector<double> sum;       // 3 per pixel
-    std::vector<uint32_t> count;   // samples per pixel
+    std::vector<double> sum;      // 3 per pixel
+    std::vector<uint32_t> count;  // samples per pixel
 
     Film(int w, int h) : width(w), height(h), sum(size_t(w) * h * 3, 0.0), count(size_t(w) * h, 0) {}
     void add(uint32_t pixel, Vec3 L) {
         double* s = &sum[size_t(pixel) * 3];
-        s[0] += L.x; s[1] += L.y; s[2] += L.z;
+        s[0] += L.x;
+        s[1] += L.y;
+        s[2] += L.z;
         ++count[pixel];
     }
     // Mean of each pixel's samples (black where a pixel has none).
@@ -36,7 +38,9 @@ struct Film {
 struct PathLengthSums {
     double lum[kMaxPathLength + 1] = {};
     void add(int length, Vec3 c) { lum[length] += double(luminance(c)); }
-    void add(const PathLengthSums& o) { for (int k = 0; k <= kMaxPathLength; ++k) lum[k] += o.lum[k]; }
+    void add(const PathLengthSums& o) {
+        for (int k = 0; k <= kMaxPathLength; ++k) lum[k] += o.lum[k];
+    }
     // Means over an image of `pixels` pixels with `spp` samples each.
     std::vector<double> means(double pixels, double spp) const {
         std::vector<double> m(lum, lum + kMaxPathLength + 1);
@@ -53,7 +57,10 @@ struct ContributionTally {
     // Whether a contribution v of path length `length` is to be added (finite and not
     // black); counts it either way.
     bool take(Vec3 v, int length) {
-        if (!isFinite(v)) { ++nonfinite; return false; }
+        if (!isFinite(v)) {
+            ++nonfinite;
+            return false;
+        }
         if (isBlack(v)) return false;
         lengths.add(length, v);
         return true;
@@ -91,7 +98,9 @@ struct SplatFilm {
     SplatFilm(int w, int h) : width(w), height(h), sum(size_t(w) * h * 3, 0.0) {}
     void add(const Splat& s) {
         double* d = &sum[size_t(s.pixel) * 3];
-        d[0] += s.value.x; d[1] += s.value.y; d[2] += s.value.z;
+        d[0] += s.value.x;
+        d[1] += s.value.y;
+        d[2] += s.value.z;
     }
     // Adds splats [0, n) in order, loading the pixels a few splats ahead: splats land
     // anywhere and a large film is not in cache (MMLT's serial merge stalled on it).

@@ -21,8 +21,8 @@ namespace {
 // transmittanceAlong's walk; with Densities also each segment's free-path densities (the
 // segment next to each end ending in the medium there when that end is a medium vertex).
 template <bool Densities>
-Vec3 transmittanceOf(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
-                     SegmentDensities& rho, RayCounters& c) {
+Vec3 transmittanceOf(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium, SegmentDensities& rho,
+                     RayCounters& c) {
     const Vec3 d(r.dir_x, r.dir_y, r.dir_z);
     RTCRayHit rh;
     setRayHit(rh, Vec3(r.org_x, r.org_y, r.org_z), d);
@@ -60,8 +60,8 @@ Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t see
     return transmittanceOf<false>(scene, r, m, seed, false, false, unused, c);
 }
 
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
-                        SegmentDensities& rho, RayCounters& c) {
+Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium, SegmentDensities& rho,
+                        RayCounters& c) {
     return transmittanceOf<true>(scene, r, m, seed, fromInMedium, toInMedium, rho, c);
 }
 

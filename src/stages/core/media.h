@@ -42,9 +42,8 @@ struct SegmentDensities {
 // ray up to its hit (emissionAlong, whole segments, times beta before each: the expected
 // value, whatever the free path then samples).
 template <bool Densities, bool Emission, class NumberOf>
-inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, NumberOf&& numberOf, Vec3& beta,
-                             uint8_t& event, float& eventT, bool prevInMedium, SegmentDensities& rho, Vec3& emitted,
-                             RayCounters& c) {
+inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, NumberOf&& numberOf, Vec3& beta, uint8_t& event, float& eventT,
+                             bool prevInMedium, SegmentDensities& rho, Vec3& emitted, RayCounters& c) {
     event = 0;
     for (uint32_t k = 0;; ++k) {
         const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
@@ -101,8 +100,8 @@ void traverseMediaOf(const Scene& scene, Batch& b, int depth, RayCounters& c) {
         int m = b.medium[i];
         const uint64_t key = b.key[b.pathSlot[i]];
         traverseMediumOf<false, false>(
-            scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(key, mediumDim(depth, k), u, seed); },
-            b.beta[i], b.mediumEvent[i], b.mediumT[i], false, unused, noEmission, c);
+            scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(key, mediumDim(depth, k), u, seed); }, b.beta[i],
+            b.mediumEvent[i], b.mediumT[i], false, unused, noEmission, c);
         b.medium[i] = m;
     }
 }
@@ -131,16 +130,15 @@ void recordMediumVertex(const Scene& scene, Batch& b, size_t h, size_t i) {
 // tracing (the caller tests visibility with the batched occlusion rays), and with Densities
 // its free-path densities.
 template <bool Densities>
-inline Vec3 transmittanceUnblocked(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium,
-                                   bool toInMedium, SegmentDensities& rho) {
+inline Vec3 transmittanceUnblocked(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                                   SegmentDensities& rho) {
     if (m < 0) return Vec3(1.0f);
     const Medium& med = scene.media[size_t(m)];
     if constexpr (Densities) {
         rho.fwd *= freePathDensity(med, r.tfar, toInMedium);
         rho.rev *= freePathDensity(med, r.tfar, fromInMedium);
     }
-    return mediumTransmittance(med, Vec3(r.org_x, r.org_y, r.org_z), Vec3(r.dir_x, r.dir_y, r.dir_z), r.tfar,
-                               mix64(seed));
+    return mediumTransmittance(med, Vec3(r.org_x, r.org_y, r.org_z), Vec3(r.dir_x, r.dir_y, r.dir_z), r.tfar, mix64(seed));
 }
 
 // A seed from a ray's origin, direction and length (BPT's connections: a grid's ratio tracking
@@ -163,7 +161,7 @@ Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t see
 // The same, with the densities of free-path samples along the ray (BPT's connections):
 // rho.fwd of a walk from r's origin that ends at its end (toInMedium: a medium vertex there),
 // rho.rev of one from its end that ends at its origin (fromInMedium).
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
-                        SegmentDensities& rho, RayCounters& c);
+Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium, SegmentDensities& rho,
+                        RayCounters& c);
 
 }  // namespace wmlt

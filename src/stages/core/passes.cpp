@@ -16,8 +16,7 @@ PassSchedule makePassSchedule(int w, int h, const RenderOptions& opt, uint32_t m
     constexpr uint32_t kTimedSamplesPerBatch = 4;
     PassSchedule s;
     for (int y = 0; y < h; y += kTileSize)
-        for (int x = 0; x < w; x += kTileSize)
-            s.tiles.push_back({x, y, std::min(x + kTileSize, w), std::min(y + kTileSize, h), 0, 0});
+        for (int x = 0; x < w; x += kTileSize) s.tiles.push_back({x, y, std::min(x + kTileSize, w), std::min(y + kTileSize, h), 0, 0});
     uint32_t perBatch = uint32_t(std::max(1, opt.spp));
     if (opt.timeBudget > 0) perBatch = std::min(perBatch, kTimedSamplesPerBatch);
     s.samplesPerBatch = std::max<uint32_t>(1, std::min<uint32_t>(perBatch, maxPathsPerBatch / (kTileSize * kTileSize)));
@@ -33,8 +32,7 @@ std::vector<size_t> tilesOfRank(const PassSchedule& s, const Distributed* ranks)
     return mine;
 }
 
-PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
-                     const std::function<void(size_t, const Tile&)>& runBatch,
+PassResult runPasses(const PassSchedule& s, const RenderOptions& opt, const std::function<void(size_t, const Tile&)>& runBatch,
                      const std::function<void()>& endPass, const PassImage& snapshot) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
@@ -54,25 +52,28 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
         for (size_t pass = 0; pass < passesPerRound && !stop; ++pass) {
             const uint32_t s0 = round * perRound + uint32_t(pass) * s.samplesPerBatch;
             const uint32_t s1 = std::min(round * perRound + perRound, s0 + s.samplesPerBatch);
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-                for (size_t i = r.begin(); i != r.end(); ++i) {
-                    if (stop.load(std::memory_order_relaxed)) return;
-                    if ((opt.cancel && opt.cancel->load()) || (timed && elapsed() >= opt.timeBudget)) {
-                        stop = true;
-                        return;
+            tbb::parallel_for(
+                tbb::blocked_range<size_t>(0, tiles.size(), 1),
+                [&](const tbb::blocked_range<size_t>& r) {
+                    for (size_t i = r.begin(); i != r.end(); ++i) {
+                        if (stop.load(std::memory_order_relaxed)) return;
+                        if ((opt.cancel && opt.cancel->load()) || (timed && elapsed() >= opt.timeBudget)) {
+                            stop = true;
+                            return;
+                        }
+                        const size_t t = tiles[i];
+                        Tile tile = s.tiles[t];
+                        tile.sample0 = s0;
+                        tile.sample1 = s1;
+                        runBatch(t, tile);
+                        const size_t done = ++batchesDone;
+                        if (opt.progress && progressMutex.try_lock()) {
+                            opt.progress(timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(done) / totalBatches);
+                            progressMutex.unlock();
+                        }
                     }
-                    const size_t t = tiles[i];
-                    Tile tile = s.tiles[t];
-                    tile.sample0 = s0;
-                    tile.sample1 = s1;
-                    runBatch(t, tile);
-                    const size_t done = ++batchesDone;
-                    if (opt.progress && progressMutex.try_lock()) {
-                        opt.progress(timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(done) / totalBatches);
-                        progressMutex.unlock();
-                    }
-                }
-            }, tbb::simple_partitioner());
+                },
+                tbb::simple_partitioner());
             // Across ranks: every rank stops after the same pass, when any of them stopped.
             const Agreement a = agree(opt.ranks, stop, opt.cancel && opt.cancel->load());
             stop = a.stop;
@@ -80,11 +81,8 @@ PassResult runPasses(const PassSchedule& s, const RenderOptions& opt,
             if (stop) break;
             if (endPass) endPass();
             result.completedSpp = s1;
-            const double fraction = timed ? std::min(1.0, elapsed() / opt.timeBudget)
-                                          : double(batchesDone.load()) / double(totalBatches);
-            paused += offerSnapshot(opt, [&] {
-                return Snapshot{snapshot.image(s1), fraction, elapsed(), s1, raysSoFar(*snapshot.rays)};
-            });
+            const double fraction = timed ? std::min(1.0, elapsed() / opt.timeBudget) : double(batchesDone.load()) / double(totalBatches);
+            paused += offerSnapshot(opt, [&] { return Snapshot{snapshot.image(s1), fraction, elapsed(), s1, raysSoFar(*snapshot.rays)}; });
             ++result.passes;
         }
         if (!timed) break;

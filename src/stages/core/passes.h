@@ -28,15 +28,14 @@ struct PassSchedule {
 // maxPathsPerBatch bounds a batch's memory (at least one sample per pixel of a tile).
 // A time budget (opt.timeBudget > 0) also caps a batch at 4 samples per pixel: the clock is
 // read between batches, so a short batch ends the render close to its budget.
-PassSchedule makePassSchedule(int width, int height, const RenderOptions& opt,
-                              uint32_t maxPathsPerBatch = kMaxPathsPerBatch);
+PassSchedule makePassSchedule(int width, int height, const RenderOptions& opt, uint32_t maxPathsPerBatch = kMaxPathsPerBatch);
 
 struct PassResult {
     uint32_t completedSpp = 0;  // samples per pixel of the passes that completed
     double seconds = 0;
-    bool stopped = false;       // cancelled or out of time
-    bool cancelled = false;     // cancelled on some rank (split across ranks: docs/mpi.md)
-    uint64_t passes = 0;        // passes completed
+    bool stopped = false;    // cancelled or out of time
+    bool cancelled = false;  // cancelled on some rank (split across ranks: docs/mpi.md)
+    uint64_t passes = 0;     // passes completed
 };
 
 // What runPasses shows a viewer (opt.view) after each complete pass: the image of the
@@ -50,8 +49,7 @@ struct PassImage {
 // this rank's tiles, tilesOfRank); endPass() runs on the calling thread after each pass that
 // completed (an interrupted pass gets none: across ranks, a pass any rank interrupted), then
 // the snapshot for a viewer (preview.h). Time paused by the viewer is not counted.
-PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt,
-                     const std::function<void(size_t, const Tile&)>& runBatch,
+PassResult runPasses(const PassSchedule& schedule, const RenderOptions& opt, const std::function<void(size_t, const Tile&)>& runBatch,
                      const std::function<void()>& endPass, const PassImage& snapshot);
 
 // The tiles a rank runs (opt.ranks; nullptr: all of them).

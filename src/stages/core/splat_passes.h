@@ -23,9 +23,8 @@ struct TileSplats {
 
 // MMLT's merge of one film stripe (pixels p with p >> shift == st): the film points'
 // footprints' pixels in it, in order, also to lengthFilms[length[i]] when there are any.
-inline void addPointSplatsInStripe(const Scene& scene, SplatFilm& film, std::vector<SplatFilm>& lengthFilms,
-                                   const std::vector<PointSplat>& points, const std::vector<uint8_t>& length,
-                                   uint32_t st, uint32_t shift) {
+inline void addPointSplatsInStripe(const Scene& scene, SplatFilm& film, std::vector<SplatFilm>& lengthFilms, const std::vector<PointSplat>& points,
+                                   const std::vector<uint8_t>& length, uint32_t st, uint32_t shift) {
     for (size_t i = 0; i < points.size(); ++i)
         scene.forEachFilmPixel(points[i].px, points[i].py, [&](uint32_t p, float w) {
             if ((p >> shift) != st) return;
@@ -61,8 +60,7 @@ struct SplatTotals {
     void finish(const Scene& scene, Distributed* ranks, uint32_t spp, RenderStats& stats) const {
         stats.samplesNonfiniteDiscarded = discarded;
         sumStatsToRoot(ranks, stats);
-        stats.lengthMeanLuminance =
-            lengthsOfJob(ranks, lengths).means(double(scene.camera.width) * scene.camera.height, spp);
+        stats.lengthMeanLuminance = lengthsOfJob(ranks, lengths).means(double(scene.camera.width) * scene.camera.height, spp);
     }
 };
 

@@ -27,12 +27,9 @@ struct StrategyFilms {
     static size_t bytes(int w, int h, int maxLength) { return size_t(w) * size_t(h) * size_t(count(maxLength)) * 24; }
 
     StrategyFilms(int w, int h, int maxLen)
-        : width(w), height(h), maxLength(maxLen),
-          weighted(size_t(w) * h * size_t(count(maxLen))), unweighted(weighted.size()) {}
+        : width(w), height(h), maxLength(maxLen), weighted(size_t(w) * h * size_t(count(maxLen))), unweighted(weighted.size()) {}
 
-    size_t at(int s, int k, uint32_t pixel) const {
-        return size_t(index(s, k)) * size_t(width) * size_t(height) + pixel;
-    }
+    size_t at(int s, int k, uint32_t pixel) const { return size_t(index(s, k)) * size_t(width) * size_t(height) + pixel; }
     void addCamera(uint32_t pixel, int s, int t, Vec3 w, Vec3 u) {
         const size_t i = at(s, s + t - 1, pixel);
         weighted[i] += w;

@@ -70,12 +70,9 @@ void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
         return;
     }
     if (m.bump < 0) return;
-    if (m.bumpMitsuba)
-        sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
-    else if (m.bumpPbrt)
-        sp.ns = bumpedNormalPbrt(heightOf(scene.desc.textures, size_t(m.bump), sp.ng), sp.p, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
-    else
-        sp.ns = bumpedNormalBy(heightOf(scene.desc.textures, size_t(m.bump), sp.ng), sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
+    if (m.bumpMitsuba) sp.ns = bumpedNormalMitsuba(scene.desc.textures[m.bump], m.bumpScale, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+    else if (m.bumpPbrt) sp.ns = bumpedNormalPbrt(heightOf(scene.desc.textures, size_t(m.bump), sp.ng), sp.p, sp.u, sp.v, sp.ns, sp.ng, dpdu, dpdv);
+    else sp.ns = bumpedNormalBy(heightOf(scene.desc.textures, size_t(m.bump), sp.ng), sp.p, sp.u, sp.v, sp.ns, dpdu, dpdv);
 }
 
 }  // namespace wmlt

@@ -16,13 +16,13 @@
 namespace wmlt {
 
 struct SurfacePoint {
-    Vec3 p;       // on the surface
-    Vec3 ng;      // geometric normal, unit, outward (the loader's winding; spheres: outward)
-    Vec3 ns;      // shading normal, unit, on ng's side
+    Vec3 p;   // on the surface
+    Vec3 ng;  // geometric normal, unit, outward (the loader's winding; spheres: outward)
+    Vec3 ns;  // shading normal, unit, on ng's side
     float u = 0, v = 0;
     int material = -1;
     int light = -1;
-    Vec3 dpdu;    // F::aniso only: dp/du (the bump's derivative), the anisotropic frame's x
+    Vec3 dpdu;  // F::aniso only: dp/du (the bump's derivative), the anisotropic frame's x
 };
 
 // The scene's surface choices (SceneFeatures) as compile-time constants: the stages that
@@ -121,8 +121,7 @@ SurfacePoint surfaceAt(const Scene& scene, const RTCRayHit& rh) {
     sp.p = o + d * rh.ray.tfar;
     // A shape of a group, hit through an instance: Embree's Ng and the mesh are in the
     // group's coordinates (normals go to the world by the inverse transpose).
-    const InstanceDesc* inst =
-        rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? nullptr : &scene.instances[rh.hit.instID[0] - scene.firstInstanceID];
+    const InstanceDesc* inst = rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? nullptr : &scene.instances[rh.hit.instID[0] - scene.firstInstanceID];
     Vec3 ngRaw(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     if (inst) ngRaw = normalToWorld(inst->toLocal, ngRaw);
     // Both normals from the register: `sp.ns = sp.ng` read sp.ng back from memory across

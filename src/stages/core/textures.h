@@ -17,8 +17,10 @@ namespace wmlt {
 // Per job: the record to finish (a hit's or a vertex's), its material
 // (SceneDesc::materials), the hit's (u, v), position (solid textures) and geometric normal
 // (pbrt's directionmix).
+// clang-format off
 #define WMLT_TEXTURE_JOB_ARRAYS(X) \
     X(BsdfParams*, target) X(uint32_t, material) X(float, u) X(float, v) X(Vec3, p) X(Vec3, ng)
+// clang-format on
 
 struct TextureJobs {
     size_t n = 0;

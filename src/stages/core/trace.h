@@ -18,9 +18,18 @@ void traceClosest(RTCScene scene, RTCRayHit* rays, size_t n, bool coherent);
 void traceOccluded(RTCScene scene, RTCRay* rays, size_t n);
 
 inline void setRay(RTCRay& r, Vec3 o, Vec3 d, float tnear, float tfar) {
-    r.org_x = o.x; r.org_y = o.y; r.org_z = o.z; r.tnear = tnear;
-    r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z; r.time = 0;
-    r.tfar = tfar; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
+    r.org_x = o.x;
+    r.org_y = o.y;
+    r.org_z = o.z;
+    r.tnear = tnear;
+    r.dir_x = d.x;
+    r.dir_y = d.y;
+    r.dir_z = d.z;
+    r.time = 0;
+    r.tfar = tfar;
+    r.mask = 0xffffffffu;
+    r.id = 0;
+    r.flags = 0;
 }
 inline Vec3 rayDir(const RTCRayHit& r) { return {r.ray.dir_x, r.ray.dir_y, r.ray.dir_z}; }
 

@@ -37,12 +37,17 @@ namespace wmlt {
 // camera-sample loop), it has a textured emitter (BPT's emitter vertices keep T and pdfA),
 // it has textures (the texture stage's queue, PathWave::textureJobs), it has media (PT's media arrays).
 struct BatchNeeds {
-    bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false, rectLights = false,
-         severalLights = false, textures = false, media = false;
+    bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false, rectLights = false, severalLights = false, textures = false,
+         media = false;
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
-    return {soleRectLight(scene) != nullptr, scene.features.has(MaterialKind::Matte), isPinhole(scene.camera),
-            scene.features.texturedEmitters, scene.anyRectLight, scene.lights.size() > 1, scene.features.textures,
+    return {soleRectLight(scene) != nullptr,
+            scene.features.has(MaterialKind::Matte),
+            isPinhole(scene.camera),
+            scene.features.texturedEmitters,
+            scene.anyRectLight,
+            scene.lights.size() > 1,
+            scene.features.textures,
             scene.features.media};
 }
 
@@ -76,11 +81,13 @@ struct RayCounters {
 //   walkKey: scratch of the permutations' walks (permuteWalks, rng.h)
 //   filmWeight: the weight its pixel gives it: 1 with the box filter, else f / pdf
 //     (kernels/filter.h, the density restricted to the film) times the pixel's normalisation
+// clang-format off
 #define WMLT_PATH_WAVE_ARRAYS(X)                                                              \
     X(uint32_t, pathSlot) X(RTCRayHit, ray) X(uint32_t, hitPath) X(uint32_t, order)         \
     X(uint8_t, alive) X(Vec3, nextDir) X(uint64_t, sortedKey) X(float, sortedU1) X(float, sortedU2)  \
     X(float, localX) X(float, localY) X(float, localZ) X(uint64_t, permKey) X(uint32_t, permValue)   \
     X(uint64_t, walkKey) X(float, filmWeight)
+// clang-format on
 
 struct PathWave {
     size_t numPaths = 0, numHits = 0;
@@ -132,8 +139,8 @@ struct CameraDims {
 // rotation made once per pixel and round); the directions in a flat loop
 // (pinholeCameraDirections; a thin lens: per ray, in the last pass); the emits.
 template <class KeyOf, class Emit>
-inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, int n, uint64_t seed,
-                               const CameraDims& dims, KeyOf&& keyOf, Emit&& emit) {
+inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, int n, uint64_t seed, const CameraDims& dims, KeyOf&& keyOf,
+                               Emit&& emit) {
     const Camera& cam = scene.camera;
     const uint32_t nn = uint32_t(n) * uint32_t(n);
     // The keys, and the strata permutation's key and index (stratifiedRasterPoint's).
@@ -159,9 +166,8 @@ inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, i
     }
     const bool lens = cam.thinLens, filtered = !scene.filter.box, pinhole = isPinhole(cam);
     if (pinhole && !filtered)
-        pinholeCameraDirections(cameraFloats(cam), w.sortedKey.data(), w.localX.data(), w.localY.data(),
-                                w.sortedU1.data(), w.sortedU2.data(), m, float(n), dims.jitterX, dims.jitterY,
-                                &w.nextDir[0].x);
+        pinholeCameraDirections(cameraFloats(cam), w.sortedKey.data(), w.localX.data(), w.localY.data(), w.sortedU1.data(), w.sortedU2.data(), m,
+                                float(n), dims.jitterX, dims.jitterY, &w.nextDir[0].x);
     forEachTileSample(t, cam.width, [&](size_t i, int x, int y, uint32_t pixel, uint32_t) {
         const uint64_t key = w.sortedKey[i];
         w.filmWeight[i] = 1.0f;
@@ -184,8 +190,7 @@ inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, i
             w.filmWeight[i] = (wx * scene.filterNormX[size_t(x)]) * (wy * scene.filterNormY[size_t(y)]);
         }
         Vec3 o, d;
-        generateCameraRay(cam, px, py, lens ? sampleDimension(key, dims.lensU) : 0.5f,
-                          lens ? sampleDimension(key, dims.lensV) : 0.5f, o, d);
+        generateCameraRay(cam, px, py, lens ? sampleDimension(key, dims.lensU) : 0.5f, lens ? sampleDimension(key, dims.lensV) : 0.5f, o, d);
         emit(i, pixel, key, o, d);
     });
     return m;
@@ -193,8 +198,7 @@ inline size_t forEachCameraRay(const Scene& scene, PathWave& w, const Tile& t, i
 
 // Appends a light-side contribution v to `pixel`'s splats, or for pixel == kFilmPoint to
 // the film points (px, py) (spread over the filter's footprint by addPointSplats).
-inline void pushSplat(std::vector<Splat>& splats, std::vector<PointSplat>& points, uint32_t pixel, float px, float py,
-                      Vec3 v) {
+inline void pushSplat(std::vector<Splat>& splats, std::vector<PointSplat>& points, uint32_t pixel, float px, float py, Vec3 v) {
     if (pixel != kFilmPoint) splats.push_back({pixel, v});
     else points.push_back({px, py, v});
 }
@@ -202,8 +206,7 @@ inline void pushSplat(std::vector<Splat>& splats, std::vector<PointSplat>& point
 // Adds film points [0, n) in order, each to every pixel whose filter footprint holds it,
 // weighted (Scene::forEachFilmPixel).
 inline void addPointSplats(const Scene& scene, SplatFilm& film, const PointSplat* s, size_t n) {
-    for (size_t i = 0; i < n; ++i)
-        scene.forEachFilmPixel(s[i].px, s[i].py, [&](uint32_t p, float w) { film.add({p, s[i].value * w}); });
+    for (size_t i = 0; i < n; ++i) scene.forEachFilmPixel(s[i].px, s[i].py, [&](uint32_t p, float w) { film.add({p, s[i].value * w}); });
 }
 
 // Path i of a new wave belongs to slot i and starts with the ray from o along d.
@@ -252,8 +255,7 @@ inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f, bool
         if constexpr (matte) {
             if (!withMatte || r0 == r1) return;  // (&v[r0] of a full wave would be past the end)
             for (uint32_t r = r0; r < r1; ++r) b.sortedKey[r] = b.key[b.pathSlot[b.hitPath[b.order[r]]]];
-            sampleCosineHemispheres(&b.sortedKey[r0], r1 - r0, dimOf(1), dimOf(2), &b.localX[r0], &b.localY[r0],
-                                    &b.localZ[r0]);
+            sampleCosineHemispheres(&b.sortedKey[r0], r1 - r0, dimOf(1), dimOf(2), &b.localX[r0], &b.localY[r0], &b.localZ[r0]);
         }
         for (uint32_t r = r0; r < r1; ++r) {
             const uint32_t h = b.order[r], path = b.hitPath[h], slot = b.pathSlot[path];
@@ -262,11 +264,10 @@ inline void scatterHits(Batch& b, TransportMode mode, DimOf&& dimOf, F&& f, bool
             const Vec3 wo = b.shading[h].toLocal(b.wo[h]);
             BsdfSample s;
             bool sampled;
-            if constexpr (matte)
-                sampled = matteSampleFrom(b.bsdf[h], wo, Vec3(b.localX[r], b.localY[r], b.localZ[r]), s);
+            if constexpr (matte) sampled = matteSampleFrom(b.bsdf[h], wo, Vec3(b.localX[r], b.localY[r], b.localZ[r]), s);
             else
-                sampled = sampleBsdfOf<B>(b.bsdf[h], wo, [&](uint32_t m) { return sampleDimension(key, dimOf(m)); },
-                                          mode, s);
+                sampled = sampleBsdfOf<B>(
+                    b.bsdf[h], wo, [&](uint32_t m) { return sampleDimension(key, dimOf(m)); }, mode, s);
             if (!sampled || !(s.pdf > 0) || isBlack(s.f)) continue;
             f(h, path, slot, key, s);
         }

@@ -10,17 +10,16 @@
 
 #include "stages/core/distributed_films.h"
 #include "stages/core/film.h"
-#include "stages/core/passes.h"
-#include "stages/lt/lt_stages.h"
 #include "stages/core/media.h"
+#include "stages/core/passes.h"
 #include "stages/core/splat_passes.h"
+#include "stages/lt/lt_stages.h"
 
 namespace wmlt {
 
 namespace {
 
-void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, LtBatch& b,
-                RayCounters& counters, TileSplats& out) {
+void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, LtBatch& b, RayCounters& counters, TileSplats& out) {
     b.splats.clear();
     b.points.clear();
     b.tally = ContributionTally();
@@ -70,11 +69,9 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<RayCounters> counters;
     SplatTotals totals;
     PassResult pr = runPasses(
-        schedule, opt,
-        [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
+        schedule, opt, [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), counters.local(), outputs[t]); },
         [&] { totals.addPass(scene, outputs, film, nullptr); },
-        {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); },
-         &counters});
+        {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); }, &counters});
 
     RenderResult res = startResult("lt", scene, opt, pr, counters);
     res.image = withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(pr.completedSpp); });

@@ -31,9 +31,7 @@ inline void addConnection(const Scene& scene, LtBatch& b, Vec3 p, Vec3 ng, const
 
 }  // namespace
 
-uint64_t ltSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) {
-    return sampleKey(mix64(seed ^ 0x4c54u /* "LT" */), pixel, sample);
-}
+uint64_t ltSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample) { return sampleKey(mix64(seed ^ 0x4c54u /* "LT" */), pixel, sample); }
 
 // Dimensions 7-10 of an LT sample (lt_state.h): the camera ray that sees the environment.
 constexpr CameraDims kLtEnvCameraDims{7, 8, 9, 10};
@@ -64,8 +62,7 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
         int li = scene.lightDistribution.sampleDiscrete(sampleDimension(key, 0), &pmf);
         LightEmission e;
         if (!(pmf > 0) ||
-            !sampleLightEmission(scene, li, sampleDimension(key, 1), sampleDimension(key, 2),
-                                 sampleDimension(key, 3), sampleDimension(key, 4), e))
+            !sampleLightEmission(scene, li, sampleDimension(key, 1), sampleDimension(key, 2), sampleDimension(key, 3), sampleDimension(key, 4), e))
             return;
         const bool infinite = isInfiniteLight(scene.lights[li]);
         // (media) the face it emits from: a two-sided light's back face for u2 >= 1/2
@@ -79,8 +76,8 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
                 float cosL = std::fabs(dot(cs.wi, e.n));
                 if (!isBlack(Le)) {
                     if (media) {  // the face towards the camera (e.n is the face emission took)
-                        b.connMedium[b.numConn] = (back != (dot(cs.wi, e.n) < 0)) ? scene.lightMediumBack[size_t(li)]
-                                                                                : scene.lightMediumFront[size_t(li)];
+                        b.connMedium[b.numConn] =
+                            (back != (dot(cs.wi, e.n) < 0)) ? scene.lightMediumBack[size_t(li)] : scene.lightMediumFront[size_t(li)];
                         b.connKey[b.numConn] = key;
                     }
                     addConnection(scene, b, e.p, e.n, cs, Le * (cosL * invPos * cs.We / cs.pdf));
@@ -108,8 +105,7 @@ void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c
         for (size_t k = 0; k < b.numConn; ++k) {
             const uint64_t seed = mix64(b.connKey[k] ^ 0x434f4e4eull ^ (uint64_t(length) << 40));
             if (!passThrough) {  // the transmittance here, visibility by the batched occlusion rays below
-                b.connValue[k] = b.connValue[k] *
-                                 transmittanceUnblocked<false>(scene, b.conn[k], b.connMedium[k], seed, false, false, unused);
+                b.connValue[k] = b.connValue[k] * transmittanceUnblocked<false>(scene, b.conn[k], b.connMedium[k], seed, false, false, unused);
                 if (isBlack(b.connValue[k])) b.conn[k].tfar = -1.0f;  // (a ray with tfar < tnear is not traced)
                 continue;
             }
@@ -176,8 +172,8 @@ void connectToCamera(const Scene& scene, LtBatch& b, int d) {
                 const uint64_t key = b.key[b.pathSlot[path]];
                 CameraSample cs;
                 if constexpr (decltype(orthographic)::value) cs = sampleOrthographicFrom(scene.camera, b.p[h]);
-                else cs = sampleProjectiveFrom(scene.camera, b.p[h], sampleDimension(key, ltVertexDim(d, 0)),
-                                               sampleDimension(key, ltVertexDim(d, 1)));
+                else
+                    cs = sampleProjectiveFrom(scene.camera, b.p[h], sampleDimension(key, ltVertexDim(d, 0)), sampleDimension(key, ltVertexDim(d, 1)));
                 if (!cs.valid) return;
                 const Frame& fr = b.shading[h];
                 // Radiance view: light arrives from wo and leaves towards the camera.
@@ -200,26 +196,29 @@ void connectToCamera(const Scene& scene, LtBatch& b, int d) {
 }
 
 void sampleLightBsdfs(const Scene& scene, LtBatch& b, int d) {
-    scatterHits(b, TransportMode::Importance, [&](uint32_t m) { return ltVertexDim(d, 2 + m); },
-                [&](uint32_t h, uint32_t path, uint32_t slot, uint64_t key, const BsdfSample& s) {
-                    const Frame& fr = b.shading[h];
-                    Vec3 wi = normalize(fr.toWorld(s.wi));
-                    float corr = shadingCorrection(b.wo[h], wi, fr.n, b.ng[h]);
-                    Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
-                    // Roulette relative to the initial throughput (sampling.h).
-                    if (d >= kRouletteDepth &&
-                        !survivesRoulette(beta, b.betaScale[slot], sampleDimension(key, ltVertexDim(d, 5))))
-                        return;
-                    b.alive[h] = 1;
-                    b.nextDir[h] = wi;
-                    b.nextBeta[h] = beta;
-                });
+    scatterHits(
+        b, TransportMode::Importance, [&](uint32_t m) { return ltVertexDim(d, 2 + m); },
+        [&](uint32_t h, uint32_t path, uint32_t slot, uint64_t key, const BsdfSample& s) {
+            const Frame& fr = b.shading[h];
+            Vec3 wi = normalize(fr.toWorld(s.wi));
+            float corr = shadingCorrection(b.wo[h], wi, fr.n, b.ng[h]);
+            Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) * corr / s.pdf);
+            // Roulette relative to the initial throughput (sampling.h).
+            if (d >= kRouletteDepth && !survivesRoulette(beta, b.betaScale[slot], sampleDimension(key, ltVertexDim(d, 5)))) return;
+            b.alive[h] = 1;
+            b.nextDir[h] = wi;
+            b.nextBeta[h] = beta;
+        });
 }
 
 void advanceLightPaths(const Scene& scene, LtBatch& b) {
     const bool media = scene.features.media;
     compact(
-        scene, b, [&](size_t h, Vec3& p, Vec3& ng) { p = b.p[h]; ng = b.ng[h]; },
+        scene, b,
+        [&](size_t h, Vec3& p, Vec3& ng) {
+            p = b.p[h];
+            ng = b.ng[h];
+        },
         [&](size_t n, uint32_t, size_t h) {
             b.beta[n] = b.nextBeta[h];
             if (media) b.medium[n] = dot(b.nextDir[h], b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];

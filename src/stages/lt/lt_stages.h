@@ -9,8 +9,8 @@
 #include <cstdint>
 
 #include "scene/scene.h"
-#include "stages/lt/lt_state.h"
 #include "stages/core/wave.h"
+#include "stages/lt/lt_state.h"
 
 namespace wmlt {
 
@@ -19,12 +19,10 @@ uint64_t ltSampleKey(uint64_t seed, uint32_t pixel, uint32_t sample);
 
 // Writes conns: one camera ray per sample (stratified like the PT's) whose value is the
 // environment's radiance; unoccluded, it is the length-1 contribution.
-void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& tile, int strataPerAxis,
-                           uint64_t seed);
+void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& tile, int strataPerAxis, uint64_t seed);
 // Writes slots (key), paths (ray, beta) and, when connectLength1, conns from each area
 // light's point to the camera (length 1).
-void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& tile, uint64_t seed,
-                        bool connectLength1);
+void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& tile, uint64_t seed, bool connectLength1);
 // Traces the conns (rtcOccluded1M); appends the unoccluded ones (all of path length
 // `length`) to splats.
 void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c);

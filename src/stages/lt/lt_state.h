@@ -32,9 +32,11 @@ namespace wmlt {
 //   connPixel: the pixel it lands in, or kFilmPoint
 //   connX, connY: its film point (kFilmPoint: spread about it, pushSplat)
 //   connValue: its unoccluded splat
+// clang-format off
 #define WMLT_LT_ARRAYS(X)                                                                    \
     X(uint64_t, key) X(float, betaScale) X(Vec3, beta) WMLT_HIT_SURFACE_ARRAYS(X)          \
     X(Vec3, nextBeta) X(RTCRay, conn) X(uint32_t, connPixel) X(float, connX) X(float, connY) X(Vec3, connValue)
+// clang-format on
 
 // Allocated only for a scene with media (docs/media.md):
 //   medium: per path, its medium
@@ -43,9 +45,11 @@ namespace wmlt {
 //   hitMediumIn, hitMediumOut: per hit, the media on its two sides
 //   connMedium: per connection, the medium it starts in
 //   connKey: its sample's key (a grid's ratio tracking)
+// clang-format off
 #define WMLT_LT_MEDIA_ARRAYS(X)                                                              \
     X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(int32_t, hitMediumIn)   \
     X(int32_t, hitMediumOut) X(int32_t, connMedium) X(uint64_t, connKey)
+// clang-format on
 
 struct LtBatch : PathWave {
     WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)
@@ -53,12 +57,14 @@ struct LtBatch : PathWave {
     size_t numConn = 0;
     std::vector<Splat> splats;
     std::vector<PointSplat> points;  // filtered scenes: contributions at film points
-    ContributionTally tally;  // of the splats
+    ContributionTally tally;         // of the splats
 
     void reserve(size_t n, const BatchNeeds& needs) {
         resizeWave(n, needs);
         WMLT_LT_ARRAYS(WMLT_SOA_RESIZE)
-        if (needs.media) { WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.media) {
+            WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_RESIZE)
+        }
         splats.reserve(n);
     }
 };

@@ -55,8 +55,16 @@ std::string secondsText(double s) {
 }  // namespace
 
 MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
-    : scene_(scene), opt_(opt), ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr), t0_(Clock::now()), kMin_(std::max(1, opt.minPathLength)), kMax_(opt.maxPathLength),
-      whole_(whole), stages_(whole ? kPssmltStages : kMmltStages), lo_(whole ? 0 : kMin_), hi_(whole ? 0 : kMax_),
+    : scene_(scene),
+      opt_(opt),
+      ranks_(opt.ranks && opt.ranks->many() ? opt.ranks : nullptr),
+      t0_(Clock::now()),
+      kMin_(std::max(1, opt.minPathLength)),
+      kMax_(opt.maxPathLength),
+      whole_(whole),
+      stages_(whole ? kPssmltStages : kMmltStages),
+      lo_(whole ? 0 : kMin_),
+      hi_(whole ? 0 : kMax_),
       batches_([&scene, whole, minLength = kMin_, maxLength = opt.maxPathLength] {
           MmltBatch mb;
           mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, batchNeeds(scene), whole);
@@ -74,10 +82,9 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
     if (autoChains_) {
         chosen = timed() ? double(kAutoChainsMost) : double(autoChains(targetMutations_));
         if (!timed())
-            chainsReason_ = "auto: " + std::to_string(uint32_t(chosen)) + " for " + countText(targetMutations_) +
-                            " mutations, " + std::to_string(int(kAutoIterationsPerChain)) +
-                            " iterations per chain, within " + std::to_string(kAutoChainsLeast) + " to " +
-                            std::to_string(kAutoChainsMost);
+            chainsReason_ = "auto: " + std::to_string(uint32_t(chosen)) + " for " + countText(targetMutations_) + " mutations, " +
+                            std::to_string(int(kAutoIterationsPerChain)) + " iterations per chain, within " + std::to_string(kAutoChainsLeast) +
+                            " to " + std::to_string(kAutoChainsMost);
     } else {
         chainsReason_ = "--chains " + std::to_string(opt.chains);
     }
@@ -93,9 +100,8 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
     thinRounds_.assign(n, 0);
     stats_.b.assign(n, 0.0);
     stats_.chains.assign(n, 0);
-    for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapSamples, &stats_.bootstrapNonzero,
-                    &stats_.poolSamples, &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall,
-                    &stats_.proposedLarge, &stats_.acceptedLarge})
+    for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapSamples, &stats_.bootstrapNonzero, &stats_.poolSamples,
+                    &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall, &stats_.proposedLarge, &stats_.acceptedLarge})
         v->assign(n, 0);
     if (opt.lengthImages)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
@@ -105,8 +111,8 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
     const double filmBytes = 24.0 * pixels_ * double(1 + lengthFilms_.size());
     const double mem = physicalMemoryBytes();
     if (mem > 0 && chainBytes + filmBytes > 0.75 * mem)
-        throw InputError(std::string(whole_ ? "PSSMLT" : "MMLT") + " would need " + bytesText(chainBytes) + " of chain state and " + bytesText(filmBytes) +
-                         " of films, more than 3/4 of this machine's " + bytesText(mem));
+        throw InputError(std::string(whole_ ? "PSSMLT" : "MMLT") + " would need " + bytesText(chainBytes) + " of chain state and " +
+                         bytesText(filmBytes) + " of films, more than 3/4 of this machine's " + bytesText(mem));
 }
 
 // --chains auto under --time: from the mutations the rest of the budget allows at the
@@ -117,15 +123,12 @@ void MmltRender::chooseTimedChains() {
     const double left = std::max(0.0, opt_.timeBudget - elapsed());
     const double mutations = left / std::max(sampleSeconds_, 1e-12);
     const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
-    const uint32_t least =
-        uint32_t(std::clamp(2.0 * kBatchChains * workers, double(kAutoChainsLeastTimed), double(kAutoChainsMost)));
+    const uint32_t least = uint32_t(std::clamp(2.0 * kBatchChains * workers, double(kAutoChainsLeastTimed), double(kAutoChainsMost)));
     chains_ = uint32_t(agreeAtBoundary(autoChains(mutations, kAutoIterationsPerChain, least)).value);
-    chainsReason_ = "auto: " + std::to_string(chains_) + " for the " + countText(mutations) +
-                    " mutations the bootstrap's rate predicts in the " + secondsText(left) + " left, " +
-                    std::to_string(int(kAutoIterationsPerChain)) + " iterations per chain, within " +
-                    std::to_string(least) + " (at least " + std::to_string(kAutoChainsLeastTimed) +
-                    " and 2 batches of 256 per worker, " + std::to_string(int(workers)) + " workers) to " +
-                    std::to_string(kAutoChainsMost);
+    chainsReason_ = "auto: " + std::to_string(chains_) + " for the " + countText(mutations) + " mutations the bootstrap's rate predicts in the " +
+                    secondsText(left) + " left, " + std::to_string(int(kAutoIterationsPerChain)) + " iterations per chain, within " +
+                    std::to_string(least) + " (at least " + std::to_string(kAutoChainsLeastTimed) + " and 2 batches of 256 per worker, " +
+                    std::to_string(int(workers)) + " workers) to " + std::to_string(kAutoChainsMost);
 }
 
 // The bootstrap's figures (--stats), then its pools thinned to the chains' needs.
@@ -145,7 +148,7 @@ void MmltRender::capChainsToBudget() {
     stats_.chainsAsked = autoChains_ ? 0 : chains_;
     stats_.chainsAuto = autoChains_;
     stats_.chainsRun = chains_;  // before the cap
-    if (timed()) {  // rank 0's figure on every rank
+    if (timed()) {               // rank 0's figure on every rank
         const double cap = std::floor(0.02 * opt_.timeBudget / std::max(sampleSeconds_, 1e-12));
         chains_ = uint32_t(agreeAtBoundary(uint64_t(std::clamp(cap, 1.0, double(chains_)))).value);
     }
@@ -159,8 +162,8 @@ void MmltRender::capChainsToBudget() {
 InputError MmltRender::noLight() const {
     return InputError("no light reaches the camera: the bootstrap's " +
                       std::to_string(*std::min_element(stats_.bootstrapSamples.begin() + lo_, stats_.bootstrapSamples.begin() + hi_ + 1)) +
-                      (whole_ ? " or more whole BPT samples (path lengths " : " or more samples of each path length ") +
-                      std::to_string(kMin_) + ".." + std::to_string(kMax_) + (whole_ ? ")" : "") +
+                      (whole_ ? " or more whole BPT samples (path lengths " : " or more samples of each path length ") + std::to_string(kMin_) +
+                      ".." + std::to_string(kMax_) + (whole_ ? ")" : "") +
                       " all carry zero radiance (check the lights, MinPathLength and MaxPathLength)");
 }
 
@@ -181,8 +184,7 @@ void MmltRender::planPasses() {
     double distinct = 0;
     for (const ChainGroup& g : groups_) distinct += double(std::min<size_t>(g.count, pools_[size_t(g.k)].lit.size()));
     const double rho = distinct / double(chains_), passes = 2.0 + 6.0 * std::min(1.0, rho);
-    passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength)
-                                      : uint32_t(std::clamp(double(target_) / passes, 32.0, 1024.0));
+    passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength) : uint32_t(std::clamp(double(target_) / passes, 32.0, 1024.0));
     fresh_ = std::max<uint32_t>(64, chains_ / (8 * uint32_t(hi_ - lo_ + 1)));
 }
 

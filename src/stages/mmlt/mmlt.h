@@ -26,8 +26,8 @@ constexpr uint32_t kAutoChainsMost = 65536;
 // under --time with the mutations the bootstrap's rate predicts and a least of 2 batches
 // per worker of the job, at least 1024 (where the mutations are few, as on 2 cores in
 // seconds, fewer chains were the more accurate on the seed room).
-uint32_t autoChains(double mutations, double iterationsPerChain = kAutoIterationsPerChain,
-                    uint32_t least = kAutoChainsLeast, uint32_t most = kAutoChainsMost);
+uint32_t autoChains(double mutations, double iterationsPerChain = kAutoIterationsPerChain, uint32_t least = kAutoChainsLeast,
+                    uint32_t most = kAutoChainsMost);
 
 // Bytes of chain state per chain of path length k (in a scene with media or not).
 uint64_t mmltChainBytes(int k, bool media);

@@ -137,7 +137,8 @@ void MmltRender::replaySeeds() {
     });
     for (uint64_t m : mismatches) stats_.replayMismatches += m;
     for (size_t ti = p0; ti < p1; ++ti) stats_.replayed += slotsIn(plan[ti]);
-    WMLT_DCHECK(stats_.replayMismatches == 0, std::to_string(stats_.replayMismatches) + " replayed seeds evaluated differently from their pool entries");
+    WMLT_DCHECK(stats_.replayMismatches == 0,
+                std::to_string(stats_.replayMismatches) + " replayed seeds evaluated differently from their pool entries");
 }
 
 // Batch j holds chains [C_k j' / B, C_k (j' + 1) / B) of every length k, j' = (j + first_k)

@@ -20,8 +20,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
     // (each length's tasks are added in order, and their sums in the same tasks; from is
     // a multiple of the chunk or the end).
     const double workers = double(tbb::this_task_arena::max_concurrency()) * (ranks_ ? ranks_->size() : 1);
-    uint32_t slabSize = bootstrap && timed()
-        ? 64 : chunk * uint32_t(std::ceil(4096.0 * workers / double(hi_ - lo_ + 1) / double(chunk)));
+    uint32_t slabSize = bootstrap && timed() ? 64 : chunk * uint32_t(std::ceil(4096.0 * workers / double(hi_ - lo_ + 1) / double(chunk)));
     while (done < most) {
         const double start = elapsed();
         const uint32_t slab = std::min(most - done, slabSize);

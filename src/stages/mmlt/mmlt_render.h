@@ -22,15 +22,15 @@
 #include "stages/core/distributed_films.h"
 #include "stages/core/film.h"
 #include "stages/core/memory.h"
-#include "stages/mmlt/mmlt_stages.h"
-#include "stages/pssmlt/pssmlt_stages.h"
 #include "stages/core/passes.h"
 #include "stages/core/preview.h"
+#include "stages/mmlt/mmlt_stages.h"
+#include "stages/pssmlt/pssmlt_stages.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt::mmlt_detail {
 
-constexpr uint32_t kBatchChains = 256;      // chains per batch: the tasks of a round
+constexpr uint32_t kBatchChains = 256;          // chains per batch: the tasks of a round
 constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB) and a round's time
 
 using Clock = std::chrono::steady_clock;
@@ -98,8 +98,7 @@ private:
         size_t n = 0;
         if (stats_.passes) {
             n = stats_.chains[size_t(k)];
-        } else if (const uint64_t all = std::accumulate(stats_.bootstrapSamples.begin(), stats_.bootstrapSamples.end(),
-                                                        uint64_t(0))) {
+        } else if (const uint64_t all = std::accumulate(stats_.bootstrapSamples.begin(), stats_.bootstrapSamples.end(), uint64_t(0))) {
             n = size_t(double(chains_) * double(stats_.bootstrapSamples[size_t(k)]) / double(all));
         }
         return std::max<size_t>(size_t(1) << 13, 8 * n);
@@ -107,54 +106,51 @@ private:
     void thin(SamplePool& pool, int k) {
         // Each length counts its own thinnings (its comb offsets are hashed from the seed,
         // the length and that count), so that the lengths' pools can be merged in parallel.
-        if (pool.lit.size() > poolCapacity(k))
-            thinPool(pool, poolCapacity(k) / 2, mix64(opt_.seed + uint64_t(k)), thinRounds_[size_t(k)]++);
+        if (pool.lit.size() > poolCapacity(k)) thinPool(pool, poolCapacity(k) / 2, mix64(opt_.seed + uint64_t(k)), thinRounds_[size_t(k)]++);
     }
 
     const Scene& scene_;
     const RenderOptions& opt_;
-    Distributed* ranks_;                   // nullptr: one process
-    bool cancelled_ = false;               // agreed by the ranks at a boundary
-    uint64_t poolDigest_ = 0;              // a hash of the pools of every pass
+    Distributed* ranks_;       // nullptr: one process
+    bool cancelled_ = false;   // agreed by the ranks at a boundary
+    uint64_t poolDigest_ = 0;  // a hash of the pools of every pass
     Clock::time_point t0_;
-    int kMin_, kMax_;                      // the path lengths rendered
-    bool whole_;                           // PSSMLT
-    const ChainStages& stages_;            // MMLT's or PSSMLT's (whole_), chosen once
-    int lo_, hi_;                          // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
+    int kMin_, kMax_;            // the path lengths rendered
+    bool whole_;                 // PSSMLT
+    const ChainStages& stages_;  // MMLT's or PSSMLT's (whole_), chosen once
+    int lo_, hi_;                // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
     // Bytes of state per chain of group k.
-    uint64_t chainBytesOf(int k) const {
-        return whole_ ? pssmltChainBytes(kMax_, scene_.features.media) : mmltChainBytes(k, scene_.features.media);
-    }
+    uint64_t chainBytesOf(int k) const { return whole_ ? pssmltChainBytes(kMax_, scene_.features.media) : mmltChainBytes(k, scene_.features.media); }
     double pixels_, targetMutations_;
-    uint32_t chains_ = 1;                  // C
-    bool autoChains_ = opt_.chains == 0;   // --chains auto
-    std::string chainsReason_;             // how C was chosen (--stats, the notice)
-    uint64_t target_ = 0;                  // iterations per chain (spp renders)
+    uint32_t chains_ = 1;                 // C
+    bool autoChains_ = opt_.chains == 0;  // --chains auto
+    std::string chainsReason_;            // how C was chosen (--stats, the notice)
+    uint64_t target_ = 0;                 // iterations per chain (spp renders)
     uint32_t passLength_ = 1;
-    uint32_t fresh_ = 64;                  // fresh pool samples per length and pass (planPasses)
+    uint32_t fresh_ = 64;  // fresh pool samples per length and pass (planPasses)
     uint32_t pass_ = 0;
-    uint64_t iteration_ = 0;               // iterations of every chain so far
-    double passWeight_ = 1;                // f_p of this pass (allocateChains)
-    double weighted_ = 0;                  // sum over rounds of f_p times iterations: the image's divisor
+    uint64_t iteration_ = 0;  // iterations of every chain so far
+    double passWeight_ = 1;   // f_p of this pass (allocateChains)
+    double weighted_ = 0;     // sum over rounds of f_p times iterations: the image's divisor
     bool stopped_ = false;
-    double paused_ = 0;                    // seconds a viewer held the render between rounds
-    double perIteration_ = 0;              // seconds per iteration of all chains, measured
-    double sampleSeconds_ = 0;             // seconds per pool sample, measured
+    double paused_ = 0;         // seconds a viewer held the render between rounds
+    double perIteration_ = 0;   // seconds per iteration of all chains, measured
+    double sampleSeconds_ = 0;  // seconds per pool sample, measured
 
     tbb::enumerable_thread_specific<MmltBatch> batches_;
     tbb::enumerable_thread_specific<RayCounters> rays_;
-    std::vector<SamplePool> pools_, next_;  // [k]: this pass's pool, the next one's large steps
-    std::vector<double> passB_;            // sum over rounds of iterations times b_k
-    std::vector<uint32_t> thinRounds_;     // [k]: thinnings of length k's pools so far
-    std::vector<ChainGroup> groups_;       // this pass's chains, one group per length with chains
+    std::vector<SamplePool> pools_, next_;       // [k]: this pass's pool, the next one's large steps
+    std::vector<double> passB_;                  // sum over rounds of iterations times b_k
+    std::vector<uint32_t> thinRounds_;           // [k]: thinnings of length k's pools so far
+    std::vector<ChainGroup> groups_;             // this pass's chains, one group per length with chains
     std::vector<std::vector<BatchSlice>> plan_;  // per batch: its slices
     SplatFilm film_;
-    std::vector<SplatFilm> lengthFilms_;   // RenderOptions::lengthImages only
+    std::vector<SplatFilm> lengthFilms_;  // RenderOptions::lengthImages only
     RenderStats::Mmlt stats_;
     MmltCounters counters_;
     double ratioSum_ = 0;
     uint64_t rounds_ = 0;
-    size_t poolEntries_ = 0;               // the most pool entries held at once
+    size_t poolEntries_ = 0;  // the most pool entries held at once
 };
 
 }  // namespace wmlt::mmlt_detail

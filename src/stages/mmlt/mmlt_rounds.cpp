@@ -38,8 +38,8 @@ uint32_t MmltRender::roundSize(uint32_t perRound, uint64_t passEnd) {
     if (timed()) {
         const double left = opt_.timeBudget - elapsed();
         r = left <= 0.5 * perIteration_ && iteration_ > 0 ? 0
-            : perIteration_ > 0 ? uint32_t(std::clamp(std::floor(0.5 * left / perIteration_ + 0.5), 1.0, double(r)))
-                                : 1;
+            : perIteration_ > 0                           ? uint32_t(std::clamp(std::floor(0.5 * left / perIteration_ + 0.5), 1.0, double(r)))
+                                                          : 1;
     }
     const Agreement a = agreeAtBoundary(r);
     r = uint32_t(a.value);
@@ -78,8 +78,7 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
 // The round's outputs into the film (in stripes of 2^stripeShift pixels, in parallel when
 // parallelMerge) and the next pass's pools, every task's in batch order; across ranks every
 // batch's large steps go to every rank first (roundPools: [batch * nk + k]).
-void MmltRender::mergeRound(std::vector<TaskOutput>& outputs, std::vector<SamplePool>& roundPools, bool parallelMerge,
-                            uint32_t stripeShift) {
+void MmltRender::mergeRound(std::vector<TaskOutput>& outputs, std::vector<SamplePool>& roundPools, bool parallelMerge, uint32_t stripeShift) {
     const auto [b0, b1] = shareOf(ranks_, plan_.size());  // this rank's batches
     const size_t nk = size_t(kMax_) + 1;
     if (ranks_) {  // every batch's large steps on every rank, in batch order
@@ -146,16 +145,14 @@ void MmltRender::runRounds(uint64_t passEnd) {
     // splats' grouping cost more than they save (2 threads, Cornell box: CPU seconds 3.11
     // -> 3.36, medians of 5). Either way each pixel and each pool gets its additions in the
     // same order, so the image does not depend on the choice.
-    const bool parallelMerge =
-        std::min<size_t>(size_t(tbb::this_task_arena::max_concurrency()),
-                         tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)) >= 4;
+    const bool parallelMerge = std::min<size_t>(size_t(tbb::this_task_arena::max_concurrency()),
+                                                tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)) >= 4;
     uint32_t stripeShift = 31;  // stripes of 2^stripeShift pixels, at most kFilmStripes of them
     if (parallelMerge)
-        for (stripeShift = 0; (uint64_t(pixels_) + (uint64_t(1) << stripeShift) - 1) >> stripeShift > kFilmStripes;)
-            ++stripeShift;
+        for (stripeShift = 0; (uint64_t(pixels_) + (uint64_t(1) << stripeShift) - 1) >> stripeShift > kFilmStripes;) ++stripeShift;
     const uint32_t perRound = uint32_t(std::clamp(kProposalsPerRound / chains_, 1.0, 4096.0));
     const auto [b0, b1] = shareOf(ranks_, plan_.size());  // this rank's batches
-    std::vector<SamplePool> roundPools;  // split across ranks: [batch * nk + k], every batch's
+    std::vector<SamplePool> roundPools;                   // split across ranks: [batch * nk + k], every batch's
     while (iteration_ < passEnd) {
         const uint32_t r = roundSize(perRound, passEnd);
         if (r == 0) {

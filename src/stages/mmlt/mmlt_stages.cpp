@@ -150,12 +150,10 @@ void drawSmallSteps(MmltBatch& mb) {
         st.slow[m] = u < kZiggurat.inner[layer] ? 0 : 1;
         const float z = withNormalSign(h, u * kZiggurat.x[layer]);
         // uFresh is read only when the coordinate is stale: drawn for every one, no branch.
-        st.out[m] = proposeCoordinate(st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], false, sigma,
-                                      poolCoordinate(key, d), z);
+        st.out[m] = proposeCoordinate(st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], false, sigma, poolCoordinate(key, d), z);
     }
     for (uint32_t m = 0; m < st.count; ++m) {
-        if (st.slow[m])
-            st.out[m] = smallStepOf(st.key[m], st.dim[m], st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m]);
+        if (st.slow[m]) st.out[m] = smallStepOf(st.key[m], st.dim[m], st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m]);
         mb.u[st.dst[m]] = st.out[m];
     }
     st.count = 0;
@@ -163,8 +161,7 @@ void drawSmallSteps(MmltBatch& mb) {
 
 }  // namespace
 
-void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
-                  float probLarge) {
+void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float probLarge) {
     SmallStepChunk& st = *mb.steps;
     st.count = 0;
     packRows(groups, mb);
@@ -249,8 +246,7 @@ uint64_t countReplayMismatchesOf(std::vector<ChainGroup>& groups, MmltBatch& mb,
                 keepWholePoints(g, c, mb, i);
             }
             if (std::memcmp(&cc, &g.c[c], sizeof cc) != 0 || std::memcmp(&F, &g.F[c], sizeof F) != 0 ||
-                std::memcmp(&mb.bpt.filmX[i], &g.filmX[c], sizeof(float)) != 0 ||
-                std::memcmp(&mb.bpt.filmY[i], &g.filmY[c], sizeof(float)) != 0)
+                std::memcmp(&mb.bpt.filmX[i], &g.filmX[c], sizeof(float)) != 0 || std::memcmp(&mb.bpt.filmY[i], &g.filmY[c], sizeof(float)) != 0)
                 ++mismatches;
         }
     }
@@ -270,19 +266,19 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
             const float a = acceptance(cP, g.c[c]);
             // a chain's state is always a sample the target sees (seeded from lit pool entries,
             // moved only to proposals with cP > 0): else its splats would divide by 0
-            WMLT_DCHECK(g.c[c] > 0 && std::isfinite(g.c[c]), "chain " + std::to_string(c) + " of length " + std::to_string(g.k) + " has target " + std::to_string(g.c[c]));
+            WMLT_DCHECK(g.c[c] > 0 && std::isfinite(g.c[c]),
+                        "chain " + std::to_string(c) + " of length " + std::to_string(g.k) + " has target " + std::to_string(g.c[c]));
             WMLT_DCHECK(std::isfinite(g.weight) && g.weight >= 0, "length " + std::to_string(g.k) + "'s splat weight " + std::to_string(g.weight));
             const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
             if constexpr (Whole) {
                 splatWhole(scene, g, c, mb, i, a, cP);
             } else {
                 if (a > 0) mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
-                if (a < 1 && g.c[c] > 0)
-                    mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
+                if (a < 1 && g.c[c] > 0) mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
-            if (kind) pool.addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
+            if (kind) pool.addSample(mb.bpt.key[i], cP, F, filmX, filmY);     // an independent uniform sample of u
             if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;  // rejected
             ++mb.counters.accepted[kind][k];
             // Commit: the coordinates the proposal read (the chain's block is contiguous).
@@ -319,8 +315,7 @@ uint64_t countReplayMismatches(std::vector<ChainGroup>& groups, MmltBatch& mb, b
     return countReplayMismatchesOf<false>(groups, mb, plant);
 }
 
-const ChainStages kMmltStages = {fillPoolRows, fillSeedRows, mutateChains, evaluateProposals,
-                                 addPoolSamples, acceptAndSplat, countReplayMismatches};
+const ChainStages kMmltStages = {fillPoolRows, fillSeedRows, mutateChains, evaluateProposals, addPoolSamples, acceptAndSplat, countReplayMismatches};
 const ChainStages kPssmltStages = {
     [](MmltBatch& mb, int, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) { fillWholePoolSlots(mb, pass, index0, n, seed); },
     fillWholeSeedSlots,

@@ -13,9 +13,9 @@
 
 #include "kernels/chain_numbers.h"
 #include "scene/scene.h"
+#include "stages/core/wave.h"  // RayCounters
 #include "stages/mmlt/mmlt_state.h"
 #include "stages/pssmlt/pssmlt_stages.h"
-#include "stages/core/wave.h"  // RayCounters
 
 namespace wmlt {
 
@@ -24,8 +24,7 @@ namespace wmlt {
 uint64_t mmltChainKey(uint64_t seed, uint32_t globalChain, uint32_t iteration);
 // Slot i holds proposal `iteration` of chain c of g: its key, chain and step kind (a large
 // step with probability probLarge); true for a large step (MMLT's and PSSMLT's mutateChains).
-inline bool beginProposal(MmltBatch& mb, uint32_t i, const ChainGroup& g, uint32_t c, uint64_t seed,
-                          uint32_t iteration, float probLarge) {
+inline bool beginProposal(MmltBatch& mb, uint32_t i, const ChainGroup& g, uint32_t c, uint64_t seed, uint32_t iteration, float probLarge) {
     const uint64_t key = mmltChainKey(seed, g.first + c, iteration);
     const bool large = sampleDimension(key, kDimLarge) < probLarge;
     mb.bpt.key[i] = key;
@@ -51,8 +50,7 @@ void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t
 void fillSeedRows(const std::vector<ChainGroup>& groups, MmltBatch& mb);
 // Proposal `iteration` of every chain of the batch: a large step with probability
 // probLarge, else the lazy small step of each coordinate the proposal reads.
-void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
-                  float probLarge);
+void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float probLarge);
 // Traces and connects each slot's strategy: bpt.L = its MIS-weighted contribution,
 // (bpt.filmX, bpt.filmY) = the film point where it lands.
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);

@@ -38,8 +38,8 @@ struct PoolEntry {
 // it (Russian roulette: the sums stay unbiased), so the memory stays bounded.
 struct SamplePool {
     std::vector<PoolEntry> lit;
-    double sumWC = 0;      // sum over lit of w c
-    uint64_t count = 0;    // samples drawn
+    double sumWC = 0;    // sum over lit of w c
+    uint64_t count = 0;  // samples drawn
     double mean() const { return count ? sumWC / double(count) : 0.0; }
     // One more independent sample (its key, target c, contribution F and film point).
     void addSample(uint64_t key, float c, Vec3 F, float filmX, float filmY) {
@@ -72,9 +72,11 @@ struct SamplePool {
 //   filmX, filmY: its film point
 //   seed: the key of the pool entry it started from
 #define WMLT_CHAIN_COORDINATE_ARRAYS(X) X(float, value) X(uint32_t, lastModified)
+// clang-format off
 #define WMLT_CHAIN_ARRAYS(X)                                                                 \
     X(uint32_t, accepted) X(uint32_t, lastLarge) X(Vec3, F) X(float, c) X(float, filmX)      \
     X(float, filmY) X(uint64_t, seed)
+// clang-format on
 
 // PSSMLT (a group of whole BPT samples, k = 0): F and the film point are the camera side's
 // contribution and its raster point, c the luminance of the whole sample; each chain also
@@ -85,12 +87,12 @@ struct SamplePool {
 #define WMLT_CHAIN_POINT_ARRAYS(X) X(float, pointX) X(float, pointY) X(Vec3, pointF)
 
 struct ChainGroup {
-    int k = 0;                        // the path length; 0: PSSMLT's whole samples
-    uint32_t count = 0;               // chains of this length
-    uint32_t first = 0;               // global index of its first chain
-    uint32_t dims = 0;                // StrategyLayout::size(k, media) (PSSMLT: WholeLayout::size)
-    uint32_t points = 0;              // PSSMLT: t = 1 contributions a chain keeps at most
-    float weight = 0;                 // b_k of the pass's pool / count: each splat's factor
+    int k = 0;            // the path length; 0: PSSMLT's whole samples
+    uint32_t count = 0;   // chains of this length
+    uint32_t first = 0;   // global index of its first chain
+    uint32_t dims = 0;    // StrategyLayout::size(k, media) (PSSMLT: WholeLayout::size)
+    uint32_t points = 0;  // PSSMLT: t = 1 contributions a chain keeps at most
+    float weight = 0;     // b_k of the pass's pool / count: each splat's factor
     WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_POINT_ARRAYS(WMLT_SOA_ARRAY)
@@ -165,7 +167,7 @@ struct MmltBatch {
     std::vector<float> u;
 #define WMLT_MMLT_SLOT_ARRAYS(X) X(uint32_t, row) X(uint32_t, chain) X(uint8_t, large)
     WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_ARRAY)
-    std::vector<uint16_t> used[3];    // the prefix of each stream's block the strategy reads (256 at k = 64, s = 0)
+    std::vector<uint16_t> used[3];  // the prefix of each stream's block the strategy reads (256 at k = 64, s = 0)
     // Which numbers within those prefixes the scene's walks read (setNumbersRead): the
     // lens point (a thin lens), and numbers [vertexLo, vertexHi) of each vertex's four
     // (0 lobe, 1-2 direction, 3 roulette). The others are neither proposed nor committed.
@@ -218,7 +220,7 @@ struct MmltBatch {
             if (splatLengths) pointLength[st].push_back(k);
         }
     }
-    std::vector<SamplePool> pools;    // [k]: this batch's large-step proposals of the round
+    std::vector<SamplePool> pools;  // [k]: this batch's large-step proposals of the round
     MmltCounters counters;
     std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
     // PSSMLT (pssmlt_stages.h): every slot a whole BPT sample of paths up to maxLength
@@ -238,9 +240,11 @@ struct MmltBatch {
     //   readCount: the coordinates read so far (readList)
     // Per slot and coordinate (proposed, read, readList below): the value read, whether it
     // was, and the coordinates read in order.
+// clang-format off
 #define WMLT_WHOLE_SLOT_ARRAYS(X)                                                            \
     X(WholeProposal, wholeKind) X(uint64_t, seedKey) X(uint32_t, chainAt) X(uint32_t, slotLastLarge) X(uint32_t, slotN) \
     X(uint16_t, readCount)
+    // clang-format on
     WMLT_WHOLE_SLOT_ARRAYS(WMLT_SOA_ARRAY)
     std::vector<float> proposed;
     std::vector<uint8_t> read;
@@ -273,9 +277,8 @@ struct MmltBatch {
     WholeSamples wholeSamples() {
         const float* value = wholeGroup ? wholeGroup->value.data() : nullptr;
         const uint32_t* lastModified = wholeGroup ? wholeGroup->lastModified.data() : nullptr;
-        return WholeSamples{wholeKind.data(), bpt.key.data(), seedKey.data(), chainAt.data(), slotLastLarge.data(),
-                            slotN.data(), value, lastModified, proposed.data(), read.data(), readList.data(),
-                            readCount.data(), wholeDims, maxLength};
+        return WholeSamples{wholeKind.data(), bpt.key.data(),  seedKey.data(), chainAt.data(),  slotLastLarge.data(), slotN.data(), value,
+                            lastModified,     proposed.data(), read.data(),    readList.data(), readCount.data(),     wholeDims,    maxLength};
     }
     float* rowOf(uint32_t i) { return &u[row[i]]; }
 };

@@ -4,8 +4,6 @@
 
 namespace wmlt {
 
-RenderResult renderPssmlt(const Scene& scene, const RenderOptions& opt) {
-    return mmlt_detail::MmltRender(scene, opt, true).run();
-}
+RenderResult renderPssmlt(const Scene& scene, const RenderOptions& opt) { return mmlt_detail::MmltRender(scene, opt, true).run(); }
 
 }  // namespace wmlt

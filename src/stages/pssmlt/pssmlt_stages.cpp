@@ -46,8 +46,7 @@ void fillWholeSeedSlots(const std::vector<ChainGroup>& groups, MmltBatch& mb) {
     mb.bpt.numSlots = slotsIn(mb.slices);
 }
 
-void mutateWholeChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
-                       float probLarge) {
+void mutateWholeChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float probLarge) {
     for (const BatchSlice& sl : mb.slices) {
         const ChainGroup& g = groups[size_t(sl.group)];
         mb.wholeGroup = &g;

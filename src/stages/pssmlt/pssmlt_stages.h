@@ -26,8 +26,7 @@ void fillWholePoolSlots(MmltBatch& mb, uint32_t pass, uint32_t index0, uint32_t 
 void fillWholeSeedSlots(const std::vector<ChainGroup>& groups, MmltBatch& mb);
 // Proposal `iteration` of every chain of the batch: a large step with probability
 // probLarge, else a small step, each coordinate made when it is read.
-void mutateWholeChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration,
-                       float probLarge);
+void mutateWholeChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float probLarge);
 // Traces both subpaths of every slot and connects every strategy of lengths
 // [bpt.minLength, bpt.maxLength]: bpt.L and (bpt.filmX, bpt.filmY) the camera side, the
 // t = 1 contributions in bpt.slotSplats by slot (splatStart).

@@ -15,8 +15,8 @@ namespace wmlt {
 namespace {
 
 // One batch: every bounce of every sample of a tile's sample range.
-void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, PtBatch& b,
-                Film& film, RayCounters& counters, ContributionTally& totals) {
+void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, PtBatch& b, Film& film, RayCounters& counters,
+                ContributionTally& totals) {
     b.tally = ContributionTally();
     generateCameraRays(scene, b, tile, opt.strataPerAxis, opt.seed);
     const size_t numSlots = b.numPaths;
@@ -54,13 +54,9 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     tbb::enumerable_thread_specific<RayCounters> counters;
     std::vector<ContributionTally> totals(schedule.tiles.size());
     // Each batch adds to its own tile's pixels only: no two threads touch one pixel.
-    PassResult pr = runPasses(
-        schedule, opt,
-        [&](size_t t, const Tile& tile) {
-            traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]);
-        },
-        {}, {[&](uint32_t) { return withFilmOfJob(opt.ranks, film, [](const Film& f) { return f.resolve(); }); },
-             &counters});
+    PassResult pr = runPasses(schedule, opt,
+                              [&](size_t t, const Tile& tile) { traceBatch(scene, opt, tile, batches.local(), film, counters.local(), totals[t]); },
+                              {}, {[&](uint32_t) { return withFilmOfJob(opt.ranks, film, [](const Film& f) { return f.resolve(); }); }, &counters});
 
     RenderResult res = startResult("pt", scene, opt, pr, counters);
     PathLengthSums lengths;

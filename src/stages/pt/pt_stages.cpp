@@ -3,8 +3,8 @@
 // next-event estimation, BSDF sampling and the compaction of the surviving paths.
 #include "stages/pt/pt_stages.h"
 
-#include "kernels/rng.h"
 #include "kernels/nee.h"
+#include "kernels/rng.h"
 #include "kernels/sampling.h"
 #include "kernels/scatter.h"
 #include "scene/scene_lights.h"
@@ -20,9 +20,7 @@ namespace {
 
 inline Vec3 rayOrigin(const RTCRayHit& r) { return {r.ray.org_x, r.ray.org_y, r.ray.org_z}; }
 
-inline bool inRange(int length, int minLength, int maxLength) {
-    return length >= minLength && length <= maxLength;
-}
+inline bool inRange(int length, int minLength, int maxLength) { return length >= minLength && length <= maxLength; }
 
 }  // namespace
 
@@ -80,8 +78,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             if (countEmission && scene.envLight >= 0) {
                 Vec3 Le = scene.env.Le(d);
-                float w = b.prevDelta[i] ? 1.0f
-                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, scene.envLight, rayOrigin(rh), Vec3(), d, Vec3()));
+                float w = b.prevDelta[i] ? 1.0f : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, scene.envLight, rayOrigin(rh), Vec3(), d, Vec3()));
                 addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
             continue;
@@ -95,8 +92,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
                 // (after pass-through boundaries the ray starts at the last one: the
                 // density is the vertex's)
                 const Vec3 ref = media ? b.vertexP[i] : rayOrigin(rh);
-                float w = b.prevDelta[i] ? 1.0f
-                    : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, ref, sp.p, d, sp.ng, pdfA));
+                float w = b.prevDelta[i] ? 1.0f : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, ref, sp.p, d, sp.ng, pdfA));
                 const Vec3 Le = textured ? scene.lights[sp.light].L * tex : scene.lights[sp.light].L;
                 addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
@@ -157,26 +153,24 @@ void sampleRectLightsFlat(const Scene& scene, PtBatch& b, int depth, bool matte)
         b.sortedU2[h] = sampleDimension(b.hitKey[h], d2);
     }
     if (one)
-        rectLightSamples(scene.lightRects[0], b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
-                         b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(), b.neeOk.data());
+        rectLightSamples(scene.lightRects[0], b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x, b.localX.data(), b.localY.data(),
+                         b.localZ.data(), b.neeDist.data(), b.neePdf.data(), b.neeOk.data());
     else
-        rectLightSamplesOf(scene.lightRects.data(), b.neeLight.data(), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n,
-                           &b.neeP[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(),
-                           b.neePdf.data(), b.neeOk.data());
+        rectLightSamplesOf(scene.lightRects.data(), b.neeLight.data(), b.sortedU1.data(), b.sortedU2.data(), &b.p[0].x, n, &b.neeP[0].x,
+                           b.localX.data(), b.localY.data(), b.localZ.data(), b.neeDist.data(), b.neePdf.data(), b.neeOk.data());
     if (!matte) return;
     if (one) {
         const Light& l0 = scene.lights[0];
-        matteNeeValuesOf<false>(RectNeeConsts{l0.L.x, l0.L.y, l0.L.z, scene.lightDistribution.discretePmf(0)}, nullptr,
-                                nullptr, n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
-                                b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+        matteNeeValuesOf<false>(RectNeeConsts{l0.L.x, l0.L.y, l0.L.z, scene.lightDistribution.discretePmf(0)}, nullptr, nullptr, n, &b.hitNs[0].x,
+                                &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x,
+                                &b.neeL[0].x, b.neeSend.data());
     } else {
         for (size_t h = 0; h < n; ++h) b.neeLe[h] = scene.lights[b.neeLight[h]].L;
-        matteNeeValuesOf<true>(RectNeeConsts{}, &b.neeLe[0].x, b.neePmf.data(), n, &b.hitNs[0].x, &b.wo[0].x,
-                               b.localX.data(), b.localY.data(), b.localZ.data(), b.neePdf.data(), &b.hitKd[0].x,
-                               &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
+        matteNeeValuesOf<true>(RectNeeConsts{}, &b.neeLe[0].x, b.neePmf.data(), n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(),
+                               b.localZ.data(), b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
     }
-    shadowRaysTo(scene.epsilonScale, n, &b.p[0].x, &b.ng[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
-                 &b.neeP[0].x, &b.neeOrigin[0].x, &b.neeDir[0].x, b.neeTfar.data());
+    shadowRaysTo(scene.epsilonScale, n, &b.p[0].x, &b.ng[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), &b.neeP[0].x, &b.neeOrigin[0].x,
+                 &b.neeDir[0].x, b.neeTfar.data());
 }
 
 }  // namespace
@@ -220,8 +214,7 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
                 ls.Le = l.L;
             } else {
                 pmf = one ? scene.lightDistribution.discretePmf(0) : b.neePmf[h];
-                if (!sampleLightFrom(scene, chosen, b.p[h], sampleDimension(key, bounceDim(depth, 1)),
-                                     sampleDimension(key, bounceDim(depth, 2)), ls))
+                if (!sampleLightFrom(scene, chosen, b.p[h], sampleDimension(key, bounceDim(depth, 1)), sampleDimension(key, bounceDim(depth, 2)), ls))
                     return;
             }
             const Frame& fr = b.shading[h];
@@ -265,16 +258,15 @@ namespace {
 // matteScatter, computed for every hit: the matte hits take theirs).
 void scatterMatteFlat(PtBatch& b, int depth) {
     const size_t n = b.numHits;
-    sampleCosineHemispheres(b.hitKey.data(), n, bounceDim(depth, 4), bounceDim(depth, 5), b.localX.data(),
-                            b.localY.data(), b.localZ.data());
+    sampleCosineHemispheres(b.hitKey.data(), n, bounceDim(depth, 4), bounceDim(depth, 5), b.localX.data(), b.localY.data(), b.localZ.data());
     const bool roulette = depth >= kRouletteDepth;
     if (roulette) {
         const uint32_t d = bounceDim(depth, 6);
         for (size_t h = 0; h < n; ++h) b.sortedU1[h] = sampleDimension(b.hitKey[h], d);
     }
-    (roulette ? matteScatter<true> : matteScatter<false>)(
-        n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), &b.hitKd[0].x,
-        &b.hitBeta[0].x, b.sortedU1.data(), &b.nextBeta[0].x, &b.nextDir[0].x, b.nextPdf.data(), b.scatterOk.data());
+    (roulette ? matteScatter<true> : matteScatter<false>)(n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(),
+                                                          &b.hitKd[0].x, &b.hitBeta[0].x, b.sortedU1.data(), &b.nextBeta[0].x, &b.nextDir[0].x,
+                                                          b.nextPdf.data(), b.scatterOk.data());
     for (uint32_t r = b.kindStart[int(MaterialKind::Matte)]; r < b.kindStart[int(MaterialKind::Matte) + 1]; ++r) {
         const uint32_t h = b.order[r];
         b.alive[h] = uint8_t(b.scatterOk[h]);
@@ -291,8 +283,7 @@ void sampleBsdfs(const Scene& scene, PtBatch& b, int depth) {
         b, TransportMode::Radiance, [&](uint32_t m) { return bounceDim(depth, 3 + m); },
         [&](uint32_t h, uint32_t path, uint32_t, uint64_t key, const BsdfSample& s) {
             Vec3 beta = b.beta[path] * s.f * (absCosTheta(s.wi) / s.pdf);
-            if (depth >= kRouletteDepth && !survivesRoulette(beta, 1.0f, sampleDimension(key, bounceDim(depth, 6))))
-                return;
+            if (depth >= kRouletteDepth && !survivesRoulette(beta, 1.0f, sampleDimension(key, bounceDim(depth, 6)))) return;
             b.alive[h] = 1;
             b.nextDir[h] = normalize(b.shading[h].toWorld(s.wi));
             b.nextBeta[h] = beta;
@@ -305,7 +296,11 @@ void sampleBsdfs(const Scene& scene, PtBatch& b, int depth) {
 void advancePaths(const Scene& scene, PtBatch& b) {
     const bool media = scene.features.media;
     compact(
-        scene, b, [&](size_t h, Vec3& p, Vec3& ng) { p = b.p[h]; ng = b.ng[h]; },
+        scene, b,
+        [&](size_t h, Vec3& p, Vec3& ng) {
+            p = b.p[h];
+            ng = b.ng[h];
+        },
         [&](size_t n, uint32_t path, size_t h) {
             b.beta[n] = b.nextBeta[h];
             b.prevPdf[n] = b.nextPdf[h];

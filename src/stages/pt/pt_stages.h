@@ -7,8 +7,8 @@
 #include <cstdint>
 
 #include "scene/scene.h"
-#include "stages/pt/pt_state.h"
 #include "stages/core/wave.h"
+#include "stages/pt/pt_state.h"
 
 namespace wmlt {
 

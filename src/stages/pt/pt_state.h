@@ -37,11 +37,13 @@ namespace wmlt {
 //   shadow: the ray
 //   shadowSlot: the slot it adds to
 //   shadowL: its unoccluded contribution
+// clang-format off
 #define WMLT_PT_ARRAYS(X)                                                                    \
     X(uint32_t, pixel) X(uint64_t, key) X(Vec3, L)                                         \
     X(Vec3, beta) X(float, prevPdf) X(uint8_t, prevDelta) X(uint8_t, anyNonSpecular)       \
     WMLT_HIT_SURFACE_ARRAYS(X) X(uint64_t, hitKey) X(Vec3, nextBeta) X(float, nextPdf)     \
     X(uint8_t, nextDelta) X(RTCRay, shadow) X(uint32_t, shadowSlot) X(Vec3, shadowL)
+// clang-format on
 // Allocated only for a scene with matte surfaces; per hit, for the matte flat loops
 // (matteScatter; matteNeeValues):
 //   hitNs: its shading normal
@@ -67,9 +69,11 @@ namespace wmlt {
 //   neeTfar: its length
 //   neeL: its contribution
 //   neeSend: f is not black (the ray is traced)
+// clang-format off
 #define WMLT_PT_RECT_LIGHT_ARRAYS(X)                                                         \
     X(Vec3, neeLe) X(Vec3, neeP) X(float, neeDist) X(float, neePdf) X(uint8_t, neeOk)                     \
     X(Vec3, neeOrigin) X(Vec3, neeDir) X(float, neeTfar) X(Vec3, neeL) X(uint32_t, neeSend)
+// clang-format on
 
 // Allocated only for a scene with media (SceneFeatures::media; docs/media.md):
 //   medium: per path, its medium (-1: vacuum)
@@ -79,9 +83,11 @@ namespace wmlt {
 //   hitMediumIn, hitMediumOut: per hit, the media on either side (a medium vertex or a
 //     surface that is no boundary: both the path's)
 //   shadowMedium: per shadow ray, the medium it starts in
+// clang-format off
 #define WMLT_PT_MEDIA_ARRAYS(X)                                                              \
     X(int32_t, medium) X(uint8_t, mediumEvent) X(float, mediumT) X(Vec3, vertexP)          \
     X(int32_t, hitMediumIn) X(int32_t, hitMediumOut) X(int32_t, shadowMedium)
+// clang-format on
 
 struct PtBatch : PathWave {
     WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
@@ -100,10 +106,18 @@ struct PtBatch : PathWave {
     void reserve(size_t n, const BatchNeeds& needs) {
         resizeWave(n, needs);
         WMLT_PT_ARRAYS(WMLT_SOA_RESIZE)
-        if (needs.severalLights) { WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_RESIZE) }
-        if (needs.rectLights) { WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE) }
-        if (needs.matte) { WMLT_PT_MATTE_ARRAYS(WMLT_SOA_RESIZE) }
-        if (needs.media) { WMLT_PT_MEDIA_ARRAYS(WMLT_SOA_RESIZE) }
+        if (needs.severalLights) {
+            WMLT_PT_LIGHT_CHOICE_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        if (needs.rectLights) {
+            WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        if (needs.matte) {
+            WMLT_PT_MATTE_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        if (needs.media) {
+            WMLT_PT_MEDIA_ARRAYS(WMLT_SOA_RESIZE)
+        }
     }
 };
 
@@ -119,6 +133,5 @@ inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
 constexpr uint32_t kBounceBase = 4;
 constexpr uint32_t kBounceStride = 7;
 inline uint32_t bounceDim(int depth, uint32_t j) { return kBounceBase + uint32_t(depth - 1) * kBounceStride + j; }
-
 
 }  // namespace wmlt
