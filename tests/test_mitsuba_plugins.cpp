@@ -1137,7 +1137,7 @@ TEST_CASE("Mitsuba normalmap: importer and bad inputs", "[mitsuba][import][bump]
     CHECK(d.textures[mm.normalMap].kind == TextureKind::Bitmap);
     // (0.5, 0.5, 1): the normal itself.
     const Vec3 ns = normalize(Vec3(0.1f, 0.2f, 1.0f));
-    const Vec3 n = normalMapped(d.textures[mm.normalMap], 0.3f, 0.6f, Vec3(0.0f), ns, Vec3(0, 0, 1), Vec3(1, 0, 0));
+    const Vec3 n = normalMapped(d.textures, size_t(mm.normalMap), 0.3f, 0.6f, Vec3(0.0f), ns, Vec3(0, 0, 1), Vec3(1, 0, 0));
     CHECK(n.x == Approx(ns.x).margin(1e-6));
     CHECK(n.y == Approx(ns.y).margin(1e-6));
     CHECK(n.z == Approx(ns.z).margin(1e-6));

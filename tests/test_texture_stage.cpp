@@ -81,10 +81,17 @@ TEST_CASE("Texture stage: combining textures only where it evaluates them", "[te
         b.materials[size_t(b.shapes[0].material)].bump = s.id;
         CHECK(errorOf(b).empty());
     }
-    {  // as a normal map or a Mitsuba bump map (a bitmap's own gradient): refused
+    {  // as a normal map or an opacity: accepted
         SceneDesc b = d;
         b.materials[size_t(b.shapes[0].material)].normalMap = s.id;
-        CHECK(errorOf(b).find("a normal map or an opacity") != std::string::npos);
+        b.materials[size_t(b.shapes[0].material)].opacityTexture = s.id;
+        CHECK(errorOf(b).empty());
+    }
+    {  // as a Mitsuba bump map (the gradient of a bitmap): refused
+        SceneDesc b = d;
+        b.materials[size_t(b.shapes[0].material)].bump = s.id;
+        b.materials[size_t(b.shapes[0].material)].bumpMitsuba = true;
+        CHECK(errorOf(b).find("Mitsuba bump map") != std::string::npos);
     }
     {  // an operand after the texture itself: refused
         SceneDesc b = d;

@@ -76,13 +76,14 @@ inline Vec3 bumpedNormalPbrt(Height&& height, Vec3 p, float u, float v, Vec3 ns,
 // Mitsuba's normalmap: n = 2 rgb - 1 in the frame (s, t, ns), s = dp/du made orthogonal to
 // ns and t = ns x s (Mitsuba 3's shading frame); the normal is n normalised, on ng's side.
 // Without a usable dp/du (degenerate uv), ns is kept.
-inline Vec3 normalMapped(const TextureDesc& tex, float u, float v, Vec3 p, Vec3 ns, Vec3 ng, Vec3 dpdu) {
+// (texture i of the scene's table, combined ones too: evalTextureOf with ng)
+inline Vec3 normalMapped(const std::vector<TextureDesc>& all, size_t i, float u, float v, Vec3 p, Vec3 ns, Vec3 ng, Vec3 dpdu) {
     Vec3 s = dpdu - ns * dot(ns, dpdu);
     const float ls = length(s);
     if (!(ls > 0) || !std::isfinite(ls)) return ns;
     s = s / ls;
     const Vec3 t = cross(ns, s);
-    const Vec3 c = evalTexture(tex, u, v, p) * 2.0f - Vec3(1.0f);
+    const Vec3 c = evalTextureOf(all, i, u, v, p, ng) * 2.0f - Vec3(1.0f);
     Vec3 n = s * c.x + t * c.y + ns * c.z;
     const float len = length(n);
     if (!(len > 0) || !std::isfinite(len)) return ns;

@@ -51,7 +51,7 @@ RTCGeometry buildSphere(RTCDevice device, Vec3 c, float r) {
 // it decide independently, and every render is repeatable (pbrt-v4's alpha test). Set on
 // masked geometries only: other scenes call no filter.
 float maskAlpha(const MaskRecord& m, RTCRayN* ray, RTCHitN* hit, unsigned N, unsigned i) {
-    if (!m.texture) return m.opacity;
+    if (m.texture < 0) return m.opacity;
     float u = 0, v = 0;
     const Vec3 p(RTCRayN_org_x(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_x(ray, N, i),
                  RTCRayN_org_y(ray, N, i) + RTCRayN_tfar(ray, N, i) * RTCRayN_dir_y(ray, N, i),
@@ -70,7 +70,8 @@ float maskAlpha(const MaskRecord& m, RTCRayN* ray, RTCHitN* hit, unsigned N, uns
         if (u < 0) u += 1;
         v = std::acos(std::clamp(l.z, -1.0f, 1.0f)) * kInvPi;
     }
-    return luminance(evalTexture(*m.texture, u, v, p));
+    const Vec3 ng(RTCHitN_Ng_x(hit, N, i), RTCHitN_Ng_y(hit, N, i), RTCHitN_Ng_z(hit, N, i));
+    return luminance(evalTextureOf(*m.textures, size_t(m.texture), u, v, p, ng));
 }
 
 void maskFilter(const RTCFilterFunctionNArguments* args) {
@@ -429,8 +430,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
             if (composite(int(i)) && (o < -1 || o >= int(i)))
                 throw InputError(d.path, 0, "texture " + std::to_string(i) + ": an operand must be an earlier texture");
     for (const MaterialDesc& m : d.materials)
-        if ((m.bumpMitsuba && composite(m.bump)) || composite(m.normalMap) || composite(m.opacityTexture))
-            throw InputError(d.path, 0, "a scale, mix or textured dots texture as a Mitsuba bump map, a normal map or an opacity is not supported");
+        if (m.bumpMitsuba && composite(m.bump))
+            throw InputError(d.path, 0, "a scale, mix or textured dots texture as a Mitsuba bump map (the gradient of a bitmap) is not supported");
     for (const LightDesc& l : d.lights)
         if (composite(l.texture)) throw InputError(d.path, 0, "a scale, mix or textured dots texture as an emitter's radiance is not supported");
     // The net under every importer's own checks: an emission that is not finite (a product of
@@ -588,7 +589,8 @@ std::unique_ptr<Scene> Scene::build(SceneDesc desc, int threads) {
                 mr.toLocal = sh.toLocal;
                 mr.center = sh.center;
                 mr.opacity = m.opacity;
-                mr.texture = m.opacityTexture >= 0 ? &d.textures[m.opacityTexture] : nullptr;
+                mr.textures = &d.textures;
+                mr.texture = m.opacityTexture;
                 mr.geomID = unsigned(i);
                 s->masks.push_back(mr);
                 rtcSetGeometryUserData(g, &s->masks.back());

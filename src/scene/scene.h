@@ -45,7 +45,10 @@ struct MaskRecord {
     Affine toLocal;  // spheres: (u, v) from the local normal
     Vec3 center;
     float opacity = 1;
-    const TextureDesc* texture = nullptr;  // opacity = its luminance at the hit
+    // opacity = the luminance of texture `texture` of `textures` at the hit (>= 0; combined
+    // textures too: evalTextureOf, with the hit's geometric normal)
+    const std::vector<TextureDesc>* textures = nullptr;
+    int texture = -1;
     unsigned geomID = 0;
 };
 

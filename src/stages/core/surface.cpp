@@ -66,7 +66,7 @@ void applyBump(const Scene& scene, SurfacePoint& sp, Vec3 dpdu, Vec3 dpdv) {
     if (scene.choosesPart[size_t(sp.material)]) sp.material = choosePart(scene, sp);
     const MaterialDesc& m = scene.desc.materials[sp.material];
     if (m.normalMap >= 0) {
-        sp.ns = normalMapped(scene.desc.textures[m.normalMap], sp.u, sp.v, sp.p, sp.ns, sp.ng, dpdu);
+        sp.ns = normalMapped(scene.desc.textures, size_t(m.normalMap), sp.u, sp.v, sp.p, sp.ns, sp.ng, dpdu);
         return;
     }
     if (m.bump < 0) return;
