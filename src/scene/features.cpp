@@ -39,24 +39,24 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (m.bump >= 0 || m.normalMap >= 0) f.bump = true;  // both perturb the normal in surfaceAt
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (isAnisotropic(m)) f.anisotropic = true;
-        if (m.kind == MaterialKind::Blend)  // a part's delta lobes, bump and anisotropy count as the blend's
+        if (m.kind == MaterialKind::Blend) {  // a part's delta lobes and anisotropy count as the blend's
+            bool choosesPart = false;         // bump- or normal-mapped parts: one of them at each hit (Scene::choosesPart)
             for (int part : m.blendPart) {
                 const MaterialDesc& q = d.materials[size_t(part)];
                 if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic || q.kind == MaterialKind::Coated)
                     f.delta = true;  // (a smooth coat's mirror)
                 if (isAnisotropic(q)) f.anisotropic = true;
+                if (q.bump >= 0 || q.normalMap >= 0) choosesPart = true;
             }
-        // a blend of bump- or normal-mapped parts is one of them at each hit (Scene::choosesPart)
-        if (m.kind == MaterialKind::Blend)
-            for (int part : m.blendPart) {
-                const MaterialDesc& q = d.materials[size_t(part)];
-                if (q.bump < 0 && q.normalMap < 0) continue;
+            if (choosesPart) {  // the stages then meet the parts themselves
                 f.bump = true;
-                for (int other : m.blendPart) {
-                    f.material[int(d.materials[size_t(other)].kind)] = true;
-                    if (d.regularize) f.material[int(regularizedMaterial(d.materials[size_t(other)]).kind)] = true;
+                for (int part : m.blendPart) {
+                    const MaterialDesc& q = d.materials[size_t(part)];
+                    f.material[int(q.kind)] = true;
+                    if (d.regularize) f.material[int(regularizedMaterial(q).kind)] = true;
                 }
             }
+        }
         if (s.kind == ShapeKind::Sphere) f.spheres = true;
         if (s.kind == ShapeKind::Mesh && !s.mesh.normals.empty()) f.smoothNormals = true;
     }

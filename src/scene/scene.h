@@ -145,4 +145,8 @@ private:
     std::string embreeErrorMessage;
 };
 
+// Scene::build's materials, from s.desc's (scene_materials.cpp): Scene::materials,
+// bsdfExtras, texturedMaterial, choosesPart, the blends' parts and textures.
+void buildMaterials(const SceneDesc& d, Scene& s);
+
 }  // namespace wmlt
