@@ -334,6 +334,12 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     Run f = run("--tracer pt --strategy-images " + quote(dir.file("s")) + kSmall + " -o " + quote(out), dir);
     CHECK(f.status == 2);
     CHECK(contains(f.err, "--strategy-images"));
+    for (const char* bad : {"--mmlt-target brightest", "--mmlt-steps wild"}) {
+        Run g = run(std::string(bad) + kSmall + " -o " + quote(out), dir);
+        INFO(bad << ": " << g.err);
+        CHECK(g.status == 2);
+        CHECK(contains(g.err, std::string(bad).substr(0, std::string(bad).find(' '))));
+    }
     CHECK_FALSE(fs::exists(out));
 }
 

@@ -41,6 +41,12 @@ public:
 
 class Distributed;  // the ranks of a render split across processes (stages/core/distributed.h)
 
+// MMLT's target function (docs/mmlt-levers.md): the path's luminance (Hachisuka et al. 2014),
+// or from the second pass on its luminance over a smoothed estimate of its pixel's brightness
+// (Hoberock and Hart 2010), so that the chains spend their mutations where the relative
+// error is.
+enum class MmltTarget { Luminance, Relative };
+
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
     int spp = 16;           // samples per pixel
@@ -55,6 +61,9 @@ struct RenderOptions {
     int bootstrap = 0;       // samples per path length in the first pass's pool; 0: automatic
     float probLarge = 0.3f;  // probability of a large step, (0, 1]
     int passLength = 0;      // iterations of every chain between restarts from a new pool; 0: automatic
+    // MMLT's levers (issue 44; docs/mmlt-levers.md), each chosen per pass and fixed within it.
+    MmltTarget mmltTarget = MmltTarget::Luminance;
+    bool learnSteps = false;  // each length's small-step size from its chains' acceptance in the last pass
     // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
     std::string strategyImages;
     // BPT and MMLT: also return the image of each path length k (RenderResult::lengthImages;

@@ -112,6 +112,11 @@ std::string usageText() {
            "  --pass-length N          MMLT, PSSMLT: iterations of every chain between restarts from the\n"
            "                           sample pools (default: automatic, 2 to 8 passes a render)\n"
            "  --p-large P              MMLT, PSSMLT: probability of a large step, 0 < P <= 1 (default: the scene's)\n"
+           "  --mmlt-target luminance|relative   MMLT: the chains' target, a path's luminance or, from the\n"
+           "                           second pass on, its luminance over its pixel's brightness so far\n"
+           "                           (default: luminance; docs/mmlt-levers.md)\n"
+           "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
+           "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
            "                           and _unweighted.exr (the folder is created)\n"
            "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
@@ -172,6 +177,15 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--p-large") {
             cl.probLarge = float(parseReal(a, value(), 0, 1));
             if (!(*cl.probLarge > 0)) fail("--p-large: must be greater than 0");
+        } else if (a == "--mmlt-target") {
+            const std::string v = value();
+            if (v == "luminance") cl.mmltTarget = MmltTarget::Luminance;
+            else if (v == "relative") cl.mmltTarget = MmltTarget::Relative;
+            else fail("--mmlt-target: '" + v + "' is not one of luminance, relative");
+        } else if (a == "--mmlt-steps") {
+            const std::string v = value();
+            if (v == "fixed" || v == "learned") cl.learnSteps = v == "learned";
+            else fail("--mmlt-steps: '" + v + "' is not one of fixed, learned");
         } else if (a == "--strategy-images") cl.strategyImages = value();
         else if (a == "--mis-beta") cl.misBeta = float(parseReal(a, value(), 0.5, 16));
         else if (a == "--seed") cl.seed = uint64_t(parseInt(a, value(), 0, (1LL << 62)));

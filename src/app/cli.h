@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
 namespace wmlt {
@@ -18,6 +19,8 @@ struct CommandLine {
     std::optional<int> bootstrap;      // MMLT
     std::optional<int> passLength;     // MMLT
     std::optional<float> probLarge;    // MMLT
+    std::optional<MmltTarget> mmltTarget;  // MMLT: --mmlt-target
+    std::optional<bool> learnSteps;        // MMLT: --mmlt-steps learned
     std::string strategyImages;        // BPT: folder for per-strategy EXRs
     std::optional<FilterDesc> filter;  // --filter NAME[:param=value,...]
     uint64_t seed = 0;

@@ -274,6 +274,8 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     opt.seed = cl.seed;
     if (cl.misBeta) opt.misBeta = *cl.misBeta;
     if (cl.passLength) opt.passLength = *cl.passLength;
+    if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
+    if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
     if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
     if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
     opt.probLarge = s.probLarge;
