@@ -146,7 +146,16 @@ struct RenderStats {
         bool chainsAuto = false;                   // --chains auto chose chainsRun
         std::string chainsReason;                  // how the count was chosen
         std::vector<std::vector<double>> bByRank;  // b as each rank computed it (split across ranks)
-        std::vector<uint64_t> poolDigestByRank;    // a hash of each rank's pools, every pass (split across ranks)
+        // The levers (RenderOptions::mmltTarget, learnSteps; docs/mmlt-levers.md). The
+        // relative target: the maps made (one per pass after the first), their tiles' side
+        // in pixels, and the last map's least and greatest scale (mean brightness over the
+        // tile's); b is then in the target's units, not luminance.
+        std::string target = "luminance";
+        uint32_t targetMaps = 0, targetTileSize = 0;
+        double targetScaleLeast = 0, targetScaleMost = 0;
+        bool learnedSteps = false;
+        std::vector<float> smallStepSigma;       // each length's small steps' size in the last pass
+        std::vector<uint64_t> poolDigestByRank;  // a hash of each rank's pools, every pass (split across ranks)
     } mmlt;
     // Bytes of the render's large buffers (films, chain state, pools, splat lists), by name.
     std::vector<std::pair<std::string, uint64_t>> buffers;

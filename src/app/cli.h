@@ -14,15 +14,15 @@ struct CommandLine {
     std::optional<TracerKind> tracer;
     std::optional<int> spp, threads, width, height, maxLength, minLength;
     std::optional<double> timeBudget;
-    std::optional<float> misBeta;      // BPT's power-heuristic exponent
-    std::optional<long long> chains;   // MMLT, 0: auto; checked against memory in main()
-    std::optional<int> bootstrap;      // MMLT
-    std::optional<int> passLength;     // MMLT
-    std::optional<float> probLarge;    // MMLT
+    std::optional<float> misBeta;          // BPT's power-heuristic exponent
+    std::optional<long long> chains;       // MMLT, 0: auto; checked against memory in main()
+    std::optional<int> bootstrap;          // MMLT
+    std::optional<int> passLength;         // MMLT
+    std::optional<float> probLarge;        // MMLT
     std::optional<MmltTarget> mmltTarget;  // MMLT: --mmlt-target
     std::optional<bool> learnSteps;        // MMLT: --mmlt-steps learned
-    std::string strategyImages;        // BPT: folder for per-strategy EXRs
-    std::optional<FilterDesc> filter;  // --filter NAME[:param=value,...]
+    std::string strategyImages;            // BPT: folder for per-strategy EXRs
+    std::optional<FilterDesc> filter;      // --filter NAME[:param=value,...]
     uint64_t seed = 0;
     std::vector<std::string> outputs;
     Defines defines;  // -D name=value (Mitsuba scene files)

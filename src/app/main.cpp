@@ -111,6 +111,7 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
     perLength("mmlt_proposals", [&](size_t k) { return m.proposals[k]; });
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
+    if (m.learnedSteps) perLength("mmlt_small_step_sigma", [&](size_t k) { return m.smallStepSigma[k]; });
     uint64_t acc[2], prop[2];
     m.stepTotals(acc, prop);
     o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": " << rate(acc[1], prop[1])
@@ -123,6 +124,10 @@ void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Se
       << "replay_mismatches\": " << m.replayMismatches << ",\n  \"" << prefix << "chain_state_bytes\": " << m.chainBytes << ",\n  \"" << prefix
       << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked)) << ",\n  \"" << prefix
       << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
+    o << ",\n  \"" << prefix << "target\": \"" << m.target << "\"";
+    if (m.target == "relative")
+        o << ",\n  \"" << prefix << "target_maps\": " << m.targetMaps << ",\n  \"" << prefix << "target_tile_size\": " << m.targetTileSize
+          << ",\n  \"" << prefix << "target_scale\": {\"least\": " << m.targetScaleLeast << ", \"most\": " << m.targetScaleMost << "}";
     if (!m.poolDigestByRank.empty()) o << ",\n  \"" << prefix << "pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
     if (st.ranks.count > 1) {  // what each rank computed: the same on every rank (docs/mpi.md)
         o << ",\n  \"" << prefix << "b_by_rank\": [";

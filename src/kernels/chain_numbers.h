@@ -17,10 +17,12 @@ inline float poolCoordinate(uint64_t key, uint32_t d) { return sampleDimension(k
 inline uint32_t dimNormal(uint32_t d) { return 3 + 2 * d; }
 
 // Coordinate d's small step in proposal n from its stored (value, lastModified) and the
-// chain's last accepted large step; the fresh value is drawn only when it is read.
-inline float smallStepOf(uint64_t key, uint32_t d, float value, uint32_t lastModified, uint32_t lastLarge, uint32_t n) {
+// chain's last accepted large step (sigma: the step's size); the fresh value is drawn only
+// when it is read.
+inline float smallStepOf(uint64_t key, uint32_t d, float value, uint32_t lastModified, uint32_t lastLarge, uint32_t n,
+                         float sigma = kSmallStepSigma) {
     const float uFresh = lastModified < lastLarge ? poolCoordinate(key, d) : 0.0f;
-    return proposeCoordinate(value, lastModified, lastLarge, n, false, kSmallStepSigma, uFresh, standardNormal(key, dimNormal(d)));
+    return proposeCoordinate(value, lastModified, lastLarge, n, false, sigma, uFresh, standardNormal(key, dimNormal(d)));
 }
 
 }  // namespace wmlt

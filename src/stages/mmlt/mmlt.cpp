@@ -105,6 +105,8 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
         v->assign(n, 0);
     if (opt.lengthImages)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
+    planTargetMap();
+    sigma_.assign(n, kSmallStepSigma);
     // Memory, refused before anything large is allocated: the chain state at its largest
     // (every chain at MaxPathLength), the films, a round's splats.
     const double chainBytes = double(chains_) * double(chainBytesOf(kMax_));
@@ -205,6 +207,8 @@ MmltRender::NextPass MmltRender::decideNextPass(double restartSeconds) {
 // The next pass's pools: fresh samples and this pass's large steps, thinned; the chains
 // allocated to them (false: no light in any pool).
 bool MmltRender::refillPools() {
+    retarget();        // RenderOptions::mmltTarget = Relative: a new target, the pools under it
+    learnStepSizes();  // RenderOptions::learnSteps: each length's small-step size
     tracePool(0, std::vector<uint32_t>(size_t(kMax_) + 1, fresh_), false);
     for (int k = lo_; k <= hi_; ++k) {
         pools_[size_t(k)].add(next_[size_t(k)]);

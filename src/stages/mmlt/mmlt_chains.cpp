@@ -64,6 +64,7 @@ bool MmltRender::allocateChains() {
         g.dims = whole_ ? WholeLayout::size(kMax_, scene_.features.media) : StrategyLayout::size(k, scene_.features.media);
         g.points = whole_ ? uint32_t(kMax_) : 0;  // PSSMLT: a t = 1 contribution for each s = 1 .. kMax
         g.weight = float(passWeight_ * pools_[size_t(k)].mean() / double(n[size_t(k)]));
+        g.sigma = sigma_[size_t(k)];
         first += n[size_t(k)];
         groups_.push_back(std::move(g));
         groups_.back().resize(n[size_t(k)]);
@@ -131,6 +132,7 @@ void MmltRender::replaySeeds() {
     tbb::parallel_for(p0, p1, [&](size_t ti) {
         MmltBatch& mb = batches_.local();
         mb.slices = plan[ti];
+        mb.target = map_;
         stages_.fillSeedRows(groups_, mb);
         stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
         mismatches[ti] = stages_.countReplayMismatches(groups_, mb, opt_.plantReplayMismatch && ti == 0);

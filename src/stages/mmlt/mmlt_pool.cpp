@@ -38,6 +38,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
             const PoolTask& t = tasks[ti];
             MmltBatch& mb = batches_.local();
             mb.counters.nonfinite = 0;
+            mb.target = map_;
             stages_.fillPoolRows(mb, t.k, pass_, t.i0, t.n, opt_.seed);
             stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
             stages_.addPoolSamples(mb, t.n, out[ti]);
@@ -46,6 +47,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
         exchangePools(out, t0, t1 - t0);
         for (size_t ti = 0; ti < tasks.size(); ++ti) {
             pools_[size_t(tasks[ti].k)].add(out[ti]);
+            collectBrightness(out[ti], tasks[ti].k);
             counters_.nonfinite += nonfinite[ti];
         }
         done += slab;

@@ -32,6 +32,10 @@ namespace wmlt::mmlt_detail {
 
 constexpr uint32_t kBatchChains = 256;          // chains per batch: the tasks of a round
 constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB) and a round's time
+constexpr double kTargetTiles = 4096;           // the relative target's map: at most this many tiles
+constexpr double kTargetFloor = 0.1;            // its brightness floor, a share of the image's mean
+constexpr double kTargetAcceptance = 0.4;       // learned step sizes: the small steps' acceptance sought
+constexpr double kStepGain = 3;                 // and the gain of log sigma on the gap
 
 using Clock = std::chrono::steady_clock;
 
@@ -76,6 +80,12 @@ private:
     void mergeRound(std::vector<TaskOutput>& outputs, std::vector<SamplePool>& roundPools, bool parallelMerge, uint32_t stripeShift);
     void accountRound(const std::vector<TaskOutput>& outputs, uint32_t r, double roundStart);
     RenderResult resolve();
+    // What the render learns between passes (mmlt_learn.cpp). The relative-error target: its map's tiles, the brightness sums of
+    // every sample the pools see, a new map at a pass boundary.
+    void planTargetMap();
+    void collectBrightness(const SamplePool& p, int k);
+    bool retarget();
+    void learnStepSizes();
     // Render time: paused time (a viewer's) is left out.
     double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count() - paused_; }
     Image image() const;
@@ -151,6 +161,16 @@ private:
     double ratioSum_ = 0;
     uint64_t rounds_ = 0;
     size_t poolEntries_ = 0;  // the most pool entries held at once
+    // The relative target (mmlt_learn.cpp): the map the tasks read (no scale: luminance),
+    // its tiles' side in pixels, their scales, and per length k the luminance sums of its
+    // samples per tile ([k * tiles + tile]) and their count.
+    TargetMap map_;
+    std::vector<float> sigma_;   // [k]: the small steps' size of length k's chains this pass
+    MmltCounters passCounters_;  // counters_ when the pass started (learnStepSizes)
+    int tileSize_ = 1;
+    std::vector<float> scale_;
+    std::vector<double> brightness_;
+    std::vector<uint64_t> brightnessSamples_;
 };
 
 }  // namespace wmlt::mmlt_detail

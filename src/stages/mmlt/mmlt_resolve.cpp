@@ -62,6 +62,12 @@ RenderResult MmltRender::resolve() {
     RenderResult res = startResult(whole_ ? "pssmlt" : "mmlt", scene_, opt_, pr, rays_);
     stats_.iterations = iteration_;
     stats_.passLength = passLength_;
+    stats_.smallStepSigma = sigma_;
+    stats_.learnedSteps = opt_.learnSteps && !whole_;
+    if (!brightness_.empty()) {
+        stats_.target = "relative";
+        stats_.targetTileSize = uint32_t(tileSize_);
+    }
     stats_.longestTaskRatio = rounds_ ? ratioSum_ / double(rounds_) : 0.0;
     res.stats.samplesNonfiniteDiscarded = counters_.nonfinite;
     for (int k = lo_; k <= hi_; ++k) stats_.b[size_t(k)] = weighted_ > 0 ? passB_[size_t(k)] / weighted_ : 0.0;

@@ -53,6 +53,7 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
     const auto start = Clock::now();
     MmltBatch& mb = batches_.local();
     mb.slices = plan_[ti];
+    mb.target = map_;
     mb.stripeShift = stripeShift;
     mb.splatLengths = !lengthFilms_.empty();
     mb.clearSplats();
@@ -98,7 +99,9 @@ void MmltRender::mergeRound(std::vector<TaskOutput>& outputs, std::vector<Sample
     };
     auto mergePool = [&](size_t k) {  // in batch order
         for (size_t ti = 0; ti < outputs.size(); ++ti) {
-            next_[k].add(ranks_ ? roundPools[ti * nk + k] : outputs[ti].pools[k]);
+            const SamplePool& p = ranks_ ? roundPools[ti * nk + k] : outputs[ti].pools[k];
+            collectBrightness(p, int(k));
+            next_[k].add(p);
             thin(next_[k], int(k));
         }
     };

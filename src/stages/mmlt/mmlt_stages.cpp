@@ -96,11 +96,6 @@ uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index) {
     return sampleKey(mix64(mix64(seed ^ 0x504f4f4cu /* "POOL" */) + pass), uint32_t(k), index);
 }
 
-float targetOf(const Vec3& F) {
-    const float c = luminance(F);
-    return std::isfinite(c) && isFinite(F) ? c : 0.0f;
-}
-
 void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
     const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media);
     for (uint32_t i = 0; i < n; ++i) {
@@ -138,9 +133,9 @@ namespace {
 // The chunk's small steps (SmallStepChunk), written to their rows; the chunk is emptied.
 void drawSmallSteps(MmltBatch& mb) {
     SmallStepChunk& st = *mb.steps;
-    const float sigma = kSmallStepSigma;
     // Bit for bit proposeCoordinate(value, lastModified, lastLarge, n, false, sigma, uFresh,
-    // standardNormal(key, dimNormal(d))) for the draws inside their layer (97.2%).
+    // standardNormal(key, dimNormal(d))) for the draws inside their layer (97.2%), sigma the
+    // coordinate's group's (ChainGroup::sigma).
     for (uint32_t m = 0; m < st.count; ++m) {
         const uint64_t key = st.key[m];
         const uint32_t d = st.dim[m];
@@ -150,10 +145,10 @@ void drawSmallSteps(MmltBatch& mb) {
         st.slow[m] = u < kZiggurat.inner[layer] ? 0 : 1;
         const float z = withNormalSign(h, u * kZiggurat.x[layer]);
         // uFresh is read only when the coordinate is stale: drawn for every one, no branch.
-        st.out[m] = proposeCoordinate(st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], false, sigma, poolCoordinate(key, d), z);
+        st.out[m] = proposeCoordinate(st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], false, st.sigma[m], poolCoordinate(key, d), z);
     }
     for (uint32_t m = 0; m < st.count; ++m) {
-        if (st.slow[m]) st.out[m] = smallStepOf(st.key[m], st.dim[m], st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m]);
+        if (st.slow[m]) st.out[m] = smallStepOf(st.key[m], st.dim[m], st.value[m], st.lastModified[m], st.lastLarge[m], st.n[m], st.sigma[m]);
         mb.u[st.dst[m]] = st.out[m];
     }
     st.count = 0;
@@ -177,7 +172,7 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
             const size_t at = g.at(c, 0);
             const uint32_t lastLarge = g.lastLarge[c], n = g.accepted[c] + 1;
             float* row = mb.rowOf(i);
-            row[0] = large ? poolCoordinate(key, 0) : smallStepOf(key, 0, g.value[at], g.lastModified[at], lastLarge, n);
+            row[0] = large ? poolCoordinate(key, 0) : smallStepOf(key, 0, g.value[at], g.lastModified[at], lastLarge, n, g.sigma);
             setStrategy(mb, i, g.k, row[0]);
             if (large) {
                 forEachUsedOf(mb, i, g.k, [&](uint32_t d) { row[d] = poolCoordinate(key, d); });
@@ -191,6 +186,7 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
                 st.lastModified[m] = g.lastModified[at + d];
                 st.lastLarge[m] = lastLarge;
                 st.n[m] = n;
+                st.sigma[m] = g.sigma;
                 st.dim[m] = d;
                 st.dst[m] = mb.row[i] + d;
             });
@@ -240,7 +236,7 @@ uint64_t countReplayMismatchesOf(std::vector<ChainGroup>& groups, MmltBatch& mb,
             const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
             Vec3 F = contributionOf(mb, i);
             if (plant && i == 0) F = F + Vec3(1.0f);  // (tests only)
-            float cc = targetOf(F);
+            float cc = slotTarget(mb, i, F);
             if constexpr (Whole) {
                 cc = wholeTarget(mb, i, F);
                 keepWholePoints(g, c, mb, i);

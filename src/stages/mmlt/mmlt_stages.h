@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "kernels/chain_numbers.h"
+#include "kernels/mmlt_target.h"
 #include "scene/scene.h"
 #include "stages/core/wave.h"  // RayCounters
 #include "stages/mmlt/mmlt_state.h"
@@ -54,13 +55,14 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
 // Traces and connects each slot's strategy: bpt.L = its MIS-weighted contribution,
 // (bpt.filmX, bpt.filmY) = the film point where it lands.
 void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCounters& counters);
-// The contribution F = (k + 1) L of slot i and its target c = luminance(F), 0 when it is
-// not finite (evaluatedTarget counts those in mb.counters.nonfinite). PSSMLT: wholeTarget.
+// The contribution F = (k + 1) L of slot i and its target c (kernels/mmlt_target.h: the
+// luminance of F, over its tile's brightness with the batch's map), 0 when it is not finite
+// (evaluatedTarget counts those in mb.counters.nonfinite). PSSMLT: wholeTarget.
 inline Vec3 contributionOf(const MmltBatch& mb, size_t i) { return mb.bpt.L[i] * float(mb.bpt.pathLength[i] + 1); }
-float targetOf(const Vec3& F);
+inline float slotTarget(const MmltBatch& mb, size_t i, const Vec3& F) { return targetOf(F, mb.bpt.filmX[i], mb.bpt.filmY[i], mb.target); }
 inline float evaluatedTarget(MmltBatch& mb, size_t i, Vec3& F) {
     F = contributionOf(mb, i);
-    const float c = targetOf(F);
+    const float c = slotTarget(mb, i, F);
     if (c == 0.0f && !(isFinite(F) && std::isfinite(luminance(F)))) ++mb.counters.nonfinite;
     return c;
 }

@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "kernels/mmlt_target.h"
 #include "stages/bpt/bpt_state.h"
 #include "wavemmlt/render.h"
 
@@ -87,12 +88,13 @@ struct SamplePool {
 #define WMLT_CHAIN_POINT_ARRAYS(X) X(float, pointX) X(float, pointY) X(Vec3, pointF)
 
 struct ChainGroup {
-    int k = 0;            // the path length; 0: PSSMLT's whole samples
-    uint32_t count = 0;   // chains of this length
-    uint32_t first = 0;   // global index of its first chain
-    uint32_t dims = 0;    // StrategyLayout::size(k, media) (PSSMLT: WholeLayout::size)
-    uint32_t points = 0;  // PSSMLT: t = 1 contributions a chain keeps at most
-    float weight = 0;     // b_k of the pass's pool / count: each splat's factor
+    int k = 0;                      // the path length; 0: PSSMLT's whole samples
+    uint32_t count = 0;             // chains of this length
+    uint32_t first = 0;             // global index of its first chain
+    uint32_t dims = 0;              // StrategyLayout::size(k, media) (PSSMLT: WholeLayout::size)
+    uint32_t points = 0;            // PSSMLT: t = 1 contributions a chain keeps at most
+    float weight = 0;               // b_k of the pass's pool / count: each splat's factor
+    float sigma = kSmallStepSigma;  // its small steps' size this pass (RenderOptions::learnSteps)
     WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_POINT_ARRAYS(WMLT_SOA_ARRAY)
@@ -147,7 +149,7 @@ struct SmallStepChunk {
     static constexpr uint32_t kSize = 1024;
     uint32_t count = 0;
     uint64_t key[kSize];
-    float value[kSize], out[kSize];
+    float value[kSize], out[kSize], sigma[kSize];
     uint32_t lastModified[kSize], lastLarge[kSize], n[kSize], dim[kSize], dst[kSize];
     uint8_t slow[kSize];
 };
@@ -174,6 +176,9 @@ struct MmltBatch {
     bool lensRead = true;
     uint8_t vertexLo = 0, vertexHi = 4;
     std::vector<BatchSlice> slices;
+    // The pass's target map (kernels/mmlt_target.h; no map: the luminance), set by the driver
+    // for every task: pools, seeds, replays and acceptance all read it.
+    TargetMap target;
     // Expected-value splats of the round, in order, grouped by film stripe (2^stripeShift
     // pixels each: the rounds merge the film one stripe per task), with their path lengths.
     static constexpr uint32_t kStripes = 64;
