@@ -1,0 +1,148 @@
+// MMLT's levers (issue 44; docs/mmlt-levers.md): the relative-error target
+// (RenderOptions::mmltTarget) and learned step sizes (learnSteps). Each changes only what a
+// pass holds fixed, so each must keep:
+//  1. the target map's kernel: a tile per film point, edges and NaN clamped, c = luminance
+//     times the tile's scale (kernels/mmlt_target.h);
+//  2. the estimator unbiased, with the MMLT power tests' power (power.h): every length of
+//     the Cornell box against BPT, where a 1% error in one length's brightness fails, and
+//     the seed room (5%), each lever alone;
+//  3. every replayed seed bit for bit, and one image for 1, 2 and 4 threads, over many
+//     passes (a new map and new step sizes at each);
+//  4. what was learned in the stats: the maps, their scales, each length's sigma.
+// The measurements that chose the defaults: bench/estimator.sh, docs/benchmarks.md.
+#include <tbb/task_arena.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "kernels/mmlt_target.h"
+#include "kernels/mutation.h"
+#include "power.h"
+#include "render_stats.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+
+namespace {
+
+constexpr int K = 32;
+constexpr double kP = 1e-4;
+
+RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64_t seed = 0, int bootstrap = 0) {
+    RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, seed, 1, maxLength);
+    o.chains = 1024;
+    o.bootstrap = bootstrap;
+    o.mmltTarget = target;
+    o.learnSteps = learn;
+    return o;
+}
+
+struct Lever {
+    const char* name;
+    MmltTarget target;
+    bool learn;
+};
+const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false}, {"learned steps", MmltTarget::Luminance, true}};
+
+}  // namespace
+
+TEST_CASE("MMLT target map: the tile of a film point, and c = luminance times its scale", "[mmlt][kernels]") {
+    const float scale[6] = {1, 2, 3, 4, 5, 6};  // 3 x 2 tiles of 4 pixels
+    const TargetMap m{scale, 3, 2, 0.25f};
+    CHECK(targetTileOf(m, 0.0f, 0.0f) == 0);
+    CHECK(targetTileOf(m, 3.99f, 3.99f) == 0);
+    CHECK(targetTileOf(m, 4.0f, 0.0f) == 1);
+    CHECK(targetTileOf(m, 11.9f, 7.9f) == 5);
+    CHECK(targetTileOf(m, 1e30f, 1e30f) == 5);  // off the film: the edge
+    CHECK(targetTileOf(m, -3.0f, 5.0f) == 3);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    CHECK(targetTileOf(m, nan, nan) == 0);
+    const Vec3 F(1.0f, 0.5f, 0.25f);
+    CHECK(targetOf(F, 9.0f, 5.0f, m) == luminance(F) * 6.0f);
+    CHECK(targetOf(F, 9.0f, 5.0f, TargetMap{}) == luminance(F));
+    CHECK(targetOf(F) == luminance(F));
+    CHECK(targetOf(Vec3(nan, 0.0f, 0.0f), 1.0f, 1.0f, m) == 0.0f);
+    CHECK(targetOf(Vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f)) == 0.0f);
+}
+
+TEST_CASE("MMLT levers keep every length of the Cornell box unbiased against BPT (a 1% error in one length fails)", "[mmlt][stat]") {
+    const int L = 5, B = 4;
+    SceneDesc desc = rstats::cornell64(L);
+    desc.settings.width = desc.settings.height = 16;
+    const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 64, 0, 1, L), K, 10000, B)[0];
+    for (const Lever& lever : kLevers) {
+        // With the luminance target a length's brightness is its pools' b_k whatever the
+        // chains do; with the relative target it also depends on where the chains are (each
+        // splat weighs b_k / chains_k over its tile's scale), so it varies more from run to
+        // run, and more mutations per pixel or a larger bootstrap hardly help (length 2's
+        // detectable error at K = 32: 1.01% at 512 and 1.06% at 768 mutations per pixel, 1.09%
+        // with a bootstrap of 2^17): more runs do.
+        const power::Runs m = power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16), 2 * K, 21000, B)[0];
+        power::compare(m, ref, "MMLT vs BPT", std::string("Cornell box, ") + lever.name, kP, power::Claims{0.01, 0.01});
+    }
+}
+
+TEST_CASE("MMLT levers keep the seed room (its light above a drop ceiling) unbiased against BPT", "[mmlt][stat]") {
+    const int L = 6, B = 4;
+    SceneDesc desc = loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/seed-room/seed-room.xml");
+    desc.settings.width = desc.settings.height = 16;
+    desc.settings.maxPathLength = L;
+    const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 256, 0, 1, L), K, 14000, B)[0];
+    for (const Lever& lever : kLevers) {
+        const power::Runs m = power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14), K, 22000, B)[0];
+        power::compare(m, ref, "MMLT vs BPT", std::string("seed room, ") + lever.name, kP, power::Claims{0.05, 0});
+    }
+}
+
+TEST_CASE("MMLT levers: seeds replay bit for bit, one image for 1, 2 and 4 threads, and what was learned is reported", "[mmlt]") {
+    // Glass and a mirror: a map with bright caustics and dark corners; passes of 16
+    // iterations, so that the map and the step sizes are learned again many times.
+    const SceneDesc desc = loadSceneFromString(rstats::causticXml(16, 6), "caustic.xml", ".");
+    RenderOptions o = mmlt(1024, 6, MmltTarget::Relative, true, 42);
+    o.passLength = 16;
+    const RenderResult a = render(desc, o);
+    const RenderStats::Mmlt& m = a.stats.mmlt;
+    INFO(m.passes << " passes");
+    REQUIRE(m.passes >= 8);
+    CHECK(m.replayMismatches == 0);
+    CHECK(m.replayed > 0);
+    CHECK(a.stats.samplesNonfiniteDiscarded == 0);
+    // A new map at every pass after the first (each pool has light here), scales around 1
+    // with the floor's bound: a tile at the floor of 0.1 of the mean weighs 10.
+    CHECK(m.target == "relative");
+    CHECK(m.targetMaps == m.passes - 1);
+    CHECK(m.targetTileSize == 1);
+    CHECK(m.targetScaleLeast > 0);
+    CHECK(m.targetScaleLeast < 1);
+    CHECK(m.targetScaleMost > 1);
+    CHECK(m.targetScaleMost <= 10.0f * (1 + 1e-6));
+    // Each length's sigma moved from its start toward the acceptance sought (0.4), within bounds.
+    REQUIRE(m.learnedSteps);
+    int moved = 0;
+    for (int k = 1; k <= 6; ++k) {
+        const float s = m.smallStepSigma[size_t(k)];
+        CHECK(s >= 1.0f / 1024);
+        CHECK(s <= 0.25f);
+        moved += s != kSmallStepSigma ? 1 : 0;
+    }
+    CHECK(moved >= 3);
+    for (int threads : {4, 1}) {  // (4 first: a render with 1 thread caps the workers while it runs)
+        RenderOptions t = o;
+        t.threads = threads;
+        RenderResult b;
+        tbb::task_arena(threads).execute([&] { b = render(desc, t); });
+        INFO(threads << " threads");
+        CHECK(b.image.rgb == a.image.rgb);
+        CHECK(b.stats.mmlt.b == m.b);
+        CHECK(b.stats.mmlt.smallStepSigma == m.smallStepSigma);
+        CHECK(b.stats.mmlt.targetScaleMost == m.targetScaleMost);
+        CHECK(b.stats.mmlt.replayMismatches == 0);
+    }
+    // Off, the stats say so and the defaults hold.
+    const RenderResult off = render(desc, mmlt(16, 6, MmltTarget::Luminance, false, 42));
+    CHECK(off.stats.mmlt.target == "luminance");
+    CHECK(off.stats.mmlt.targetMaps == 0);
+    CHECK_FALSE(off.stats.mmlt.learnedSteps);
+}
