@@ -39,12 +39,20 @@ RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64
     return o;
 }
 
+// runs: K per side keeps the power of test_mmlt_power.cpp with luminance as the target. With
+// the relative target a length's brightness also depends on where the chains are (each splat
+// weighs b_k / chains_k over its tile's scale) and its pools have 3/4 of the samples (the
+// rest make the map): its brightness varies more from run to run, and more mutations per
+// pixel or a larger bootstrap hardly help (Cornell box, length 2's detectable error at K = 32:
+// 1.01% at 512 and 1.06% at 768 mutations per pixel, 1.09% with a bootstrap of 2^17), so it
+// has twice the runs.
 struct Lever {
     const char* name;
     MmltTarget target;
     bool learn;
+    int runs;
 };
-const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false}, {"learned steps", MmltTarget::Luminance, true}};
+const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false, 2 * K}, {"learned steps", MmltTarget::Luminance, true, K}};
 
 }  // namespace
 
@@ -73,13 +81,7 @@ TEST_CASE("MMLT levers keep every length of the Cornell box unbiased against BPT
     desc.settings.width = desc.settings.height = 16;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 64, 0, 1, L), K, 10000, B)[0];
     for (const Lever& lever : kLevers) {
-        // With the luminance target a length's brightness is its pools' b_k whatever the
-        // chains do; with the relative target it also depends on where the chains are (each
-        // splat weighs b_k / chains_k over its tile's scale), so it varies more from run to
-        // run, and more mutations per pixel or a larger bootstrap hardly help (length 2's
-        // detectable error at K = 32: 1.01% at 512 and 1.06% at 768 mutations per pixel, 1.09%
-        // with a bootstrap of 2^17): more runs do.
-        const power::Runs m = power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16), 2 * K, 21000, B)[0];
+        const power::Runs m = power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16), lever.runs, 21000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("Cornell box, ") + lever.name, kP, power::Claims{0.01, 0.01});
     }
 }
@@ -91,7 +93,7 @@ TEST_CASE("MMLT levers keep the seed room (its light above a drop ceiling) unbia
     desc.settings.maxPathLength = L;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 256, 0, 1, L), K, 14000, B)[0];
     for (const Lever& lever : kLevers) {
-        const power::Runs m = power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14), K, 22000, B)[0];
+        const power::Runs m = power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14), lever.runs, 22000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("seed room, ") + lever.name, kP, power::Claims{0.05, 0});
     }
 }

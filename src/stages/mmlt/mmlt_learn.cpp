@@ -3,17 +3,22 @@
 // estimator: the relative-error target and the small steps' sizes.
 //
 // The relative-error target (RenderOptions::mmltTarget = Relative; the target itself:
-// kernels/mmlt_target.h). Every
-// independent sample the render draws (the bootstrap, each pass's fresh samples, every
-// large step) adds its luminance to its film tile's sum for its length, before any pool is
-// thinned (collectBrightness); at a pass boundary those sums make a brightness estimate
-// per tile, B = sum_k S_k / N_k (N_k: length k's samples), smoothed over the 3 x 3 tiles
-// around it and floored at kTargetFloor of the image's mean, and the next pass's target
-// is c = luminance(F) mean(B) / B(tile) (retarget). The pools are independent of the
-// target (their weights w make sum w h unbiased for any h), so their entries' c are simply
-// evaluated again. The sums come from the pools' samples, which every rank merges in the
-// same order (mmlt_pool.cpp), never from a rank's own film: the map is the same on every
-// rank and for any thread count.
+// kernels/mmlt_target.h). One in four of the independent samples the render draws (the
+// bootstrap, each pass's fresh samples, every large step), chosen by its key's hash
+// (mapSample, mmlt_state.h), goes to the map instead of a pool: its luminance joins its film
+// tile's sum for its length (collectBrightness). At a pass boundary those sums make a
+// brightness estimate per tile, B = sum_k S_k / N_k (N_k: length k's map samples), smoothed
+// over the 3 x 3 tiles around it and floored at kTargetFloor of the image's mean, and the
+// next pass's target is c = luminance(F) mean(B) / B(tile) (retarget).
+// Why the split: a pass is exact when its target does not depend on the pool samples it
+// weighs (importance resampling, mmlt.cpp's opening comment). A map made from the pools'
+// own samples lowers c where those very samples are bright, and the chains, resampled from
+// them, then stay away: on the seed room at 128 x 128 that made the image 6% too dark at 512
+// mutations per pixel (means of 2 and 4 seeds, where the luminance target was within 2%).
+// The pools' entries are kept with weights that make sum w h unbiased for any h, so under
+// a new target their c are simply evaluated again. The map samples are merged in the same
+// order on every rank (mmlt_pool.cpp, mmlt_rounds.cpp), never taken from a rank's own film:
+// the map is the same on every rank and for any thread count.
 #include "stages/mmlt/mmlt_render.h"
 
 namespace wmlt::mmlt_detail {
@@ -32,8 +37,8 @@ void MmltRender::planTargetMap() {
     brightnessSamples_.assign(size_t(kMax_) + 1, 0);
 }
 
-// Adds the samples of a pool of length k not yet thinned (every entry's weight 1, and the
-// unlit ones only in its count) to the tile sums.
+// Adds map samples of length k (never thinned: every entry's weight 1, and the unlit ones
+// only in the count) to the tile sums.
 void MmltRender::collectBrightness(const SamplePool& p, int k) {
     if (brightness_.empty()) return;
     double* S = &brightness_[size_t(k) * size_t(map_.tilesX) * size_t(map_.tilesY)];

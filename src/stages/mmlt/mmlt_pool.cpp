@@ -31,7 +31,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
             for (uint32_t i = done; i < end; i += chunk) tasks.push_back({k, i, std::min(chunk, end - i)});
             samples += end > done ? end - done : 0;
         }
-        std::vector<SamplePool> out(tasks.size());
+        std::vector<SamplePool> out(tasks.size()), outMap(tasks.size());  // the pools', the target map's
         std::vector<uint64_t> nonfinite(tasks.size(), 0);
         const auto [t0, t1] = shareOf(ranks_, tasks.size());  // this rank's tasks
         tbb::parallel_for(t0, t1, [&](size_t ti) {
@@ -39,15 +39,19 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
             MmltBatch& mb = batches_.local();
             mb.counters.nonfinite = 0;
             mb.target = map_;
+            mb.splitForMap = !brightness_.empty();
             stages_.fillPoolRows(mb, t.k, pass_, t.i0, t.n, opt_.seed);
             stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
             stages_.addPoolSamples(mb, t.n, out[ti]);
+            std::swap(outMap[ti], mb.mapPools[size_t(t.k)]);
+            mb.mapPools[size_t(t.k)].clear();
             nonfinite[ti] = mb.counters.nonfinite;
         });
         exchangePools(out, t0, t1 - t0);
+        if (!brightness_.empty()) exchangePools(outMap, t0, t1 - t0);
         for (size_t ti = 0; ti < tasks.size(); ++ti) {
             pools_[size_t(tasks[ti].k)].add(out[ti]);
-            collectBrightness(out[ti], tasks[ti].k);
+            collectBrightness(outMap[ti], tasks[ti].k);
             counters_.nonfinite += nonfinite[ti];
         }
         done += slab;

@@ -32,7 +32,7 @@ namespace wmlt::mmlt_detail {
 
 constexpr uint32_t kBatchChains = 256;          // chains per batch: the tasks of a round
 constexpr double kProposalsPerRound = 1 << 18;  // bounds the splat lists (~8 MB) and a round's time
-constexpr double kTargetTiles = 4096;           // the relative target's map: at most this many tiles
+constexpr double kTargetTiles = 256;            // the relative target's map: at most this many tiles
 constexpr double kTargetFloor = 0.1;            // its brightness floor, a share of the image's mean
 constexpr double kTargetAcceptance = 0.4;       // learned step sizes: the small steps' acceptance sought
 constexpr double kStepGain = 3;                 // and the gain of log sigma on the gap

@@ -22,7 +22,7 @@ struct TaskOutput {
     std::vector<uint8_t> splatLength[kFilmStripes];
     std::vector<PointSplat> points[kFilmStripes];
     std::vector<uint8_t> pointLength[kFilmStripes];
-    std::vector<SamplePool> pools;
+    std::vector<SamplePool> pools, mapPools;  // [k]: the large steps for the pools, for the target map
     MmltCounters counters;
     double seconds = 0;
 };
@@ -54,10 +54,12 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
     MmltBatch& mb = batches_.local();
     mb.slices = plan_[ti];
     mb.target = map_;
+    mb.splitForMap = !brightness_.empty();
     mb.stripeShift = stripeShift;
     mb.splatLengths = !lengthFilms_.empty();
     mb.clearSplats();
     for (SamplePool& p : mb.pools) p.clear();
+    for (SamplePool& p : mb.mapPools) p.clear();
     mb.counters = MmltCounters();
     for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
         stages_.mutateChains(groups_, mb, opt_.seed, uint32_t(n), opt_.probLarge);
@@ -72,6 +74,8 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
     }
     o.pools.swap(mb.pools);
     mb.pools.resize(size_t(kMax_) + 1);
+    o.mapPools.swap(mb.mapPools);
+    mb.mapPools.resize(size_t(kMax_) + 1);
     o.counters = mb.counters;
     o.seconds = std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -82,11 +86,19 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
 void MmltRender::mergeRound(std::vector<TaskOutput>& outputs, std::vector<SamplePool>& roundPools, bool parallelMerge, uint32_t stripeShift) {
     const auto [b0, b1] = shareOf(ranks_, plan_.size());  // this rank's batches
     const size_t nk = size_t(kMax_) + 1;
+    const bool maps = !brightness_.empty();
+    std::vector<SamplePool> roundMapPools;
     if (ranks_) {  // every batch's large steps on every rank, in batch order
         roundPools.assign(plan_.size() * nk, SamplePool());
         for (size_t ti = b0; ti < b1; ++ti)
             for (size_t k = 0; k < nk; ++k) roundPools[ti * nk + k] = std::move(outputs[ti].pools[k]);
         exchangePools(roundPools, b0 * nk, (b1 - b0) * nk);
+        if (maps) {
+            roundMapPools.assign(plan_.size() * nk, SamplePool());
+            for (size_t ti = b0; ti < b1; ++ti)
+                for (size_t k = 0; k < nk; ++k) roundMapPools[ti * nk + k] = std::move(outputs[ti].mapPools[k]);
+            exchangePools(roundMapPools, b0 * nk, (b1 - b0) * nk);
+        }
     }
     // In batch order; a film point adds to its footprint's pixels in this stripe.
     auto mergeStripe = [&](uint32_t st) {
@@ -99,9 +111,8 @@ void MmltRender::mergeRound(std::vector<TaskOutput>& outputs, std::vector<Sample
     };
     auto mergePool = [&](size_t k) {  // in batch order
         for (size_t ti = 0; ti < outputs.size(); ++ti) {
-            const SamplePool& p = ranks_ ? roundPools[ti * nk + k] : outputs[ti].pools[k];
-            collectBrightness(p, int(k));
-            next_[k].add(p);
+            if (maps) collectBrightness(ranks_ ? roundMapPools[ti * nk + k] : outputs[ti].mapPools[k], int(k));
+            next_[k].add(ranks_ ? roundPools[ti * nk + k] : outputs[ti].pools[k]);
             thin(next_[k], int(k));
         }
     };

@@ -223,7 +223,7 @@ void addPoolSamplesOf(MmltBatch& mb, uint32_t n, SamplePool& pool) {
     for (uint32_t i = 0; i < n; ++i) {
         Vec3 F;
         const float c = targetOfSlot<Whole>(mb, i, F);
-        pool.addSample(mb.bpt.key[i], c, F, mb.bpt.filmX[i], mb.bpt.filmY[i]);
+        mb.poolFor(mb.bpt.key[i], mb.bpt.pathLength[i], pool).addSample(mb.bpt.key[i], c, F, mb.bpt.filmX[i], mb.bpt.filmY[i]);
     }
 }
 
@@ -274,8 +274,8 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
             }
             const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
-            if (kind) pool.addSample(mb.bpt.key[i], cP, F, filmX, filmY);     // an independent uniform sample of u
-            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;  // rejected
+            if (kind) mb.poolFor(mb.bpt.key[i], g.k, pool).addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
+            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;                               // rejected
             ++mb.counters.accepted[kind][k];
             // Commit: the coordinates the proposal read (the chain's block is contiguous).
             const uint32_t next = g.accepted[c] + 1;

@@ -18,6 +18,10 @@
 
 namespace wmlt {
 
+// One in four of the independent samples of u, by its key's hash, makes the relative
+// target's map instead of joining a pool (MmltBatch::splitForMap).
+inline bool mapSample(uint64_t key) { return (mix64(key ^ 0x4d4150u /* "MAP" */) & 3) == 0; }
+
 // A sample of u kept in a pool: its key (u_d = poolCoordinate(key, d)), its target c > 0,
 // its weight w (1, or 1 / the probability it survived the pool's thinning), and the
 // contribution F and film point its evaluation gave (a chain seeded there starts with them; a
@@ -226,6 +230,12 @@ struct MmltBatch {
         }
     }
     std::vector<SamplePool> pools;  // [k]: this batch's large-step proposals of the round
+    // The relative target (RenderOptions::mmltTarget): a share of the independent samples
+    // (mapSample, by key) goes to mapPools, never to a pool, so that the target map they make
+    // is independent of the pools it weighs (mmlt_learn.cpp).
+    bool splitForMap = false;
+    std::vector<SamplePool> mapPools;  // [k]
+    SamplePool& poolFor(uint64_t key, int k, SamplePool& pool) { return splitForMap && mapSample(key) ? mapPools[size_t(k)] : pool; }
     MmltCounters counters;
     std::unique_ptr<SmallStepChunk> steps = std::make_unique<SmallStepChunk>();
     // PSSMLT (pssmlt_stages.h): every slot a whole BPT sample of paths up to maxLength
@@ -277,6 +287,7 @@ struct MmltBatch {
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
+        mapPools.resize(size_t(maxLength) + 1);
     }
     StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data()}; }
     WholeSamples wholeSamples() {
