@@ -417,6 +417,17 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
                             "mmlt_mutations_per_second", "mmlt_replay_mismatches", "mmlt_chain_state_bytes"})
         CHECK(j.topKeys.count(key) == 1);
     CHECK(contains(text, "\"mmlt_replay_mismatches\": 0"));
+    CHECK(contains(text, "\"mmlt_target\": \"luminance\""));
+    // The levers (docs/mmlt-levers.md): what they learned.
+    Run l = run(kSmall + " --spp 64 --threads 2 --mmlt-target relative --mmlt-steps learned -o " + quote(out) + " --stats " + quote(stats), dir);
+    INFO("stderr: " << l.err);
+    REQUIRE(l.status == 0);
+    const std::string learned = readFile(stats);
+    JsonChecker jl(learned);
+    REQUIRE(jl.document());
+    for (const char* key : {"mmlt_target", "mmlt_target_maps", "mmlt_target_tile_size", "mmlt_target_scale", "mmlt_small_step_sigma"})
+        CHECK(jl.topKeys.count(key) == 1);
+    CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
 }
 
 TEST_CASE("cli: --strategy-images writes a weighted and an unweighted EXR per strategy", "[cli]") {
