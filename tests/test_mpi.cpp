@@ -100,6 +100,7 @@ struct TracerCase {
     const char* name;
     TracerKind kind;
     int spp;
+    bool levers = false;  // MMLT's levers on (the runner's "mmlt-levers"; docs/mmlt-levers.md)
     bool metropolis() const { return kind == TracerKind::MMLT || kind == TracerKind::PSSMLT; }
     std::string spec() const { return std::string(name) + ":" + std::to_string(spp) + (metropolis() ? ":1024" : ""); }
 };
@@ -110,6 +111,9 @@ const std::vector<TracerCase> kTracers = {{"pt", TracerKind::PT, 16},
                                           {"bpt", TracerKind::BPT, 4},
                                           {"mmlt", TracerKind::MMLT, 128},
                                           {"pssmlt", TracerKind::PSSMLT, 64}};
+
+// MMLT with its levers on: a target map and step sizes learned from samples every rank merges alike.
+const TracerCase kLevers = {"mmlt-levers", TracerKind::MMLT, 128, true};
 
 std::vector<std::string> allSpecs() {
     std::vector<std::string> s;
@@ -127,6 +131,10 @@ SceneDesc cornell() {
 RenderResult renderOne(const TracerCase& t, uint64_t seed, int threads = 2) {
     RenderOptions o = rstats::renderOptions(t.kind, t.spp, seed, 1, kMaxLength, threads);
     if (t.metropolis()) o.chains = 1024;
+    if (t.levers) {
+        o.mmltTarget = MmltTarget::Relative;
+        o.learnSteps = true;
+    }
     return render(cornell(), o);
 }
 
@@ -184,11 +192,15 @@ TEST_CASE("mpirun: N ranks make one process's image from the same samples, for a
     const uint64_t seed = 100;
     const std::string two = dir + "/np2", twoThreads = dir + "/np2t2", again = dir + "/np2again", three = dir + "/np3";
     for (const std::string& d : {two, twoThreads, again, three}) std::filesystem::create_directories(d);
-    runRunner(2, 1, seed, 1, two, allSpecs());
-    runRunner(2, 2, seed, 1, twoThreads, allSpecs());
-    runRunner(2, 1, seed, 1, again, allSpecs());
-    runRunner(3, 1, seed, 1, three, allSpecs());
-    for (const TracerCase& t : kTracers) {
+    std::vector<std::string> specs = allSpecs();
+    specs.push_back(kLevers.spec());
+    runRunner(2, 1, seed, 1, two, specs);
+    runRunner(2, 2, seed, 1, twoThreads, specs);
+    runRunner(2, 1, seed, 1, again, specs);
+    runRunner(3, 1, seed, 1, three, specs);
+    std::vector<TracerCase> cases = kTracers;
+    cases.push_back(kLevers);
+    for (const TracerCase& t : cases) {
         INFO(t.name);
         // A seed and a rank count: the same bytes every time, whatever the threads per rank.
         CHECK(sameBytes(stem(two, t, seed) + ".pfm", stem(again, t, seed) + ".pfm"));

@@ -4,6 +4,7 @@
 // and seed, OUT/<tracer>-<seed>.pfm and OUT/<tracer>-<seed>.txt (MMLT: b_k and the pools'
 // digest as each rank had them, one line per rank).
 //   mpirun -np N wavemmlt_mpi_runner SCENE.xml OUT WIDTH MAXLENGTH THREADS SEED0 RUNS TRACER:SPP[:CHAINS]... (CHAINS 0: auto)
+// TRACER mmlt-levers: MMLT with its levers on (the relative target, learned step sizes).
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -42,6 +43,10 @@ int main(int argc, char** argv) {
                        : tracer == "bpt"    ? TracerKind::BPT
                        : tracer == "pssmlt" ? TracerKind::PSSMLT
                                             : TracerKind::MMLT;
+            if (tracer == "mmlt-levers") {
+                o.mmltTarget = MmltTarget::Relative;
+                o.learnSteps = true;
+            }
             o.spp = std::atoi(spec.c_str() + c1 + 1);
             if (c2 != std::string::npos) o.chains = std::atoi(spec.c_str() + c2 + 1);
             o.strataPerAxis = strataForSpp(o.spp);
