@@ -79,16 +79,26 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// Reference spp per scene at 256 x 256 (BPT), some 20 to 40 times the samples BPT gets in
-// 16 s. Measured on a shared 2-core machine (issue 29; builds ran beside them): the seed room
-// 609 s, the Cornell box 589 s, veach-bidir (../shared/scenes/mitsuba/veach-bidir/scene.xml:
-// a Mitsuba file is named by its folder) 336 s. Other sizes and scenes: 256 unless --ref-spp
-// says otherwise.
+// Reference spp (BPT) per scene and size. At 256 x 256, some 20 to 40 times the samples BPT
+// gets in 16 s, measured on a shared 2-core machine (issue 29; builds ran beside them): the
+// seed room 609 s, the Cornell box 589 s, veach-bidir (../shared/scenes/mitsuba/veach-bidir/
+// scene.xml: a Mitsuba file is named by its folder) 336 s. The smaller sizes are
+// bench/estimator.sh's (issue 44; the volumetric caustic as the copy that script writes, its
+// integrator made volpath), chosen to render in under about 10 minutes each with nice -n 10
+// on the shared 2-core machine (times and own noise: docs/benchmarks.md, "Estimator suite").
+// Other sizes and scenes: 256 unless --ref-spp says otherwise.
 struct RefSpp {
     const char* scene;
     int width, height, spp;
 };
-const RefSpp kRefSpp[] = {{"bitterli-cornell-256", 256, 256, 4096}, {"seed-room", 256, 256, 2048}, {"veach-bidir", 256, 256, 2048}};
+const RefSpp kRefSpp[] = {{"bitterli-cornell-256", 256, 256, 4096},
+                          {"seed-room", 256, 256, 2048},
+                          {"veach-bidir", 256, 256, 2048},
+                          {"seed-room", 128, 128, 4096},
+                          {"bitterli-cornell-256", 128, 128, 8192},
+                          {"veach-bidir-256", 128, 128, 8192},
+                          {"volumetric-caustic-volpath", 128, 128, 1536},
+                          {"veach-ajar", 160, 90, 2048}};
 constexpr uint64_t kRefSeedA = 0x5eed0000a, kRefSeedB = 0x5eed0000b;
 
 struct Options {
