@@ -6,7 +6,7 @@
 # settings), and every run's relMSE (mean over pixels and channels of (x - ref)^2 /
 # (ref^2 + 0.01)) is taken against one cached reference per scene. The runs are interleaved
 # per (scene, budget, seed), the variants' order rotating with the seed, so that every
-# variant sees the same machine load.
+# variant sees the same machine load; one uncounted 1 s run of each binary per scene first.
 #
 #   bench/estimator.sh [--old REV] [--budgets 2,6] [--seeds N] [--scenes a,b,...] [--quick]
 #                      [--out DIR]
@@ -33,13 +33,15 @@
 # Prints per scene and budget each variant's mean relMSE over the seeds, its spread (least and
 # greatest run) and its ratio to OLD's mean; "WORSE" marks a variant whose least run is above
 # OLD's greatest (worse by more than the seeds' spread), "better" one whose greatest run is
-# below OLD's least. Writes OUT/runs.csv (one row per run), OUT/summary.csv (the printed
-# table), OUT/table.md (the table for docs/benchmarks.md), OUT/ratios.png (relMSE / OLD's per
-# scene and variant; only when gnuplot is installed) and OUT/logs/ (every run's output). A run
-# that fails, that reports no result or a non-finite one, or that renders a reference of its
-# own instead of reading the cached one stops the script with its log (exit 1). It takes about
-# 10 minutes on 2 cores with the references cached (first run: plus the references, up to
-# about 10 minutes each). Not part of the tests.
+# below OLD's least; then the per-seed ratios to OLD's run of the same seed (geometric mean,
+# least..greatest) and the mean spp (mutations per pixel in the budget). Writes OUT/runs.csv
+# (one row per run), OUT/summary.csv (the printed table), OUT/table.md (the table for
+# docs/benchmarks.md), OUT/ratios.png (relMSE / OLD's per scene and variant; only when gnuplot
+# is installed) and OUT/logs/ (every run's output). A run that fails, that reports no result or
+# a non-finite one, or that renders a reference of its own instead of reading the cached one
+# stops the script with its log (exit 1). It takes about 10 minutes on 2 cores with the
+# references cached (the first time: plus the references, 4 to 10 minutes each on a quiet
+# machine). Not part of the tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
@@ -155,6 +157,44 @@ for i in "${!names[@]}"; do
   echo "reference ${names[$i]}: ${refLine[$i]}"
 done
 
+# runOne SCENE-INDEX BUDGET SEED VARIANT LOG: one MMLT run of wavemmlt_bench_error; sets row to its
+# CSV row, or stops the script with the run's log when it failed, read no cached reference or
+# gave no finite relMSE
+runOne() {
+  local i=$1 b=$2 seed=$3 label which args bin status=0 csv=$out/logs/run.csv rows relmse
+  IFS='|' read -r label which args <<< "$4"
+  bin=$newBin; [ "$which" = old ] && bin=$oldBin
+  rm -f "$csv"
+  # shellcheck disable=SC2046,SC2086  # the scene's options and the lever's, split into words
+  "$bin" "${files[$i]}" --tracers mmlt --budgets "$b" --seed "$seed" --reps 1 $(sceneArgs "$i") \
+    --ref-spp "${refSpp[$i]}" --csv "$csv" $args > "$5" 2>&1 || status=$?
+  if [ $status != 0 ]; then
+    echo "estimator.sh: FAILED: ${names[$i]} ${b}s seed $seed $label (exit status $status); its log, $5:" >&2
+    cat "$5" >&2; exit 1
+  fi
+  if ! grep -q '^reference: .*, cached, ' "$5"; then
+    echo "estimator.sh: FAILED: ${names[$i]} ${b}s seed $seed $label did not read the cached reference; $5:" >&2
+    cat "$5" >&2; exit 1
+  fi
+  rows=$(tail -n +2 "$csv" 2>/dev/null | wc -l)
+  row=$(tail -n +2 "$csv" 2>/dev/null | head -1)
+  relmse=$(cut -d, -f11 <<< "$row")
+  if [ "$rows" != 1 ] || ! awk -v x="$relmse" 'BEGIN { exit !(x ~ /^[0-9.eE+-]+$/ && x + 0 >= 0) }'; then
+    echo "estimator.sh: FAILED: ${names[$i]} ${b}s seed $seed $label gave no finite relMSE ($rows row(s): $row); $5:" >&2
+    cat "$5" >&2; exit 1
+  fi
+  rm -f "$csv"
+}
+
+# a warm-up run of each binary per scene, 1 s, not counted: in a trial the first run of a
+# scene was 10-20% slower than the next ones
+for i in "${!names[@]}"; do
+  for v in "${variants[@]:0:2}"; do
+    runOne "$i" 1 1000 "$v" "$out/logs/${names[$i]}-warmup-${v%%|*}.log"
+  done
+done
+echo "  warm-up runs done ($((SECONDS - start)) s)"
+
 runs=$out/runs.csv
 echo "scene,budget_s,seed,variant,seconds,spp,rmse,relmse,samples_per_s,accept_small,accept_large" > "$runs"
 done=0
@@ -163,30 +203,9 @@ for i in "${!names[@]}"; do
     for ((seed = 1; seed <= seeds; ++seed)); do
       nv=${#variants[@]}
       for ((k = 0; k < nv; ++k)); do
-        IFS='|' read -r label which args <<< "${variants[$(((k + seed - 1) % nv))]}"
-        bin=$newBin; [ "$which" = old ] && bin=$oldBin
-        log=$out/logs/${names[$i]}-${b}s-seed$seed-${label//[:=]/_}.log
-        csv=$out/logs/run.csv
-        rm -f "$csv"
-        status=0
-        # shellcheck disable=SC2046,SC2086  # the scene's options and the lever's, split into words
-        "$bin" "${files[$i]}" --tracers mmlt --budgets "$b" --seed "$seed" --reps 1 $(sceneArgs "$i") \
-          --ref-spp "${refSpp[$i]}" --csv "$csv" $args > "$log" 2>&1 || status=$?
-        if [ $status != 0 ]; then
-          echo "estimator.sh: FAILED: ${names[$i]} ${b}s seed $seed $label (exit status $status); its log, $log:" >&2
-          cat "$log" >&2; exit 1
-        fi
-        if ! grep -q '^reference: .*, cached, ' "$log"; then
-          echo "estimator.sh: FAILED: ${names[$i]} ${b}s seed $seed $label did not read the cached reference; $log:" >&2
-          cat "$log" >&2; exit 1
-        fi
-        rows=$(tail -n +2 "$csv" 2>/dev/null | wc -l)
-        row=$(tail -n +2 "$csv" 2>/dev/null | head -1)
-        relmse=$(cut -d, -f11 <<< "$row")
-        if [ "$rows" != 1 ] || ! awk -v x="$relmse" 'BEGIN { exit !(x ~ /^[0-9.eE+-]+$/ && x + 0 >= 0) }'; then
-          echo "estimator.sh: FAILED: ${names[$i]} ${b}s seed $seed $label gave no finite relMSE ($rows row(s): $row); $log:" >&2
-          cat "$log" >&2; exit 1
-        fi
+        v=${variants[$(((k + seed - 1) % nv))]}
+        label=${v%%|*}
+        runOne "$i" "$b" "$seed" "$v" "$out/logs/${names[$i]}-${b}s-seed$seed-${label//[:=]/_}.log"
         IFS=, read -r _ _ _ _ secs spp rmse _ _ _ rel _ _ sps accS accL <<< "$row"
         echo "${names[$i]},$b,$seed,$label,$secs,$spp,$rmse,$rel,$sps,$accS,$accL" >> "$runs"
         done=$((done + 1))
@@ -196,28 +215,37 @@ for i in "${!names[@]}"; do
     done
   done
 done
-rm -f "$out/logs/run.csv"
 
 # per (scene, budget, variant): mean, least and greatest relMSE; the ratio of the mean to
 # OLD's; WORSE when the least run is above OLD's greatest, better when the greatest is below
-# OLD's least
+# OLD's least; the per-seed ratios to OLD's run of the same seed (their geometric mean, least
+# and greatest: the seed decides much of a run's error, so these are steadier) and the mean
+# spp (mutations per pixel done in the budget: the machine's load shows there)
 summary=$out/summary.csv
-awk -F, 'NR > 1 {
+awk -F, 'NR > 1 { seen[$1 SUBSEP $2 SUBSEP $3 SUBSEP $4] = $8 }
+  NR > 1 {
     k = $1 SUBSEP $2 SUBSEP $4
     if (!(k in n)) { order[++m] = k; mn[k] = $8; mx[k] = $8 }
-    n[k]++; s[k] += $8
+    n[k]++; s[k] += $8; spp[k] += $6
     if ($8 < mn[k]) mn[k] = $8
     if ($8 > mx[k]) mx[k] = $8
+    run[k, n[k]] = $3
   }
   END {
-    print "scene,budget_s,variant,runs,relmse_mean,relmse_min,relmse_max,ratio_to_old,mark"
+    print "scene,budget_s,variant,runs,relmse_mean,relmse_min,relmse_max,ratio_to_old,mark,seed_ratio_geomean,seed_ratio_min,seed_ratio_max,spp_mean"
     for (j = 1; j <= m; ++j) {
       k = order[j]; split(k, f, SUBSEP); o = f[1] SUBSEP f[2] SUBSEP "old"
       mean = s[k] / n[k]; om = s[o] / n[o]
       mark = ""  # (not with one seed: no spread)
       if (f[3] != "old" && n[k] > 1 && n[o] > 1 && mn[k] > mx[o]) mark = "WORSE"
       if (f[3] != "old" && n[k] > 1 && n[o] > 1 && mx[k] < mn[o]) mark = "better"
-      printf "%s,%s,%s,%d,%.6g,%.6g,%.6g,%.4f,%s\n", f[1], f[2], f[3], n[k], mean, mn[k], mx[k], (om > 0 ? mean / om : 0), mark
+      lg = 0; c = 0; rmin = 1e300; rmax = 0
+      for (r = 1; r <= n[k]; ++r) {
+        seed = run[k, r]; x = seen[f[1] SUBSEP f[2] SUBSEP seed SUBSEP f[3]]; y = seen[f[1] SUBSEP f[2] SUBSEP seed SUBSEP "old"]
+        if (x > 0 && y > 0) { q = x / y; lg += log(q); ++c; if (q < rmin) rmin = q; if (q > rmax) rmax = q }
+      }
+      printf "%s,%s,%s,%d,%.6g,%.6g,%.6g,%.4f,%s,%.4f,%.4f,%.4f,%.1f\n", f[1], f[2], f[3], n[k], mean, mn[k], mx[k],
+             (om > 0 ? mean / om : 0), mark, (c ? exp(lg / c) : 0), (c ? rmin : 0), (c ? rmax : 0), spp[k] / n[k]
     }
   }' "$runs" > "$summary"
 # ... in the order of the table: scene, budget, then the variants as listed
@@ -238,10 +266,12 @@ for i in "${!names[@]}"; do
   echo "== ${names[$i]}: ${sizes[$i]}, MaxPathLength ${lengths[$i]}, MMLT, $seeds seed(s); relMSE against the reference:"
   echo "   ${refLine[$i]}"
   for b in ${sceneBudgets[$i]//,/ }; do
-    printf '  %5ss  %-28s %11s  %-25s %8s\n' "$b" "variant" "relMSE" "(seeds: least..greatest)" "/ OLD"
+    printf '  %5ss  %-28s %11s  %-24s %6s %-6s  %-22s %8s\n' "$b" "variant" "relMSE" "(seeds: least..greatest)" "/ OLD" "" \
+      "per seed / OLD" "mean spp"
     awk -F, -v s="${names[$i]}" -v b="$b" -v old="$old" -v new="$newRev" '$1 == s && $2 == b {
         label = $3 == "old" ? "OLD " old : $3 == "new" ? "NEW " new : "NEW " substr($3, 5)
-        printf "         %-28s %11.4g  %-25s %8.3f  %s\n", label, $5, sprintf("(%.4g..%.4g)", $6, $7), $8, $9
+        paired = $3 == "old" ? "" : sprintf("%.3f (%.3f..%.3f)", $10, $11, $12)
+        printf "         %-28s %11.4g  %-24s %6.3f %-6s  %-22s %8.0f\n", label, $5, sprintf("(%.4g..%.4g)", $6, $7), $8, $9, paired, $13
       }' "$summary"
   done
   # the reference's noise against NEW's relMSE at the largest budget
@@ -321,7 +351,7 @@ if command -v gnuplot >/dev/null 2>&1; then
     echo "set title 'MMLT at equal time: relMSE / OLD ($old) mean relMSE ($seeds seed(s); bars: least and greatest run)'"
     echo "set logscale y"
     echo "set ylabel 'relMSE / OLD mean (below 1: better than OLD)'"
-    echo "set xtics ($tics) rotate by -30"
+    echo "set xtics ($tics) rotate by 30 right"
     echo "set xrange [-0.6:$nclusters - 0.4]"
     echo "set grid ytics mytics"
     echo "set key outside right top"
