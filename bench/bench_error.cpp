@@ -84,8 +84,9 @@ namespace {
 // seed room 609 s, the Cornell box 589 s, veach-bidir (../shared/scenes/mitsuba/veach-bidir/
 // scene.xml: a Mitsuba file is named by its folder) 336 s. The smaller sizes are
 // bench/estimator.sh's (issue 44; the volumetric caustic as the copy that script writes, its
-// integrator made volpath), chosen to render in under about 10 minutes each with nice -n 10
-// on the shared 2-core machine (times and own noise: docs/benchmarks.md, "Estimator suite").
+// integrator made volpath): their own relMSE at most a tenth of MMLT's at 6 s on a quiet
+// 2-core machine, each rendered in 4 to 11 minutes with nice -n 10 beside another
+// developer's work (times and own noise: docs/benchmarks.md, "Estimator suite").
 // Other sizes and scenes: 256 unless --ref-spp says otherwise.
 struct RefSpp {
     const char* scene;
@@ -97,8 +98,8 @@ const RefSpp kRefSpp[] = {{"bitterli-cornell-256", 256, 256, 4096},
                           {"seed-room", 128, 128, 4096},
                           {"bitterli-cornell-256", 128, 128, 8192},
                           {"veach-bidir-256", 128, 128, 8192},
-                          {"volumetric-caustic-volpath", 128, 128, 1536},
-                          {"veach-ajar", 160, 90, 2048}};
+                          {"volumetric-caustic-volpath", 128, 128, 4096},
+                          {"veach-ajar", 160, 90, 8192}};
 constexpr uint64_t kRefSeedA = 0x5eed0000a, kRefSeedB = 0x5eed0000b;
 
 struct Options {

@@ -141,6 +141,7 @@ echo "   OLD = $old, NEW = $(git rev-parse --short HEAD)$(git diff --quiet HEAD 
 # references: made (or read) by NEW, then read by every run; their spp is passed to both
 # binaries (OLD's kRefSpp may not know these scenes)
 refSpp=() refNoise=() refLine=()
+echo "references (BPT; one not yet in $cache is rendered now by NEW, 4 to 10 minutes on a quiet machine):"
 for i in "${!names[@]}"; do
   log=$out/logs/${names[$i]}-reference.log
   # shellcheck disable=SC2046
