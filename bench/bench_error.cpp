@@ -14,19 +14,28 @@
 //   --seed N                  first seed of the runs [1] (the reference uses its own seeds)
 //   --threads N               threads, 0: all [0]
 //   --ref-spp N               reference samples per pixel (BPT) [per scene, see kRefSpp]
+//   --ref-tracer T            the reference's tracer (bpt, pt, mmlt; mmlt: --ref-spp counts
+//                             mutations per pixel, its own defaults otherwise) [bpt]
+//   --ref-only                make (or read) each scene's reference, print it, and run nothing
 //   --cache DIR               reference cache [<folder of this executable>/bench-cache]
 //   --csv PATH                CSV output [bench-error.csv]
 //   --chains N, --bootstrap N, --pass-length N, --p-large X, --mis-beta X   passed to
 //                             RenderOptions (MMLT, BPT; chains: the default is auto, and
 //                             --sweep chains=auto,1024,65536 compares it with fixed counts)
+//   --mmlt-target luminance|relative, --mmlt-steps fixed|learned   MMLT's levers of issue 44,
+//                             passed to RenderOptions (mmltTarget, learnSteps) [RenderOptions']
 //   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
-//                             bootstrap, pass-length, mis-beta, max-length, round-spp; "a,b,...,z" fills in
-//                             the arithmetic progression (max-length=3,5,...,15)
+//                             bootstrap, pass-length, mis-beta, max-length, round-spp,
+//                             mmlt-target, mmlt-steps; "a,b,...,z" fills in the arithmetic
+//                             progression (max-length=3,5,...,15)
 //
-// The reference: a BPT render of ref-spp samples per pixel at the same size and
-// MaxPathLength, in two halves with two seeds that no run uses; the cached file is their
-// mean, <cache>/<scene>-<W>x<H>-L<len>-<spp>spp.pfm, with a .txt beside it (render time and
-// the reference's own noise, estimated as RMSE(half A, half B) / 2). Rendered once, reused.
+// The reference: a BPT render (--ref-tracer) of ref-spp samples per pixel at the same size
+// and MaxPathLength, in two halves with two seeds that no run uses; the cached file is their
+// mean, <cache>/<scene>-<W>x<H>-L<len>-<spp>spp.pfm (another tracer's:
+// ...-L<len>-<tracer>-<spp>spp.pfm), with a .txt beside it (render time and the reference's
+// own noise, estimated from the halves: RMSE(A, B) / 2, and relMSE(A, B) / 4 with the mean
+// as the denominator's reference; a run's relMSE against it includes that much of the
+// reference's noise). Rendered once, reused.
 //
 // Per run: RMSE over all pixels and RGB channels against the reference, relative RMSE
 // (RMSE / the reference's mean) and relative MSE (the mean over pixels and channels of
@@ -70,12 +79,27 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// Reference spp per scene at 256 x 256 (BPT), some 20 to 40 times the samples BPT gets in
-// 16 s. Measured on a shared 2-core machine (issue 29; builds ran beside them): the seed room
-// 609 s, the Cornell box 589 s, veach-bidir (../shared/scenes/mitsuba/veach-bidir/scene.xml:
-// a Mitsuba file is named by its folder) 336 s. Other sizes and scenes: 256 unless --ref-spp
-// says otherwise.
-const std::map<std::string, int> kRefSpp = {{"bitterli-cornell-256", 4096}, {"seed-room", 2048}, {"veach-bidir", 2048}};
+// Reference spp (BPT) per scene and size. At 256 x 256, some 20 to 40 times the samples BPT
+// gets in 16 s, measured on a shared 2-core machine (issue 29; builds ran beside them): the
+// seed room 609 s, the Cornell box 589 s, veach-bidir (../shared/scenes/mitsuba/veach-bidir/
+// scene.xml: a Mitsuba file is named by its folder) 336 s. The smaller sizes are
+// bench/estimator.sh's (issue 44; the volumetric caustic as the copy that script writes, its
+// integrator made volpath): their own relMSE at most a tenth of MMLT's at 6 s on a quiet
+// 2-core machine, each rendered in 4 to 11 minutes with nice -n 10 beside another
+// developer's work (times and own noise: docs/benchmarks.md, "Estimator suite").
+// Other sizes and scenes: 256 unless --ref-spp says otherwise.
+struct RefSpp {
+    const char* scene;
+    int width, height, spp;
+};
+const RefSpp kRefSpp[] = {{"bitterli-cornell-256", 256, 256, 4096},
+                          {"seed-room", 256, 256, 2048},
+                          {"veach-bidir", 256, 256, 2048},
+                          {"seed-room", 128, 128, 4096},
+                          {"bitterli-cornell-256", 128, 128, 8192},
+                          {"veach-bidir-256", 128, 128, 8192},
+                          {"volumetric-caustic-volpath", 128, 128, 4096},
+                          {"veach-ajar", 160, 90, 8192}};
 constexpr uint64_t kRefSeedA = 0x5eed0000a, kRefSeedB = 0x5eed0000b;
 
 struct Options {
@@ -92,6 +116,9 @@ struct Options {
     std::string cacheDir, csv = "bench-error.csv";
     int chains = 0, bootstrap = -1, passLength = 0;  // 0 / -1: RenderOptions' defaults
     double probLarge = -1, misBeta = -1;             // < 0: the scene's / RenderOptions' default
+    int mmltTarget = -1, mmltSteps = -1;             // < 0: RenderOptions' defaults (else MmltTarget; 1: learned)
+    std::string refTracer = "bpt";
+    bool refOnly = false;
     std::string sweepName;
     std::vector<std::string> sweepValues;
 };
@@ -107,6 +134,17 @@ std::vector<std::string> splitList(const std::string& s) {
     for (std::string item; std::getline(ss, item, ',');)
         if (!item.empty()) out.push_back(item);
     return out;
+}
+
+// --mmlt-target's and --mmlt-steps' values (the CLI's names), as Options' ints.
+int parseMmltTarget(const std::string& v) {
+    if (v == "luminance") return int(MmltTarget::Luminance);
+    if (v == "relative") return int(MmltTarget::Relative);
+    usage("--mmlt-target: '" + v + "' is not one of luminance, relative");
+}
+int parseMmltSteps(const std::string& v) {
+    if (v == "fixed" || v == "learned") return v == "learned";
+    usage("--mmlt-steps: '" + v + "' is not one of fixed, learned");
 }
 
 double toNumber(const std::string& s, const char* what) {
@@ -137,6 +175,16 @@ std::vector<std::string> expandProgression(const std::vector<std::string>& in) {
     return out;
 }
 
+bool parseTracer(const std::string& name, TracerKind& t) {
+    if (name == "pt") t = TracerKind::PT;
+    else if (name == "lt") t = TracerKind::LT;
+    else if (name == "bpt") t = TracerKind::BPT;
+    else if (name == "mmlt") t = TracerKind::MMLT;
+    else if (name == "pssmlt") t = TracerKind::PSSMLT;
+    else return false;
+    return true;
+}
+
 Options parseArgs(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
@@ -158,6 +206,8 @@ Options parseArgs(int argc, char** argv) {
         else if (a == "--seed") o.seed = uint64_t(toNumber(value(), "--seed"));
         else if (a == "--threads") o.threads = int(toNumber(value(), "--threads"));
         else if (a == "--ref-spp") o.refSpp = int(toNumber(value(), "--ref-spp"));
+        else if (a == "--ref-tracer") o.refTracer = value();
+        else if (a == "--ref-only") o.refOnly = true;
         else if (a == "--cache") o.cacheDir = value();
         else if (a == "--csv") o.csv = value();
         else if (a == "--chains") o.chains = int(toNumber(value(), "--chains"));
@@ -165,33 +215,33 @@ Options parseArgs(int argc, char** argv) {
         else if (a == "--pass-length") o.passLength = int(toNumber(value(), "--pass-length"));
         else if (a == "--p-large") o.probLarge = toNumber(value(), "--p-large");
         else if (a == "--mis-beta") o.misBeta = toNumber(value(), "--mis-beta");
+        else if (a == "--mmlt-target") o.mmltTarget = parseMmltTarget(value());
+        else if (a == "--mmlt-steps") o.mmltSteps = parseMmltSteps(value());
         else if (a == "--sweep") {
             std::string v = value();
             size_t eq = v.find('=');
             if (eq == std::string::npos) usage("--sweep wants NAME=V1,V2,...");
             o.sweepName = v.substr(0, eq);
             o.sweepValues = expandProgression(splitList(v.substr(eq + 1)));
-            static const char* names[] = {"p-large", "chains", "bootstrap", "pass-length", "mis-beta", "max-length", "round-spp"};
+            static const char* names[] = {"p-large",    "chains",    "bootstrap",   "pass-length", "mis-beta",
+                                          "max-length", "round-spp", "mmlt-target", "mmlt-steps"};
             bool known = false;
             for (const char* n : names) known |= o.sweepName == n;
             if (!known) usage("unknown --sweep parameter '" + o.sweepName + "'");
             if (o.sweepValues.empty()) usage("--sweep " + o.sweepName + " has no values");
+            for (const std::string& x : o.sweepValues) {  // the named values, checked before anything runs
+                if (o.sweepName == "mmlt-target") parseMmltTarget(x);
+                if (o.sweepName == "mmlt-steps") parseMmltSteps(x);
+            }
         } else if (a == "-h" || a == "--help") usage("usage");
         else if (!a.empty() && a[0] == '-') usage("unknown option '" + a + "'");
         else o.scenes.push_back(a);
     }
     if (o.roundSpp < 1 || o.reps < 1 || o.budgets.empty() || o.tracers.empty()) usage("nothing to run");
+    TracerKind refTracer;
+    if (!parseTracer(o.refTracer, refTracer) || refTracer == TracerKind::LT || refTracer == TracerKind::PSSMLT)
+        usage("--ref-tracer: '" + o.refTracer + "' is not one of bpt, pt, mmlt");
     return o;
-}
-
-bool parseTracer(const std::string& name, TracerKind& t) {
-    if (name == "pt") t = TracerKind::PT;
-    else if (name == "lt") t = TracerKind::LT;
-    else if (name == "bpt") t = TracerKind::BPT;
-    else if (name == "mmlt") t = TracerKind::MMLT;
-    else if (name == "pssmlt") t = TracerKind::PSSMLT;
-    else return false;
-    return true;
 }
 
 // What one run varies: the sweep's parameter (or none) applied to the defaults.
@@ -199,6 +249,7 @@ struct Variant {
     std::string label = "-";  // the CSV's param column
     int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1, passLength = 0;
     double probLarge = -1, misBeta = -1;
+    int mmltTarget = -1, mmltSteps = -1;  // < 0: RenderOptions' defaults
 };
 
 std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
@@ -210,12 +261,24 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
     base.passLength = o.passLength;
     base.probLarge = o.probLarge;
     base.misBeta = o.misBeta;
+    base.mmltTarget = o.mmltTarget;
+    base.mmltSteps = o.mmltSteps;
     if (o.sweepName.empty()) return {base};
     std::vector<Variant> out;
     for (const std::string& v : o.sweepValues) {
         Variant x = base;
-        double d = o.sweepName == "chains" && v == "auto" ? 0 : toNumber(v, "--sweep");  // chains=auto: 0
         x.label = o.sweepName + "=" + v;
+        if (o.sweepName == "mmlt-target") {  // named values
+            x.mmltTarget = parseMmltTarget(v);
+            out.push_back(x);
+            continue;
+        }
+        if (o.sweepName == "mmlt-steps") {
+            x.mmltSteps = parseMmltSteps(v);
+            out.push_back(x);
+            continue;
+        }
+        double d = o.sweepName == "chains" && v == "auto" ? 0 : toNumber(v, "--sweep");  // chains=auto: 0
         if (o.sweepName == "p-large") x.probLarge = d;
         else if (o.sweepName == "chains") x.chains = int(d);
         else if (o.sweepName == "bootstrap") x.bootstrap = int(d);
@@ -241,6 +304,8 @@ RenderOptions makeOptions(const SceneDesc& desc, TracerKind tracer, const Varian
     if (v.bootstrap >= 0) opt.bootstrap = v.bootstrap;
     if (v.passLength > 0) opt.passLength = v.passLength;
     if (v.misBeta >= 0) opt.misBeta = float(v.misBeta);
+    if (v.mmltTarget >= 0) opt.mmltTarget = MmltTarget(v.mmltTarget);
+    if (v.mmltSteps >= 0) opt.learnSteps = v.mmltSteps == 1;
     return opt;
 }
 
@@ -281,18 +346,23 @@ std::string executableDir() {
 struct Reference {
     Image image;
     double mean = 0, noiseRmse = 0, seconds = 0;
+    double noiseRelMse = -1;  // < 0: not known (a reference cached before it was recorded)
     int spp = 0;
     std::string path;
     bool cached = false;
 };
 
-// The BPT reference for this scene, size and MaxPathLength: read from the cache, or rendered
-// (two halves, two seeds) and written there.
-Reference reference(const SceneDesc& desc, const std::string& name, int maxLength, int spp, int threads, const std::string& cacheDir) {
+// The reference for this scene, size and MaxPathLength (BPT unless --ref-tracer says
+// otherwise): read from the cache, or rendered (two halves, two seeds) and written there.
+Reference reference(const SceneDesc& desc, const std::string& name, int maxLength, int spp, int threads, const std::string& cacheDir,
+                    const std::string& tracerName) {
     Reference ref;
     ref.spp = spp;
+    TracerKind tracer = TracerKind::BPT;
+    parseTracer(tracerName, tracer);
+    const std::string tag = tracer == TracerKind::BPT ? "" : tracerName + "-";  // BPT's files keep their names
     char file[512];
-    std::snprintf(file, sizeof file, "%s-%dx%d-L%d-%dspp", name.c_str(), desc.settings.width, desc.settings.height, maxLength, spp);
+    std::snprintf(file, sizeof file, "%s-%dx%d-L%d-%s%dspp", name.c_str(), desc.settings.width, desc.settings.height, maxLength, tag.c_str(), spp);
     ref.path = cacheDir + "/" + file + ".pfm";
     const std::string info = cacheDir + "/" + file + ".txt";
     if (fs::exists(ref.path)) {
@@ -301,6 +371,7 @@ Reference reference(const SceneDesc& desc, const std::string& name, int maxLengt
         for (std::string key; in >> key;) {
             if (key == "seconds") in >> ref.seconds;
             else if (key == "noise_rmse") in >> ref.noiseRmse;
+            else if (key == "noise_relmse") in >> ref.noiseRelMse;
             else in.ignore(1 << 20, '\n');
         }
         ref.cached = true;
@@ -310,8 +381,8 @@ Reference reference(const SceneDesc& desc, const std::string& name, int maxLengt
         Variant v;
         v.maxLength = maxLength;
         v.roundSpp = half;
-        RenderOptions opt = makeOptions(desc, TracerKind::BPT, v, threads);
-        std::printf("reference: rendering %s (BPT, %d spp in two halves) ...\n", ref.path.c_str(), 2 * half);
+        RenderOptions opt = makeOptions(desc, tracer, v, threads);
+        std::printf("reference: rendering %s (%s, %d spp in two halves) ...\n", ref.path.c_str(), tracerName.c_str(), 2 * half);
         std::fflush(stdout);
         auto t0 = Clock::now();
         int lastShown = -1, halfIndex = 0;
@@ -334,13 +405,25 @@ Reference reference(const SceneDesc& desc, const std::string& name, int maxLengt
         ref.spp = 2 * half;
         ref.image = a;
         for (size_t i = 0; i < a.rgb.size(); ++i) ref.image.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+        // relMSE of the mean of the halves against the true image: E (a - b)^2 / 4 per pixel,
+        // over (ref^2 + 0.01) with the mean as ref, as a run's relMSE is taken
+        double s = 0;
+        for (size_t i = 0; i < a.rgb.size(); ++i) {
+            const double d = double(a.rgb[i]) - double(b.rgb[i]), r = double(ref.image.rgb[i]);
+            s += d * d / (r * r + 0.01);
+        }
+        ref.noiseRelMse = a.rgb.empty() ? 0 : s / double(a.rgb.size()) / 4;
         writeImage(ref.path, ref.image);
         std::ofstream out(info);
-        out << "seconds " << ref.seconds << "\nnoise_rmse " << ref.noiseRmse << "\nspp " << ref.spp << "\nthreads " << threads << "\n";
+        out << "seconds " << ref.seconds << "\nnoise_rmse " << ref.noiseRmse << "\nnoise_relmse " << ref.noiseRelMse << "\nspp " << ref.spp
+            << "\ntracer " << tracerName << "\nthreads " << threads << "\n";
     }
     ref.mean = meanOf(ref.image);
-    std::printf("reference: %s, %s, %d spp, %.0f s to render, mean %.4g, own noise ~ RMSE %.3g (rel %.3g)\n", ref.path.c_str(),
-                ref.cached ? "cached" : "rendered now", ref.spp, ref.seconds, ref.mean, ref.noiseRmse, ref.mean > 0 ? ref.noiseRmse / ref.mean : 0.0);
+    char relNoise[64] = "not recorded";
+    if (ref.noiseRelMse >= 0) std::snprintf(relNoise, sizeof relNoise, "%.3g", ref.noiseRelMse);
+    std::printf("reference: %s, %s, %s, %d spp, %.0f s to render, mean %.4g, own noise ~ RMSE %.3g (rel %.3g), relMSE %s\n", ref.path.c_str(),
+                ref.cached ? "cached" : "rendered now", tracerName.c_str(), ref.spp, ref.seconds, ref.mean, ref.noiseRmse,
+                ref.mean > 0 ? ref.noiseRmse / ref.mean : 0.0, relNoise);
     return ref;
 }
 
@@ -368,8 +451,9 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                 o.maxLength > 0 ? "" : "(the scene's) ", o.maxLength > 0 ? o.maxLength : desc.settings.maxPathLength, o.roundSpp, o.reps);
     int refSpp = o.refSpp;
     if (refSpp <= 0) {
-        auto it = kRefSpp.find(name);
-        refSpp = it != kRefSpp.end() && o.width * o.height == 256 * 256 ? it->second : 256;
+        refSpp = 256;
+        for (const RefSpp& r : kRefSpp)
+            if (name == r.scene && o.width == r.width && o.height == r.height) refSpp = r.spp;
     }
     const int threadCount = o.threads > 0 ? o.threads : int(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN)));
 
@@ -380,8 +464,9 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
             std::printf("MaxPathLength %d out of range; skipped\n", v.maxLength);
             continue;
         }
-        if (!refs.count(v.maxLength)) refs[v.maxLength] = reference(desc, name, v.maxLength, refSpp, o.threads, cacheDir);
+        if (!refs.count(v.maxLength)) refs[v.maxLength] = reference(desc, name, v.maxLength, refSpp, o.threads, cacheDir, o.refTracer);
         const Reference& ref = refs[v.maxLength];
+        if (o.refOnly) continue;
         std::printf("%-6s %-16s %8s %9s %9s %11s %21s %9s %13s %10s %10s %11s %6s %6s\n", "tracer", "param", "budget s", "seconds", "spp", "RMSE",
                     "(runs: least..most)", "relRMSE", "RMSE-refnoise", "relMSE", "ns/sample", "samples/s", "acc.S", "acc.L");
         for (const std::string& tname : o.tracers) {
@@ -503,14 +588,18 @@ int main(int argc, char** argv) {
                     (root / "seed-room/seed-room.xml").lexically_normal().string()};
     }
     const std::string cacheDir = o.cacheDir.empty() ? executableDir() + "/bench-cache" : o.cacheDir;
-    std::printf("error vs time: tracers");
-    for (const std::string& t : o.tracers) std::printf(" %s", t.c_str());
-    std::printf(", budgets");
-    for (double b : o.budgets) std::printf(" %gs", b);
+    if (o.refOnly) std::printf("references only (--ref-only)");
+    else {
+        std::printf("error vs time: tracers");
+        for (const std::string& t : o.tracers) std::printf(" %s", t.c_str());
+        std::printf(", budgets");
+        for (double b : o.budgets) std::printf(" %gs", b);
+    }
     std::printf(", image %dx%d (--size to change), references in %s\n", o.width, o.height, cacheDir.c_str());
     std::vector<Row> rows;
     try {
         for (const std::string& s : o.scenes) benchScene(s, o, rows, cacheDir);
+        if (o.refOnly) return 0;
         writeCsv(o.csv, rows);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
