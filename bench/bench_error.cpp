@@ -37,6 +37,9 @@
 // as the denominator's reference; a run's relMSE against it includes that much of the
 // reference's noise). Rendered once, reused.
 //
+// Exit status: 0; 1 when a run could not be made (a render that threw, an unknown tracer:
+// "skipped" in the table, no row in the CSV); 2 on bad options or an unreadable scene.
+//
 // Per run: RMSE over all pixels and RGB channels against the reference, relative RMSE
 // (RMSE / the reference's mean) and relative MSE (the mean over pixels and channels of
 // (x - ref)^2 / (ref^2 + 0.01): dark pixels count as much as bright ones), the speed
@@ -78,6 +81,11 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+// Runs that could not be made (an unknown tracer, a render that threw): their rows are left
+// out, and the program says so and exits 1, so that a script reading the CSV cannot take a
+// missing row for a result. (A missing scene is not a failure: the shared folder is optional.)
+int failedRuns = 0;
 
 // Reference spp (BPT) per scene and size. At 256 x 256, some 20 to 40 times the samples BPT
 // gets in 16 s, measured on a shared 2-core machine (issue 29; builds ran beside them): the
@@ -473,6 +481,7 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
             TracerKind tracer;
             if (!parseTracer(tname, tracer)) {
                 std::printf("%-6s unknown tracer (pt, lt, bpt, mmlt, pssmlt); skipped\n", tname.c_str());
+                ++failedRuns;
                 continue;
             }
             RenderOptions opt = makeOptions(desc, tracer, v, o.threads);
@@ -505,6 +514,7 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                         }
                     } catch (const std::exception& e) {
                         std::printf("%-6s %-16s %s; skipped\n", tname.c_str(), v.label.c_str(), e.what());
+                        ++failedRuns;
                         failed = true;
                     }
                 }
@@ -606,5 +616,9 @@ int main(int argc, char** argv) {
         return 2;
     }
     std::printf("\nwrote %s (%zu rows)\n", o.csv.c_str(), rows.size());
+    if (failedRuns) {
+        std::fprintf(stderr, "error: %d run(s) failed and are not in %s (see above)\n", failedRuns, o.csv.c_str());
+        return 1;
+    }
     return 0;
 }

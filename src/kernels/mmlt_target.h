@@ -1,5 +1,5 @@
-// MMLT's target function c(x) (mmlt.md, step 4; docs/mmlt-levers.md, "A target for the
-// error users see"). The luminance of the path's contribution F (Hachisuka et al. 2014), or
+// MMLT's target function c(x) (mmlt.md, step 4; docs/mmlt-levers.md, "The relative
+// target"). The luminance of the path's contribution F (Hachisuka et al. 2014), or
 // with a target map (RenderOptions::mmltTarget = Relative, from the second pass on) that
 // luminance over a smoothed estimate of the brightness B of the film tile the path lands on,
 // with a floor (Hoberock and Hart 2010, "Arbitrary importance functions for Metropolis light

@@ -19,6 +19,9 @@
 // keeps it), so every pass is unbiased whatever its length and its chains' count, and so is
 // their weighted average: pass p's iterations count f_p = N_p / (N_p + 32 C) (its pools'
 // sample count N_p, never their values): I = pixels * film / sum_p f_p iterations_p.
+// Between passes the render may learn what the next pass holds fixed (RenderOptions'
+// levers, off by default: mmlt_learn.cpp, docs/mmlt-levers.md): a relative target, made from
+// samples no pool holds, and each length's small-step size; each pass stays exact.
 // One film serves every length. Splats are kept per batch and added in batch order after
 // each round, pools likewise: a seed and any thread count give one image.
 // Split across ranks (RenderOptions::ranks, docs/mpi.md): each rank runs a contiguous share

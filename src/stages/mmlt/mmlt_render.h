@@ -80,8 +80,9 @@ private:
     void mergeRound(std::vector<TaskOutput>& outputs, std::vector<SamplePool>& roundPools, bool parallelMerge, uint32_t stripeShift);
     void accountRound(const std::vector<TaskOutput>& outputs, uint32_t r, double roundStart);
     RenderResult resolve();
-    // What the render learns between passes (mmlt_learn.cpp). The relative-error target: its map's tiles, the brightness sums of
-    // every sample the pools see, a new map at a pass boundary.
+    // What the render learns between passes (mmlt_learn.cpp): the relative target's map (its
+    // tiles, the brightness sums of the samples set aside for it, a new map at a pass
+    // boundary) and each length's small-step size.
     void planTargetMap();
     void collectBrightness(const SamplePool& p, int k);
     bool retarget();

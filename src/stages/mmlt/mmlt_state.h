@@ -73,7 +73,7 @@ struct SamplePool {
 //   accepted: its accepted proposals (the lazy step's clock)
 //   lastLarge: its last accepted large step
 //   F: the current state's contribution, (k + 1) L_w
-//   c: its target, luminance(F)
+//   c: its target (kernels/mmlt_target.h: luminance(F), or over its tile's brightness)
 //   filmX, filmY: its film point
 //   seed: the key of the pool entry it started from
 #define WMLT_CHAIN_COORDINATE_ARRAYS(X) X(float, value) X(uint32_t, lastModified)
