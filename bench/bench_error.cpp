@@ -146,8 +146,8 @@ std::vector<std::string> splitList(const std::string& s) {
 
 // --mmlt-target's and --mmlt-steps' values (the CLI's names), as Options' ints.
 int parseMmltTarget(const std::string& v) {
-    if (v == "luminance") return int(MmltTarget::Luminance);
-    if (v == "relative") return int(MmltTarget::Relative);
+    MmltTarget t;
+    if (parseMmltTarget(v, t)) return int(t);
     usage("--mmlt-target: '" + v + "' is not one of luminance, relative");
 }
 int parseMmltSteps(const std::string& v) {

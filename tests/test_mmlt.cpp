@@ -103,7 +103,7 @@ RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
     if (o.bootstrap > 0)
         for (int k = std::max(1, o.minPathLength); k <= o.maxPathLength; ++k) CHECK(m.bootstrapSamples[size_t(k)] == uint64_t(o.bootstrap));
     // (With the relative target a proposal splats b_k / chains_k / scale: b is in its units.)
-    if (m.target == "luminance") CHECK(meanLuminance(r.image) == Approx(bSum).epsilon(1e-5));
+    if (m.target == MmltTarget::Luminance) CHECK(meanLuminance(r.image) == Approx(bSum).epsilon(1e-5));
     return r;
 }
 

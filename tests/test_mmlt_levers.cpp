@@ -113,7 +113,7 @@ TEST_CASE("MMLT levers: seeds replay bit for bit, one image for 1, 2 and 4 threa
     CHECK(a.stats.samplesNonfiniteDiscarded == 0);
     // A new map at every pass after the first (each pool has light here), scales around 1
     // with the floor's bound: a tile at the floor of 0.1 of the mean weighs 10.
-    CHECK(m.target == "relative");
+    CHECK(m.target == MmltTarget::Relative);
     CHECK(m.targetMaps == m.passes - 1);
     CHECK(m.targetTileSize == 1);
     CHECK(m.targetScaleLeast > 0);
@@ -144,7 +144,7 @@ TEST_CASE("MMLT levers: seeds replay bit for bit, one image for 1, 2 and 4 threa
     }
     // Off, the stats say so and the defaults hold.
     const RenderResult off = render(desc, mmlt(16, 6, MmltTarget::Luminance, false, 42));
-    CHECK(off.stats.mmlt.target == "luminance");
+    CHECK(off.stats.mmlt.target == MmltTarget::Luminance);
     CHECK(off.stats.mmlt.targetMaps == 0);
     CHECK_FALSE(off.stats.mmlt.learnedSteps);
 }

@@ -46,6 +46,16 @@ class Distributed;  // the ranks of a render split across processes (stages/core
 // (Hoberock and Hart 2010), so that the chains spend their mutations where the relative
 // error is.
 enum class MmltTarget { Luminance, Relative };
+// Its names (--mmlt-target, --stats' mmlt_target); parseMmltTarget: false for another name.
+inline const char* mmltTargetName(MmltTarget t) { return t == MmltTarget::Relative ? "relative" : "luminance"; }
+inline bool parseMmltTarget(const std::string& name, MmltTarget& t) {
+    for (MmltTarget x : {MmltTarget::Luminance, MmltTarget::Relative})
+        if (name == mmltTargetName(x)) {
+            t = x;
+            return true;
+        }
+    return false;
+}
 
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
@@ -150,7 +160,7 @@ struct RenderStats {
         // relative target: the maps made (one per pass after the first), their tiles' side
         // in pixels, and the last map's least and greatest scale (mean brightness over the
         // tile's); b is then in the target's units, not luminance.
-        std::string target = "luminance";
+        MmltTarget target = MmltTarget::Luminance;
         uint32_t targetMaps = 0, targetTileSize = 0;
         double targetScaleLeast = 0, targetScaleMost = 0;
         bool learnedSteps = false;

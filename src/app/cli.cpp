@@ -179,9 +179,9 @@ CommandLine parseCommandLine(int argc, char** argv) {
             if (!(*cl.probLarge > 0)) fail("--p-large: must be greater than 0");
         } else if (a == "--mmlt-target") {
             const std::string v = value();
-            if (v == "luminance") cl.mmltTarget = MmltTarget::Luminance;
-            else if (v == "relative") cl.mmltTarget = MmltTarget::Relative;
-            else fail("--mmlt-target: '" + v + "' is not one of luminance, relative");
+            MmltTarget t;
+            if (!parseMmltTarget(v, t)) fail("--mmlt-target: '" + v + "' is not one of luminance, relative");
+            cl.mmltTarget = t;
         } else if (a == "--mmlt-steps") {
             const std::string v = value();
             if (v == "fixed" || v == "learned") cl.learnSteps = v == "learned";

@@ -47,13 +47,13 @@ void MmltRender::collectBrightness(const SamplePool& p, int k) {
     brightnessSamples_[size_t(k)] += p.count;
 }
 
-// A new target from the tile sums so far, and every pool entry's c under it (false: no
-// light seen yet, the target stays as it is).
-bool MmltRender::retarget() {
-    if (brightness_.empty()) return false;
+// A new target from the tile sums so far, and every pool entry's c under it (no light seen
+// yet: the target stays as it is).
+void MmltRender::retarget() {
+    if (brightness_.empty()) return;
     const int TX = map_.tilesX, TY = map_.tilesY, W = scene_.camera.width, H = scene_.camera.height;
     const size_t tiles = size_t(TX) * size_t(TY);
-    std::vector<double> B(tiles, 0.0), area(tiles, 0.0);
+    std::vector<double> B(tiles, 0.0);
     for (int k = lo_; k <= hi_; ++k) {
         if (!brightnessSamples_[size_t(k)]) continue;
         const double* S = &brightness_[size_t(k) * tiles];
@@ -61,7 +61,7 @@ bool MmltRender::retarget() {
     }
     double total = 0;
     for (size_t t = 0; t < tiles; ++t) total += B[t];
-    if (!(total > 0) || !std::isfinite(total)) return false;
+    if (!(total > 0) || !std::isfinite(total)) return;
     const double mean = total / (double(W) * double(H));  // per pixel
     // The 3 x 3 tiles around each: their sums over their pixels.
     scale_.assign(tiles, 1.0f);
@@ -93,7 +93,6 @@ bool MmltRender::retarget() {
     ++stats_.targetMaps;
     stats_.targetScaleLeast = least;
     stats_.targetScaleMost = most;
-    return true;
 }
 
 // Learned step sizes (RenderOptions::learnSteps): after a pass, each length's small-step

@@ -85,7 +85,7 @@ private:
     // boundary) and each length's small-step size.
     void planTargetMap();
     void collectBrightness(const SamplePool& p, int k);
-    bool retarget();
+    void retarget();
     void learnStepSizes();
     // Render time: paused time (a viewer's) is left out.
     double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count() - paused_; }

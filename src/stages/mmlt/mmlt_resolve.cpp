@@ -65,7 +65,7 @@ RenderResult MmltRender::resolve() {
     stats_.smallStepSigma = sigma_;
     stats_.learnedSteps = opt_.learnSteps && !whole_;
     if (!brightness_.empty()) {
-        stats_.target = "relative";
+        stats_.target = MmltTarget::Relative;
         stats_.targetTileSize = uint32_t(tileSize_);
     }
     stats_.longestTaskRatio = rounds_ ? ratioSum_ / double(rounds_) : 0.0;
