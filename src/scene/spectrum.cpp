@@ -158,4 +158,23 @@ Vec3 conductorAlbedoScale(const SampledSpectrum& eta, const SampledSpectrum& k, 
                 float(rgb[2] > 0 ? spectral[2] / rgb[2] : 1));
 }
 
+const Sellmeier* namedGlass(const std::string& name) {
+    // B1 B2 B3, C1 C2 C3 (um^2), from Schott's catalogue.
+    static const struct {
+        const char* name;
+        Sellmeier g;
+    } kGlasses[] = {
+        {"glass-BK7", {{1.03961212f, 0.231792344f, 1.01046945f}, {0.00600069867f, 0.0200179144f, 103.560653f}}},
+        {"glass-BAF10", {{1.5851495f, 0.143559385f, 1.08521269f}, {0.00926681282f, 0.0424489805f, 105.613573f}}},
+        {"glass-FK51A", {{0.971247817f, 0.216901417f, 0.904651666f}, {0.00472301995f, 0.0153575612f, 168.68133f}}},
+        {"glass-LASF9", {{2.00029547f, 0.298926886f, 1.80691843f}, {0.0121426017f, 0.0538736236f, 156.530829f}}},
+        {"glass-F5", {{1.52481889f, 0.187085527f, 1.42729015f}, {0.011254756f, 0.0588995392f, 129.141675f}}},
+        {"glass-F10", {{1.62153902f, 0.256287842f, 1.64447552f}, {0.0122241457f, 0.0595736775f, 147.468793f}}},
+        {"glass-F11", {{1.73759695f, 0.313747346f, 1.89878101f}, {0.013188707f, 0.0623068142f, 155.23629f}}},
+    };
+    for (const auto& g : kGlasses)
+        if (name == g.name) return &g.g;
+    return nullptr;
+}
+
 }  // namespace wmlt

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/spectral.h"
 #include "wavemmlt/math.h"
 
 namespace wmlt {
@@ -45,5 +46,10 @@ Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped =
 // under D65 at each angle). Gold's red, out of sRGB's gamut, needs 1.05: the projected
 // indices alone reflect 4.6% too little at normal incidence.
 Vec3 conductorAlbedoScale(const SampledSpectrum& eta, const SampledSpectrum& k, Vec3 etaRgb, Vec3 kRgb);
+
+// pbrt-v4's named glasses ("glass-BK7", "-BAF10", "-FK51A", "-LASF9", and "-F5", "-F10",
+// "-F11": Schott's SF5, N-SF10 and SF11) by their catalogue Sellmeier coefficients
+// (Schott's data sheets); nullptr for any other name.
+const Sellmeier* namedGlass(const std::string& name);
 
 }  // namespace wmlt
