@@ -115,6 +115,33 @@ TEST_CASE("pbrt-v4 scenes: a coated material (pbrt's layered BSDF) renders what 
     check("veach-mis/veach-mis.pbrt", "veach-mis/reference/pbrt-veach-mis-288x216-1024spp.exr", 0.01, 288, 216);
 }
 
+TEST_CASE("pbrt-v4 scenes: the coated gold killeroo differs from pbrt-v4's render by pbrt's coat weighting alone",
+          "[pbrt][reference][render][stat]") {
+    // pbrt-v4's LayeredBxDF weighs a direction sampled inside the slab against next-event
+    // estimation through the exit with the wrong density (kernels/bsdf_coated.cpp), which
+    // makes its f integrate above its own walk's albedo (test_bsdf_coated.cpp). With that
+    // weighting planted back, this coated conductor renders what pbrt-v4 renders (blocks
+    // within the noise and 1% of the mean); with wavemmlt's, the highlights are 4-8% darker
+    // than pbrt's: the difference docs/pbrt.md once put down to RGB against spectral.
+    SceneDesc d = atSize("killeroos/killeroo-coated-gold.pbrt", 256, 192);
+    int coated = 0;
+    for (MaterialDesc& m : d.materials)
+        if (m.kind == MaterialKind::Coated) {
+            m.coating.pbrtExitWeight = true;
+            ++coated;
+        }
+    REQUIRE(coated == 1);
+    const Match pbrtWeights = compare(d, "killeroos/reference/pbrt-killeroo-coated-gold-256x192-1024spp.exr", 32, 8, 0.01);
+    INFO("pbrt's weighting: worst " << pbrtWeights.worst << ", mean ratios " << pbrtWeights.meanRatio[0] << " " << pbrtWeights.meanRatio[1] << " "
+                                    << pbrtWeights.meanRatio[2]);
+    CHECK(pbrtWeights.worstExcess <= 5.0);
+    for (double r : pbrtWeights.meanRatio) CHECK(std::fabs(r - 1) <= 0.01);
+    for (MaterialDesc& m : d.materials) m.coating.pbrtExitWeight = false;
+    const Match ours = compare(d, "killeroos/reference/pbrt-killeroo-coated-gold-256x192-1024spp.exr", 32, 8, 0.01);
+    INFO("wavemmlt's weighting: worst " << ours.worst);
+    CHECK(ours.worstExcess > 5.0);
+}
+
 TEST_CASE("pbrt-v4 scenes: maxdepth counts bounces as pbrt-v4 does", "[pbrt][reference][render][stat]") {
     // The Cornell box's maxdepth 5 is 6 segments, camera to light; counted one off either
     // way (5 or 7), the comparison above fails.

@@ -183,6 +183,12 @@ struct MaterialDesc {
         float thickness = 0.01f, g = 0;
         Vec3 albedo{0.0f};
         int maxDepth = 10, nSamples = 1;
+        // pbrt-v4's own weight of a direction sampled inside the slab against next-event
+        // estimation through the exit: the exit's density of wi given that direction, where
+        // the strategy's density is that of the direction given wi (kernels/bsdf_coated.cpp).
+        // Biased (f then integrates above the walk's albedo) and off; on, the coated gold
+        // killeroo and the caustic glass render what pbrt-v4 renders (tests/test_pbrt_scenes.cpp).
+        bool pbrtExitWeight = false;
     } coating;
 };
 
