@@ -14,6 +14,7 @@
 #include <string>
 
 #include "kernels/envmap.h"
+#include "kernels/spectral.h"
 #include "kernels/texture.h"
 #include "mitsuba_floor.h"
 #include "power.h"
@@ -760,4 +761,84 @@ TEST_CASE("pbrt import: bad input names file and line", "[pbrt][import][bad-inpu
           "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
     CHECK(errorOf(head + "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n").find("vertex index 7 is out of range") != std::string::npos);
+}
+
+TEST_CASE("pbrt import: spectra are kept beside their RGB (for spectral rendering)", "[pbrt][import][spectral]") {
+    // Y of spectrum i times its scale, against E (the film's normalisation).
+    auto Y = [](const SceneDesc& d, int i) {
+        const SpectrumDesc& s = d.spectra[size_t(i)];
+        double y = 0;
+        for (double l = 360.5; l < 830; l += 1) {
+            double v = 0;
+            if (s.kind == SpectrumDesc::Kind::Blackbody) {
+                v = blackbodyNormalized(l, s.kelvin);
+            } else if (l >= s.lambda.front() && l <= s.lambda.back()) {
+                size_t j = 0;
+                while (j + 2 < s.lambda.size() && s.lambda[j + 1] < l) ++j;
+                const double t = (l - s.lambda[j]) / (s.lambda[j + 1] - s.lambda[j]);
+                v = s.value[j] * (1 - t) + s.value[j + 1] * t;
+            }
+            y += v * s.scale * cieMatching(float(l)).y;
+        }
+        return y / cieYIntegral();
+    };
+    const std::string au = kData + "killeroos/spds/Au.";
+    const SceneDesc d = load(R"(LightSource "point" "blackbody I" [ 5500 ] "float scale" [ 3 ] "point3 from" [ 0 2 0 ]
+LightSource "distant" "rgb L" [ 1 1 1 ]
+AttributeBegin
+AreaLightSource "diffuse" "spectrum L" [ 400 1  500 2  600 2  700 1 ]
+Shape "trianglemesh" "point3 P" [ -1 3 -1  1 3 -1  1 3 1  -1 3 1 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "sphere" "float radius" 0.1
+AttributeEnd
+Material "diffuse" "spectrum reflectance" [ 400 0.2  700 0.8 ]
+Shape "sphere" "float radius" 0.3
+Material "conductor" "spectrum eta" ")" +
+                                 au + R"(eta.spd" "spectrum k" ")" + au + R"(k.spd"
+Shape "sphere" "float radius" 0.3
+Material "conductor" "spectrum eta" "metal-Ag-eta" "spectrum k" "metal-Ag-k"
+Shape "sphere" "float radius" 0.3
+Material "coateddiffuse" "rgb reflectance" [ 0.5 0.4 0.3 ] "spectrum albedo" [ 400 0.1  700 0.3 ]
+Shape "sphere" "float radius" 0.3
+Material "dielectric" "spectrum eta" [ 400 1.53  550 1.52  700 1.51 ]
+Shape "sphere" "float radius" 0.3
+)" + kFloor,
+                             "spectra.pbrt");
+    // Lights: the blackbody (Y 1, its scale in radiance), the RGB one, one spectrum for both shapes.
+    REQUIRE(d.lights.size() == 4);
+    const LightDesc &point = d.lights[0], &distant = d.lights[1], &area0 = d.lights[2], &area1 = d.lights[3];
+    REQUIRE(point.spectrum >= 0);
+    CHECK(d.spectra[size_t(point.spectrum)].kind == SpectrumDesc::Kind::Blackbody);
+    CHECK(d.spectra[size_t(point.spectrum)].kelvin == 5500.0f);
+    CHECK(d.spectra[size_t(point.spectrum)].source == "blackbody 5500 K");
+    CHECK(Y(d, point.spectrum) == Approx(1.0).epsilon(2e-3));
+    CHECK(luminance(point.radiance) == Approx(3.0f).epsilon(1e-4));
+    CHECK(distant.spectrum == -1);
+    REQUIRE(area0.spectrum >= 0);
+    CHECK(area1.spectrum == area0.spectrum);
+    CHECK(d.spectra[size_t(area0.spectrum)].lambda == std::vector<float>{400, 500, 600, 700});
+    CHECK(Y(d, area0.spectrum) == Approx(1.0).epsilon(2e-3));
+    // Materials, in file order after pbrt's default (the area lights' shapes): a spectral
+    // reflectance, gold's files, a named metal (RGB only so far), a coat's spectral albedo
+    // over an RGB base, a dielectric's spectral index; the floor's RGB.
+    std::vector<const MaterialDesc*> ms;
+    for (const MaterialDesc& m : d.materials) ms.push_back(&m);
+    REQUIRE(ms.size() == 7);
+    CHECK(ms[0]->spectra[MaterialParam::Diffuse] == -1);
+    ms.erase(ms.begin());
+    const int refl = ms[0]->spectra[MaterialParam::Diffuse];
+    REQUIRE(refl >= 0);
+    CHECK(d.spectra[size_t(refl)].value == std::vector<float>{0.2f, 0.8f});
+    CHECK(d.spectra[size_t(refl)].scale == 1.0f);
+    const int eta = ms[1]->spectra[MaterialParam::ConductorEta], k = ms[1]->spectra[MaterialParam::ConductorK];
+    REQUIRE(eta >= 0);
+    REQUIRE(k >= 0);
+    CHECK(d.spectra[size_t(eta)].source.find("Au.eta.spd") != std::string::npos);
+    CHECK(d.spectra[size_t(k)].source.find("Au.k.spd") != std::string::npos);
+    CHECK(d.spectra[size_t(eta)].lambda.size() > 10);
+    CHECK(ms[2]->spectra[MaterialParam::ConductorEta] == -1);
+    CHECK(ms[3]->spectra[MaterialParam::Albedo] >= 0);
+    CHECK(ms[3]->spectra[MaterialParam::Diffuse] == -1);
+    REQUIRE(ms[4]->etaSpectrum >= 0);
+    CHECK(d.spectra[size_t(ms[4]->etaSpectrum)].value == std::vector<float>{1.53f, 1.52f, 1.51f});
+    CHECK(ms[5]->spectra[MaterialParam::Diffuse] == -1);
 }

@@ -124,6 +124,23 @@ struct ParamTextures {
     int operator[](MaterialParam q) const { return index[int(q)]; }
 };
 
+// A spectrum as a file gave it (wavelength-value pairs or an .spd file, a blackbody
+// temperature, a named glass), kept beside the RGB the importer projects it to: RGB rendering
+// reads the RGB, spectral rendering (docs/spectral.md) this.
+struct SpectrumDesc {
+    enum class Kind : uint8_t { Tabulated, Blackbody, Sellmeier };
+    Kind kind = Kind::Tabulated;
+    std::vector<float> lambda, value;              // Tabulated: nm, increasing; linear between, 0 outside
+    float kelvin = 0;                              // Blackbody: Planck's law normalised to 1 at its peak
+    float sellmeierB[3] = {}, sellmeierC[3] = {};  // Sellmeier: an index of refraction (C in um^2)
+    float scale = 1;                               // the spectrum is this times the above
+    std::string source;                            // "spds/Au.eta.spd", "blackbody 5500 K", "glass-BK7"
+};
+
+// A material's spectra by parameter (MaterialParam): an index into SceneDesc::spectra, -1:
+// its RGB constant (a colour given as RGB, or not given).
+using ParamSpectra = ParamTextures;
+
 struct MaterialDesc {
     int id = 0;
     MaterialKind kind = MaterialKind::Matte;
@@ -137,7 +154,9 @@ struct MaterialDesc {
     // thesis' <Texture> is the Diffuse one; an importer that maps a texture alone sets the
     // constant to 1 (a roughness's too: alpha 1, scaled by the texture).
     ParamTextures texture;
-    int bump = -1;  // index into SceneDesc::textures, -1: none
+    ParamSpectra spectra;  // the colours given as spectra
+    int etaSpectrum = -1;  // Dielectric kinds: the index given as a spectrum (SceneDesc::spectra, -1: none)
+    int bump = -1;         // index into SceneDesc::textures, -1: none
     // Mitsuba materials: `diffuse` is diffuse_reflectance, `reflect` specular_reflectance,
     // `refract` specular_transmittance, iorInside/iorOutside int_ior/ext_ior.
     MicrofacetType distribution = MicrofacetType::Beckmann;
@@ -378,6 +397,9 @@ struct LightDesc {
     // directive); kMediumUndeclared: found by the scene model's rule (docs/media.md).
     static constexpr int kMediumUndeclared = -2;
     int mediumFront = kMediumUndeclared, mediumBack = kMediumUndeclared;
+    // Its emission as a spectrum (index into SceneDesc::spectra, -1: radiance is RGB), stored
+    // with a luminance of 1 (Y against E): the spectral radiance is it times luminance(radiance).
+    int spectrum = -1;
 };
 
 struct SceneDesc {
@@ -392,7 +414,8 @@ struct SceneDesc {
     int groups = 0;                       // shape groups (ShapeDesc::group)
     std::vector<InstanceDesc> instances;  // their placements
     std::vector<MediumDesc> media;
-    int cameraMedium = -1;  // the medium the camera is in (index into media, -1: vacuum)
+    std::vector<SpectrumDesc> spectra;  // the spectra the file gave (MaterialDesc::spectra, LightDesc::spectrum)
+    int cameraMedium = -1;              // the medium the camera is in (index into media, -1: vacuum)
     // pbrt-v4's and Mitsuba's rules (their importers set it): a pass-through boundary may be an
     // open mesh (a ray's medium is set by the side it leaves through), and the camera's medium
     // is not checked against a closed boundary around it: what the file declares is rendered,

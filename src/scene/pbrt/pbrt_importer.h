@@ -100,6 +100,13 @@ private:
     void texture(Directive& d);
     // `sampled`: the spectrum itself when it is one (pairs, a file, a blackbody), else emptied.
     Vec3 spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, SampledSpectrum* sampled = nullptr);
+    // The last spectrum() call's spectrum as the file gave it (an index into SceneDesc::spectra:
+    // pairs, a file, a blackbody), or -1 (an RGB, a float, the default, a named metal).
+    int lastSpectrum_ = -1;
+    int keepSpectrum(const SampledSpectrum& s, float scale, const std::string& source, float kelvin = 0);
+    // m's parameter q was the last spectrum() (or colourParam()) read: its spectrum, if the
+    // file gave one, times scale, as m.spectra[q].
+    void keepParamSpectrum(MaterialDesc& m, MaterialParam q, float scale = 1);
     // A colour parameter: its constant, with `texture` set when it names a texture (the
     // constant is then 1, as MaterialDesc's textured parameters take it).
     Vec3 colourParam(Params& p, const std::string& name, Vec3 def, int& texture, bool floatParam = false);

@@ -151,6 +151,7 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
         s_.textures.push_back(std::move(t));
     }
     const Vec3 L = image >= 0 ? Vec3(1.0f) : spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+    const int spectral = image >= 0 ? -1 : lastSpectrum_;
     double scale = p.getFloat("scale", 1);
     const bool twoSided = p.getBool("twosided", false);
     const double power = p.getFloat("power", -1);
@@ -175,6 +176,7 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
     l.twoSided = twoSided;
     l.texture = image;
     l.radiance = scaled(d.at, L, scale, power > 0 ? "L (normalised to its power)" : "L");
+    l.spectrum = spectral;
     l.shape = int(&sh - s_.shapes.data());
     sh.light = int(s_.lights.size());
     pendingLightMedia_.push_back({sh.light, g_.insideMedium, g_.outsideMedium, d.at});  // the shape's MediumInterface
@@ -189,6 +191,7 @@ void Importer::lightSource(Directive& d) {
     LightDesc l;
     if (type == "point" || type == "spot") {
         const Vec3 I = spectrum(p, "I", Vec3(1.0f), SpectrumUse::Illuminant);
+        l.spectrum = lastSpectrum_;
         const Vec3 from = p.getPoint3("from", Vec3(0.0f));
         l.kind = LightKind::Point;
         l.position = g_.ctm.point(from);
@@ -212,6 +215,7 @@ void Importer::lightSource(Directive& d) {
         l.radiance = scaled(d.at, I, scale, power > 0 ? "I (normalised to its power)" : "I");
     } else if (type == "distant") {
         const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
+        l.spectrum = lastSpectrum_;
         const Vec3 from = p.getPoint3("from", Vec3(0.0f)), to = p.getPoint3("to", Vec3(0, 0, 1));
         const Vec3 dir = g_.ctm.vector(to - from);  // the light travels from `from` to `to`
         if (!(length(dir) > 0)) fail(d.at, "distant: from equals to");

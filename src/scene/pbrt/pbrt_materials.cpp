@@ -73,8 +73,35 @@ bool namedSpectrumRgb(const std::string& name, Vec3& rgb) {
     return false;
 }
 
+int Importer::keepSpectrum(const SampledSpectrum& s, float scale, const std::string& source, float kelvin) {
+    SpectrumDesc d;
+    d.kind = kelvin > 0 ? SpectrumDesc::Kind::Blackbody : SpectrumDesc::Kind::Tabulated;
+    d.kelvin = kelvin;
+    if (!(kelvin > 0))
+        for (size_t i = 0; i < s.lambda.size(); ++i) {
+            d.lambda.push_back(float(s.lambda[i]));
+            d.value.push_back(float(s.value[i]));
+        }
+    d.scale = scale;
+    d.source = source;
+    // the same spectrum again (an area light's directive on many shapes): the same entry
+    for (size_t i = 0; i < s_.spectra.size(); ++i) {
+        const SpectrumDesc& e = s_.spectra[i];
+        if (e.kind == d.kind && e.kelvin == d.kelvin && e.scale == d.scale && e.lambda == d.lambda && e.value == d.value && e.source == d.source)
+            return int(i);
+    }
+    s_.spectra.push_back(std::move(d));
+    return int(s_.spectra.size()) - 1;
+}
+
+void Importer::keepParamSpectrum(MaterialDesc& m, MaterialParam q, float scale) {
+    m.spectra[q] = lastSpectrum_;
+    if (lastSpectrum_ >= 0) s_.spectra[size_t(lastSpectrum_)].scale *= scale;
+}
+
 Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUse use, SampledSpectrum* sampled) {
     const Param* q = p.find(name);
+    lastSpectrum_ = -1;
     if (sampled) *sampled = SampledSpectrum{};
     if (!q) return def;
     const std::string decl = "\"" + q->type + " " + name + "\"";
@@ -120,15 +147,24 @@ Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUs
         fail(q->at, decl + ": expected an rgb, spectrum or blackbody value");
     }
     if (sampled) *sampled = s;
-    if (use != SpectrumUse::Illuminant) return spectrumToRgb(s, true);
+    const std::string source = q->type == "blackbody" ? "blackbody " + std::to_string(int(std::lround(q->numbers[0]))) + " K"
+                               : !q->strings.empty()  ? q->strings[0]
+                                                      : "pairs (line " + std::to_string(q->at.line) + ")";
+    const float kelvin = q->type == "blackbody" ? float(q->numbers[0]) : 0.0f;
+    if (use != SpectrumUse::Illuminant) {
+        lastSpectrum_ = keepSpectrum(s, 1.0f, source, kelvin);
+        return spectrumToRgb(s, true);
+    }
     // pbrt-v4 scales an emitter's spectrum to a luminance of 1 (times its scale)
     const Vec3 c = spectrumToRgb(s, false);
     const float y = luminanceOf(c);
     if (!(y > 0)) fail(q->at, decl + ": the spectrum has no luminance");
+    lastSpectrum_ = keepSpectrum(s, 1.0f / y, source, kelvin);
     return c / y;
 }
 
 Vec3 Importer::colourParam(Params& p, const std::string& name, Vec3 def, int& texture, bool floatParam) {
+    lastSpectrum_ = -1;
     const Param* q = p.find(name);
     if (q && q->type == "texture") {
         if (q->strings.size() != 1) fail(q->at, "\"texture " + name + "\": expected one texture name");
@@ -176,7 +212,9 @@ void Importer::conductorIndices(Params& p, const std::string& prefix, MaterialDe
         return spectrum(p, n, def, SpectrumUse::Unbounded, &s) / outside;
     };
     m.conductorEta = index(prefix + "eta", eta, MaterialParam::ConductorEta, se);
+    keepParamSpectrum(m, MaterialParam::ConductorEta, 1 / outside);
     m.conductorK = index(prefix + "k", kk, MaterialParam::ConductorK, sk);
+    keepParamSpectrum(m, MaterialParam::ConductorK, 1 / outside);
     m.reflect = Vec3(1.0f);
     if (!se.lambda.empty() && !sk.lambda.empty()) {  // both sampled (pairs, files)
         for (double& v : se.value) v /= outside;
@@ -248,6 +286,7 @@ int Importer::material(const std::string& type, Directive& d) {
                 while (i + 2 < s.lambda.size() && s.lambda[i + 1] < 550) ++i;
                 const double t = s.lambda[i + 1] > s.lambda[i] ? (550 - s.lambda[i]) / (s.lambda[i + 1] - s.lambda[i]) : 0;
                 eta = s.value[i] * (1 - t) + s.value[i + 1] * t;
+                m.etaSpectrum = keepSpectrum(s, 1.0f, !q->strings.empty() ? q->strings[0] : "pairs (line " + std::to_string(q->at.line) + ")");
                 warn(q->at, "a spectral eta: wavemmlt uses its value at 550 nm, " + std::to_string(eta) + " (no dispersion)");
             } else {
                 fail(q->at, "\"" + q->type + " eta\": expected a float or a spectrum");
@@ -260,6 +299,7 @@ int Importer::material(const std::string& type, Directive& d) {
     auto reflectanceConductor = [&](float outside) {
         int t = -1;
         const Vec3 r = colourParam(p, "reflectance", Vec3(0.0f), t);
+        keepParamSpectrum(m, MaterialParam::ConductorReflectance);
         m.texture[MaterialParam::ConductorReflectance] = t;
         m.conductorEta = Vec3(1.0f / outside);
         m.conductorK = (t >= 0 ? Vec3(1.0f) : conductorKOfReflectance(r)) / outside;
@@ -267,6 +307,7 @@ int Importer::material(const std::string& type, Directive& d) {
     if (type == "diffuse") {
         m.kind = MaterialKind::Matte;
         m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.texture[MaterialParam::Diffuse]);
+        keepParamSpectrum(m, MaterialParam::Diffuse);
     } else if (type == "conductor") {
         m.kind = rough() ? MaterialKind::RoughConductor : MaterialKind::Conductor;
         m.reflect = Vec3(1.0f);
@@ -311,9 +352,11 @@ int Importer::material(const std::string& type, Directive& d) {
         if (!(c.thickness > 0) || !(c.g > -1 && c.g < 1) || c.maxDepth < 1 || c.maxDepth > 1000 || c.nSamples < 1 || c.nSamples > 1000)
             fail(d.at, type + ": thickness must be > 0, g in (-1, 1), maxdepth and nsamples 1 to 1000");
         c.albedo = colourParam(p, "albedo", Vec3(0.0f), m.texture[MaterialParam::Albedo]);
+        keepParamSpectrum(m, MaterialParam::Albedo);
         m.reflect = Vec3(1.0f);
         if (!conductor) {
             m.diffuse = colourParam(p, "reflectance", Vec3(0.5f), m.texture[MaterialParam::Diffuse]);
+            keepParamSpectrum(m, MaterialParam::Diffuse);
         } else {
             c.conductorBase = true;
             alphas("conductor.", c.baseAlpha, c.baseAlphaV, m.texture[MaterialParam::BaseAlphaU], m.texture[MaterialParam::BaseAlphaV]);
@@ -344,7 +387,9 @@ int Importer::material(const std::string& type, Directive& d) {
         m.kind = MaterialKind::DiffuseTransmission;
         const float scale = floatParam(p, "scale", 1, m.texture[MaterialParam::Scale]);
         m.diffuse = colourParam(p, "reflectance", Vec3(0.25f), m.texture[MaterialParam::Diffuse]) * scale;
+        keepParamSpectrum(m, MaterialParam::Diffuse, scale);
         m.refract = colourParam(p, "transmittance", Vec3(0.25f), m.texture[MaterialParam::Refract]) * scale;
+        keepParamSpectrum(m, MaterialParam::Refract, scale);
     } else if (type == "interface") {  // no surface: rays cross it (ShapeDesc::passThrough)
         return kInterfaceMaterial;
     } else if (type == "subsurface") {
