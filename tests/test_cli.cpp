@@ -430,6 +430,31 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
 }
 
+TEST_CASE("cli: --spectral renders PT spectrally and says so; elsewhere it warns and renders RGB", "[cli][spectral]") {
+    TempDir dir;
+    const std::string out = dir.file("out.pfm"), stats = dir.file("stats.json");
+    Run r = run("--tracer pt --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("warning") == std::string::npos);
+    std::string text = readFile(stats);
+    CHECK(contains(text, "\"spectral\": true"));
+    CHECK(contains(text, "\"spectral_reason\": \"\""));
+    // another tracer: RGB, a warning, the reason in --stats
+    r = run("--tracer bpt --spp 4 --threads 2 --spectral --width 64 --height 48 -o " + quote(out) + " --stats " + quote(stats), dir);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.err, "warning: --spectral: spectral rendering is PT's only so far"));
+    text = readFile(stats);
+    CHECK(contains(text, "\"spectral\": false"));
+    CHECK(contains(text, "PT's only so far"));
+    // --rgb (the default) after --spectral: the last one wins
+    r = run("--tracer pt --spp 4 --threads 2 --spectral --rgb" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
+    REQUIRE(r.status == 0);
+    text = readFile(stats);
+    CHECK(contains(text, "\"spectral\": false"));
+    CHECK(contains(text, "\"spectral_reason\": \"\""));
+}
+
 TEST_CASE("cli: --strategy-images writes a weighted and an unweighted EXR per strategy", "[cli]") {
     TempDir dir;
     std::string folder = dir.file("strategies"), out = dir.file("out.pfm");

@@ -26,18 +26,23 @@ const std::string kDir = std::string(WAVEMMLT_TEST_DATA) + "/scenes/pbrt-v4/";
 struct Match {
     double worstExcess = 0;  // max over blocks of (|d| - allowance) / sigma
     double meanRatio[3] = {0, 0, 0};
+    double meanSigma[3] = {0, 0, 0};  // of meanRatio: the blocks' sigmas combined
     std::string worst;
 };
 
 // PT of `d` (its own size and maxdepth) at spp x K runs against the reference image.
-Match compare(const SceneDesc& d, const std::string& reference, int spp, int K, double allowance) {
+Match compare(const SceneDesc& d, const std::string& reference, int spp, int K, double allowance, bool spectral = false) {
     const Image ref = readImage(kDir + reference);
     REQUIRE(ref.width == d.settings.width);
     REQUIRE(ref.height == d.settings.height);
     const int B = 16;
     rstats::RunStats runs[3];
     for (int k = 0; k < K; ++k) {
-        const Image im = render(d, rstats::renderOptions(TracerKind::PT, spp, 11 + uint64_t(k), 1, d.settings.maxPathLength)).image;
+        RenderOptions opt = rstats::renderOptions(TracerKind::PT, spp, 11 + uint64_t(k), 1, d.settings.maxPathLength);
+        opt.spectral = spectral;
+        const RenderResult r = render(d, opt);
+        REQUIRE(r.stats.spectral == spectral);
+        const Image& im = r.image;
         for (int c = 0; c < 3; ++c) runs[c].add(rstats::blockMeans(im, B, c));
     }
     Match m;
@@ -56,6 +61,7 @@ Match compare(const SceneDesc& d, const std::string& reference, int spp, int K, 
         for (size_t i = 0; i < r.size(); ++i) {
             const double varOurs = runs[c].variance(i);  // one run of spp
             const double sigma = std::sqrt(varOurs / K + varOurs * spp / 1024.0);
+            m.meanSigma[c] += sigma * sigma / (double(r.size()) * double(r.size()) * refMean[c] * refMean[c]);
             const double excess = (std::fabs(runs[c].mean(i) - r[i]) - allowance * mean) / std::max(sigma, 1e-12);
             if (excess > m.worstExcess) {
                 m.worstExcess = excess;
@@ -75,12 +81,14 @@ SceneDesc atSize(const std::string& file, int w, int h) {
     return d;
 }
 
-void check(const std::string& file, const std::string& reference, double allowance, int w = 256, int h = 256, int spp = 32, int K = 8) {
+void check(const std::string& file, const std::string& reference, double allowance, int w = 256, int h = 256, int spp = 32, int K = 8,
+           bool spectral = false) {
     const SceneDesc d = atSize(file, w, h);
-    const Match m = compare(d, reference, spp, K, allowance);
+    const Match m = compare(d, reference, spp, K, allowance, spectral);
     INFO(file << ": worst " << m.worst << ", mean ratios " << m.meanRatio[0] << " " << m.meanRatio[1] << " " << m.meanRatio[2]);
     CHECK(m.worstExcess <= 5.0);
-    for (double r : m.meanRatio) CHECK(std::fabs(r - 1) <= allowance);
+    // the means: within the allowance, or with none (spectral) within 5 sigma of their noise
+    for (int c = 0; c < 3; ++c) CHECK(std::fabs(m.meanRatio[c] - 1) <= (allowance > 0 ? allowance : 5 * std::sqrt(m.meanSigma[c])));
 }
 
 }  // namespace
@@ -90,6 +98,18 @@ TEST_CASE("pbrt-v4 scenes: the Cornell boxes render what pbrt-v4 renders", "[pbr
     check("cornell-box/smallpt.pbrt", "cornell-box/reference/pbrt-smallpt-256x256-1024spp.exr", 0.01);
     check("cornell-box/cornell-box-specular.pbrt", "cornell-box/reference/pbrt-cornell-box-specular-256x256-1024spp.exr", 0.01);
     check("cornell-box/cornell-box-silver.pbrt", "cornell-box/reference/pbrt-cornell-box-silver-256x256-1024spp.exr", 0.01);
+}
+
+TEST_CASE("pbrt-v4 scenes: spectral PT renders what pbrt-v4 renders, with no allowance for RGB against spectral",
+          "[pbrt][reference][render][stat][spectral]") {
+    // --spectral (docs/spectral.md): the RGB colours uplifted as pbrt-v4 does, the film in XYZ;
+    // per block and for the means within 5 sigma of both renders' noise and nothing more.
+    // (smallpt's silver is pbrt's named metal, which wavemmlt has as RGB only: a block of it
+    // misses by 8.5 sigma.)
+    check("cornell-box/cornell-box.pbrt", "cornell-box/reference/pbrt-cornell-box-256x256-1024spp.exr", 0.0, 256, 256, 32, 8, true);
+    // Not yet: the gold killeroo (worst block 6.0 sigma, 1.3% in green; means within 0.17%) and
+    // veach-mis (5.9 sigma; means 0.3-0.6% high, 5.8 sigma with pbrt's coat weighting):
+    // docs/spectral.md.
 }
 
 TEST_CASE("pbrt-v4 scenes: fog under pbrt's path integrator renders as pbrt renders it (without the fog)", "[pbrt][reference][render][stat][media]") {

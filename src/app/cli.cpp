@@ -117,6 +117,10 @@ std::string usageText() {
            "                           (default: luminance; docs/mmlt-levers.md)\n"
            "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
            "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
+           "  --spectral, --rgb        render with sampled wavelengths (so far PT only, and scenes without\n"
+           "                           media, plastics, principled, blends or coated conductors: others\n"
+           "                           render in RGB, with a warning), or in RGB (the default;\n"
+           "                           docs/spectral.md)\n"
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
            "                           and _unweighted.exr (the folder is created)\n"
            "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
@@ -186,6 +190,8 @@ CommandLine parseCommandLine(int argc, char** argv) {
             const std::string v = value();
             if (v == "fixed" || v == "learned") cl.learnSteps = v == "learned";
             else fail("--mmlt-steps: '" + v + "' is not one of fixed, learned");
+        } else if (a == "--spectral" || a == "--rgb") {
+            cl.spectral = a == "--spectral";
         } else if (a == "--strategy-images") cl.strategyImages = value();
         else if (a == "--mis-beta") cl.misBeta = float(parseReal(a, value(), 0.5, 16));
         else if (a == "--seed") cl.seed = uint64_t(parseInt(a, value(), 0, (1LL << 62)));

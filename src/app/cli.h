@@ -21,6 +21,7 @@ struct CommandLine {
     std::optional<float> probLarge;        // MMLT
     std::optional<MmltTarget> mmltTarget;  // MMLT: --mmlt-target
     std::optional<bool> learnSteps;        // MMLT: --mmlt-steps learned
+    std::optional<bool> spectral;          // --spectral / --rgb
     std::string strategyImages;            // BPT: folder for per-strategy EXRs
     std::optional<FilterDesc> filter;      // --filter NAME[:param=value,...]
     uint64_t seed = 0;

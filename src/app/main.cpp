@@ -178,7 +178,8 @@ void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt
       << ",\n  \"spp\": " << st.spp << ",\n  \"width\": " << s.width << ",\n  \"height\": " << s.height
       << ",\n  \"rays_intersect\": " << st.raysIntersect << ",\n  \"rays_occluded\": " << st.raysOccluded
       << ",\n  \"mrays_per_second\": " << st.mraysPerSecond() << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
-      << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false") << ",\n  \"mean_luminance_by_length\": {";
+      << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false") << ",\n  \"spectral\": " << (st.spectral ? "true" : "false")
+      << ",\n  \"spectral_reason\": \"" << st.spectralReason << "\",\n  \"mean_luminance_by_length\": {";
     // Path length k (segments) -> the image's mean luminance carried by length-k paths.
     for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
@@ -281,6 +282,7 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     if (cl.passLength) opt.passLength = *cl.passLength;
     if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
     if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
+    if (cl.spectral) opt.spectral = *cl.spectral;
     if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
     if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
     opt.probLarge = s.probLarge;

@@ -81,6 +81,17 @@ UnboundedSpectrum unboundedSpectrumOfRgb(Vec3 rgb) {
     return s;
 }
 
+Vec3 rgbColourAt(Vec3 rgb, const Wavelengths& w) {
+    if (std::max({rgb.x, rgb.y, rgb.z}) <= 1.0f) return sigmoidPolyAt(sigmoidPolyOfRgb(rgb), w);
+    const UnboundedSpectrum s = unboundedSpectrumOfRgb(rgb);
+    return sigmoidPolyAt(s.poly, w) * s.scale;
+}
+
+Vec3 rgbIlluminantAt(Vec3 rgb, const Wavelengths& w) {
+    const UnboundedSpectrum s = unboundedSpectrumOfRgb(rgb);
+    return sigmoidPolyAt(s.poly, w) * s.scale * Vec3(srgbIlluminant(w.lambda[0]), srgbIlluminant(w.lambda[1]), srgbIlluminant(w.lambda[2]));
+}
+
 Vec3 cieMatching(float lambda) {
     return Vec3(float(tableAt(cie::kXyz[0], 95, 360, lambda)), float(tableAt(cie::kXyz[1], 95, 360, lambda)),
                 float(tableAt(cie::kXyz[2], 95, 360, lambda)));
@@ -91,7 +102,8 @@ double cieYIntegral() {
     return y;
 }
 
-float srgbIlluminant(float lambda) {
+namespace {
+float srgbIlluminantExact(float lambda) {
     // integral over 360..830 nm of D65 y-bar (both linear between 5 nm samples: Simpson's rule
     // on each 5 nm interval is exact for the product, a quadratic there).
     static const double scale = [] {
@@ -104,6 +116,18 @@ float srgbIlluminant(float lambda) {
         return cieYIntegral() / s;
     }();
     return float(tableAt(cie::kD65[0], 107, 300, lambda) * scale);
+}
+}  // namespace
+
+float srgbIlluminant(float lambda) {
+    // D65 is linear between its 5 nm samples: tabulated every 1 nm (exact at 5 nm, the nodes
+    // between on the same lines), made once
+    static const DenseSpectrum d = [] {
+        DenseSpectrum t;
+        for (int i = 0; i < DenseSpectrum::kSamples; ++i) t.v[i] = srgbIlluminantExact(kLambdaMin + float(i));
+        return t;
+    }();
+    return d.at(lambda);
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // Spectral rendering's per-element functions (issue 45, docs/spectral.md): sampled
 // wavelengths, RGB turned into smooth spectra, and a path's sampled radiance turned into XYZ.
-//  - Wavelengths: kWavelengths per path, the first sampled from the visible-importance density
+//  - Wavelengths: kWavelengths (3) per path, carried in the colour channels of every Vec3
+//    (docs/spectral.md: the RGB kernels are then the spectral ones), the first sampled from the visible-importance density
 //    p(lambda) ~ sech^2(a (lambda - 538 nm)), a = 0.0072 / nm, on 360..830 nm (the density
 //    pbrt-v4 uses), the others stratified from it in the density's CDF: u_i = frac(u + i / n).
 //  - RGB to spectrum (Jakob and Hanika 2019, "A low-dimensional function space for efficient
@@ -23,7 +24,7 @@
 
 namespace wmlt {
 
-constexpr int kWavelengths = 4;
+constexpr int kWavelengths = 3;  // one per colour channel
 constexpr float kLambdaMin = 360.0f, kLambdaMax = 830.0f;
 
 // A path's wavelengths and their sampling densities (per nm).
@@ -36,8 +37,14 @@ namespace spectral_detail {
 constexpr double kA = 0.0072;      // 1 / nm
 constexpr double kCentre = 538.0;  // nm
 // tanh(a (lambda - centre)) at the range's ends: the unnormalised CDF's values.
-inline double cdfLow() { return std::tanh(kA * (double(kLambdaMin) - kCentre)); }
-inline double cdfHigh() { return std::tanh(kA * (double(kLambdaMax) - kCentre)); }
+inline double cdfLow() {
+    static const double v = std::tanh(kA * (double(kLambdaMin) - kCentre));
+    return v;
+}
+inline double cdfHigh() {
+    static const double v = std::tanh(kA * (double(kLambdaMax) - kCentre));
+    return v;
+}
 }  // namespace spectral_detail
 
 // p(lambda) = a sech^2(a (lambda - 538)) / (tanh(a (830 - 538)) - tanh(a (360 - 538))).
@@ -56,14 +63,19 @@ inline float sampleVisibleWavelength(float u) {
     return float(std::clamp(l, double(kLambdaMin), double(kLambdaMax)));
 }
 
-// The path's wavelengths from one number u in [0, 1).
+// The path's wavelengths from one number u in [0, 1); each density from the CDF's value
+// t = tanh(a (lambda - 538)) the inversion passes through: p = a (1 - t^2) / (hi - lo).
 inline Wavelengths sampleWavelengths(float u) {
+    using namespace spectral_detail;
+    const double lo = cdfLow(), hi = cdfHigh();
     Wavelengths w;
     for (int i = 0; i < kWavelengths; ++i) {
         float ui = u + float(i) / float(kWavelengths);
         if (ui >= 1.0f) ui -= 1.0f;
-        w.lambda[i] = sampleVisibleWavelength(ui);
-        w.pdf[i] = visibleWavelengthPdf(w.lambda[i]);
+        const float t = float(lo + double(ui) * (hi - lo));
+        const float at = 0.5f * std::log((1 + t) / (1 - t));  // atanh(t), in float (one log)
+        w.lambda[i] = std::clamp(float(kCentre) + at / float(kA), kLambdaMin, kLambdaMax);
+        w.pdf[i] = float(kA * (1 - double(t) * double(t)) / (hi - lo));
     }
     return w;
 }
@@ -167,6 +179,36 @@ inline float sellmeierEta(const Sellmeier& g, float lambdaNm) {
     double n2 = 1;
     for (int i = 0; i < 3; ++i) n2 += double(g.B[i]) * l2 / (l2 - double(g.C[i]));
     return float(std::sqrt(n2));
+}
+
+// A spectrum tabulated every nm over 360..830 nm (a file's pairs, a blackbody: made once per
+// scene), linear between.
+struct DenseSpectrum {
+    static constexpr int kSamples = 471;
+    float v[kSamples] = {};
+    float at(float lambda) const {
+        const float x = lambda - kLambdaMin;
+        if (!(x >= 0) || x > float(kSamples - 1)) return 0.0f;
+        const int i = std::min(int(x), kSamples - 2);
+        const float t = x - float(i);
+        return v[i] * (1 - t) + v[i + 1] * t;
+    }
+};
+
+inline Vec3 sigmoidPolyAt(SigmoidPoly c, const Wavelengths& w) {
+    return Vec3(sigmoidPolyAt(c, w.lambda[0]), sigmoidPolyAt(c, w.lambda[1]), sigmoidPolyAt(c, w.lambda[2]));
+}
+inline Vec3 denseAt(const DenseSpectrum& s, const Wavelengths& w) { return Vec3(s.at(w.lambda[0]), s.at(w.lambda[1]), s.at(w.lambda[2])); }
+// An RGB colour of a material at the path's wavelengths: a reflectance (every channel in
+// [0, 1]) by the bounded spectrum, anything else by the unbounded one.
+Vec3 rgbColourAt(Vec3 rgb, const Wavelengths& w);
+// An RGB emitter's radiance at the path's wavelengths: its unbounded spectrum times the
+// colour space's illuminant (so that (1, 1, 1) is the illuminant, white on the film).
+Vec3 rgbIlluminantAt(Vec3 rgb, const Wavelengths& w);
+// A sample's radiance at its wavelengths as linear sRGB (the film's input).
+inline Vec3 srgbOfSample(Vec3 L, const Wavelengths& w) {
+    const float l[kWavelengths] = {L.x, L.y, L.z};
+    return xyzToSrgb(xyzOfSample(l, w));
 }
 
 // Planck's law normalised to 1 at its peak (pbrt-v4's "blackbody" spectrum): the emitted

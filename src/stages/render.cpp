@@ -87,6 +87,8 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
                      : opt.tracer == TracerKind::BPT    ? renderBidirectional(scene, opt)
                                                         : renderPathTracing(scene, opt);
     r.stats.threads = threads;
+    if (opt.spectral && !r.stats.spectral && r.stats.spectralReason.empty())
+        r.stats.spectralReason = "spectral rendering is PT's only so far: rendered in RGB (docs/spectral.md)";
     if (r.stats.buffers.empty()) r.stats.buffers = buffers;
     // The scene: its triangle meshes' arrays (a shape group's once, however many instances)
     // and what Embree holds (BVHs, instances), from Embree's memory monitor.
@@ -98,6 +100,7 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
 std::vector<std::string> renderWarnings(const RenderResult& r) {
     std::vector<std::string> w;
     const RenderStats& s = r.stats;
+    if (!s.spectralReason.empty()) w.push_back("--spectral: " + s.spectralReason);
     if (s.samplesNonfiniteDiscarded) w.push_back(std::to_string(s.samplesNonfiniteDiscarded) + " samples were NaN or infinite and were discarded");
     if (s.mmlt.chainsRun < s.mmlt.chainsAsked)
         w.push_back("ran " + std::to_string(s.mmlt.chainsRun) + " chains, not " + std::to_string(s.mmlt.chainsAsked) +

@@ -39,6 +39,7 @@ namespace wmlt {
 struct BatchNeeds {
     bool rectLight = false, matte = false, pinhole = false, texturedEmitter = false, rectLights = false, severalLights = false, textures = false,
          media = false;
+    bool spectral = false;  // set by a tracer that renders spectrally (RenderOptions::spectral)
 };
 inline BatchNeeds batchNeeds(const Scene& scene) {
     return {soleRectLight(scene) != nullptr,

@@ -36,7 +36,10 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
         advancePaths(scene, b);
     }
     // Samples of one pixel are adjacent and added in sample order: deterministic.
-    for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], b.L[i] * b.filmWeight[i]);
+    if (b.spectra)  // the film's linear sRGB from each sample's wavelengths
+        for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], srgbOfSample(b.L[i], b.lambda[i]) * b.filmWeight[i]);
+    else
+        for (size_t i = 0; i < numSlots; ++i) film.add(b.pixel[i], b.L[i] * b.filmWeight[i]);
     totals.add(b.tally);  // what a tile's batches add up to besides the film: merged in tile order
 }
 
@@ -45,10 +48,17 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
 RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt);
     Film film(scene.camera.width, scene.camera.height);
+    // --spectral: the scene's spectra, or RGB with the reason (chosen once per render)
+    SpectralScene spectra;
+    if (opt.spectral) spectra = buildSpectralScene(scene);
+    const bool spectral = opt.spectral && spectra.unsupported.empty();
     tbb::enumerable_thread_specific<PtBatch> batches([&] {
         PtBatch b;
-        b.reserve(schedule.pathsPerBatch(), batchNeeds(scene));
+        BatchNeeds needs = batchNeeds(scene);
+        needs.spectral = spectral;
+        b.reserve(schedule.pathsPerBatch(), needs);
         b.regularizedOffset = scene.regularizedOffset;  // pbrt's path integrator regularizes
+        b.spectra = spectral ? &spectra : nullptr;
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;
@@ -59,6 +69,8 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
                               {}, {[&](uint32_t) { return withFilmOfJob(opt.ranks, film, [](const Film& f) { return f.resolve(); }); }, &counters});
 
     RenderResult res = startResult("pt", scene, opt, pr, counters);
+    res.stats.spectral = spectral;
+    if (opt.spectral && !spectral) res.stats.spectralReason = "the scene has " + spectra.unsupported + " (not spectral yet): rendered in RGB";
     PathLengthSums lengths;
     for (const ContributionTally& t : totals) {
         lengths.add(t.lengths);

@@ -33,6 +33,7 @@ void generateCameraRays(const Scene& scene, PtBatch& b, const Tile& t, int n, ui
             b.pixel[i] = pixel;
             b.key[i] = key;
             b.L[i] = Vec3(0.0f);
+            if (b.spectra) b.lambda[i] = sampleWavelengths(sampleDimension(key, kWavelengthDim));
             startPath(b, i, o, d);
             b.beta[i] = Vec3(1.0f);
             b.prevPdf[i] = 0;
@@ -78,6 +79,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             if (countEmission && scene.envLight >= 0) {
                 Vec3 Le = scene.env.Le(d);
+                if (b.spectra) Le = b.spectra->emission(scene.envLight, Le, b.lambda[slot]);
                 float w = b.prevDelta[i] ? 1.0f : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, scene.envLight, rayOrigin(rh), Vec3(), d, Vec3()));
                 addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
@@ -93,7 +95,8 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
                 // density is the vertex's)
                 const Vec3 ref = media ? b.vertexP[i] : rayOrigin(rh);
                 float w = b.prevDelta[i] ? 1.0f : powerHeuristic(b.prevPdf[i], lightPdfFrom(scene, sp.light, ref, sp.p, d, sp.ng, pdfA));
-                const Vec3 Le = textured ? scene.lights[sp.light].L * tex : scene.lights[sp.light].L;
+                Vec3 Le = textured ? scene.lights[sp.light].L * tex : scene.lights[sp.light].L;
+                if (b.spectra) Le = b.spectra->emission(sp.light, Le, b.lambda[slot]);
                 addRadiance(b, slot, b.beta[i] * Le * w, depth);
             }
             if (sp.material < 0) continue;
@@ -101,6 +104,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         if (depth >= maxLength) continue;  // no longer path can count
         recordHit<F>(scene, b, h, i, sp, -d, b.anyNonSpecular[i] ? b.regularizedOffset : 0);
         b.hitKey[h] = b.key[slot];
+        if (b.spectra) b.hitMaterial[h] = sp.material;
         if (media) {
             const GeomRecord& g = scene.geoms[rh.hit.geomID];
             b.hitMediumIn[h] = g.mediumBoundary ? g.mediumInside : b.medium[i];
@@ -118,6 +122,13 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         evaluateTextures(scene, b.textureJobs);
         if (matte)  // the matte flat loops' Kd, textured now
             for (size_t k = 0; k < h; ++k) b.hitKd[k] = b.bsdf[k].diffuse;
+    }
+    if (b.spectra) {  // the spectral stage: every hit's colours at its path's wavelengths
+        for (size_t k = 0; k < h; ++k) {
+            const int m = b.hitMaterial[k];
+            b.spectra->colours(m, scene.desc.materials[size_t(m)], b.bsdf[k], b.lambda[b.pathSlot[b.hitPath[k]]]);
+            if (matte) b.hitKd[k] = b.bsdf[k].diffuse;
+        }
     }
 }
 
@@ -161,11 +172,17 @@ void sampleRectLightsFlat(const Scene& scene, PtBatch& b, int depth, bool matte)
     if (!matte) return;
     if (one) {
         const Light& l0 = scene.lights[0];
-        matteNeeValuesOf<false>(RectNeeConsts{l0.L.x, l0.L.y, l0.L.z, scene.lightDistribution.discretePmf(0)}, nullptr, nullptr, n, &b.hitNs[0].x,
+        // (spectral: with L = 1, times each hit's emission at its wavelengths after)
+        const Vec3 L0 = b.spectra ? Vec3(1.0f) : l0.L;
+        matteNeeValuesOf<false>(RectNeeConsts{L0.x, L0.y, L0.z, scene.lightDistribution.discretePmf(0)}, nullptr, nullptr, n, &b.hitNs[0].x,
                                 &b.wo[0].x, b.localX.data(), b.localY.data(), b.localZ.data(), b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x,
                                 &b.neeL[0].x, b.neeSend.data());
+        if (b.spectra)
+            for (size_t h = 0; h < n; ++h) b.neeL[h] = b.neeL[h] * b.spectra->emission(0, l0.L, b.lambda[b.pathSlot[b.hitPath[h]]]);
     } else {
         for (size_t h = 0; h < n; ++h) b.neeLe[h] = scene.lights[b.neeLight[h]].L;
+        if (b.spectra)
+            for (size_t h = 0; h < n; ++h) b.neeLe[h] = b.spectra->emission(int(b.neeLight[h]), b.neeLe[h], b.lambda[b.pathSlot[b.hitPath[h]]]);
         matteNeeValuesOf<true>(RectNeeConsts{}, &b.neeLe[0].x, b.neePmf.data(), n, &b.hitNs[0].x, &b.wo[0].x, b.localX.data(), b.localY.data(),
                                b.localZ.data(), b.neePdf.data(), &b.hitKd[0].x, &b.hitBeta[0].x, &b.neeL[0].x, b.neeSend.data());
     }
@@ -217,6 +234,7 @@ void sampleLights(const Scene& scene, PtBatch& b, int depth) {
                 if (!sampleLightFrom(scene, chosen, b.p[h], sampleDimension(key, bounceDim(depth, 1)), sampleDimension(key, bounceDim(depth, 2)), ls))
                     return;
             }
+            if (b.spectra) ls.Le = b.spectra->emission(chosen, ls.Le, b.lambda[slot]);
             const Frame& fr = b.shading[h];
             Vec3 wo = fr.toLocal(b.wo[h]), wi = fr.toLocal(ls.wi);
             Vec3 f = B::f(b.bsdf[h], wo, wi) * absCosTheta(wi);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "kernels/bsdf.h"
+#include "scene/scene_spectra.h"
 #include "stages/core/film.h"
 #include "stages/core/wave.h"
 
@@ -89,6 +90,11 @@ namespace wmlt {
     X(int32_t, hitMediumIn) X(int32_t, hitMediumOut) X(int32_t, shadowMedium)
 // clang-format on
 
+// Allocated only for a spectral render (RenderOptions::spectral; docs/spectral.md):
+//   lambda: per slot, its wavelengths (the colour channels' meaning)
+//   hitMaterial: per hit, its material (SceneDesc::materials; -1: a medium vertex)
+#define WMLT_PT_SPECTRAL_ARRAYS(X) X(Wavelengths, lambda) X(int32_t, hitMaterial)
+
 struct PtBatch : PathWave {
     WMLT_PT_ARRAYS(WMLT_SOA_ARRAY)
     size_t numShadow = 0;
@@ -101,6 +107,8 @@ struct PtBatch : PathWave {
     WMLT_PT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_MATTE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_PT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_PT_SPECTRAL_ARRAYS(WMLT_SOA_ARRAY)
+    const SpectralScene* spectra = nullptr;  // a spectral render's (chosen once per render); nullptr: RGB
 
     // The optional arrays as the scene needs them (batchNeeds).
     void reserve(size_t n, const BatchNeeds& needs) {
@@ -118,6 +126,9 @@ struct PtBatch : PathWave {
         if (needs.media) {
             WMLT_PT_MEDIA_ARRAYS(WMLT_SOA_RESIZE)
         }
+        if (needs.spectral) {
+            WMLT_PT_SPECTRAL_ARRAYS(WMLT_SOA_RESIZE)
+        }
     }
 };
 
@@ -130,6 +141,8 @@ inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
 // pixel position within its stratum, 2-3 pick the lens point, and bounce d >= 1 reads
 // dimensions kBounceBase + (d - 1) * kBounceStride + (0: light choice, 1-2: light point,
 // 3: BSDF lobe, 4-5: BSDF direction, 6: Russian roulette).
+// A spectral render's wavelengths read dimension kWavelengthDim (one number per sample).
+constexpr uint32_t kWavelengthDim = 0xfffffff0u;
 constexpr uint32_t kBounceBase = 4;
 constexpr uint32_t kBounceStride = 7;
 inline uint32_t bounceDim(int depth, uint32_t j) { return kBounceBase + uint32_t(depth - 1) * kBounceStride + j; }

@@ -1,0 +1,145 @@
+// A scene's colours as spectra (scene_spectra.h).
+#include "scene/scene_spectra.h"
+
+namespace wmlt {
+
+namespace {
+
+DenseSpectrum densify(const SpectrumDesc& s) {
+    DenseSpectrum d;
+    for (int i = 0; i < DenseSpectrum::kSamples; ++i) {
+        const double l = double(kLambdaMin) + i;
+        double v = 0;
+        if (s.kind == SpectrumDesc::Kind::Blackbody) {
+            v = blackbodyNormalized(l, s.kelvin);
+        } else if (s.kind == SpectrumDesc::Kind::Sellmeier) {
+            Sellmeier g;
+            for (int k = 0; k < 3; ++k) {
+                g.B[k] = s.sellmeierB[k];
+                g.C[k] = s.sellmeierC[k];
+            }
+            v = sellmeierEta(g, float(l));
+        } else if (!s.lambda.empty() && l >= s.lambda.front() && l <= s.lambda.back()) {  // linear between pairs, 0 outside
+            size_t j = 0;
+            while (j + 2 < s.lambda.size() && s.lambda[j + 1] < l) ++j;
+            const double t = s.lambda[j + 1] > s.lambda[j] ? (l - s.lambda[j]) / (s.lambda[j + 1] - s.lambda[j]) : 0.0;
+            v = s.value[j] * (1 - t) + s.value[j + 1] * t;
+        }
+        d.v[i] = float(v * s.scale);
+    }
+    return d;
+}
+
+UpliftedColour uplift(Vec3 rgb, bool unbounded) {
+    UpliftedColour c;
+    c.rgb = rgb;
+    if (unbounded || std::max({rgb.x, rgb.y, rgb.z}) > 1.0f) {
+        const UnboundedSpectrum s = unboundedSpectrumOfRgb(rgb);
+        c.poly = s.poly;
+        c.scale = s.scale;
+    } else {
+        c.poly = sigmoidPolyOfRgb(rgb);
+    }
+    return c;
+}
+
+// rgb's spectrum at w: the constant's when rgb is it, else looked up.
+Vec3 upliftedAt(const UpliftedColour& c, Vec3 rgb, bool unbounded, const Wavelengths& w) {
+    if (!(rgb.x == c.rgb.x && rgb.y == c.rgb.y && rgb.z == c.rgb.z)) {
+        const UpliftedColour u = uplift(rgb, unbounded);
+        return sigmoidPolyAt(u.poly, w) * u.scale;
+    }
+    return sigmoidPolyAt(c.poly, w) * c.scale;
+}
+
+// Why material m cannot be rendered spectrally yet ("" if it can): kinds whose per-material
+// data made at scene build depend on RGB colours.
+std::string unsupportedMaterial(const MaterialDesc& m) {
+    using K = MaterialKind;
+    switch (m.kind) {
+        case K::Plastic:
+        case K::RoughPlastic:
+        case K::Principled:
+        case K::Blend:
+        case K::Phase: return std::string("its ") + kMaterialKindNames[int(m.kind)] + " material";
+        case K::Coated:
+            if (m.coating.conductorBase) return "its coated conductor";
+            return "";
+        default: return "";
+    }
+}
+
+}  // namespace
+
+SpectralScene buildSpectralScene(const Scene& scene) {
+    SpectralScene s;
+    const SceneDesc& d = scene.desc;
+    if (scene.features.media) s.unsupported = "participating media";
+    for (const MaterialDesc& m : d.materials)
+        if (s.unsupported.empty()) s.unsupported = unsupportedMaterial(m);
+    if (!s.unsupported.empty()) return s;
+    for (const SpectrumDesc& sd : d.spectra) s.dense.push_back(densify(sd));
+    for (const MaterialDesc& m : d.materials) {
+        const Vec3 eta = m.conductorEta, k = m.conductorK;
+        s.constants.push_back({uplift(m.diffuse, false), uplift(m.specular, false), uplift(m.reflect, false),
+                               uplift(m.kind == MaterialKind::Coated ? m.coating.albedo : m.refract, false), uplift(eta, true), uplift(k, true)});
+        s.params.push_back(m.spectra);
+        s.indexFromFile.push_back(m.spectra[MaterialParam::ConductorEta] >= 0 && m.spectra[MaterialParam::ConductorK] >= 0);
+    }
+    s.light.assign(scene.lights.size(), -1);
+    for (size_t i = 0; i < d.lights.size() && i < scene.lights.size(); ++i) s.light[i] = d.lights[i].spectrum;
+    s.lightL.assign(scene.lights.size(), UpliftedColour{});
+    for (size_t i = 0; i < d.lights.size() && i < scene.lights.size(); ++i)
+        if (d.lights[i].texture < 0 && luminance(scene.lights[i].L) > 0) s.lightL[i] = uplift(scene.lights[i].L, true);
+    for (UpliftedColour& c : s.lightL)
+        if (c.rgb.x < 0) c.scale = 0;  // (none)
+    return s;
+}
+
+void SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const {
+    using K = MaterialKind;
+    using P = MaterialParam;
+    const ParamSpectra& ps = params[size_t(m)];
+    const auto& k = constants[size_t(m)];
+    // A colour parameter (its constant's slot: k's index): its file spectrum (untextured),
+    // else its RGB at the hit uplifted.
+    auto colour = [&](P q, int slot, Vec3 rgb) {
+        if (ps[q] >= 0 && desc.texture[q] < 0) return denseAt(dense[size_t(ps[q])], w);
+        return upliftedAt(k[size_t(slot)], rgb, false, w);
+    };
+    auto index = [&](P q, int slot, Vec3 rgb) {
+        if (ps[q] >= 0 && desc.texture[q] < 0) return denseAt(dense[size_t(ps[q])], w);
+        return upliftedAt(k[size_t(slot)], rgb, true, w);
+    };
+    switch (desc.kind) {
+        case K::Matte: out.diffuse = colour(P::Diffuse, 0, out.diffuse); break;
+        case K::Glossy:
+            out.diffuse = colour(P::Diffuse, 0, out.diffuse);
+            out.specular = colour(P::Specular, 1, out.specular);
+            break;
+        case K::Reflective: out.reflect = colour(P::Reflect, 2, out.reflect); break;
+        case K::Dielectric:
+        case K::RoughDielectric:
+        case K::ThinDielectric:
+            out.reflect = colour(P::Reflect, 2, out.reflect);
+            out.refract = colour(P::Refract, 3, out.refract);
+            break;
+        case K::Conductor:
+        case K::RoughConductor:
+            setConductorIndex(out, index(P::ConductorEta, 4, conductorEta(out)), index(P::ConductorK, 5, conductorK(out)));
+            // a conductor given by spectra keeps in reflect its RGB albedo correction: 1 here
+            out.reflect = indexFromFile[size_t(m)] ? Vec3(1.0f) : colour(P::Reflect, 2, out.reflect);
+            break;
+        case K::Coated:  // a diffuse base (coated conductors render in RGB)
+            out.diffuse = colour(P::Diffuse, 0, out.diffuse);
+            setCoatingAlbedo(out, colour(P::Albedo, 3, coatingAlbedo(out)));
+            break;
+        case K::DiffuseTransmission:
+            out.diffuse = colour(P::Diffuse, 0, out.diffuse);
+            out.refract = colour(P::Refract, 3, out.refract);
+            break;
+        default: break;
+    }
+}
+
+}  // namespace wmlt

@@ -1,0 +1,62 @@
+// A scene's colours as spectra, for spectral rendering (docs/spectral.md; --spectral): made
+// once per render from the scene model, read by the spectral stage (a hit's colour parameters
+// at its path's wavelengths) and where emission is read. Every colour the file gave as a
+// spectrum (SceneDesc::spectra) is tabulated every nm; every RGB colour is uplifted by the
+// sigmoid table (kernels/spectral.h) at the hit. What cannot be rendered spectrally yet makes
+// the whole render RGB (`unsupported` says why; the tracer warns).
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "kernels/bsdf.h"
+#include "kernels/spectral.h"
+#include "scene/scene.h"
+
+namespace wmlt {
+
+// An RGB colour and its spectrum (scale times the sigmoid), made once for a material's constant.
+struct UpliftedColour {
+    Vec3 rgb{-1.0f};  // (-1: none)
+    SigmoidPoly poly;
+    float scale = 1;
+};
+
+struct SpectralScene {
+    std::string unsupported;             // "" or why this scene renders in RGB
+    std::vector<DenseSpectrum> dense;    // SceneDesc::spectra, times their scales
+    std::vector<ParamSpectra> params;    // per material (SceneDesc::materials): index into dense, -1: its RGB
+    std::vector<uint8_t> indexFromFile;  // per material: a conductor whose eta and k are spectra (its RGB tint is then 1)
+    std::vector<int> light;              // per Scene::lights: index into dense (Y = 1), -1: its RGB
+    std::vector<UpliftedColour> lightL;  // per Scene::lights: its L's unbounded spectrum (scale 0: textured, or black)
+    // Per material, its constants' spectra (a hit whose slot still holds the constant, i.e.
+    // untextured, reads these instead of looking the table up): Diffuse, Specular, Reflect,
+    // Refract (a coat's albedo), a conductor's eta and k.
+    static constexpr int kSlots = 6;
+    std::vector<std::array<UpliftedColour, kSlots>> constants;
+
+    // Hit h's material m (SceneDesc::materials) at the wavelengths w: every colour parameter its
+    // kind reads, in out (a hit's BsdfParams, its texture applied), from RGB or from its spectrum.
+    void colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const;
+    // Light l's emission at w, from the RGB radiance the RGB code computed for it (its
+    // geometry and texture applied): its spectrum times that radiance's luminance, or the RGB's
+    // illuminant spectrum.
+    // (An untextured light's LeRgb is its L times a number: its L's spectrum, made once, times
+    // that number.)
+    Vec3 emission(int l, Vec3 LeRgb, const Wavelengths& w) const {
+        if (l >= 0 && light[size_t(l)] >= 0) return denseAt(dense[size_t(light[size_t(l)])], w) * luminance(LeRgb);
+        if (l >= 0 && lightL[size_t(l)].scale > 0) {
+            const UpliftedColour& c = lightL[size_t(l)];
+            const float g = luminance(LeRgb) / luminance(c.rgb);
+            return sigmoidPolyAt(c.poly, w) * (c.scale * g) *
+                   Vec3(srgbIlluminant(w.lambda[0]), srgbIlluminant(w.lambda[1]), srgbIlluminant(w.lambda[2]));
+        }
+        return rgbIlluminantAt(LeRgb, w);
+    }
+};
+
+// The scene's spectra, or `unsupported` set (media, materials whose derived data is RGB:
+// plastics, principled, blends, coated conductors, conductors by reflectance).
+SpectralScene buildSpectralScene(const Scene& scene);
+
+}  // namespace wmlt
