@@ -29,22 +29,10 @@
 
 #include "kernels/spectral.h"
 
-namespace wmlt::cie {
-extern const double kXyz[3][95];   // 360..830 nm every 5 nm
-extern const double kD65[1][107];  // 300..830 nm every 5 nm
-}  // namespace wmlt::cie
-
 namespace {
 
 using wmlt::kSigmoidTableRes;
-
-double tableAt(const double* t, int n, double lambda0, double lambda) {
-    const double x = (lambda - lambda0) / 5.0;
-    if (!(x >= 0) || x > n - 1) return 0;
-    const int i = std::min(int(x), n - 2);
-    const double f = x - i;
-    return t[i] * (1 - f) + t[i + 1] * f;
-}
+double tableAt(const double* t, int n, double lambda0, double lambda) { return wmlt::cieTableAt(t, n, lambda0, lambda); }
 
 constexpr int kSamples = 471;  // 360..830 nm, 1 nm apart
 

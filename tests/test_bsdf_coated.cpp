@@ -62,35 +62,10 @@ void albedos(const BsdfParams& m, Vec3 wo, int N, Mean& bySampling, Mean& byF, i
     }
 }
 
-}  // namespace
-
-TEST_CASE("Coated: sampling and f estimate one BSDF (rough coats, diffuse and conductor bases)", "[bsdf][coated]") {
-    const Vec3 wo = normalize(Vec3(0.6f, 0.1f, 0.8f));
-    struct Case {
-        const char* what;
-        Coat coat;
-        int c;
-    };
-    const Case cases[] = {
-        {"rough coat, white diffuse", Coat(false, 0.3f, 0, 0.01f), 0},
-        {"rough coat, grey diffuse, thin", Coat(false, 0.2f, 0, 1e-4f, Vec3(0.5f)), 0},
-        {"rough coat, rough conductor (red)", Coat(true, 0.14f, 0.05f, 0.01f), 0},
-        {"rough coat, rough conductor (blue)", Coat(true, 0.3f, 0.3f, 0.01f), 2},
-    };
-    for (const Case& k : cases) {
-        Mean s, f;
-        albedos(k.coat.m, wo, 300000, s, f, k.c);
-        INFO(k.what << ": by sampling " << s.mean() << " +- " << s.se() << ", by f " << f.mean() << " +- " << f.se());
-        CHECK(std::fabs(s.mean() - f.mean()) < 4.5 * std::sqrt(s.se() * s.se() + f.se() * f.se()));
-    }
-}
-
-TEST_CASE("Coated: pbrt-v4's exit weighting makes f integrate above the walk's albedo", "[bsdf][coated]") {
-    // MaterialDesc::Coating::pbrtExitWeight: the density pbrt-v4's LayeredBxDF weighs a
-    // direction sampled inside the slab with (the exit's density of wi given it) is not the
-    // density of the strategy it competes with, so the MIS weights do not sum to 1 and f is
-    // biased; sampling (a plain walk) is not affected. Every rough case above then fails.
-    const Vec3 wo = normalize(Vec3(0.6f, 0.1f, 0.8f));
+// fn(what, coat, channel) for each of four rough configurations (the Coat is built in place:
+// its params point at its own extra).
+template <class F>
+void forEachRoughCoat(F fn) {
     struct Case {
         const char* what;
         Coat coat;
@@ -102,13 +77,34 @@ TEST_CASE("Coated: pbrt-v4's exit weighting makes f integrate above the walk's a
         {"rough coat, rough conductor (red)", Coat(true, 0.14f, 0.05f, 0.01f), 0},
         {"rough coat, rough conductor (blue)", Coat(true, 0.3f, 0.3f, 0.01f), 2},
     };
-    for (Case& k : cases) {
-        k.coat.x.coating.pbrtExitWeight = true;
+    for (Case& k : cases) fn(k.what, k.coat, k.c);
+}
+
+}  // namespace
+
+TEST_CASE("Coated: sampling and f estimate one BSDF (rough coats, diffuse and conductor bases)", "[bsdf][coated]") {
+    const Vec3 wo = normalize(Vec3(0.6f, 0.1f, 0.8f));
+    forEachRoughCoat([&](const char* what, Coat& coat, int c) {
         Mean s, f;
-        albedos(k.coat.m, wo, 300000, s, f, k.c);
-        INFO(k.what << ": by sampling " << s.mean() << " +- " << s.se() << ", by f " << f.mean() << " +- " << f.se());
+        albedos(coat.m, wo, 300000, s, f, c);
+        INFO(what << ": by sampling " << s.mean() << " +- " << s.se() << ", by f " << f.mean() << " +- " << f.se());
+        CHECK(std::fabs(s.mean() - f.mean()) < 4.5 * std::sqrt(s.se() * s.se() + f.se() * f.se()));
+    });
+}
+
+TEST_CASE("Coated: pbrt-v4's exit weighting makes f integrate above the walk's albedo", "[bsdf][coated]") {
+    // MaterialDesc::Coating::pbrtExitWeight: the density pbrt-v4's LayeredBxDF weighs a
+    // direction sampled inside the slab with (the exit's density of wi given it) is not the
+    // density of the strategy it competes with, so the MIS weights do not sum to 1 and f is
+    // biased; sampling (a plain walk) is not affected. Every rough case above then fails.
+    const Vec3 wo = normalize(Vec3(0.6f, 0.1f, 0.8f));
+    forEachRoughCoat([&](const char* what, Coat& coat, int c) {
+        coat.x.coating.pbrtExitWeight = true;
+        Mean s, f;
+        albedos(coat.m, wo, 300000, s, f, c);
+        INFO(what << ": by sampling " << s.mean() << " +- " << s.se() << ", by f " << f.mean() << " +- " << f.se());
         CHECK(f.mean() - s.mean() > 6 * std::sqrt(s.se() * s.se() + f.se() * f.se()));
-    }
+    });
 }
 
 TEST_CASE("Coated: a lossless slab conserves energy", "[bsdf][coated]") {

@@ -9,20 +9,9 @@ extern const float wmlt_rgb_sigmoid_srgb_end[];
 
 namespace wmlt {
 
-namespace cie {
-extern const double kXyz[3][95];  // generated: cie_tables.cpp
-extern const double kD65[1][107];
-}  // namespace cie
-
 namespace {
 
-double tableAt(const double* t, int n, double lambda0, double lambda) {
-    const double x = (lambda - lambda0) / 5.0;
-    if (!(x >= 0) || x > n - 1) return 0;
-    const int i = std::min(int(x), n - 2);
-    const double f = x - i;
-    return t[i] * (1 - f) + t[i + 1] * f;
-}
+double tableAt(const double* t, int n, double lambda0, double lambda) { return cieTableAt(t, n, lambda0, lambda); }
 
 // The integral of a function linear between 5 nm samples (the trapezoid rule is exact).
 double integralOf(const double* t, int n) {

@@ -33,6 +33,21 @@ struct Wavelengths {
     float pdf[kWavelengths];
 };
 
+namespace cie {
+extern const double kXyz[3][95];   // x-bar, y-bar, z-bar at 360, 365, ..., 830 nm (generated: cie_tables.cpp)
+extern const double kD65[1][107];  // D65 at 300, 305, ..., 830 nm
+}  // namespace cie
+
+// A table of n samples every 5 nm from lambda0 (the CIE tables), linear between them, 0
+// outside.
+inline double cieTableAt(const double* t, int n, double lambda0, double lambda) {
+    const double x = (lambda - lambda0) / 5.0;
+    if (!(x >= 0) || x > n - 1) return 0;
+    const int i = std::min(int(x), n - 2);
+    const double f = x - i;
+    return t[i] * (1 - f) + t[i + 1] * f;
+}
+
 namespace spectral_detail {
 constexpr double kA = 0.0072;      // 1 / nm
 constexpr double kCentre = 538.0;  // nm

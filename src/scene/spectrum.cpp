@@ -12,21 +12,10 @@
 
 namespace wmlt {
 
-namespace cie {
-extern const double kXyz[3][95];  // generated: cie_tables.cpp
-extern const double kD65[1][107];
-}  // namespace cie
-
 namespace {
 
-// A table of n samples every 5 nm from lambda0, linear between them, zero outside.
-double tableAt(const double* t, int n, double lambda0, double lambda) {
-    const double x = (lambda - lambda0) / 5.0;
-    if (!(x >= 0) || x > n - 1) return 0;
-    const int i = std::min(int(x), n - 2);
-    const double f = x - i;
-    return t[i] * (1 - f) + t[i + 1] * f;
-}
+// (the CIE tables: kernels/spectral.h)
+double tableAt(const double* t, int n, double lambda0, double lambda) { return cieTableAt(t, n, lambda0, lambda); }
 
 constexpr double kMin = 360, kMax = 830;
 constexpr int kSteps = 1000;
