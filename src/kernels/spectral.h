@@ -95,6 +95,15 @@ inline Wavelengths sampleWavelengths(float u) {
     return w;
 }
 
+// Keeps only the hero wavelength (a dispersive refraction: the others would leave in other
+// directions): the others' densities 0, the hero's divided by their count, so that the XYZ
+// estimate is the hero's alone (pbrt-v4's TerminateSecondary). Once per path.
+inline void terminateSecondary(Wavelengths& w) {
+    if (!(w.pdf[1] > 0)) return;
+    for (int i = 1; i < kWavelengths; ++i) w.pdf[i] = 0;
+    w.pdf[0] /= float(kWavelengths);
+}
+
 // s(lambda) = S(c0 t^2 + c1 t + c2), t = (lambda - 360) / 470.
 struct SigmoidPoly {
     float c0 = 0, c1 = 0, c2 = 0;

@@ -96,7 +96,7 @@ SpectralScene buildSpectralScene(const Scene& scene) {
     return s;
 }
 
-void SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const {
+bool SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const {
     using K = MaterialKind;
     using P = MaterialParam;
     const ParamSpectra& ps = params[size_t(m)];
@@ -123,6 +123,10 @@ void SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, co
         case K::ThinDielectric:
             out.reflect = colour(P::Reflect, 2, out.reflect);
             out.refract = colour(P::Refract, 3, out.refract);
+            if (desc.etaSpectrum >= 0) {  // dispersion: the hero wavelength's index (pbrt-v4's TerminateSecondary)
+                out.eta = dense[size_t(desc.etaSpectrum)].at(w.lambda[0]) / desc.iorOutside;
+                return true;
+            }
             break;
         case K::Conductor:
         case K::RoughConductor:
@@ -140,6 +144,7 @@ void SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, co
             break;
         default: break;
     }
+    return false;
 }
 
 }  // namespace wmlt

@@ -37,7 +37,9 @@ struct SpectralScene {
 
     // Hit h's material m (SceneDesc::materials) at the wavelengths w: every colour parameter its
     // kind reads, in out (a hit's BsdfParams, its texture applied), from RGB or from its spectrum.
-    void colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const;
+    // Returns true for a dispersive dielectric (an index given as a spectrum): its index is then
+    // the hero wavelength's, and the path must keep only that wavelength (terminateSecondary).
+    bool colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const;
     // Light l's emission at w, from the RGB radiance the RGB code computed for it (its
     // geometry and texture applied): its spectrum times that radiance's luminance, or the RGB's
     // illuminant spectrum.

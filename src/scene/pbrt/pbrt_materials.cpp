@@ -268,9 +268,24 @@ int Importer::material(const std::string& type, Directive& d) {
         if (const Param* q = p.find("eta")) {
             if (q->type == "float") {
                 eta = p.getFloat("eta", 1.5);
-            } else if (q->type == "spectrum") {  // its value at 550 nm (wavemmlt has no dispersion)
-                if (!q->strings.empty() && q->strings[0].rfind("glass-", 0) == 0)
-                    fail(q->at, "the named spectrum \"" + q->strings[0] + "\": give the glass's index as \"float eta\"");
+            } else if (q->type == "spectrum") {  // its value at 550 nm in RGB; dispersion in spectral PT
+                if (!q->strings.empty() && q->strings[0].rfind("glass-", 0) == 0) {
+                    const Sellmeier* g = namedGlass(q->strings[0]);
+                    if (!g)
+                        fail(q->at, "the named spectrum \"" + q->strings[0] +
+                                        "\" is not one of pbrt-v4's glasses (glass-BK7, -BAF10, -FK51A, -LASF9, -F5, -F10, -F11)");
+                    SpectrumDesc sd;
+                    sd.kind = SpectrumDesc::Kind::Sellmeier;
+                    std::copy(g->B, g->B + 3, sd.sellmeierB);
+                    std::copy(g->C, g->C + 3, sd.sellmeierC);
+                    sd.source = q->strings[0];
+                    s_.spectra.push_back(sd);
+                    m.etaSpectrum = int(s_.spectra.size()) - 1;
+                    eta = sellmeierEta(*g, 550.0f);
+                    warn(q->at,
+                         "a dispersive glass: --tracer pt --spectral renders its dispersion; otherwise its index at 550 nm, " + std::to_string(eta));
+                    return eta;
+                }
                 SampledSpectrum s;
                 if (!q->strings.empty()) {
                     const std::string why = readSpectrumFile(resolve(q->strings[0]), s);
@@ -287,7 +302,7 @@ int Importer::material(const std::string& type, Directive& d) {
                 const double t = s.lambda[i + 1] > s.lambda[i] ? (550 - s.lambda[i]) / (s.lambda[i + 1] - s.lambda[i]) : 0;
                 eta = s.value[i] * (1 - t) + s.value[i + 1] * t;
                 m.etaSpectrum = keepSpectrum(s, 1.0f, !q->strings.empty() ? q->strings[0] : "pairs (line " + std::to_string(q->at.line) + ")");
-                warn(q->at, "a spectral eta: wavemmlt uses its value at 550 nm, " + std::to_string(eta) + " (no dispersion)");
+                warn(q->at, "a spectral eta: --tracer pt --spectral renders its dispersion; otherwise its value at 550 nm, " + std::to_string(eta));
             } else {
                 fail(q->at, "\"" + q->type + " eta\": expected a float or a spectrum");
             }
