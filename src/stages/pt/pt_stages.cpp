@@ -126,6 +126,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
     if (b.spectra) {  // the spectral stage: every hit's colours at its path's wavelengths
         for (size_t k = 0; k < h; ++k) {
             const int m = b.hitMaterial[k];
+            if (m < 0) continue;  // (a medium vertex: spectral renders have no media yet)
             Wavelengths& w = b.lambda[b.pathSlot[b.hitPath[k]]];
             if (b.spectra->colours(m, scene.desc.materials[size_t(m)], b.bsdf[k], w)) terminateSecondary(w);
             if (matte) b.hitKd[k] = b.bsdf[k].diffuse;
