@@ -1,5 +1,5 @@
 // Spectral kernels (spectral.h): the RGB-to-spectrum table's lookup, the CIE functions at a
-// wavelength, blackbody spectra.
+// wavelength.
 #include "kernels/spectral.h"
 
 extern "C" {
@@ -68,12 +68,6 @@ UnboundedSpectrum unboundedSpectrumOfRgb(Vec3 rgb) {
     s.scale = 2 * m;
     s.poly = sigmoidPolyOfRgb(s.scale > 0 ? rgb * (1.0f / s.scale) : Vec3(0.0f, 0.0f, 0.0f));
     return s;
-}
-
-Vec3 rgbColourAt(Vec3 rgb, const Wavelengths& w) {
-    if (std::max({rgb.x, rgb.y, rgb.z}) <= 1.0f) return sigmoidPolyAt(sigmoidPolyOfRgb(rgb), w);
-    const UnboundedSpectrum s = unboundedSpectrumOfRgb(rgb);
-    return sigmoidPolyAt(s.poly, w) * s.scale;
 }
 
 Vec3 rgbIlluminantAt(Vec3 rgb, const Wavelengths& w) {
@@ -149,17 +143,6 @@ Vec3 xyzToSrgb(Vec3 c) {
     const auto& m = srgbSpectral().toRgb;
     return Vec3(float(m[0][0] * c.x + m[0][1] * c.y + m[0][2] * c.z), float(m[1][0] * c.x + m[1][1] * c.y + m[1][2] * c.z),
                 float(m[2][0] * c.x + m[2][1] * c.y + m[2][2] * c.z));
-}
-
-double blackbodyNormalized(double lambdaNm, double kelvin) {
-    if (!(kelvin > 0)) return 0;
-    constexpr double c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;  // SI
-    auto planck = [&](double lambdaM) {
-        const double l5 = lambdaM * lambdaM * lambdaM * lambdaM * lambdaM;
-        return 2 * h * c * c / (l5 * (std::exp(h * c / (lambdaM * kb * kelvin)) - 1));
-    };
-    const double peak = 2.8977721e-3 / kelvin;  // Wien's displacement law, m
-    return planck(lambdaNm * 1e-9) / planck(peak);
 }
 
 }  // namespace wmlt

@@ -223,9 +223,6 @@ inline Vec3 sigmoidPolyAt(SigmoidPoly c, const Wavelengths& w) {
     return Vec3(sigmoidPolyAt(c, w.lambda[0]), sigmoidPolyAt(c, w.lambda[1]), sigmoidPolyAt(c, w.lambda[2]));
 }
 inline Vec3 denseAt(const DenseSpectrum& s, const Wavelengths& w) { return Vec3(s.at(w.lambda[0]), s.at(w.lambda[1]), s.at(w.lambda[2])); }
-// An RGB colour of a material at the path's wavelengths: a reflectance (every channel in
-// [0, 1]) by the bounded spectrum, anything else by the unbounded one.
-Vec3 rgbColourAt(Vec3 rgb, const Wavelengths& w);
 // An RGB emitter's radiance at the path's wavelengths: its unbounded spectrum times the
 // colour space's illuminant (so that (1, 1, 1) is the illuminant, white on the film).
 Vec3 rgbIlluminantAt(Vec3 rgb, const Wavelengths& w);
@@ -237,6 +234,14 @@ inline Vec3 srgbOfSample(Vec3 L, const Wavelengths& w) {
 
 // Planck's law normalised to 1 at its peak (pbrt-v4's "blackbody" spectrum): the emitted
 // spectral radiance of a black body at T kelvin relative to its maximum (Wien's displacement).
-double blackbodyNormalized(double lambdaNm, double kelvin);
+inline double blackbodyNormalized(double lambdaNm, double kelvin) {
+    if (!(kelvin > 0)) return 0;
+    constexpr double c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;  // SI
+    auto planck = [&](double nm) {
+        const double l = nm * 1e-9;
+        return (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
+    };
+    return planck(lambdaNm) / planck(2.8977721e-3 / kelvin * 1e9);  // the peak: Wien's displacement law
+}
 
 }  // namespace wmlt

@@ -84,7 +84,6 @@ SpectralScene buildSpectralScene(const Scene& scene) {
         s.constants.push_back({uplift(m.diffuse, false), uplift(m.specular, false), uplift(m.reflect, false),
                                uplift(m.kind == MaterialKind::Coated ? m.coating.albedo : m.refract, false), uplift(eta, true), uplift(k, true)});
         s.params.push_back(m.spectra);
-        s.indexFromFile.push_back(m.spectra[MaterialParam::ConductorEta] >= 0 && m.spectra[MaterialParam::ConductorK] >= 0);
     }
     s.light.assign(scene.lights.size(), -1);
     for (size_t i = 0; i < d.lights.size() && i < scene.lights.size(); ++i) s.light[i] = d.lights[i].spectrum;
@@ -132,7 +131,7 @@ bool SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, co
         case K::RoughConductor:
             setConductorIndex(out, index(P::ConductorEta, 4, conductorEta(out)), index(P::ConductorK, 5, conductorK(out)));
             // a conductor given by spectra keeps in reflect its RGB albedo correction: 1 here
-            out.reflect = indexFromFile[size_t(m)] ? Vec3(1.0f) : colour(P::Reflect, 2, out.reflect);
+            out.reflect = ps[P::ConductorEta] >= 0 && ps[P::ConductorK] >= 0 ? Vec3(1.0f) : colour(P::Reflect, 2, out.reflect);
             break;
         case K::Coated:  // a diffuse base (coated conductors render in RGB)
             out.diffuse = colour(P::Diffuse, 0, out.diffuse);

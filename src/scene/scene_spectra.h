@@ -26,7 +26,6 @@ struct SpectralScene {
     std::string unsupported;             // "" or why this scene renders in RGB
     std::vector<DenseSpectrum> dense;    // SceneDesc::spectra, times their scales
     std::vector<ParamSpectra> params;    // per material (SceneDesc::materials): index into dense, -1: its RGB
-    std::vector<uint8_t> indexFromFile;  // per material: a conductor whose eta and k are spectra (its RGB tint is then 1)
     std::vector<int> light;              // per Scene::lights: index into dense (Y = 1), -1: its RGB
     std::vector<UpliftedColour> lightL;  // per Scene::lights: its L's unbounded spectrum (scale 0: textured, or black)
     // Per material, its constants' spectra (a hit whose slot still holds the constant, i.e.

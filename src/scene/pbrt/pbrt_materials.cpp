@@ -53,13 +53,6 @@ const NamedRgb kAlbedoScale[] = {{"metal-Ag", {1.0004823f, 1.0007459f, 1.0007850
                                  {"metal-Au", {1.0395629f, 0.9782439f, 0.9715044f}},
                                  {"metal-Cu", {0.9875440f, 1.0074508f, 0.9967776f}}};
 
-// Planck's law at lambda nm, temperature T (K), divided by its peak (Wien), as pbrt-v4's
-// BlackbodySpectrum.
-double planck(double lambdaNm, double T) {
-    const double c = 299792458, h = 6.62606957e-34, kb = 1.3806488e-23, l = lambdaNm * 1e-9;
-    return (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * T)) - 1));
-}
-
 float luminanceOf(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 }  // namespace
@@ -120,10 +113,10 @@ Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUs
     SampledSpectrum s;
     if (q->type == "blackbody") {
         if (q->numbers.size() != 1 || !(q->numbers[0] > 0)) fail(q->at, decl + ": expected one temperature > 0 (kelvin)");
-        const double T = q->numbers[0], peak = planck(2.8977721e-3 / T * 1e9, T);
+        const double T = q->numbers[0];  // Planck's law over its peak, as pbrt-v4's BlackbodySpectrum
         for (int l = 360; l <= 830; ++l) {
             s.lambda.push_back(l);
-            s.value.push_back(planck(l, T) / peak);
+            s.value.push_back(blackbodyNormalized(l, T));
         }
     } else if (q->type == "spectrum") {
         if (!q->strings.empty()) {
