@@ -1,13 +1,20 @@
 #include "app/cli.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "scene/filter_desc.h"
+#include "stages/core/memory.h"
+#include "stages/mmlt/mmlt.h"
+#include "stages/pssmlt/pssmlt_stages.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
+
+extern const char* const kDefaultSceneXml;
 
 namespace {
 
@@ -252,6 +259,51 @@ void applyCamera(const CommandLine& cl, CameraDesc& c) {
     const Vec3 d = c.lookAt - c.position;
     if (!(length(d) > 0)) fail("--eye and --look-at: the camera must look somewhere (they are the same point)");
     if (!(length(cross(d, c.up)) > 0)) fail("--up: must not be parallel to the view direction");
+}
+
+SceneDesc loadCommandLineScene(const CommandLine& cl) {
+    SceneDesc scene = cl.scenePath.empty()
+                          ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
+                          : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value(), cl.tracer.value_or(TracerKind::MMLT)});
+    applyCommandLine(cl, scene.settings);
+    applyCamera(cl, scene.camera);
+    if (cl.filter) scene.filter = *cl.filter;
+    return scene;
+}
+
+RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
+    RenderOptions opt;
+    opt.tracer = s.tracer;
+    opt.spp = cl.spp ? *cl.spp : s.samples * s.samples;
+    opt.strataPerAxis = strataForSpp(opt.spp);
+    opt.timeBudget = cl.timeBudget.value_or(0.0);
+    opt.threads = s.threads;
+    opt.seed = cl.seed;
+    if (cl.misBeta) opt.misBeta = *cl.misBeta;
+    if (cl.passLength) opt.passLength = *cl.passLength;
+    if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
+    if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
+    if (cl.spectral) opt.spectral = *cl.spectral;
+    if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
+    if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
+    opt.probLarge = s.probLarge;
+    opt.strategyImages = cl.strategyImages;
+    opt.minPathLength = s.minPathLength;
+    opt.maxPathLength = s.maxPathLength;
+    return opt;
+}
+
+void checkChainMemory(long long chains, const Settings& s, bool media) {
+    const double mem = physicalMemoryBytes();
+    const uint64_t perChain = s.tracer == TracerKind::PSSMLT ? pssmltChainBytes(s.maxPathLength, media) : mmltChainBytes(s.maxPathLength, media);
+    const double bytes = double(chains) * double(perChain);
+    if (mem > 0 && bytes > 0.75 * mem)
+        throw InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + bytesText(bytes) + " of chain state (" +
+                         std::to_string(perChain) + " bytes per chain at MaxPathLength " + std::to_string(s.maxPathLength) +
+                         "), more than 3/4 of this machine's " + bytesText(mem) + " of memory");
+    if (chains > std::numeric_limits<int>::max())
+        throw InputError("wavemmlt: --chains " + std::to_string(chains) + " is more than the " + std::to_string(std::numeric_limits<int>::max()) +
+                         " chains wavemmlt can run");
 }
 
 }  // namespace wmlt

@@ -56,4 +56,16 @@ void applyCommandLine(const CommandLine& cl, Settings& s);
 // and checks the result (a view direction, an up not along it).
 void applyCamera(const CommandLine& cl, CameraDesc& c);
 
+// The scene file (the built-in scene when none is given) with the command line's settings,
+// filter and camera applied.
+SceneDesc loadCommandLineScene(const CommandLine& cl);
+// The render's options from the command line over the scene's settings: what `wavemmlt`
+// and the Python module (src/python) render with, so a seed gives both the same image.
+RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s);
+// MMLT's and PSSMLT's chain state must fit in memory: refused before anything is allocated,
+// with the memory it would need (every chain counted at MaxPathLength, the largest state).
+// The limit is the one renderMmlt applies to the chains it actually runs: 3/4 of the
+// machine's physical memory.
+void checkChainMemory(long long chains, const Settings& s, bool media);
+
 }  // namespace wmlt

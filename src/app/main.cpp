@@ -9,28 +9,20 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <mutex>
-#include <sstream>
 
 #include "app/cli.h"
 #include "app/interactive_run.h"
 #include "app/progress.h"
 #include "app/ranks.h"
+#include "app/stats_json.h"
 #include "app/watchers.h"
 #include "scene/features.h"
 #include "stages/core/distributed.h"
-#include "stages/core/memory.h"
-#include "stages/mmlt/mmlt.h"
-#include "stages/pssmlt/pssmlt_stages.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
-
-namespace wmlt {
-extern const char* const kDefaultSceneXml;
-}
 
 namespace {
 
@@ -54,24 +46,6 @@ void checkOutputPath(const std::string& path, bool image) {
     if (std::filesystem::is_directory(path, ec)) throw wmlt::InputError(path, 0, "cannot write the file: a folder of that name exists");
 }
 
-// MMLT's chain state must fit in memory: refused before anything is allocated, with the
-// memory it would need (every chain counted at MaxPathLength, the largest state). The
-// limit is the one renderMmlt applies to the chains it actually runs: 3/4 of the
-// machine's physical memory.
-void checkChainMemory(long long chains, const wmlt::Settings& s, bool media) {
-    const double mem = wmlt::physicalMemoryBytes();
-    const uint64_t perChain =
-        s.tracer == wmlt::TracerKind::PSSMLT ? wmlt::pssmltChainBytes(s.maxPathLength, media) : wmlt::mmltChainBytes(s.maxPathLength, media);
-    const double bytes = double(chains) * double(perChain);
-    if (mem > 0 && bytes > 0.75 * mem)
-        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + wmlt::bytesText(bytes) + " of chain state (" +
-                               std::to_string(perChain) + " bytes per chain at MaxPathLength " + std::to_string(s.maxPathLength) +
-                               "), more than 3/4 of this machine's " + wmlt::bytesText(mem) + " of memory");
-    if (chains > std::numeric_limits<int>::max())
-        throw wmlt::InputError("wavemmlt: --chains " + std::to_string(chains) + " is more than the " +
-                               std::to_string(std::numeric_limits<int>::max()) + " chains wavemmlt can run");
-}
-
 // The --strategy-images folder: created when missing (its parent must exist).
 void prepareFolder(const std::string& dir) {
     std::error_code ec;
@@ -81,119 +55,12 @@ void prepareFolder(const std::string& dir) {
     if (access(dir.c_str(), W_OK) != 0) throw wmlt::InputError(dir, 0, std::string("cannot write to the folder: ") + std::strerror(errno));
 }
 
-// MMLT's figures, each an object keyed by path length where it is per length. PSSMLT's the
-// same under its own prefix, with one value where MMLT's are per length (its one chain
-// group, index 0, holds every length).
-void writeMmltStats(std::ostream& o, const wmlt::RenderStats& st, const wmlt::Settings& s) {
-    const wmlt::RenderStats::Mmlt& m = st.mmlt;
-    const bool whole = st.tracer == "pssmlt";
-    const std::string prefix = whole ? "pssmlt_" : "mmlt_";
-    auto perLength = [&](const char* name, auto value) {
-        o << ",\n  \"" << prefix << (name + 5) << "\": ";  // name without "mmlt_"
-        if (whole) {
-            o << value(size_t(0));
-            return;
-        }
-        o << "{";
-        for (int k = s.minPathLength; k <= s.maxPathLength && k < int(m.b.size()); ++k)
-            o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << value(size_t(k));
-        o << "}";
-    };
-    auto rate = [](uint64_t a, uint64_t p) { return p ? double(a) / double(p) : 0.0; };
-    perLength("mmlt_b", [&](size_t k) { return m.b[k]; });
-    perLength("mmlt_b_bootstrap", [&](size_t k) { return m.bBootstrap[k]; });
-    perLength("mmlt_chains", [&](size_t k) { return m.chains[k]; });
-    perLength("mmlt_chains_seeded", [&](size_t k) { return m.chainsSeeded[k]; });
-    perLength("mmlt_distinct_seeds", [&](size_t k) { return m.distinctSeeds[k]; });
-    perLength("mmlt_bootstrap_samples", [&](size_t k) { return m.bootstrapSamples[k]; });
-    perLength("mmlt_bootstrap_with_light", [&](size_t k) { return m.bootstrapNonzero[k]; });
-    perLength("mmlt_pool_samples", [&](size_t k) { return m.poolSamples[k]; });
-    perLength("mmlt_proposals", [&](size_t k) { return m.proposals[k]; });
-    perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
-    perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
-    if (m.learnedSteps) perLength("mmlt_small_step_sigma", [&](size_t k) { return m.smallStepSigma[k]; });
-    uint64_t acc[2], prop[2];
-    m.stepTotals(acc, prop);
-    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": " << rate(acc[1], prop[1])
-      << ", \"all\": " << rate(acc[0] + acc[1], prop[0] + prop[1]) << "}"
-      << ",\n  \"" << prefix << "mutations\": " << m.mutations << ",\n  \"" << prefix
-      << "mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0) << ",\n  \"" << prefix
-      << "iterations\": " << m.iterations << ",\n  \"" << prefix << "passes\": " << m.passes << ",\n  \"" << prefix
-      << "pass_length\": " << m.passLength << ",\n  \"" << prefix << "renewals\": " << (m.passes > 0 ? m.passes - 1 : 0) << ",\n  \"" << prefix
-      << "tasks_per_round\": " << m.tasksPerRound << ",\n  \"" << prefix << "longest_task_ratio\": " << m.longestTaskRatio << ",\n  \"" << prefix
-      << "replay_mismatches\": " << m.replayMismatches << ",\n  \"" << prefix << "chain_state_bytes\": " << m.chainBytes << ",\n  \"" << prefix
-      << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked)) << ",\n  \"" << prefix
-      << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
-    o << ",\n  \"" << prefix << "target\": \"" << wmlt::mmltTargetName(m.target) << "\"";
-    if (m.target == wmlt::MmltTarget::Relative)
-        o << ",\n  \"" << prefix << "target_maps\": " << m.targetMaps << ",\n  \"" << prefix << "target_tile_size\": " << m.targetTileSize
-          << ",\n  \"" << prefix << "target_scale\": {\"least\": " << m.targetScaleLeast << ", \"most\": " << m.targetScaleMost << "}";
-    if (!m.poolDigestByRank.empty()) o << ",\n  \"" << prefix << "pool_digest\": \"" << std::hex << m.poolDigestByRank[0] << std::dec << "\"";
-    if (st.ranks.count > 1) {  // what each rank computed: the same on every rank (docs/mpi.md)
-        o << ",\n  \"" << prefix << "b_by_rank\": [";
-        for (size_t r = 0; r < m.bByRank.size(); ++r) {
-            if (whole) {
-                o << (r ? ", " : "") << std::setprecision(17) << m.bByRank[r][0];
-                continue;
-            }
-            o << (r ? ", " : "") << "{";
-            for (int k = s.minPathLength; k <= s.maxPathLength && k < int(m.bByRank[r].size()); ++k)
-                o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << std::setprecision(17) << m.bByRank[r][size_t(k)];
-            o << "}";
-        }
-        o << std::setprecision(9) << "],\n  \"" << prefix << "pool_digest_by_rank\": [";
-        for (size_t r = 0; r < m.poolDigestByRank.size(); ++r) o << (r ? ", " : "") << '"' << std::hex << m.poolDigestByRank[r] << std::dec << '"';
-        o << "]";
-    }
-}
-
-// The ranks of a render split across processes: their count always, the exchanges' cost
-// (per rank) when there are several.
-void writeRankStats(std::ostream& o, const wmlt::RenderStats& st) {
-    o << ",\n  \"ranks\": " << st.ranks.count;
-    if (st.ranks.count <= 1) return;
-    uint64_t bytes = 0;
-    double seconds = 0;
-    o << ",\n  \"mpi_bytes_by_rank\": [";
-    for (size_t r = 0; r < st.ranks.bytes.size(); ++r) {
-        o << (r ? ", " : "") << st.ranks.bytes[r];
-        bytes += st.ranks.bytes[r];
-    }
-    o << "],\n  \"mpi_seconds_by_rank\": [";
-    for (size_t r = 0; r < st.ranks.seconds.size(); ++r) {
-        o << (r ? ", " : "") << st.ranks.seconds[r];
-        seconds = std::max(seconds, st.ranks.seconds[r]);
-    }
-    o << "],\n  \"mpi_bytes\": " << bytes << ",\n  \"mpi_seconds_max\": " << seconds << ",\n  \"mpi_exchanges\": " << st.ranks.exchanges
-      << ",\n  \"mpi_boundaries\": " << st.ranks.boundaries
-      << ",\n  \"mpi_bytes_per_boundary\": " << (st.ranks.boundaries ? double(bytes) / double(st.ranks.boundaries) : 0.0)
-      << ",\n  \"mpi_seconds_per_boundary\": " << (st.ranks.boundaries ? seconds / double(st.ranks.boundaries) : 0.0);
-}
-
 void writeStats(const std::string& path, const wmlt::RenderResult& r, const wmlt::Settings& s) {
-    std::ostringstream o;
-    o.precision(9);
-    const wmlt::RenderStats& st = r.stats;
-    o << "{\n  \"tracer\": \"" << st.tracer << "\",\n  \"seconds\": " << st.seconds << ",\n  \"threads\": " << st.threads
-      << ",\n  \"spp\": " << st.spp << ",\n  \"width\": " << s.width << ",\n  \"height\": " << s.height
-      << ",\n  \"rays_intersect\": " << st.raysIntersect << ",\n  \"rays_occluded\": " << st.raysOccluded
-      << ",\n  \"mrays_per_second\": " << st.mraysPerSecond() << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
-      << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false") << ",\n  \"spectral\": " << (st.spectral ? "true" : "false")
-      << ",\n  \"spectral_reason\": \"" << st.spectralReason << "\",\n  \"mean_luminance_by_length\": {";
-    // Path length k (segments) -> the image's mean luminance carried by length-k paths.
-    for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
-        o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];
-    o << "}";
-    writeRankStats(o, st);
-    if (st.tracer == "mmlt" || st.tracer == "pssmlt") writeMmltStats(o, st, s);
-    o << ",\n  \"buffers_bytes\": {";
-    for (size_t i = 0; i < st.buffers.size(); ++i) o << (i ? ", " : "") << '"' << st.buffers[i].first << "\": " << st.buffers[i].second;
-    o << "}";
-    o << ",\n  \"scene_features\": " << r.featuresJson << "\n}\n";
+    const std::string json = wmlt::statsJson(r, s);
     std::string tmp = path + ".tmp-" + std::to_string(getpid());
     {
         std::ofstream f(tmp);
-        f << o.str();
+        f << json;
         if (!f) throw wmlt::InputError(path, 0, "cannot write statistics");
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0) {
@@ -208,18 +75,6 @@ struct Job {
     wmlt::SceneDesc scene;
     std::vector<std::string> outputs;
 };
-
-// The scene file (or the built-in scene) with the command line's settings, filter and camera.
-wmlt::SceneDesc loadJobScene(const wmlt::CommandLine& cl) {
-    using namespace wmlt;
-    SceneDesc scene = cl.scenePath.empty()
-                          ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
-                          : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value(), cl.tracer.value_or(TracerKind::MMLT)});
-    applyCommandLine(cl, scene.settings);
-    applyCamera(cl, scene.camera);
-    if (cl.filter) scene.filter = *cl.filter;
-    return scene;
-}
 
 // Parses, loads and checks (throws InputError). Returns false when the job ends here
 // (--help, --version, --describe). Only rank 0 prints, opens viewers and checks the output
@@ -243,11 +98,11 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
         throw InputError("wavemmlt: --strategy-images is made by one process only (run it without mpirun)");
 
     if (cl.scenePath.empty() && !cl.defines.empty()) throw InputError("wavemmlt: -D needs a Mitsuba scene file");
-    job.scene = loadJobScene(cl);
+    job.scene = loadCommandLineScene(cl);
     if (root && !cl.quiet)
         for (const std::string& w : job.scene.warnings) std::cerr << "warning: " << w << "\n";
     if (cl.chains && *cl.chains > 0 && (job.scene.settings.tracer == TracerKind::MMLT || job.scene.settings.tracer == TracerKind::PSSMLT))
-        checkChainMemory(*cl.chains, job.scene.settings, deriveFeatures(job.scene).media);
+        wmlt::checkChainMemory(*cl.chains, job.scene.settings, deriveFeatures(job.scene).media);
     if (cl.describe) {
         if (root) std::cout << deriveFeatures(job.scene).describe();
         return false;
@@ -271,24 +126,7 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     const bool root = ranks.root();
 
     const Settings& s = job.scene.settings;
-    RenderOptions opt;
-    opt.tracer = s.tracer;
-    opt.spp = cl.spp ? *cl.spp : s.samples * s.samples;
-    opt.strataPerAxis = strataForSpp(opt.spp);
-    opt.timeBudget = cl.timeBudget.value_or(0.0);
-    opt.threads = s.threads;
-    opt.seed = cl.seed;
-    if (cl.misBeta) opt.misBeta = *cl.misBeta;
-    if (cl.passLength) opt.passLength = *cl.passLength;
-    if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
-    if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
-    if (cl.spectral) opt.spectral = *cl.spectral;
-    if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
-    if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
-    opt.probLarge = s.probLarge;
-    opt.strategyImages = cl.strategyImages;
-    opt.minPathLength = s.minPathLength;
-    opt.maxPathLength = s.maxPathLength;
+    RenderOptions opt = renderOptionsFor(cl, s);
     opt.cancel = &gCancel;
     if (ranks.many()) opt.ranks = &ranks;
     if (root && !cl.quiet) opt.notice = [](const std::string& n) { std::fprintf(stderr, "%s\n", n.c_str()); };
@@ -342,7 +180,7 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
         throw;
     }
     progress.finish();
-    if (root && watchers.interactiveRequested() && !gInterrupted) return interactive(loadJobScene(cl));
+    if (root && watchers.interactiveRequested() && !gInterrupted) return interactive(loadCommandLineScene(cl));
     if (!root) return r.stats.cancelled ? 130 : 0;
     writeOutputs(r.image, cl.exposure);
     for (const StrategyImage& si : r.strategyImages) {
@@ -359,7 +197,7 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
     for (const std::string& w : renderWarnings(r))  // (an estimator's replay mismatch even with --quiet)
         if (!cl.quiet || r.stats.mmlt.replayMismatches) std::fprintf(stderr, "warning: %s\n", w.c_str());
     // With --view: until the window is closed, or the i key asks for the interactive mode.
-    if (watchers.finish(r)) return interactive(loadJobScene(cl));
+    if (watchers.finish(r)) return interactive(loadCommandLineScene(cl));
     return r.stats.cancelled ? 130 : 0;
 }
 

@@ -1,0 +1,15 @@
+// The --stats JSON of a render: what the command line writes to its --stats file and the
+// Python module returns as a dict (RenderResult.stats), the same keys in both (docs/cli.md
+// lists them in the README's "Using it").
+#pragma once
+#include <string>
+
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+namespace wmlt {
+
+// `settings` are the render's: the image size and the path lengths reported.
+std::string statsJson(const RenderResult& r, const Settings& settings);
+
+}  // namespace wmlt
