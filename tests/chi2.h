@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "image/compare.h"
 #include "wavemmlt/math.h"
 
 namespace chi2 {
@@ -74,36 +75,7 @@ double adaptiveSimpson2D(const F& f, double x0, double x1, double y0, double y1,
     return adaptiveSimpson(inner, x0, x1, eps, depth);
 }
 
-// Regularised upper incomplete gamma Q(a, x) = Gamma(a, x) / Gamma(a): series for
-// x < a + 1, Lentz continued fraction otherwise (Numerical Recipes, 2nd ed., 6.2).
-inline double gammaQ(double a, double x) {
-    if (x <= 0) return 1.0;
-    double lnPre = -x + a * std::log(x) - std::lgamma(a);
-    if (x < a + 1) {
-        double ap = a, del = 1.0 / a, sum = del;
-        for (int n = 0; n < 100000 && std::fabs(del) > std::fabs(sum) * 1e-15; ++n) {
-            ap += 1;
-            del *= x / ap;
-            sum += del;
-        }
-        return 1.0 - sum * std::exp(lnPre);
-    }
-    const double tiny = 1e-300;
-    double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
-    for (int i = 1; i < 100000; ++i) {
-        double an = -i * (i - a);
-        b += 2;
-        d = an * d + b;
-        if (std::fabs(d) < tiny) d = tiny;
-        c = b + an / c;
-        if (std::fabs(c) < tiny) c = tiny;
-        d = 1 / d;
-        double del = d * c;
-        h *= del;
-        if (std::fabs(del - 1) < 1e-15) break;
-    }
-    return std::exp(lnPre) * h;
-}
+using rstats::gammaQ;  // (image/compare.h)
 
 struct Result {
     double stat = 0, pValue = 0;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "image/compare.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/image.h"
 
@@ -17,7 +18,6 @@ using namespace wmlt;
 
 namespace {
 
-constexpr double kRelEpsilon = 1e-2;
 constexpr double kMaskFraction = 0.01;
 
 const char* kHelp =
@@ -127,29 +127,10 @@ int cmdDiff(const Args& args) {
         throw InputError("size mismatch: " + pa + " is " + std::to_string(a.width) + " x " + std::to_string(a.height) + ", " + pb + " is " +
                          std::to_string(b.width) + " x " + std::to_string(b.height));
     const size_t nPix = size_t(a.width) * size_t(a.height);
-    double se = 0, rel = 0, ae = 0, maxAbs = 0;
-    size_t n = 0, nonFinite = 0;
-    std::vector<double> pixelErr(nPix, 0.0);
-    for (size_t i = 0; i < nPix; ++i) {
-        for (int c = 0; c < 3; ++c) {
-            const double x = a.rgb[3 * i + c], r = b.rgb[3 * i + c];
-            if (!std::isfinite(x) || !std::isfinite(r)) {
-                ++nonFinite;
-                pixelErr[i] = INFINITY;
-                continue;
-            }
-            const double d = x - r;
-            se += d * d;
-            rel += d * d / (r * r + kRelEpsilon);
-            ae += std::fabs(d);
-            maxAbs = std::max(maxAbs, std::fabs(d));
-            pixelErr[i] += d * d;
-            ++n;
-        }
-    }
-    const double rmse = n ? std::sqrt(se / double(n)) : 0.0;
-    const double relmse = n ? rel / double(n) : 0.0;
-    const double mae = n ? ae / double(n) : 0.0;
+    std::vector<double> pixelErr;
+    const ImageDiff d = diffImages(a, b, &pixelErr);
+    const double rmse = d.rmse, relmse = d.relmse, mae = d.mae, maxAbs = d.maxAbs;
+    const size_t nonFinite = d.nonFinite;
 
     if (!args.mask.empty()) {
         std::vector<double> sorted = pixelErr;
@@ -173,7 +154,7 @@ int cmdDiff(const Args& args) {
         std::printf(
             "{\"a\": %s, \"b\": %s, \"width\": %d, \"height\": %d, \"rmse\": %s, \"relmse\": %s, "
             "\"relmse_epsilon\": %s, \"mae\": %s, \"max_abs\": %s, \"nonfinite\": %zu}\n",
-            jsonString(pa).c_str(), jsonString(pb).c_str(), a.width, a.height, num(rmse).c_str(), num(relmse).c_str(), num(kRelEpsilon).c_str(),
+            jsonString(pa).c_str(), jsonString(pb).c_str(), a.width, a.height, num(rmse).c_str(), num(relmse).c_str(), num(kRelMseEpsilon).c_str(),
             num(mae).c_str(), num(maxAbs).c_str(), nonFinite);
     } else {
         std::printf("size      %d x %d\n", a.width, a.height);
