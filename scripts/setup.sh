@@ -9,10 +9,13 @@ cd "$(dirname "$0")/.."
 # libsdl2-dev is for the --view window and libimgui-dev (Dear ImGui) for --interactive's panel; xvfb, xdotool and x11-apps (xwd) are for its tests;
 # libopenmpi-dev and openmpi-bin (mpirun) are for one render across many ranks (docs/mpi.md);
 # zlib1g-dev (zlib's inflate) is for Mitsuba's compressed serialized meshes (load_serialized.cpp);
-# colord-data has the CIE 1931 observer and D65 tables that spectra are projected with (scene/spectrum.h).
+# colord-data has the CIE 1931 observer and D65 tables that spectra are projected with (scene/spectrum.h);
+# python3-dev, pybind11-dev and python3-numpy are for the Python module (docs/python.md), python3-pytest
+# for its tests and python3-matplotlib for the plots bench/ draws with it.
 packages=(build-essential cmake pkg-config libembree-dev libtbb-dev libopenexr-dev
           libtinyobjloader-dev libpugixml-dev catch2 libstb-dev clang libclang-rt-14-dev
-          libsdl2-dev libimgui-dev xvfb xdotool x11-apps libopenmpi-dev openmpi-bin zlib1g-dev colord-data)
+          libsdl2-dev libimgui-dev xvfb xdotool x11-apps libopenmpi-dev openmpi-bin zlib1g-dev colord-data
+          python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
