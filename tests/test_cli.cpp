@@ -507,3 +507,22 @@ TEST_CASE("cli: the built-in scene renders to .exr and .png at once", "[cli]") {
     CHECK(meanValue(a) > 0);
     CHECK(meanValue(b) > 0);
 }
+
+TEST_CASE("cli: a render says where its image went; the built-in scene's also what to try next", "[cli]") {
+    TempDir dir;
+    const std::string exr = dir.file("first.exr"), png = dir.file("first.png");
+    Run r = run(" --width 32 --height 24 --spp 1 -o " + quote(exr) + " -o " + quote(png), dir);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.err, "wrote " + exr + ", " + png + "\n"));
+    CHECK(contains(r.err, "next:\n"));
+    CHECK(contains(r.err, "--interactive"));
+    CHECK(contains(r.err, "docs/python.md"));
+    Run q = run(" --width 32 --height 24 --spp 1 --quiet -o " + quote(exr), dir);
+    CHECK(q.err.empty());
+    const std::string xml = std::string(WAVEMMLT_TEST_DATA) + "/scenes/seed-room/seed-room.xml";
+    Run f = run(quote(xml) + " --width 16 --height 16 --tracer pt --spp 1 -o " + quote(exr), dir);
+    INFO("stderr: " << f.err);
+    CHECK(contains(f.err, "wrote " + exr + "\n"));
+    CHECK_FALSE(contains(f.err, "next:"));
+}

@@ -76,6 +76,21 @@ struct Job {
     std::vector<std::string> outputs;
 };
 
+// What to try after the built-in scene: real scenes (those found from here), the
+// interactive mode, Python and the docs.
+std::string nextStepsText() {
+    std::string t = "next:\n";
+    const char* const scenes[] = {"../shared/scenes/pbrt-v4/veach-ajar/veach-ajar.pbrt", "tests/data/scenes/pbrt-v4/cornell-box/cornell-box.pbrt",
+                                  "tests/data/scenes/mitsuba/veach-bidir/scene.xml"};
+    std::error_code ec;
+    for (const char* s : scenes)
+        if (std::filesystem::is_regular_file(s, ec)) t += "  build/wavemmlt " + std::string(s) + " --time 30 -o scene.png\n";
+    t += "  build/wavemmlt SCENE --interactive    a window: drag to orbit, change the tracer and settings\n"
+         "  build/wavemmlt --help                 every option; thesis, Mitsuba 3 and pbrt-v4 files load\n"
+         "  README.md, docs/python.md              the docs; from Python: import wavemmlt (build/python)\n";
+    return t;
+}
+
 // Parses, loads and checks (throws InputError). Returns false when the job ends here
 // (--help, --version, --describe). Only rank 0 prints, opens viewers and checks the output
 // paths (they are its files); the other ranks load the scene themselves, quietly.
@@ -193,6 +208,10 @@ int run(int argc, char** argv, wmlt::Distributed& ranks) {
         const std::string across = ranks.many() ? " on " + std::to_string(ranks.size()) + " ranks" : "";
         std::fprintf(stderr, "%s: %llu spp in %.2f s%s, %.2f Mrays/s%s\n", tracerName(opt.tracer), (unsigned long long)r.stats.spp, r.stats.seconds,
                      across.c_str(), r.stats.mraysPerSecond(), r.stats.cancelled ? " (interrupted: image so far saved)" : "");
+        std::string written;
+        for (const std::string& o : outputs) written += (written.empty() ? "" : ", ") + o;
+        std::fprintf(stderr, "wrote %s\n", written.c_str());
+        if (cl.scenePath.empty()) std::fputs(nextStepsText().c_str(), stderr);  // the first render a newcomer makes
     }
     for (const std::string& w : renderWarnings(r))  // (an estimator's replay mismatch even with --quiet)
         if (!cl.quiet || r.stats.mmlt.replayMismatches) std::fprintf(stderr, "warning: %s\n", w.c_str());
