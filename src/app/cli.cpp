@@ -130,7 +130,8 @@ std::string usageText() {
            "                           docs/spectral.md)\n"
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
            "                           and _unweighted.exr (the folder is created)\n"
-           "  --time SECONDS           render rounds of --spp samples until the time is spent\n"
+           "  --time SECONDS           render rounds of --spp samples until the time is spent (the built-in\n"
+           "                           scene without --spp or --time: 10 s)\n"
            "  --threads N              worker threads (0: all)\n"
            "  --seed N                 random seed (same seed: same image, for any --threads)\n"
            "  --width N, --height N    image size\n"
@@ -277,6 +278,9 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
     opt.spp = cl.spp ? *cl.spp : s.samples * s.samples;
     opt.strataPerAxis = strataForSpp(opt.spp);
     opt.timeBudget = cl.timeBudget.value_or(0.0);
+    // The built-in scene asked for no sample count and no time: the first render a newcomer
+    // makes (the README's first command), given the seconds that make it clean enough to show.
+    if (cl.scenePath.empty() && !cl.spp && !cl.timeBudget) opt.timeBudget = kFirstRenderSeconds;
     opt.threads = s.threads;
     opt.seed = cl.seed;
     if (cl.misBeta) opt.misBeta = *cl.misBeta;

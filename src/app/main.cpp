@@ -85,9 +85,10 @@ std::string nextStepsText() {
     std::error_code ec;
     for (const char* s : scenes)
         if (std::filesystem::is_regular_file(s, ec)) t += "  build/wavemmlt " + std::string(s) + " --time 30 -o scene.png\n";
-    t += "  build/wavemmlt SCENE --interactive    a window: drag to orbit, change the tracer and settings\n"
-         "  build/wavemmlt --help                 every option; thesis, Mitsuba 3 and pbrt-v4 files load\n"
-         "  README.md, docs/python.md              the docs; from Python: import wavemmlt (build/python)\n";
+    t += "  build/wavemmlt SCENE --interactive   a window: drag to orbit, change the tracer and settings\n"
+         "  build/wavemmlt --help                every option; thesis, Mitsuba 3 and pbrt-v4 files load\n"
+         "  import wavemmlt                      from Python (PYTHONPATH=build/python; docs/python.md)\n"
+         "  README.md, docs/                     the docs\n";
     return t;
 }
 

@@ -145,6 +145,7 @@ PyRender render(const PyScene& scene, const py::dict& kwargs) {
     }
     if (!progress.is_none() && !PyCallable_Check(progress.ptr())) throw py::type_error("render(): progress must be callable");
     std::vector<std::string> args = scene.args;
+    if (!scene.path.empty()) args.insert(args.begin(), scene.path);  // (not loaded again: named for the options' rules)
     for (const std::string& a : optionArguments(options)) args.push_back(a);
     if (strategyImages) args.insert(args.end(), {"--strategy-images", "<strategy images>"});
     CommandLine cl = parseArguments(args);
