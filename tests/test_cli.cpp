@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/cli.h"
 #include "wavemmlt/image.h"
 
 namespace fs = std::filesystem;
@@ -506,6 +507,23 @@ TEST_CASE("cli: the built-in scene renders to .exr and .png at once", "[cli]") {
     CHECK(allFinite(a));
     CHECK(meanValue(a) > 0);
     CHECK(meanValue(b) > 0);
+}
+
+TEST_CASE("cli: the built-in scene without --spp or --time renders for 10 s; anything else as asked", "[cli]") {
+    auto options = [](std::vector<std::string> words) {
+        words.insert(words.begin(), "wavemmlt");
+        std::vector<char*> argv;
+        for (std::string& w : words) argv.push_back(w.data());
+        const wmlt::CommandLine cl = wmlt::parseCommandLine(int(argv.size()), argv.data());
+        wmlt::Settings s;
+        s.samples = 4;
+        return wmlt::renderOptionsFor(cl, s);
+    };
+    CHECK(options({}).timeBudget == wmlt::kFirstRenderSeconds);
+    CHECK(options({}).spp == 16);  // (rounds of the scene's samples)
+    CHECK(options({"--spp", "4"}).timeBudget == 0);
+    CHECK(options({"--time", "2"}).timeBudget == 2);
+    CHECK(options({"scene.xml"}).timeBudget == 0);
 }
 
 TEST_CASE("cli: a render says where its image went; the built-in scene's also what to try next", "[cli]") {
