@@ -20,6 +20,7 @@
 #include "app/stats_json.h"
 #include "app/watchers.h"
 #include "scene/features.h"
+#include "scene/scene_spectra.h"
 #include "stages/core/distributed.h"
 #include "wavemmlt/error.h"
 #include "wavemmlt/render.h"
@@ -92,6 +93,16 @@ std::string nextStepsText() {
     return t;
 }
 
+// --describe's last line: whether a render with these options is spectral, and why not
+// (the reasons the tracers give in --stats' spectral_reason).
+std::string spectralLine(const wmlt::SceneDesc& scene, const wmlt::RenderOptions& opt) {
+    if (!opt.spectral) return "spectral: no (RGB, the default; --spectral asks for sampled wavelengths)\n";
+    if (opt.tracer != wmlt::TracerKind::PT) return "spectral: no: spectral rendering is PT's only so far (--tracer pt)\n";
+    const std::string why = wmlt::spectralUnsupported(scene, wmlt::deriveFeatures(scene).media);
+    if (!why.empty()) return "spectral: no: the scene has " + why + " (not spectral yet)\n";
+    return "spectral: yes (PT, sampled wavelengths: docs/spectral.md)\n";
+}
+
 // Parses, loads and checks (throws InputError). Returns false when the job ends here
 // (--help, --version, --describe). Only rank 0 prints, opens viewers and checks the output
 // paths (they are its files); the other ranks load the scene themselves, quietly.
@@ -120,7 +131,7 @@ bool prepare(int argc, char** argv, const wmlt::Distributed& ranks, Job& job) {
     if (cl.chains && *cl.chains > 0 && (job.scene.settings.tracer == TracerKind::MMLT || job.scene.settings.tracer == TracerKind::PSSMLT))
         wmlt::checkChainMemory(*cl.chains, job.scene.settings, deriveFeatures(job.scene).media);
     if (cl.describe) {
-        if (root) std::cout << deriveFeatures(job.scene).describe();
+        if (root) std::cout << deriveFeatures(job.scene).describe() << spectralLine(job.scene, renderOptionsFor(cl, job.scene.settings));
         return false;
     }
     job.outputs = cl.outputs;

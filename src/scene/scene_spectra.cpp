@@ -61,9 +61,9 @@ std::string unsupportedMaterial(const MaterialDesc& m) {
         case K::RoughPlastic:
         case K::Principled:
         case K::Blend:
-        case K::Phase: return std::string("its ") + kMaterialKindNames[int(m.kind)] + " material";
+        case K::Phase: return std::string("a ") + kMaterialKindNames[int(m.kind)] + " material";
         case K::Coated:
-            if (m.coating.conductorBase) return "its coated conductor";
+            if (m.coating.conductorBase) return "a coated conductor";
             return "";
         default: return "";
     }
@@ -71,12 +71,17 @@ std::string unsupportedMaterial(const MaterialDesc& m) {
 
 }  // namespace
 
+std::string spectralUnsupported(const SceneDesc& d, bool media) {
+    if (media) return "participating media";
+    for (const MaterialDesc& m : d.materials)
+        if (std::string why = unsupportedMaterial(m); !why.empty()) return why;
+    return "";
+}
+
 SpectralScene buildSpectralScene(const Scene& scene) {
     SpectralScene s;
     const SceneDesc& d = scene.desc;
-    if (scene.features.media) s.unsupported = "participating media";
-    for (const MaterialDesc& m : d.materials)
-        if (s.unsupported.empty()) s.unsupported = unsupportedMaterial(m);
+    s.unsupported = spectralUnsupported(d, scene.features.media);
     if (!s.unsupported.empty()) return s;
     for (const SpectrumDesc& sd : d.spectra) s.dense.push_back(densify(sd));
     for (const MaterialDesc& m : d.materials) {

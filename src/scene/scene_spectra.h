@@ -59,5 +59,8 @@ struct SpectralScene {
 // The scene's spectra, or `unsupported` set (media, materials whose derived data is RGB:
 // plastics, principled, blends, coated conductors, conductors by reflectance).
 SpectralScene buildSpectralScene(const Scene& scene);
+// The same reason from the description alone ("" when the scene can render spectrally;
+// media: it has participating media): --describe's.
+std::string spectralUnsupported(const SceneDesc& d, bool media);
 
 }  // namespace wmlt
