@@ -1,7 +1,8 @@
 // Camera motions for the interactive mode (issue 28): pure functions from a camera
 // description and a mouse or keyboard gesture to the moved camera, each keeping what the
 // gesture should not change (orbit: the point looked at and its distance; pan and fly: the
-// direction of view; dolly: the direction and the point; zoom: the position).
+// direction of view; dolly: the direction and the point; zoom: the position; recentre: the
+// image).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,13 @@ inline CameraFrame cameraFrame(const CameraDesc& c) {
 inline Vec3 rotateAbout(Vec3 v, Vec3 k, float a) {
     const float c = std::cos(a), s = std::sin(a);
     return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
+}
+
+// Recentre: lookAt moved along the view direction to `distance` from the eye (the image is
+// unchanged: the same position and direction); the orbit's pivot at the drag's start.
+inline CameraDesc recentre(CameraDesc c, float distance) {
+    c.lookAt = c.position + cameraFrame(c).forward * distance;
+    return c;
 }
 
 // Orbit about lookAt: yaw about the camera's up vector (the file's up), then pitch about
