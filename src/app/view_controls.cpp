@@ -130,6 +130,14 @@ void ViewControls::focusAt(int x, int y, const SDL_Rect& image) {
     if (!messageIsError_) say("focus distance " + number(*d), false);
 }
 
+// The orbit's pivot, from the eye along the view: the surface under the image's centre;
+// none there, the thin lens' focus distance; else LookAt's distance.
+float ViewControls::pivotDistance(const CameraDesc& c) const {
+    const std::optional<float> d = session_.depthAt(0.5f, 0.5f);
+    if (d && *d > 0) return *d;
+    return c.dof ? c.focalLength : cameraFrame(c).distance;
+}
+
 bool ViewControls::key(SDL_Keycode k, Uint16 mod, const SDL_Rect& image) {
     ViewSettings s = session_.settings();
     const float step = kFlyStep * cameraFrame(s.camera).distance;
@@ -184,6 +192,7 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
             pressY_ = e.button.y;
             moved_ = false;
             pressCamera_ = session_.settings().camera;
+            if (drag_ == Drag::Orbit) pressCamera_ = recentre(pressCamera_, pivotDistance(pressCamera_));
             return true;
         }
         case SDL_MOUSEMOTION: {
@@ -330,7 +339,7 @@ void ViewControls::drawPanel(const std::string& progress) {
             if (messageIsError_) ImGui::PopStyleColor();
         }
         ImGui::TextWrapped(
-            "drag: orbit; right or shift drag: pan; middle drag or wheel: dolly; shift wheel: zoom; "
+            "drag: orbit about the point at the centre; right or shift drag: pan; middle drag or wheel: dolly; shift wheel: zoom; "
             "ctrl click or f: focus; arrows, PgUp, PgDn: fly; Tab hides this panel");
         ImGui::PopItemWidth();
         ImGui::End();
