@@ -166,7 +166,7 @@ TEST_CASE("interactive: a drag moves the camera; once still, the window shows wh
     REQUIRE(shows(run, freshRender(first, dir + "/first.png"), 10, worst));
     const std::vector<uint8_t> before = run.image();
 
-    run.drag(1, {{20, 24}, {21, 24}, {22, 25}, {23, 25}});  // orbit (a pixel: 3.75 degrees)
+    run.drag(1, {{20, 24}, {21, 24}, {22, 25}, {23, 25}});  // orbit (a pixel: 60 / 364 degrees)
     run.drag(3, {{30, 30}, {31, 29}});                      // pan
     const std::string moved = run.commandLine();
     INFO(first << "\n" << moved);

@@ -7,6 +7,7 @@
 #include <backends/imgui_impl_sdl.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -72,7 +73,7 @@ void renderDrawData(SDL_Renderer* renderer, const ImDrawData* data) {
 }  // namespace
 
 ViewControls::ViewControls(SDL_Window* window, SDL_Renderer* renderer, InteractiveSession& session, ControlsOptions options)
-    : window_(window), renderer_(renderer), session_(session), opt_(std::move(options)) {
+    : window_(window), renderer_(renderer), session_(session), opt_(std::move(options)), orbitRate_(opt_.orbitRate) {
     NotLeakChecked notChecked;
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -202,8 +203,11 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
             // The gesture from where the button went down (no drift from summed steps).
             const float dx = float(e.motion.x - pressX_) / float(image.h), dy = float(e.motion.y - pressY_) / float(image.h);
             moved_ = moved_ || dx != 0 || dy != 0;
+            int W = 0, H = 0;
+            SDL_GetWindowSize(window_, &W, &H);
+            const float perPixel = orbitRate_ * kPi / 180.0f / float(std::max(W, 1));  // radians
             ViewSettings s = session_.settings();
-            if (drag_ == Drag::Orbit) s.camera = orbit(pressCamera_, -kPi * dx, kPi * dy);
+            if (drag_ == Drag::Orbit) s.camera = orbit(pressCamera_, -perPixel * float(e.motion.x - pressX_), perPixel * float(e.motion.y - pressY_));
             else if (drag_ == Drag::Pan) s.camera = pan(pressCamera_, -dx, dy);
             else s.camera = dolly(pressCamera_, 2 * dy);
             apply(s, true);
@@ -313,6 +317,12 @@ void ViewControls::drawPanel(const std::string& progress) {
         realField("exposure (+ -)", [](ViewSettings& n) -> float& { return n.exposure; });
         ImGui::Separator();
         realField("FOV (degrees)", [](ViewSettings& n) -> float& { return n.camera.fovDegrees; });
+        // The orbit's rate: the window's, no render setting (--orbit-rate).
+        if (field("orbit (deg/width)", number(orbitRate_), typed)) {
+            if (parseNumber(typed, v) && v > 0 && v < 1e30)
+                orbitRate_ = float(v), say("orbit rate " + number(v) + " degrees per window width", false);
+            else say("orbit (deg/width): '" + typed + "' is not a positive number", true);
+        }
         edit("focus distance (f)", number(s.camera.focalLength), [](ViewSettings& n, double x) {
             if (!(x > 0)) return std::string("must be positive");
             const float r = apertureOf(n.camera);
