@@ -47,6 +47,34 @@ CameraDesc withAperture(CameraDesc c, float r) {
     return c;
 }
 
+// The panel's status: the title's progress (its "wavemmlt interactive <tracer>: ", which the
+// window's title and the tracer's button show, left off) wrapped to the panel's width in two
+// lines, whatever it says, so that the widgets below stay where they are; a longer text (an
+// error) ends in "..." and shows whole in a tooltip. Returns the text's rectangle.
+SDL_Rect statusLines(std::string text) {
+    if (text.compare(0, 9, "wavemmlt ") == 0 && text.find(": ") != std::string::npos) text.erase(0, text.find(": ") + 2);
+    const float wrap = ImGui::GetContentRegionAvail().x, lines = 2 * ImGui::GetTextLineHeight();
+    auto height = [&](const std::string& t) { return ImGui::CalcTextSize(t.c_str(), nullptr, false, wrap).y; };
+    std::string shown = text;
+    if (height(text) > lines + 0.5f) {
+        do shown.pop_back();
+        while (!shown.empty() && height(shown + "...") > lines + 0.5f);
+        shown += "...";
+    }
+    ImGui::BeginChild("status", ImVec2(0, lines), false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+    ImGui::TextWrapped("%s", shown.c_str());  // (at the child's right edge: the panel's content width)
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    if (shown != text && ImGui::IsWindowHovered()) {  // (wrapped too: a tooltip stays in the window)
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(wrap);
+        ImGui::TextUnformatted(text.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
+    }
+    ImGui::EndChild();
+    return SDL_Rect{int(a.x), int(a.y), int(b.x - a.x), int(b.y - a.y)};
+}
+
 // ImGui's triangle lists drawn with the SDL renderer: each command clipped to its rectangle.
 void renderDrawData(SDL_Renderer* renderer, const ImDrawData* data) {
     for (int n = 0; n < data->CmdListsCount; ++n) {
@@ -270,9 +298,7 @@ void ViewControls::drawPanel(const std::string& progress) {
                      ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                          ImGuiWindowFlags_NoSavedSettings);
         ImGui::PushItemWidth(120);
-        // One line, whatever it says (the widgets below stay where they are).
-        const std::string line = progress.substr(0, progress.find(" | "));
-        ImGui::TextUnformatted(line.c_str());
+        layout_["status"] = statusLines(progress.substr(0, progress.find(" | ")));
         ImGui::Separator();
         ViewSettings s = session_.settings();
         for (int t : {3, 2, 1, 0, 4}) {  // pt, lt, bpt, mmlt, pssmlt
