@@ -67,3 +67,31 @@ TEST_CASE("camera control: pan, dolly, zoom and fly keep what they must", "[came
     CHECK(dot(f.position - c.position, directionOf(c)) == Approx(1.0f).epsilon(1e-5));
     CHECK(near(fly(f, Vec3(-0.5f, 0.0f, -1.0f)).position, c.position, 1e-4f));
 }
+
+TEST_CASE("camera control: recentre keeps the image and puts LookAt at the distance asked", "[camera-control]") {
+    // A Mitsuba camera: LookAt one unit ahead of the eye (Bitterli's Cornell box).
+    CameraDesc c;
+    c.position = Vec3(0.0f, 1.0f, 6.8f);
+    c.lookAt = Vec3(0.0f, 1.0f, 5.8f);
+    c.up = Vec3(0.0f, 1.0f, 0.0f);
+    const CameraDesc r = recentre(c, 7.8f);
+    CHECK(near(r.position, c.position, 0.0f));
+    CHECK(near(r.up, c.up, 0.0f));
+    CHECK(near(directionOf(r), directionOf(c), 1e-6f));
+    CHECK(distanceOf(r) == Approx(7.8f).epsilon(1e-6));
+    CHECK(near(r.lookAt, Vec3(0.0f, 1.0f, -1.0f), 1e-5f));  // the back wall's centre
+    // The same for any camera, nearer or farther than its LookAt.
+    const CameraDesc s = someCamera();
+    for (float d : {0.25f, 3.0f, 40.0f}) {
+        const CameraDesc t = recentre(s, d);
+        CHECK(near(t.position, s.position, 0.0f));
+        CHECK(near(directionOf(t), directionOf(s), 1e-5f));
+        CHECK(distanceOf(t) == Approx(d).epsilon(1e-5));
+    }
+    // The orbit then turns about the recentred point: the eye stays 7.8 from the back wall
+    // (about the file's LookAt it would stay 1 unit from a point in front of the box).
+    const CameraDesc o = orbit(r, 20.0f * kPi / 180.0f, 0.0f);
+    CHECK(near(o.lookAt, r.lookAt, 0.0f));
+    CHECK(length(o.position - Vec3(0.0f, 1.0f, -1.0f)) == Approx(7.8f).epsilon(1e-5));
+    CHECK(std::acos(dot(directionOf(o), directionOf(r))) == Approx(20.0f * kPi / 180.0f).epsilon(1e-4));
+}

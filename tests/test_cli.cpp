@@ -344,6 +344,40 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     CHECK_FALSE(fs::exists(out));
 }
 
+// --orbit-rate DEGREES (the interactive orbit, degrees per window width): a positive finite
+// number; anything else exits 2 naming the option, before any render.
+TEST_CASE("cli: --orbit-rate", "[cli]") {
+    auto parse = [](std::vector<std::string> words) {
+        words.insert(words.begin(), "wavemmlt");
+        std::vector<char*> argv;
+        for (std::string& w : words) argv.push_back(w.data());
+        return wmlt::parseCommandLine(int(argv.size()), argv.data());
+    };
+    CHECK(parse({}).orbitRate == 60.0f);
+    CHECK(parse({"--orbit-rate", "90"}).orbitRate == 90.0f);
+    CHECK(parse({"--orbit-rate", "0.5"}).orbitRate == 0.5f);
+    TempDir dir;
+    std::string out = dir.file("out.pfm");
+    for (const char* bad : {"0", "-30", "abc", "nan", "inf", "1e40", "1e-50", "90deg"}) {
+        Run r = run(std::string("--orbit-rate ") + bad + kSmall + " -o " + quote(out), dir);
+        INFO(bad << ": " << r.err);
+        CHECK(r.status == 2);
+        CHECK(contains(r.err, "--orbit-rate"));
+        CHECK(contains(r.err, bad));
+        CHECK(r.seconds < 5.0);
+    }
+    Run m = run("--orbit-rate", dir);  // a missing value
+    CHECK(m.status == 2);
+    CHECK(contains(m.err, "--orbit-rate needs a value"));
+    CHECK_FALSE(fs::exists(out));
+    // Accepted without a window (the i key in --view may start the interactive mode).
+    Run ok = run("--orbit-rate 120 --spp 1" + kSmall + " -o " + quote(out), dir);
+    INFO(ok.err);
+    CHECK(ok.status == 0);
+    CHECK(fs::exists(out));
+    CHECK(contains(run("--help", dir).out, "--orbit-rate DEGREES"));
+}
+
 TEST_CASE("CLI: --filter", "[cli][filter]") {
     TempDir dir;
     std::string out = dir.file("out.pfm");

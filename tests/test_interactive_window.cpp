@@ -4,7 +4,11 @@
 // it prints. Tagged [view], as test_view.cpp.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -40,21 +44,32 @@ struct InteractiveRun : ViewRun {
                 for (int c = 0; c < 3; ++c) out.push_back(s.rgb[(size_t(y) * s.width + x) * 3 + c]);
         return out;
     }
-    // The panel's widget `label`: its centre, once the window has listed it.
-    std::pair<int, int> widget(const std::string& label) const {
+    // The panel's widget `label`: its rectangle (x, y, w, h), once the window has listed it.
+    std::array<int, 4> rect(const std::string& label) const {
         const auto t0 = Clock::now();
         while (since(t0) < 10) {
             std::istringstream in(child::readText(dir + "/layout.txt"));
             for (std::string line; std::getline(in, line);) {
                 const size_t tab = line.find('\t');
                 if (line.substr(0, tab) != label) continue;
-                int x, y, w, h;
-                std::istringstream(line.substr(tab + 1)) >> x >> y >> w >> h;
-                return {x + w / 2, y + h / 2};
+                std::array<int, 4> r;
+                std::istringstream(line.substr(tab + 1)) >> r[0] >> r[1] >> r[2] >> r[3];
+                return r;
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
         }
-        return {-1, -1};
+        return {-1, -1, 0, 0};
+    }
+    // The window's width, the panel included (a screenshot has only its part on the screen).
+    int windowWidth() const {
+        const std::string g = xdotool({"getwindowgeometry", window});
+        const size_t at = g.find("Geometry: ");
+        return at == std::string::npos ? 0 : std::atoi(g.c_str() + at + 10);
+    }
+    // Its centre.
+    std::pair<int, int> widget(const std::string& label) const {
+        const std::array<int, 4> r = rect(label);
+        return {r[0] + r[2] / 2, r[1] + r[3] / 2};
     }
     void click(const std::string& label) const {
         const auto [x, y] = widget(label);
@@ -148,6 +163,14 @@ double meanDifference(const std::vector<uint8_t>& a, const std::vector<uint8_t>&
     return a.empty() ? 0 : d / double(a.size());
 }
 
+double mean(const std::vector<uint8_t>& a) { return meanDifference(a, std::vector<uint8_t>(a.size(), 0)); }
+
+// The angle in degrees between the eyes of two command lines, seen from `pivot`.
+double turn(const wmlt::CommandLine& a, const wmlt::CommandLine& b, wmlt::Vec3 pivot) {
+    const wmlt::Vec3 u = wmlt::normalize(*a.eye - pivot), v = wmlt::normalize(*b.eye - pivot);
+    return std::acos(std::clamp(double(wmlt::dot(u, v)), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
 }  // namespace
 
 TEST_CASE("interactive: a drag moves the camera; once still, the window shows what the written scene renders", "[view]") {
@@ -166,7 +189,7 @@ TEST_CASE("interactive: a drag moves the camera; once still, the window shows wh
     REQUIRE(shows(run, freshRender(first, dir + "/first.png"), 10, worst));
     const std::vector<uint8_t> before = run.image();
 
-    run.drag(1, {{20, 24}, {21, 24}, {22, 25}, {23, 25}});  // orbit (a pixel: 3.75 degrees)
+    run.drag(1, {{20, 24}, {21, 24}, {22, 25}, {23, 25}});  // orbit (a pixel: 60 / 364 degrees)
     run.drag(3, {{30, 30}, {31, 29}});                      // pan
     const std::string moved = run.commandLine();
     INFO(first << "\n" << moved);
@@ -196,6 +219,70 @@ TEST_CASE("interactive: a drag moves the camera; once still, the window shows wh
     run.key("q");
     CHECK(run.process.wait(kLimit) == 0);
     CHECK(validImage(dir + "/out.png", kW));
+    fs::remove_all(dir);
+}
+
+// Issue 46: the orbit turns about the surface under the view's centre, at --orbit-rate
+// degrees per window width (default 60), and Bitterli's Cornell box stays in view.
+TEST_CASE("interactive: on the Cornell box a drag orbits about the surface at the centre and keeps the box in view", "[view]") {
+    VirtualDisplay x;
+    REQUIRE_FALSE(x.name.empty());
+    const std::string dir = rstats::tempDir("interactive-orbit");
+    const std::string scene = std::string(WAVEMMLT_TEST_DATA) + "/scenes/mitsuba/cornell-box/scene.xml";
+    InteractiveRun run(
+        x, dir,
+        {scene, "--tracer", "pt", "--width", "64", "--height", "48", "--spp", "16", "--seed", "3", "--max-length", "6", "-o", dir + "/out.png"});
+    INFO("stderr: " << run.err());
+    REQUIRE_FALSE(run.window.empty());
+    REQUIRE(run.waitTitle("interactive pt: done", kLimit));
+    const std::string first = run.commandLine();
+    const std::vector<uint8_t> before = freshRender(first, dir + "/first.png");
+    int worst = 256;
+    REQUIRE(shows(run, before, 10, worst));
+    const int width = run.windowWidth();
+    REQUIRE(width > 300);
+    // The panel's status fits in it (the title's "wavemmlt interactive pt: done, ..." did not).
+    const std::array<int, 4> status = run.rect("status");
+    CHECK(status[2] > 0);
+    CHECK(status[0] + status[2] <= width);
+
+    std::vector<std::pair<int, int>> right;  // 120 pixels to the right, from the image's left
+    for (int i = 0; i <= 12; ++i) right.push_back({8 + 10 * i, 24});
+    run.drag(1, right);
+    const std::string moved = run.commandLine();
+    INFO(first << "\n" << moved);
+    const wmlt::CommandLine a = parsed(first), b = parsed(moved);
+    // The pivot: the surface at the view's centre (the tall box's edge, 6.9 in front of the
+    // eye, at x = 0 and y = 1 as the eye; the file's LookAt is 1 in front), which the eye
+    // turned about at the default rate (60 degrees per window width: 20 here).
+    const wmlt::Vec3 pivot = *b.lookAt;
+    CHECK(std::fabs(pivot.x) < 1e-3f);
+    CHECK(std::fabs(pivot.y - 1) < 1e-3f);
+    CHECK(std::fabs(pivot.z) < 1);  // (inside the box, which spans -1 to 1)
+    CHECK(wmlt::length(*b.eye - pivot) == Approx(wmlt::length(*a.eye - pivot)).epsilon(1e-5));
+    CHECK(turn(a, b, pivot) == Approx(60.0 * 120 / width).margin(0.1));
+    // Once the render is done the window shows the printed command line's image: the room,
+    // about as bright as before the drag (seen from outside, the box is black: the 59-degree
+    // turn of 180 degrees per window width leaves a fifth of the mean).
+    const std::vector<uint8_t> after = freshRender(moved, dir + "/moved.png");
+    CHECK(shows(run, after, 20, worst));
+    INFO("mean before " << mean(before) << ", after " << mean(after));
+    CHECK(mean(before) > 40);
+    CHECK(mean(after) > 0.7 * mean(before));
+    CHECK(meanDifference(after, before) > 5);  // and it turned
+
+    // The panel's rate: half as fast; refused when not a positive number.
+    run.type("orbit (deg/width)", "30");
+    run.type("orbit (deg/width)", "-1");
+    run.drag(1, right);
+    const std::string back = run.commandLine();
+    INFO(back);
+    const wmlt::CommandLine c = parsed(back);
+    CHECK(turn(b, c, *c.lookAt) == Approx(30.0 * 120 / width).margin(0.1));
+    CHECK(run.err().find("refused: orbit (deg/width): '-1' is not a positive number") != std::string::npos);
+
+    run.key("q");
+    CHECK(run.process.wait(kLimit) == 0);
     fs::remove_all(dir);
 }
 

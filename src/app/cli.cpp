@@ -147,6 +147,8 @@ std::string usageText() {
            "  --interactive            move the camera and change the settings in the window (docs/interactive.md):\n"
            "                           the render restarts at each change; w writes the scene (--scene-out FILE)\n"
            "                           and prints the command line that renders it\n"
+           "  --orbit-rate DEGREES     --interactive: a left drag across the window's width turns the camera\n"
+           "                           this much about the point at the view's centre (default 60)\n"
            "  --eye X,Y,Z, --look-at X,Y,Z, --up X,Y,Z, --fov DEGREES   the camera, over the scene's\n"
            "  --focus-distance D, --f-stop N   the thin lens (aperture radius D / 2N; --f-stop 0: a pinhole)\n"
            "  --display-server HOST:PORT  stream the render to a running tev (e.g. 127.0.0.1:14158)\n"
@@ -219,7 +221,11 @@ CommandLine parseCommandLine(int argc, char** argv) {
         else if (a == "--view") cl.view = true;
         else if (a == "--interactive") cl.interactive = true;
         else if (a == "--scene-out") cl.sceneOut = value();
-        else if (a == "--eye") cl.eye = parseVec3(a, value());
+        else if (a == "--orbit-rate") {
+            const std::string v = value();
+            cl.orbitRate = float(parseReal(a, v, -1e30, 1e30));
+            if (!(cl.orbitRate > 0)) fail("--orbit-rate: '" + v + "' is not a positive number of degrees per window width (e.g. 60)");
+        } else if (a == "--eye") cl.eye = parseVec3(a, value());
         else if (a == "--look-at") cl.lookAt = parseVec3(a, value());
         else if (a == "--up") cl.up = parseVec3(a, value());
         else if (a == "--fov") cl.fov = float(parseReal(a, value(), 1, 170));

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "app/camera_control.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -29,9 +30,10 @@ struct CommandLine {
     Defines defines;  // -D name=value (Mitsuba scene files)
     std::string statsPath;
     float exposure = 0;
-    bool view = false;         // --view: the SDL2 window
-    bool interactive = false;  // --interactive: the window, the camera and settings changed in it
-    std::string sceneOut;      // --scene-out: where the interactive mode writes the scene
+    bool view = false;                    // --view: the SDL2 window
+    bool interactive = false;             // --interactive: the window, the camera and settings changed in it
+    std::string sceneOut;                 // --scene-out: where the interactive mode writes the scene
+    float orbitRate = kOrbitRateDefault;  // --orbit-rate: the interactive orbit, degrees per window width
     // The camera, over the scene's (the interactive mode prints them): --eye, --look-at, --up,
     // --fov, --focus-distance, --f-stop (0: a pinhole).
     std::optional<Vec3> eye, lookAt, up;

@@ -87,6 +87,7 @@ int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& 
     hub.setSessionRunning(true);
     InteractiveSession session(std::move(built), opt, initial, hub);
     ControlsOptions controls;
+    controls.orbitRate = cl.orbitRate;
     controls.commandLine = [&](const ViewSettings& s) {
         const std::string cmd = commandLineFor(scenePath, s, opt, width, height, outputs);
         std::printf("%s\n", cmd.c_str());

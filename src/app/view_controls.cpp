@@ -7,6 +7,7 @@
 #include <backends/imgui_impl_sdl.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -46,6 +47,34 @@ CameraDesc withAperture(CameraDesc c, float r) {
     return c;
 }
 
+// The panel's status: the title's progress (its "wavemmlt interactive <tracer>: ", which the
+// window's title and the tracer's button show, left off) wrapped to the panel's width in two
+// lines, whatever it says, so that the widgets below stay where they are; a longer text (an
+// error) ends in "..." and shows whole in a tooltip. Returns the text's rectangle.
+SDL_Rect statusLines(std::string text) {
+    if (text.compare(0, 9, "wavemmlt ") == 0 && text.find(": ") != std::string::npos) text.erase(0, text.find(": ") + 2);
+    const float wrap = ImGui::GetContentRegionAvail().x, lines = 2 * ImGui::GetTextLineHeight();
+    auto height = [&](const std::string& t) { return ImGui::CalcTextSize(t.c_str(), nullptr, false, wrap).y; };
+    std::string shown = text;
+    if (height(text) > lines + 0.5f) {
+        do shown.pop_back();
+        while (!shown.empty() && height(shown + "...") > lines + 0.5f);
+        shown += "...";
+    }
+    ImGui::BeginChild("status", ImVec2(0, lines), false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+    ImGui::TextWrapped("%s", shown.c_str());  // (at the child's right edge: the panel's content width)
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    if (shown != text && ImGui::IsWindowHovered()) {  // (wrapped too: a tooltip stays in the window)
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(wrap);
+        ImGui::TextUnformatted(text.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
+    }
+    ImGui::EndChild();
+    return SDL_Rect{int(a.x), int(a.y), int(b.x - a.x), int(b.y - a.y)};
+}
+
 // ImGui's triangle lists drawn with the SDL renderer: each command clipped to its rectangle.
 void renderDrawData(SDL_Renderer* renderer, const ImDrawData* data) {
     for (int n = 0; n < data->CmdListsCount; ++n) {
@@ -72,7 +101,7 @@ void renderDrawData(SDL_Renderer* renderer, const ImDrawData* data) {
 }  // namespace
 
 ViewControls::ViewControls(SDL_Window* window, SDL_Renderer* renderer, InteractiveSession& session, ControlsOptions options)
-    : window_(window), renderer_(renderer), session_(session), opt_(std::move(options)) {
+    : window_(window), renderer_(renderer), session_(session), opt_(std::move(options)), orbitRate_(opt_.orbitRate) {
     NotLeakChecked notChecked;
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -130,6 +159,14 @@ void ViewControls::focusAt(int x, int y, const SDL_Rect& image) {
     if (!messageIsError_) say("focus distance " + number(*d), false);
 }
 
+// The orbit's pivot, from the eye along the view: the surface under the image's centre;
+// none there, the thin lens' focus distance; else LookAt's distance.
+float ViewControls::pivotDistance(const CameraDesc& c) const {
+    const std::optional<float> d = session_.depthAt(0.5f, 0.5f);
+    if (d && *d > 0) return *d;
+    return c.dof ? c.focalLength : cameraFrame(c).distance;
+}
+
 bool ViewControls::key(SDL_Keycode k, Uint16 mod, const SDL_Rect& image) {
     ViewSettings s = session_.settings();
     const float step = kFlyStep * cameraFrame(s.camera).distance;
@@ -184,6 +221,7 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
             pressY_ = e.button.y;
             moved_ = false;
             pressCamera_ = session_.settings().camera;
+            if (drag_ == Drag::Orbit) pressCamera_ = recentre(pressCamera_, pivotDistance(pressCamera_));
             return true;
         }
         case SDL_MOUSEMOTION: {
@@ -193,8 +231,11 @@ bool ViewControls::event(const SDL_Event& e, const SDL_Rect& image) {
             // The gesture from where the button went down (no drift from summed steps).
             const float dx = float(e.motion.x - pressX_) / float(image.h), dy = float(e.motion.y - pressY_) / float(image.h);
             moved_ = moved_ || dx != 0 || dy != 0;
+            int W = 0, H = 0;
+            SDL_GetWindowSize(window_, &W, &H);
+            const float perPixel = orbitRate_ * kPi / 180.0f / float(std::max(W, 1));  // radians
             ViewSettings s = session_.settings();
-            if (drag_ == Drag::Orbit) s.camera = orbit(pressCamera_, -kPi * dx, kPi * dy);
+            if (drag_ == Drag::Orbit) s.camera = orbit(pressCamera_, -perPixel * float(e.motion.x - pressX_), perPixel * float(e.motion.y - pressY_));
             else if (drag_ == Drag::Pan) s.camera = pan(pressCamera_, -dx, dy);
             else s.camera = dolly(pressCamera_, 2 * dy);
             apply(s, true);
@@ -257,9 +298,7 @@ void ViewControls::drawPanel(const std::string& progress) {
                      ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                          ImGuiWindowFlags_NoSavedSettings);
         ImGui::PushItemWidth(120);
-        // One line, whatever it says (the widgets below stay where they are).
-        const std::string line = progress.substr(0, progress.find(" | "));
-        ImGui::TextUnformatted(line.c_str());
+        layout_["status"] = statusLines(progress.substr(0, progress.find(" | ")));
         ImGui::Separator();
         ViewSettings s = session_.settings();
         for (int t : {3, 2, 1, 0, 4}) {  // pt, lt, bpt, mmlt, pssmlt
@@ -304,6 +343,12 @@ void ViewControls::drawPanel(const std::string& progress) {
         realField("exposure (+ -)", [](ViewSettings& n) -> float& { return n.exposure; });
         ImGui::Separator();
         realField("FOV (degrees)", [](ViewSettings& n) -> float& { return n.camera.fovDegrees; });
+        // The orbit's rate: the window's, no render setting (--orbit-rate).
+        if (field("orbit (deg/width)", number(orbitRate_), typed)) {
+            if (parseNumber(typed, v) && v > 0 && v < 1e30)
+                orbitRate_ = float(v), say("orbit rate " + number(v) + " degrees per window width", false);
+            else say("orbit (deg/width): '" + typed + "' is not a positive number", true);
+        }
         edit("focus distance (f)", number(s.camera.focalLength), [](ViewSettings& n, double x) {
             if (!(x > 0)) return std::string("must be positive");
             const float r = apertureOf(n.camera);
@@ -330,7 +375,7 @@ void ViewControls::drawPanel(const std::string& progress) {
             if (messageIsError_) ImGui::PopStyleColor();
         }
         ImGui::TextWrapped(
-            "drag: orbit; right or shift drag: pan; middle drag or wheel: dolly; shift wheel: zoom; "
+            "drag: orbit about the point at the centre; right or shift drag: pan; middle drag or wheel: dolly; shift wheel: zoom; "
             "ctrl click or f: focus; arrows, PgUp, PgDn: fly; Tab hides this panel");
         ImGui::PopItemWidth();
         ImGui::End();

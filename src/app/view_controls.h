@@ -4,6 +4,11 @@
 // edits every setting. Everything here runs on the window's thread; a change goes to the
 // InteractiveSession, which checks it (a refused value keeps the old one, and the panel
 // and stderr say why) and restarts the render.
+// The orbit (left drag) turns about the point under the view's centre: at the press, one
+// ray through the image's centre (InteractiveSession::depthAt, as the focus click's); where
+// it meets nothing, the thin lens' focus distance, else LookAt's. LookAt moves there along
+// the view (recentre: the image does not change), then the drag turns the eye about it at
+// orbitRate degrees per window width (the panel included), as much up and down.
 #pragma once
 #include <SDL.h>
 
@@ -11,6 +16,7 @@
 #include <map>
 #include <string>
 
+#include "app/camera_control.h"
 #include "app/interactive.h"
 
 namespace wmlt {
@@ -23,6 +29,7 @@ struct ControlsOptions {
     std::function<std::string(const ViewSettings&)> keep;
     // The c key: the command line that renders the current settings.
     std::function<std::string(const ViewSettings&)> commandLine;
+    float orbitRate = kOrbitRateDefault;  // --orbit-rate: degrees per window width
 };
 
 class ViewControls {
@@ -44,6 +51,7 @@ private:
     enum class Drag { None, Orbit, Pan, Dolly };
     void apply(const ViewSettings& next, bool moving);
     void focusAt(int x, int y, const SDL_Rect& image);
+    float pivotDistance(const CameraDesc& c) const;
     bool key(SDL_Keycode k, Uint16 mod, const SDL_Rect& image);
     void say(const std::string& message, bool error);
     void copyCommandLine(const ViewSettings& s);
@@ -59,7 +67,8 @@ private:
     Drag drag_ = Drag::None;
     int pressX_ = 0, pressY_ = 0;
     bool moved_ = false, focusClick_ = false;
-    CameraDesc pressCamera_;
+    CameraDesc pressCamera_;  // at the press (an orbit's: recentred on its pivot)
+    float orbitRate_;         // degrees per window width
     int mouseX_ = -1, mouseY_ = -1;
     std::string message_;
     bool messageIsError_ = false;

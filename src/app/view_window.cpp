@@ -181,9 +181,17 @@ void ViewWindow::Thread::takeSession() {
     session = pending;
     controls = std::make_unique<ViewControls>(window, renderer, *session, pendingOptions);
     SDL_RenderSetLogicalSize(renderer, 0, 0);
-    int W = 0, H = 0;
+    int W = 0, H = 0, x = 0, y = 0;
     SDL_GetWindowSize(window, &W, &H);
-    SDL_SetWindowSize(window, W + kPanelWidth, std::max(H, 480));
+    W += kPanelWidth, H = std::max(H, 480);
+    SDL_SetWindowSize(window, W, H);
+    // Moved back onto the display where the larger window would leave it (a small image's
+    // window, centred, would put the panel's lower part below the screen).
+    SDL_Rect usable;
+    SDL_GetWindowPosition(window, &x, &y);
+    if (SDL_GetDisplayUsableBounds(std::max(0, SDL_GetWindowDisplayIndex(window)), &usable) == 0)
+        SDL_SetWindowPosition(window, std::max(usable.x, std::min(x, usable.x + usable.w - W)),
+                              std::max(usable.y, std::min(y, usable.y + usable.h - H)));
     mouseX = mouseY = -1;
     upload();
 }

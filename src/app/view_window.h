@@ -14,10 +14,12 @@
 #if WAVEMMLT_HAVE_VIEW
 #include "app/view_controls.h"
 #else
+#include "app/camera_control.h"
 #include "app/interactive.h"
 namespace wmlt {
 struct ControlsOptions {
     std::function<std::string(const ViewSettings&)> keep, commandLine;
+    float orbitRate = kOrbitRateDefault;
 };
 }  // namespace wmlt
 #endif
