@@ -549,7 +549,7 @@ TEST_CASE("cli: the built-in scene renders to .exr and .png at once", "[cli]") {
     CHECK(meanValue(b) > 0);
 }
 
-TEST_CASE("cli: the built-in scene without --spp or --time renders for 10 s; anything else as asked", "[cli]") {
+TEST_CASE("cli: the built-in scene without --spp or --time renders 10 s of PT; anything else as asked", "[cli]") {
     auto options = [](std::vector<std::string> words) {
         words.insert(words.begin(), "wavemmlt");
         std::vector<char*> argv;
@@ -560,7 +560,11 @@ TEST_CASE("cli: the built-in scene without --spp or --time renders for 10 s; any
         return wmlt::renderOptionsFor(cl, s);
     };
     CHECK(options({}).timeBudget == wmlt::kFirstRenderSeconds);
-    CHECK(options({}).spp == 16);  // (rounds of the scene's samples)
+    CHECK(options({}).tracer == wmlt::TracerKind::PT);  // the cleanest in that time
+    CHECK(options({}).spp == 16);                       // (rounds of the scene's samples)
+    CHECK(options({"--tracer", "mmlt"}).tracer == wmlt::TracerKind::MMLT);
+    CHECK(options({"--tracer", "mmlt"}).timeBudget == wmlt::kFirstRenderSeconds);
+    CHECK(options({"--spp", "4"}).tracer == wmlt::TracerKind::MMLT);  // (the scene's)
     CHECK(options({"--spp", "4"}).timeBudget == 0);
     CHECK(options({"--time", "2"}).timeBudget == 2);
     CHECK(options({"scene.xml"}).timeBudget == 0);

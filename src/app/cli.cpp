@@ -131,7 +131,7 @@ std::string usageText() {
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
            "                           and _unweighted.exr (the folder is created)\n"
            "  --time SECONDS           render rounds of --spp samples until the time is spent (the built-in\n"
-           "                           scene without --spp or --time: 10 s)\n"
+           "                           scene without --spp or --time: 10 s, with PT unless --tracer is given)\n"
            "  --threads N              worker threads (0: all)\n"
            "  --seed N                 random seed (same seed: same image, for any --threads)\n"
            "  --width N, --height N    image size\n"
@@ -285,8 +285,13 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
     opt.strataPerAxis = strataForSpp(opt.spp);
     opt.timeBudget = cl.timeBudget.value_or(0.0);
     // The built-in scene asked for no sample count and no time: the first render a newcomer
-    // makes (the README's first command), given the seconds that make it clean enough to show.
-    if (cl.scenePath.empty() && !cl.spp && !cl.timeBudget) opt.timeBudget = kFirstRenderSeconds;
+    // makes (the README's first command), given the seconds that make it clean enough to show,
+    // with the tracer whose image is the cleanest in that time unless one is asked for
+    // (docs/benchmarks.md, "The first render": PT's relMSE 0.036, BPT's 0.040, MMLT's 0.125).
+    if (cl.scenePath.empty() && !cl.spp && !cl.timeBudget) {
+        opt.timeBudget = kFirstRenderSeconds;
+        if (!cl.tracer) opt.tracer = TracerKind::PT;
+    }
     opt.threads = s.threads;
     opt.seed = cl.seed;
     if (cl.misBeta) opt.misBeta = *cl.misBeta;

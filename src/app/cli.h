@@ -61,7 +61,8 @@ void applyCamera(const CommandLine& cl, CameraDesc& c);
 // The scene file (the built-in scene when none is given) with the command line's settings,
 // filter and camera applied.
 SceneDesc loadCommandLineScene(const CommandLine& cl);
-// The seconds the built-in scene renders for when neither --spp nor --time is given.
+// The seconds the built-in scene renders for when neither --spp nor --time is given (with
+// PT unless --tracer says otherwise).
 constexpr double kFirstRenderSeconds = 10;
 // The render's options from the command line over the scene's settings: what `wavemmlt`
 // and the Python module (src/python) render with, so a seed gives both the same image.
