@@ -61,15 +61,9 @@ def present(paths):
     return found
 
 
-def max_length(scene):
-    """The scene's MaxPathLength (the module has no property for it: a 4 x 4 render's lengths)."""
-    r = scene.render(tracer="pt", spp=1, width=4, height=4, threads=1, seed=1)
-    return max(int(k) for k in r.stats["mean_luminance_by_length"])
-
-
 def reference(scene, path, cache, seconds=300, threads=0):
     """(image, info) of the scene's BPT reference at its size: from the cache, or rendered now."""
-    length = max_length(scene)
+    length = scene.max_length
     key = hashlib.sha1(os.path.realpath(path).encode()).hexdigest()[:8]
     base = os.path.join(cache, f"{scene_name(path)}-{key}-{scene.width}x{scene.height}-L{length}")
     if os.path.exists(base + ".exr"):

@@ -162,6 +162,9 @@ PYBIND11_MODULE(wavemmlt, m) {
         .def_property_readonly("path", [](const PyScene& s) { return s.path; })
         .def_property_readonly("width", [](const PyScene& s) { return s.desc.settings.width; })
         .def_property_readonly("height", [](const PyScene& s) { return s.desc.settings.height; })
+        .def_property_readonly("tracer", [](const PyScene& s) { return std::string(tracerName(s.desc.settings.tracer)); })
+        .def_property_readonly("max_length", [](const PyScene& s) { return s.desc.settings.maxPathLength; })
+        .def_property_readonly("min_length", [](const PyScene& s) { return s.desc.settings.minPathLength; })
         .def_property_readonly("warnings", [](const PyScene& s) { return s.desc.warnings; })
         .def(
             "describe", [](const PyScene& s) { return deriveFeatures(s.desc).describe(); }, "the scene's feature set (--describe)");

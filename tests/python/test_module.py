@@ -70,13 +70,14 @@ def test_the_image_is_the_renders_memory_and_outlives_it():
 
 
 def test_set_view_moves_the_camera_for_the_next_renders(tmp_path):
-    scene = wavemmlt.load(SEED_ROOM, width=48, height=32)
+    scene = wavemmlt.load(SEED_ROOM, width=48, height=32, max_length=7)
+    assert (scene.width, scene.height, scene.max_length, scene.min_length, scene.tracer) == (48, 32, 7, 1, "mmlt")
     before = scene.camera
     scene.set_view(eye=(1.0, 1.0, -3.5), look_at=(0.0, -1.0, 1.0), fov=45)
     assert scene.camera["eye"] == (1.0, 1.0, -3.5) and scene.camera["fov"] == 45
     assert scene.camera["up"] == before["up"]
     r = scene.render(tracer="pt", spp=4, seed=1)
-    expected, _ = cli([SEED_ROOM, "--width", "48", "--height", "32", "--eye", "1,1,-3.5", "--look-at", "0,-1,1", "--fov", "45",
+    expected, _ = cli([SEED_ROOM, "--width", "48", "--height", "32", "--max-length", "7", "--eye", "1,1,-3.5", "--look-at", "0,-1,1", "--fov", "45",
                        "--tracer", "pt", "--spp", "4", "--seed", "1"], tmp_path)
     assert np.array_equal(r.image, expected)
     with pytest.raises(wavemmlt.InputError, match="same point"):
