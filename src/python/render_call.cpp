@@ -34,7 +34,9 @@ std::string valueText(const std::string& key, const py::handle& v) {
         for (const py::handle& c : v) xyz += (xyz.empty() ? "" : ",") + valueText(key, c);
         return xyz;
     }
-    if (py::hasattr(v, "__float__")) return py::repr(py::float_(py::reinterpret_borrow<py::object>(v)));  // NumPy scalars
+    // NumPy's scalars (np.arange's, say): an integer one as an int, a real one by repr.
+    if (py::hasattr(v, "__index__")) return py::str(py::int_(py::reinterpret_borrow<py::object>(v)));
+    if (py::hasattr(v, "__float__")) return py::repr(py::float_(py::reinterpret_borrow<py::object>(v)));
     throw InputError("wavemmlt: " + key + "=" + std::string(py::repr(v)) + ": not a value of " + key);
 }
 

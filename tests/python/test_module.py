@@ -106,6 +106,8 @@ def test_bad_input_raises_input_error_with_file_and_line(tmp_path):
         scene.render(tracer="whitted")
     with pytest.raises(TypeError):
         scene.render(sp=4)
+    # NumPy's scalars are values like Python's (a sweep over np.arange)
+    assert scene.render(tracer="pt", spp=np.int64(2), time=np.float32(0.5)).stats["spp"] >= 2
     with pytest.raises(wavemmlt.InputError, match="Mitsuba"):
         wavemmlt.load(SEED_ROOM, resx=3)  # a <default> for a file that is not Mitsuba's
     with pytest.raises(TypeError):
