@@ -126,7 +126,7 @@ PYBIND11_MODULE(wavemmlt, m) {
     m.attr("__version__") = WAVEMMLT_VERSION;
     py::exec(kInputErrorPython, m.attr("__dict__"));
     // (A handle, kept for the process: a static py::object would be released after Python's end.)
-    static py::handle inputError = m.attr("InputError").release();
+    static py::handle inputError = py::object(m.attr("InputError")).release();
     py::register_exception_translator([](std::exception_ptr e) {
         try {
             if (e) std::rethrow_exception(e);
