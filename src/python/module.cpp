@@ -58,8 +58,7 @@ py::dict cameraDict(const CameraDesc& c) {
 void setView(PyScene& s, const py::dict& kwargs) {
     for (const auto& [k, v] : kwargs) {
         const std::string key = py::str(k);
-        if (key != "eye" && key != "look_at" && key != "up" && key != "fov" && key != "focus_distance" && key != "f_stop")
-            throw py::type_error("set_view() got an unexpected keyword argument '" + key + "'");
+        if (!isCameraKeyword(key)) throw py::type_error("set_view() got an unexpected keyword argument '" + key + "'");
     }
     applyCamera(parseArguments(optionArguments(kwargs)), s.desc.camera);
 }

@@ -55,6 +55,9 @@ py::object takeError() {
 }  // namespace
 
 bool isOptionKeyword(const std::string& key) { return kOptions.count(key) > 0; }
+bool isCameraKeyword(const std::string& key) {
+    return key == "eye" || key == "look_at" || key == "up" || key == "fov" || key == "focus_distance" || key == "f_stop";
+}
 
 std::vector<std::string> optionArguments(const py::dict& kwargs) {
     std::vector<std::string> args;
@@ -87,10 +90,11 @@ CommandLine parseArguments(const std::vector<std::string>& args) {
 
 PyScene load(const py::object& path, const py::dict& kwargs) {
     PyScene s;
-    py::dict options;
+    py::dict options, camera;  // the camera is the scene's from now on (set_view changes it); the rest is render()'s
     for (const auto& [k, v] : kwargs) {
         const std::string key = py::str(k);
-        if (isOptionKeyword(key)) options[k] = v;
+        if (isCameraKeyword(key)) camera[k] = v;
+        else if (isOptionKeyword(key)) options[k] = v;
         else if (path.is_none())
             throw py::type_error("load() got an unexpected keyword argument '" + key + "' (the built-in scene has no <default>s)");
         else s.args.push_back("-D" + key + "=" + valueText(key, v));  // a Mitsuba <default>
@@ -99,20 +103,10 @@ PyScene load(const py::object& path, const py::dict& kwargs) {
     if (!path.is_none()) s.path = py::str(py::module_::import("os").attr("fspath")(path));
     std::vector<std::string> args = s.args;
     if (!s.path.empty()) args.insert(args.begin(), s.path);
+    for (const std::string& a : optionArguments(camera)) args.push_back(a);
     const CommandLine cl = parseArguments(args);
-    {
-        py::gil_scoped_release unlocked;  // (a large mesh takes a while)
-        s.desc = loadCommandLineScene(cl);
-    }
-    // The camera is the scene's from now on (set_view changes it); the rest is render()'s.
-    std::vector<std::string> kept;
-    for (size_t i = 0; i < s.args.size(); ++i) {
-        const std::string& a = s.args[i];
-        const bool camera = a == "--eye" || a == "--look-at" || a == "--up" || a == "--fov" || a == "--focus-distance" || a == "--f-stop";
-        if (camera) ++i;
-        else kept.push_back(a);
-    }
-    s.args = kept;
+    py::gil_scoped_release unlocked;  // (a large mesh takes a while)
+    s.desc = loadCommandLineScene(cl);
     return s;
 }
 

@@ -20,6 +20,8 @@ namespace py = pybind11;
 // The options a keyword argument may name (load() and render() alike), as the command
 // line spells them without "--" and with '_' for '-': "max_length" is --max-length.
 bool isOptionKeyword(const std::string& key);
+// The camera's among them (--eye, --look-at, --up, --fov, --focus-distance, --f-stop).
+bool isCameraKeyword(const std::string& key);
 // The command-line arguments of keyword arguments (True: the bare flag; spectral=False:
 // --rgb; a 3-sequence: "X,Y,Z"; any other value: its str(), floats by repr so they
 // round-trip). Throws InputError for a value an option cannot take.
