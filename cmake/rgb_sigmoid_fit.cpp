@@ -32,7 +32,6 @@
 namespace {
 
 using wmlt::kSigmoidTableRes;
-double tableAt(const double* t, int n, double lambda0, double lambda) { return wmlt::cieTableAt(t, n, lambda0, lambda); }
 
 constexpr int kSamples = 471;  // 360..830 nm, 1 nm apart
 
@@ -45,8 +44,8 @@ struct Model {
         double xyzW[kSamples][3], yD65 = 0;
         for (int j = 0; j < kSamples; ++j) {
             const double l = 360.0 + j, w = (j == 0 || j == kSamples - 1) ? 0.5 : 1.0;
-            const double d = tableAt(wmlt::cie::kD65[0], 107, 300, l);
-            for (int k = 0; k < 3; ++k) xyzW[j][k] = w * d * tableAt(wmlt::cie::kXyz[k], 95, 360, l);
+            const double d = wmlt::cieTableAt(wmlt::cie::kD65[0], 107, 300, l);
+            for (int k = 0; k < 3; ++k) xyzW[j][k] = w * d * wmlt::cieTableAt(wmlt::cie::kXyz[k], 95, 360, l);
             yD65 += xyzW[j][1];
         }
         for (double& v : whiteXyz) v = 0;

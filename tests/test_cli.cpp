@@ -490,7 +490,8 @@ TEST_CASE("cli: --spectral renders PT spectrally and says so; elsewhere it warns
     CHECK(contains(text, "\"spectral_reason\": \"\""));
     // --describe says what a render with the same options would be, and why not spectral.
     CHECK(contains(run("--describe", dir).out, "spectral: no (RGB, the default"));
-    CHECK(contains(run("--describe --spectral", dir).out, "spectral: no: spectral rendering is PT's only so far"));  // (MMLT's scene)
+    CHECK(contains(run("--describe --spectral --tracer bpt", dir).out, "spectral: no: spectral rendering is PT's only so far"));
+    CHECK(contains(run("--describe --spectral", dir).out, "spectral: yes"));  // (the built-in scene's first render: PT)
     CHECK(contains(run("--describe --spectral --tracer pt", dir).out, "spectral: yes"));
     const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");
     CHECK(contains(run(coated + " --describe --spectral --tracer pt", dir).out, "spectral: no: the scene has a coated conductor (not spectral yet)"));

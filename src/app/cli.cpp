@@ -272,10 +272,14 @@ SceneDesc loadCommandLineScene(const CommandLine& cl) {
     SceneDesc scene = cl.scenePath.empty()
                           ? loadSceneFromString(kDefaultSceneXml, "<built-in scene>", ".")
                           : loadScene(cl.scenePath, cl.defines, LoadOptions{cl.tracer.has_value(), cl.tracer.value_or(TracerKind::MMLT)});
+    applyToScene(cl, scene);
+    return scene;
+}
+
+void applyToScene(const CommandLine& cl, SceneDesc& scene) {
     applyCommandLine(cl, scene.settings);
     applyCamera(cl, scene.camera);
     if (cl.filter) scene.filter = *cl.filter;
-    return scene;
 }
 
 RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {

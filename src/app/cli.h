@@ -61,6 +61,9 @@ void applyCamera(const CommandLine& cl, CameraDesc& c);
 // The scene file (the built-in scene when none is given) with the command line's settings,
 // filter and camera applied.
 SceneDesc loadCommandLineScene(const CommandLine& cl);
+// The command line's settings, camera and filter over a loaded scene's (the Python module's
+// render() over the scene it loaded).
+void applyToScene(const CommandLine& cl, SceneDesc& scene);
 // The seconds the built-in scene renders for when neither --spp nor --time is given (with
 // PT unless --tracer says otherwise).
 constexpr double kFirstRenderSeconds = 10;

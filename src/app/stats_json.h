@@ -1,6 +1,6 @@
 // The --stats JSON of a render: what the command line writes to its --stats file and the
-// Python module returns as a dict (RenderResult.stats), the same keys in both (docs/cli.md
-// lists them in the README's "Using it").
+// Python module returns as a dict (Render.stats), the same keys in both (tests/test_cli.cpp,
+// "--stats writes JSON with the documented keys"; the README's "Using it" describes them).
 #pragma once
 #include <string>
 

@@ -11,8 +11,6 @@ namespace wmlt {
 
 namespace {
 
-double tableAt(const double* t, int n, double lambda0, double lambda) { return cieTableAt(t, n, lambda0, lambda); }
-
 // The integral of a function linear between 5 nm samples (the trapezoid rule is exact).
 double integralOf(const double* t, int n) {
     double s = 0;
@@ -76,8 +74,8 @@ Vec3 rgbIlluminantAt(Vec3 rgb, const Wavelengths& w) {
 }
 
 Vec3 cieMatching(float lambda) {
-    return Vec3(float(tableAt(cie::kXyz[0], 95, 360, lambda)), float(tableAt(cie::kXyz[1], 95, 360, lambda)),
-                float(tableAt(cie::kXyz[2], 95, 360, lambda)));
+    return Vec3(float(cieTableAt(cie::kXyz[0], 95, 360, lambda)), float(cieTableAt(cie::kXyz[1], 95, 360, lambda)),
+                float(cieTableAt(cie::kXyz[2], 95, 360, lambda)));
 }
 
 double cieYIntegral() {
@@ -93,12 +91,12 @@ float srgbIlluminantExact(float lambda) {
         double s = 0;
         for (int i = 0; i + 1 < 95; ++i) {
             const double l0 = 360 + 5.0 * i, l1 = l0 + 5, lm = l0 + 2.5;
-            auto f = [](double l) { return tableAt(cie::kD65[0], 107, 300, l) * tableAt(cie::kXyz[1], 95, 360, l); };
+            auto f = [](double l) { return cieTableAt(cie::kD65[0], 107, 300, l) * cieTableAt(cie::kXyz[1], 95, 360, l); };
             s += 5.0 / 6.0 * (f(l0) + 4 * f(lm) + f(l1));
         }
         return cieYIntegral() / s;
     }();
-    return float(tableAt(cie::kD65[0], 107, 300, lambda) * scale);
+    return float(cieTableAt(cie::kD65[0], 107, 300, lambda) * scale);
 }
 }  // namespace
 
@@ -120,7 +118,7 @@ struct SrgbSpectral {
         double s[3] = {0, 0, 0};
         for (int i = 0; i + 1 < 95; ++i)
             for (int k = 0; k < 3; ++k) {
-                auto f = [k](double l) { return tableAt(cie::kD65[0], 107, 300, l) * tableAt(cie::kXyz[k], 95, 360, l); };
+                auto f = [k](double l) { return cieTableAt(cie::kD65[0], 107, 300, l) * cieTableAt(cie::kXyz[k], 95, 360, l); };
                 const double l0 = 360 + 5.0 * i;
                 s[k] += 5.0 / 6.0 * (f(l0) + 4 * f(l0 + 2.5) + f(l0 + 5));
             }

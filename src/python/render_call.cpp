@@ -148,9 +148,7 @@ PyRender render(const PyScene& scene, const py::dict& kwargs) {
     cl.defines.clear();  // (applied at load)
 
     SceneDesc desc = scene.desc;
-    applyCommandLine(cl, desc.settings);
-    applyCamera(cl, desc.camera);
-    if (cl.filter) desc.filter = *cl.filter;
+    applyToScene(cl, desc);
     RenderOptions opt = renderOptionsFor(cl, desc.settings);
     if (cl.chains && *cl.chains > 0 && (desc.settings.tracer == TracerKind::MMLT || desc.settings.tracer == TracerKind::PSSMLT))
         checkChainMemory(*cl.chains, desc.settings, deriveFeatures(desc).media);
