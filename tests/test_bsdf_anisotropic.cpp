@@ -212,7 +212,7 @@ TEST_CASE("Anisotropic microfacet BSDFs are reciprocal and conserve energy", "[b
     CHECK(nonzero > 40000);
 }
 
-TEST_CASE("Isotropic microfacets compute b069d67's values bit for bit; the anisotropic forms meet them", "[bsdf][microfacet][aniso][isotropic]") {
+TEST_CASE("Isotropic microfacets compute b069d67's values bit for bit, the anisotropic forms meet them", "[bsdf][microfacet][aniso][isotropic]") {
     chi2::Pcg32 g(5);
     int differ = 0, far = 0;
     for (MicrofacetType t : {MicrofacetType::Beckmann, MicrofacetType::GGX})

@@ -211,7 +211,7 @@ TEST_CASE("Microfacet BSDFs are reciprocal (rough dielectric: up to eta'^2)", "[
     CHECK(nonzero > 40000);
 }
 
-TEST_CASE("Microfacet BSDFs conserve energy; closed forms of the albedo", "[bsdf][microfacet][energy]") {
+TEST_CASE("Microfacet BSDFs conserve energy, closed forms of the albedo", "[bsdf][microfacet][energy]") {
     int k = 0;
     for (const Material& m : roughCases())
         for (double th : {0.0, 80.0, 135.0})

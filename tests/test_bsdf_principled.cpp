@@ -215,7 +215,7 @@ TEST_CASE("Principled: all transmission is the rough dielectric", "[bsdf][princi
         }
 }
 
-TEST_CASE("Principled: reciprocal (refraction: up to eta'^2); reflecting-only is two-sided", "[bsdf][principled][reciprocity]") {
+TEST_CASE("Principled: reciprocal (refraction: up to eta'^2), reflecting-only is two-sided", "[bsdf][principled][reciprocity]") {
     chi2::Pcg32 g(12);
     for (const Principled& m : cases()) {
         int bad = 0, nonzero = 0;

@@ -465,7 +465,7 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
 }
 
-TEST_CASE("cli: --spectral renders PT spectrally and says so; elsewhere it warns and renders RGB", "[cli][spectral]") {
+TEST_CASE("cli: --spectral renders PT spectrally and says so, elsewhere it warns and renders RGB", "[cli][spectral]") {
     TempDir dir;
     const std::string out = dir.file("out.pfm"), stats = dir.file("stats.json");
     Run r = run("--tracer pt --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
@@ -550,7 +550,7 @@ TEST_CASE("cli: the built-in scene renders to .exr and .png at once", "[cli]") {
     CHECK(meanValue(b) > 0);
 }
 
-TEST_CASE("cli: the built-in scene without --spp or --time renders 10 s of PT; anything else as asked", "[cli]") {
+TEST_CASE("cli: the built-in scene without --spp or --time renders 10 s of PT, anything else as asked", "[cli]") {
     auto options = [](std::vector<std::string> words) {
         words.insert(words.begin(), "wavemmlt");
         std::vector<char*> argv;
@@ -571,7 +571,7 @@ TEST_CASE("cli: the built-in scene without --spp or --time renders 10 s of PT; a
     CHECK(options({"scene.xml"}).timeBudget == 0);
 }
 
-TEST_CASE("cli: a render says where its image went; the built-in scene's also what to try next", "[cli]") {
+TEST_CASE("cli: a render says where its image went, the built-in scene's also what to try next", "[cli]") {
     TempDir dir;
     const std::string exr = dir.file("first.exr"), png = dir.file("first.png");
     Run r = run(" --width 32 --height 24 --spp 1 -o " + quote(exr) + " -o " + quote(png), dir);

@@ -271,7 +271,7 @@ TEST_CASE("display-server: the last image tev receives equals the EXR written", 
 #if WAVEMMLT_HAVE_VIEW
 // The interactive mode streams every render of the session, not only the first to finish,
 // and at the end the image it writes.
-TEST_CASE("display-server: --interactive streams each restart; tev's last image is the one written", "[display][view]") {
+TEST_CASE("display-server: --interactive streams each restart, tev's last image is the one written", "[display][view]") {
     viewtest::VirtualDisplay x;
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("display-interactive");

@@ -173,7 +173,7 @@ double turn(const wmlt::CommandLine& a, const wmlt::CommandLine& b, wmlt::Vec3 p
 
 }  // namespace
 
-TEST_CASE("interactive: a drag moves the camera; once still, the window shows what the written scene renders", "[view]") {
+TEST_CASE("interactive: a drag moves the camera, once still, the window shows what the written scene renders", "[view]") {
     VirtualDisplay x;
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("interactive-drag");
@@ -286,7 +286,7 @@ TEST_CASE("interactive: on the Cornell box a drag orbits about the surface at th
     fs::remove_all(dir);
 }
 
-TEST_CASE("interactive: each setting changed in the panel reaches the render; bad values keep the old one", "[view]") {
+TEST_CASE("interactive: each setting changed in the panel reaches the render, bad values keep the old one", "[view]") {
     VirtualDisplay x;
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("interactive-panel");
@@ -367,7 +367,7 @@ TEST_CASE("interactive: each setting changed in the panel reaches the render; ba
     fs::remove_all(dir);
 }
 
-TEST_CASE("interactive: i in --view switches; Ctrl-C in the middle of a drag saves the image and exits 130", "[view]") {
+TEST_CASE("interactive: i in --view switches, Ctrl-C in the middle of a drag saves the image and exits 130", "[view]") {
     VirtualDisplay x;
     REQUIRE_FALSE(x.name.empty());
     const std::string dir = rstats::tempDir("interactive-switch");

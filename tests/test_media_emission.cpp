@@ -122,7 +122,7 @@ TEST_CASE("emitting media: furnaces (homogeneous, a density grid with a Lescale 
         }
 }
 
-TEST_CASE("emitting media: the light tracer refuses them; bad emission values name their line", "[media][bad-input]") {
+TEST_CASE("emitting media: the light tracer refuses them, bad emission values name their line", "[media][bad-input]") {
     const SceneDesc d = media_scenes::load("glow-lt.pbrt", furnace(R"(MakeNamedMedium "glow" "string type" "homogeneous" "rgb Le" [ 1 1 1 ])"));
     CHECK_THROWS_WITH(render(d, rstats::renderOptions(TracerKind::LT, 1, 1, 1, 2)), Catch::Contains("emitting medium"));
     auto errorOf = [](const std::string& name, const std::string& text) -> std::string {

@@ -388,7 +388,7 @@ TEST_CASE("mpirun wavemmlt: bad input gives one message and exit status 2 on eve
     }
 }
 
-TEST_CASE("mpirun wavemmlt: --time ends every rank together; --stats reports the ranks and what they exchanged", "[mpi]") {
+TEST_CASE("mpirun wavemmlt: --time ends every rank together, --stats reports the ranks and what they exchanged", "[mpi]") {
     if (!mpiBuilt()) return;
     const std::string dir = rstats::tempDir("mpi-time");
     for (const char* tracer : {"mmlt", "pt"}) {

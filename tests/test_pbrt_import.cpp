@@ -123,7 +123,7 @@ TEST_CASE("pbrt import: an integrator wavemmlt lacks is replaced by the command 
     CHECK(d.settings.maxPathLength == 5);  // maxdepth, pbrt's meaning for every integrator
 }
 
-TEST_CASE("pbrt import: regularize is applied by PT and BPT; the others warn, naming its line", "[pbrt][import][regularize]") {
+TEST_CASE("pbrt import: regularize is applied by PT and BPT, the others warn, naming its line", "[pbrt][import][regularize]") {
     // (tests/test_regularize.cpp renders it)
     struct Case {
         const char* integrator;

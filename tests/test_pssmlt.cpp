@@ -219,7 +219,7 @@ TEST_CASE("PSSMLT: the thesis format's Tracer and Mitsuba's pssmlt integrator ch
     std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("PSSMLT: length images are refused; --tracer pssmlt writes its --stats figures", "[pssmlt][cli]") {
+TEST_CASE("PSSMLT: length images are refused, --tracer pssmlt writes its --stats figures", "[pssmlt][cli]") {
     RenderOptions o = pssmltOptions(4, 1, 1, 5, 256);
     o.lengthImages = true;
     CHECK_THROWS_AS(render(cornell(8, 5), o), InputError);

@@ -245,7 +245,7 @@ TEST_CASE("regularize: PT and BPT agree where every mirror vertex lies between t
     CHECK(zDiff > bound);
 }
 
-TEST_CASE("regularize: PT's light sampling through a regularized mirror; what it leaves unchanged", "[regularize][render][stat]") {
+TEST_CASE("regularize: PT's light sampling through a regularized mirror, what it leaves unchanged", "[regularize][render][stat]") {
     // Spot A shines on the mirror only and a point light cannot be hit: the floor below the
     // mirror (seen from above, Q out of view) is lit only by the caustic, camera - floor -
     // mirror - spot A (3 segments: pbrt's maxdepth 2). Unregularized, PT finds none of it

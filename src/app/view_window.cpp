@@ -84,9 +84,29 @@ struct ViewWindow::Thread {
     std::string titleText() const;
     void updateTitle();
     void onKey(SDL_Keycode key);
+    // ImGui 1.86 reads a key's state once a frame: a key pressed and released within one frame
+    // (typing while a slow frame draws: Enter, Ctrl+A) would never be seen. So a frame takes
+    // events up to a release whose press it took, or text after a click (the click first
+    // activates the field); that event waits for the next frame.
+    SDL_Event held;
+    bool haveHeld = false, pressed = false, clicked = false;
     bool nextEvent(SDL_Event& e, bool wait) {
         NotLeakChecked notChecked;
-        return wait ? SDL_WaitEventTimeout(&e, session ? kInteractiveWaitMs : kEventWaitMs) : SDL_PollEvent(&e);
+        if (wait) pressed = clicked = false;  // a new frame
+        if (wait && haveHeld) {
+            e = held;
+            haveHeld = false;
+        } else if (!(wait ? SDL_WaitEventTimeout(&e, session ? kInteractiveWaitMs : kEventWaitMs) : SDL_PollEvent(&e))) return false;
+        if (!controls) return true;
+        const bool release = e.type == SDL_KEYUP || e.type == SDL_MOUSEBUTTONUP;
+        if (((release && pressed) || (e.type == SDL_TEXTINPUT && clicked)) && !wait) {
+            held = e;
+            haveHeld = true;
+            return false;
+        }
+        pressed |= e.type == SDL_KEYDOWN || e.type == SDL_MOUSEBUTTONDOWN;
+        clicked |= e.type == SDL_MOUSEBUTTONDOWN || e.type == SDL_MOUSEBUTTONUP;
+        return true;
     }
 };
 
