@@ -105,8 +105,10 @@ PyScene load(const py::object& path, const py::dict& kwargs) {
     if (!s.path.empty()) args.insert(args.begin(), s.path);
     for (const std::string& a : optionArguments(camera)) args.push_back(a);
     const CommandLine cl = parseArguments(args);
-    py::gil_scoped_release unlocked;  // (a large mesh takes a while)
-    s.desc = loadCommandLineScene(cl);
+    {
+        py::gil_scoped_release unlocked;  // (a large mesh takes a while; the dicts above are freed with the GIL held)
+        s.desc = loadCommandLineScene(cl);
+    }
     return s;
 }
 
