@@ -246,29 +246,30 @@ TEST_CASE("MMLT allocates chains to lengths by largest remainders, never at rand
     }
 }
 
-TEST_CASE("MMLT's default bootstrap is spread over the lengths by their probed b_k", "[mmlt]") {
-    // The bootstrap (mmlt.cpp, MmltRender::bootstrap): 5% of the mutations or two samples
-    // per chain in all, split over the lengths in proportion to b_k as a probe of 256
-    // samples per length estimates it, at least 256 each. On the seed room lengths 1 and 2
-    // carry no light: they keep the minimum, and the lit lengths share the rest.
+TEST_CASE("MMLT's default bootstrap is spread over the lengths half equally, half by their probed b_k", "[mmlt]") {
+    // The bootstrap (mmlt_pool.cpp, MmltRender::bootstrap): 5% of the mutations or two
+    // samples per chain in all, half of it split equally over the lengths, half in proportion
+    // to b_k as a probe of 256 samples per length estimates it, at least 512 each. On the
+    // seed room lengths 1 and 2 carry no light: they get the equal half's part only, and the
+    // lit lengths share the rest.
     const SceneDesc desc = seedRoom(16, 6);
     for (uint64_t seed : {1u, 2u}) {
         RenderOptions o = mmltOptions(256, seed, 1, 6, 4096);
         RenderResult r = renderMmlt(desc, o);
         const RenderStats::Mmlt& m = r.stats.mmlt;
-        const double whole = std::max(0.05 * 256 * 16 * 16, 2.0 * 4096);
+        const double whole = std::max(0.05 * 256 * 16 * 16, 2.0 * 4096), equal = std::ceil(whole * 0.5 / 6);
         uint64_t total = 0, most = 0;
         for (int k = 1; k <= 6; ++k) {
             INFO("seed " << seed << ", k = " << k << ": " << m.bootstrapSamples[size_t(k)] << " samples");
-            CHECK(m.bootstrapSamples[size_t(k)] >= 256);
+            CHECK(double(m.bootstrapSamples[size_t(k)]) >= std::max(512.0, equal));
             total += m.bootstrapSamples[size_t(k)];
             most = std::max(most, m.bootstrapSamples[size_t(k)]);
         }
-        CHECK(m.bootstrapSamples[1] == 256);
-        CHECK(m.bootstrapSamples[2] == 256);
+        CHECK(double(m.bootstrapSamples[1]) == std::max(512.0, equal));
+        CHECK(double(m.bootstrapSamples[2]) == std::max(512.0, equal));
         CHECK(double(total) >= whole);
-        CHECK(double(total) <= whole + 6 * 257);
-        CHECK(double(most) >= whole / 4);  // four lit lengths: one has at least a quarter
+        CHECK(double(total) <= whole + 6 * 513);
+        CHECK(double(most) >= equal + 0.5 * whole / 4);  // four lit lengths: one has at least a quarter of the probed half
     }
 }
 

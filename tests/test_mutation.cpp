@@ -467,7 +467,7 @@ TEST_CASE("MMLT pool thinning: the threshold matches its definition, the thinned
                 for (size_t i = 0; i < n; ++i) {
                     const double u = u01(rng);
                     double c = kind == 0 ? 1.0 : kind == 1 ? 0.01 + u : kind == 2 ? std::pow(1.0 - u, -1.5) : (i % 997 == 0 ? 1e6 : 1.0 + u);
-                    pool.lit.push_back({rng(), float(c), float(0.5 + u01(rng)), wmlt::Vec3(1.0f), float(i), 0.0f});
+                    pool.lit.push_back({rng(), float(c), float(0.5 + u01(rng)), wmlt::Vec3(1.0f), float(i), 0.0f, 0});
                     pool.sumWC += double(pool.lit.back().w) * double(pool.lit.back().c);
                 }
                 std::vector<double> v;

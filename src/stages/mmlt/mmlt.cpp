@@ -178,16 +178,18 @@ InputError MmltRender::noLight() const {
 // lit seeds than there are chains, and only copy the same few seeds again when they hold
 // fewer (docs/mmlt-chains.md, "Fewer, longer passes"): 8 passes when every chain of the
 // first allocation can start from a seed of its own, down to 2 as the share rho of chains
-// that can falls. Fresh samples per length and pass (the large steps feed the pools too;
-// the fresh ones keep probing every length, with chains or not): C / 8 in all, at least 64
-// per length.
+// that can falls (counted in the lit seeds the probe predicts, not in the pools: the
+// passes' lengths weigh the passes, so they must not follow the values of the pools they
+// weigh; with no probe held out, --bootstrap N or a budget spent in the probe, 8 passes).
+// Fresh samples per length and pass (the large steps feed the pools too; the fresh ones
+// keep probing every length, with chains or not): C / 8 in all, at least 64 per length.
 void MmltRender::planPasses() {
     if (timed()) {  // rank 0's figure on every rank
         const double left = std::max(0.0, opt_.timeBudget - elapsed());
         target_ = agreeAtBoundary(uint64_t(left / std::max(sampleSeconds_, 1e-12) / double(chains_))).value;
     }
     double distinct = 0;
-    for (const ChainGroup& g : groups_) distinct += double(std::min<size_t>(g.count, pools_[size_t(g.k)].lit.size()));
+    for (const ChainGroup& g : groups_) distinct += probeLit_.empty() ? double(g.count) : std::min(double(g.count), probeLit_[size_t(g.k)]);
     const double rho = distinct / double(chains_), passes = 2.0 + 6.0 * std::min(1.0, rho);
     passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength) : uint32_t(std::clamp(double(target_) / passes, 32.0, 1024.0));
     fresh_ = std::max<uint32_t>(64, chains_ / (8 * uint32_t(hi_ - lo_ + 1)));
@@ -207,17 +209,24 @@ MmltRender::NextPass MmltRender::decideNextPass(double restartSeconds) {
     return a.cancel ? NextPass::End : NextPass(a.value);
 }
 
-// The next pass's pools: fresh samples and this pass's large steps, thinned; the chains
-// allocated to them (false: no light in any pool).
+// The next pass's pools: this pass's large steps and fresh samples, one more batch of each
+// pool (SamplePool, poolWeights), thinned; the chains allocated to them (false: no light in
+// any pool).
 bool MmltRender::refillPools() {
     retarget();        // RenderOptions::mmltTarget = Relative: a new target, the pools under it
     learnStepSizes();  // RenderOptions::learnSteps: each length's small-step size
-    tracePool(0, std::vector<uint32_t>(size_t(kMax_) + 1, fresh_), false);
+    std::vector<uint64_t> large(size_t(kMax_) + 1, 0);
+    uint64_t allLarge = 0;
+    for (int k = lo_; k <= hi_; ++k) allLarge += large[size_t(k)] = next_[size_t(k)].count;
+    tracePool(0, std::vector<uint32_t>(size_t(kMax_) + 1, fresh_), false, next_);
     for (int k = lo_; k <= hi_; ++k) {
-        pools_[size_t(k)].add(next_[size_t(k)]);
+        const double share = allLarge ? double(large[size_t(k)]) / double(allLarge) : 1.0 / double(hi_ - lo_ + 1);
+        pools_[size_t(k)].addBatch(next_[size_t(k)], next_[size_t(k)].count - large[size_t(k)], share);
         next_[size_t(k)].clear();
-        thin(pools_[size_t(k)], k);
     }
+    batchLarge_.push_back(allLarge);
+    weighPools();
+    for (int k = lo_; k <= hi_; ++k) thin(pools_[size_t(k)], k);
     return allocateChains();
 }
 

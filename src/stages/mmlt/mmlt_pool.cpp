@@ -5,10 +5,13 @@
 
 namespace wmlt::mmlt_detail {
 
-// Fresh samples [from, to[k]) of every length k (pass pass_) into the pools, in parallel
-// tasks merged in task order. The bootstrap under a time budget stops early once it has spent
-// 5% of the budget; false when it was stopped (by the budget or a cancel, as all ranks agree).
-bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap) {
+// Fresh samples [from, to[k]) of every length k (pass pass_) into the pools `into`, in
+// parallel tasks merged in task order (with `odd`: the tasks of odd chunks of
+// kBatchChains samples there). The bootstrap under a time budget stops early once it has
+// spent 5% of the budget; false when it was stopped (by the budget or a cancel, as all
+// ranks agree).
+bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap, std::vector<SamplePool>& into,
+                           std::vector<SamplePool>* odd) {
     const uint32_t chunk = kBatchChains;
     uint32_t done = from;
     const uint32_t most = *std::max_element(to.begin(), to.end());
@@ -50,7 +53,8 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
         exchangePools(out, t0, t1 - t0);
         if (!brightness_.empty()) exchangePools(outMap, t0, t1 - t0);
         for (size_t ti = 0; ti < tasks.size(); ++ti) {
-            pools_[size_t(tasks[ti].k)].add(out[ti]);
+            const bool isOdd = odd && (tasks[ti].i0 / chunk) % 2 == 1;
+            (isOdd ? *odd : into)[size_t(tasks[ti].k)].add(out[ti]);
             collectBrightness(outMap[ti], tasks[ti].k);
             counters_.nonfinite += nonfinite[ti];
         }
@@ -75,31 +79,72 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
 }
 
 // The bootstrap (mmlt.md, step 1; docs/mmlt-chains.md, "Where it departs"): a probe of 256
-// samples of every length, then each length gets its share of the whole in proportion to
-// its b_k as the probe estimates it (its share of the chains and of the mutations: where
-// the seeds are needed), at least 256. The whole is 5% of the mutations asked for or two
-// per chain, whichever is more, so the bootstrap is spread over the lengths as the
-// mutations are and costs about 5% of them (an equal count per length spent most of it on
-// the long lengths, whose samples cost the most and which get few chains). The probe's
-// samples join the second pass's pools, not the first: the first pool's size then depends
-// on the probe only, not on its own values, and its mean stays unbiased. Under a time
+// samples of every length, then each length gets its share of the whole: half of it in
+// equal parts, half in proportion to its b_k as the probe estimates it (its share of the
+// chains and of the mutations: where the seeds are needed), at least 512. The whole is 5%
+// of the mutations asked for or two per chain, whichever is more, so the bootstrap costs
+// about 5% of them. (All of it by the probe's b_k starved the lengths the probe saw no light
+// in: in the seed room, where 0.6% of the samples carry light, the probe's 256 often see
+// none; all of it in equal parts spent most of it on the long lengths, whose samples cost
+// the most and which get few chains.) The probe joins no pool: the bootstrap's sizes depend
+// on its values; what it saw also plans the passes (probeLit_, planPasses). Under a time
 // budget tracePool stops the bootstrap at 5% of the budget (if that is in the probe, the
-// probe is the first pool). --bootstrap N: N samples of every length, in one step.
+// probe is the first pool). --bootstrap N: N samples of every length, in one step, the
+// first pool. Either way the first pool is two batches, its even and odd chunks of 256
+// samples (closeBootstrap).
 void MmltRender::bootstrap() {
     const int nLengths = hi_ - lo_ + 1;
     const double whole = timed() ? double(1 << 20) * nLengths : std::max(0.05 * targetMutations_, 2.0 * chains_);
     const bool fixed = opt_.bootstrap > 0;
     const uint32_t probe = fixed ? uint32_t(opt_.bootstrap) : kBatchChains;
     std::vector<uint32_t> to(size_t(kMax_) + 1, probe);
-    if (!tracePool(0, to, true) || fixed) return;
+    std::vector<SamplePool> even(size_t(kMax_) + 1), odd(size_t(kMax_) + 1);
+    if (!tracePool(0, to, true, even, &odd) || fixed) return closeBootstrap(even, odd);
+    std::vector<double> b(size_t(kMax_) + 1, 0.0);
     double sum = 0;
-    for (int k = lo_; k <= hi_; ++k) sum += pools_[size_t(k)].mean();
     for (int k = lo_; k <= hi_; ++k) {
-        const double share = sum > 0 ? pools_[size_t(k)].mean() / sum : 1.0 / nLengths;  // no light yet: alike
-        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * share), double(probe), double(1 << 20)));
-        std::swap(pools_[size_t(k)], next_[size_t(k)]);  // the probe: the second pass's
+        even[size_t(k)].add(odd[size_t(k)]);
+        b[size_t(k)] = even[size_t(k)].mean();
+        sum += b[size_t(k)];
     }
-    tracePool(probe, to, true);
+    probeLit_.assign(size_t(kMax_) + 1, 0.0);
+    for (int k = lo_; k <= hi_; ++k) {
+        const double share = sum > 0 ? b[size_t(k)] / sum : 1.0 / nLengths;  // no light yet: alike
+        to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * (0.5 / nLengths + 0.5 * share)), 2.0 * probe, double(1 << 20)));
+        probeLit_[size_t(k)] = double(even[size_t(k)].lit.size()) / double(probe);  // (times the samples traced, below)
+        even[size_t(k)].clear();
+        odd[size_t(k)].clear();
+    }
+    tracePool(probe, to, true, even, &odd);
+    for (int k = lo_; k <= hi_; ++k) probeLit_[size_t(k)] *= double(stats_.bootstrapSamples[size_t(k)]);
+    closeBootstrap(even, odd);
+}
+
+// The first pool: two batches, the bootstrap's even and odd chunks, each weighed by the
+// share of the chains the other one predicts for the length (poolWeights: cross-fitted, so
+// that no batch's weight follows its own values).
+void MmltRender::closeBootstrap(std::vector<SamplePool>& even, std::vector<SamplePool>& odd) {
+    auto shares = [&](const std::vector<SamplePool>& half) {
+        std::vector<double> s(size_t(kMax_) + 1, 0.0);
+        double sum = 0;
+        for (int k = lo_; k <= hi_; ++k) sum += half[size_t(k)].mean();
+        for (int k = lo_; k <= hi_; ++k) s[size_t(k)] = sum > 0 ? half[size_t(k)].mean() / sum : 1.0 / double(hi_ - lo_ + 1);
+        return s;
+    };
+    const std::vector<double> fromEven = shares(even), fromOdd = shares(odd);
+    for (int k = lo_; k <= hi_; ++k) {
+        SamplePool& pool = pools_[size_t(k)];
+        pool.clear();
+        pool.addBatch(even[size_t(k)], 0, fromOdd[size_t(k)]);
+        pool.addBatch(odd[size_t(k)], 0, fromEven[size_t(k)]);
+    }
+    batchLarge_.assign(2, 0);
+    weighPools();
+}
+
+// Every pool's batches weighed anew for the batches it now holds (poolWeights).
+void MmltRender::weighPools() {
+    for (int k = lo_; k <= hi_; ++k) pools_[size_t(k)].weigh(poolWeights(pools_[size_t(k)].batches, batchLarge_, 2));
 }
 
 namespace {
@@ -153,14 +198,61 @@ void MmltRender::mergeDigest() {
         std::memcpy(&sum, &p.sumWC, sizeof sum);
         mix(p.count);
         mix(sum);
+        for (const PoolBatch& b : p.batches) mix(b.count);
         for (const PoolEntry& e : p.lit) {
             uint32_t c = 0, w = 0;
             std::memcpy(&c, &e.c, sizeof c);
             std::memcpy(&w, &e.w, sizeof w);
             mix(e.key);
             mix(uint64_t(c) << 32 | w);
+            mix(e.batch);
         }
     }
     poolDigest_ = h;
 }
 }  // namespace wmlt::mmlt_detail
+
+namespace wmlt {
+
+// Weights alpha_b of a length's batches 0..p-1 (the pool of pass p - 1), summing to 1, each
+// decided by nothing in its own batch, so that sum_b alpha_b mean_b is an unbiased b_k for
+// any split of the batches among the lengths (SamplePool). The first `cross` batches (the
+// bootstrap's halves) weigh n_b / (n + M_b): n their samples together, M_b the samples the
+// later batches hold as batch b predicts them (its share s_b, from the other half's means, of
+// each later batch's large steps, plus that batch's fresh samples of the length; fixed
+// before the later batches are drawn, and independent of batch b's own values). The rest
+// R = 1 - sum alpha goes to the later batches by stick-breaking (alpha_b = g_b R_b,
+// R_{b+1} = (1 - g_b) R_b), g_b = n_b / (n_b + M_b) with s_b the batch's own share of its
+// large steps (the allocation its chains had, which the next ones roughly keep), and the
+// last batch with samples takes what is left (g = 1). g_b and R_b are fixed before batch b
+// is drawn (its count is not a value), so E[alpha_b mean_b] = b_k E[alpha_b]. Where the
+// predictions hold, alpha_b is n_b / sum n, the plain mean; where they fail, the estimate
+// stays unbiased and only its variance grows.
+std::vector<double> poolWeights(const std::vector<PoolBatch>& batches, const std::vector<uint64_t>& large, size_t cross) {
+    const size_t p = batches.size();
+    std::vector<double> alpha(p, 0.0);
+    size_t last = p;  // the last batch with samples
+    while (last > 0 && batches[last - 1].count == 0) --last;
+    if (last == 0) return alpha;
+    auto later = [&](size_t b, size_t from) {  // M_b over the batches from..p-1
+        double m = 0;
+        for (size_t i = from; i < p; ++i) m += batches[b].share * double(large[i]) + double(batches[i].fresh);
+        return m;
+    };
+    const size_t group = std::min(cross, p);
+    double n = 0, rest = 1;
+    for (size_t b = 0; b < group; ++b) n += double(batches[b].count);
+    for (size_t b = 0; b < group; ++b) {
+        alpha[b] = n > 0 ? double(batches[b].count) / (n + later(b, group)) : 0.0;
+        rest -= alpha[b];
+    }
+    for (size_t b = group; b < p; ++b) {
+        const double nb = double(batches[b].count);
+        const double g = b + 1 >= last ? 1.0 : nb > 0 ? nb / (nb + later(b, b + 1)) : 0.0;
+        alpha[b] = g * rest;
+        rest -= alpha[b];
+    }
+    return alpha;
+}
+
+}  // namespace wmlt

@@ -55,8 +55,11 @@ public:
     RenderResult run();
 
 private:
-    bool tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap);
+    bool tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap, std::vector<SamplePool>& into,
+                   std::vector<SamplePool>* odd = nullptr);
     void bootstrap();
+    void closeBootstrap(std::vector<SamplePool>& even, std::vector<SamplePool>& odd);
+    void weighPools();
     void chooseTimedChains();
     bool allocateChains();
     void seedChains();
@@ -150,7 +153,9 @@ private:
 
     tbb::enumerable_thread_specific<MmltBatch> batches_;
     tbb::enumerable_thread_specific<RayCounters> rays_;
-    std::vector<SamplePool> pools_, next_;       // [k]: this pass's pool, the next one's large steps
+    std::vector<SamplePool> pools_, next_;       // [k]: this pass's pool, the next one's batch (large steps, then fresh)
+    std::vector<uint64_t> batchLarge_;           // [batch]: the large steps of every length in the pools' batch
+    std::vector<double> probeLit_;               // [k]: lit samples the probe predicts in the bootstrap (empty: no probe held out)
     std::vector<double> passB_;                  // sum over rounds of iterations times b_k
     std::vector<uint32_t> thinRounds_;           // [k]: thinnings of length k's pools so far
     std::vector<ChainGroup> groups_;             // this pass's chains, one group per length with chains

@@ -94,6 +94,9 @@ extern const ChainStages kMmltStages, kPssmltStages;
 // (tau chosen for `keep` in expectation) and dividing its weight by that probability: an
 // unbiased thinning (systematic: one comb over the entries, its offset from (seed, round)).
 void thinPool(SamplePool& pool, size_t keep, uint64_t seed, uint32_t round);
+// The weights of a pool's batches (large[b]: batch b's large steps of every length; the
+// first `cross` are weighed against each other's predictions), mmlt_pool.cpp.
+std::vector<double> poolWeights(const std::vector<PoolBatch>& batches, const std::vector<uint64_t>& large, size_t cross);
 // Its tau: sum_i min(1, w_i c_i / tau) = keep over the pool's entries (more than keep).
 double thinningThreshold(const std::vector<PoolEntry>& e, size_t keep);
 
