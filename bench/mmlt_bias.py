@@ -11,8 +11,9 @@ at --size x --size with MinPathLength and MaxPathLength from --lengths: two BPT 
 their noise) and --seeds MMLT renders of --spp mutations per pixel with --chains chains. It
 prints the ratio of the MMLT renders' mean brightness to the references', its standard error
 over the seeds, z, and the median ratio: an unbiased estimator's z is within +-3 but for one
-run in 370. The default configuration has 5 passes of few chains each (the bias grows as the
-pools get smaller and the passes more); one pass hides it. About 4 minutes for 1000 seeds on
+run in 370. The default configuration has 4 passes of few chains each (before 2026-12-06 MMLT's
+pools were biased there, the more so the smaller the pools and the more the passes; one pass
+hid it). About 4 minutes for 1000 seeds on
 2 cores. A heavy tail (a few seeds far above the mean) makes fewer seeds read low: keep 1000.
 """
 import argparse
