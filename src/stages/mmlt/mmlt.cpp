@@ -190,9 +190,22 @@ void MmltRender::planPasses() {
     }
     double distinct = 0;
     for (const ChainGroup& g : groups_) distinct += probeLit_.empty() ? double(g.count) : std::min(double(g.count), probeLit_[size_t(g.k)]);
-    const double rho = distinct / double(chains_), passes = 2.0 + 6.0 * std::min(1.0, rho);
-    passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength) : uint32_t(std::clamp(double(target_) / passes, 32.0, 1024.0));
+    const double rho = distinct / double(chains_);
+    passes_ = 2.0 + 6.0 * std::min(1.0, rho);
+    passLength_ = opt_.passLength > 0 ? uint32_t(opt_.passLength) : uint32_t(std::clamp(double(target_) / passes_, 32.0, 1024.0));
     fresh_ = std::max<uint32_t>(64, chains_ / (8 * uint32_t(hi_ - lo_ + 1)));
+}
+
+// Under --time, after the first pass (roundSeconds: its rounds'), the passes planned again
+// for the iterations the rest of the budget allows at the chains' own measured cost: the
+// bootstrap's cost per sample, which planned the first, is not the chains' (its samples are
+// spread over the lengths unlike the chains: half of them equally). The Cornell box at
+// --time 6 planned passes of 595 iterations from it and ran 23 of them.
+void MmltRender::replanPasses(double roundSeconds) {
+    if (!timed() || opt_.passLength > 0 || iteration_ == 0) return;
+    const double left = std::max(0.0, opt_.timeBudget - elapsed()), perIteration = roundSeconds / double(iteration_);
+    const double iterations = double(iteration_) + left / std::max(perIteration, 1e-12);
+    passLength_ = uint32_t(agreeAtBoundary(uint64_t(std::clamp(iterations / passes_, 32.0, 1024.0))).value);
 }
 
 // Rank 0 decides after a pass: a new pass, the end, or, with too little time left for a
@@ -268,6 +281,7 @@ RenderResult MmltRender::run() {
         restartSeconds = elapsed() - passStart;
         ++stats_.passes;
         runRounds(timed() ? iteration_ + passLength_ : std::min<uint64_t>(target_, iteration_ + passLength_));
+        if (pass_ == 0 && !stopped_) replanPasses(elapsed() - passStart - restartSeconds);
         ++pass_;
         if (stopped_) break;
     }

@@ -36,8 +36,10 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
         }
         std::vector<SamplePool> out(tasks.size()), outMap(tasks.size());  // the pools', the target map's
         std::vector<uint64_t> nonfinite(tasks.size(), 0);
+        std::vector<double> taskSeconds(tasks.size(), 0.0);
         const auto [t0, t1] = shareOf(ranks_, tasks.size());  // this rank's tasks
         tbb::parallel_for(t0, t1, [&](size_t ti) {
+            const Clock::time_point taskStart = Clock::now();
             const PoolTask& t = tasks[ti];
             MmltBatch& mb = batches_.local();
             mb.counters.nonfinite = 0;
@@ -49,6 +51,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
             std::swap(outMap[ti], mb.mapPools[size_t(t.k)]);
             mb.mapPools[size_t(t.k)].clear();
             nonfinite[ti] = mb.counters.nonfinite;
+            taskSeconds[ti] = std::chrono::duration<double>(Clock::now() - taskStart).count();
         });
         exchangePools(out, t0, t1 - t0);
         if (!brightness_.empty()) exchangePools(outMap, t0, t1 - t0);
@@ -60,6 +63,7 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
         }
         done += slab;
         sampleSeconds_ = (elapsed() - start) / double(samples);
+        if (bootstrap) sampleSeconds_ *= chainCostRatio(tasks, taskSeconds, t0, t1);
         // The next slab, rank 0's figure (0: the timed bootstrap has spent its 5%).
         uint64_t next = slabSize;
         if (bootstrap && timed()) {
@@ -108,8 +112,9 @@ void MmltRender::bootstrap() {
         sum += b[size_t(k)];
     }
     probeLit_.assign(size_t(kMax_) + 1, 0.0);
+    chainShare_.assign(size_t(kMax_) + 1, 0.0);
     for (int k = lo_; k <= hi_; ++k) {
-        const double share = sum > 0 ? b[size_t(k)] / sum : 1.0 / nLengths;  // no light yet: alike
+        const double share = chainShare_[size_t(k)] = sum > 0 ? b[size_t(k)] / sum : 1.0 / nLengths;  // no light yet: alike
         to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * (0.5 / nLengths + 0.5 * share)), 2.0 * probe, double(1 << 20)));
         probeLit_[size_t(k)] = double(even[size_t(k)].lit.size()) / double(probe);  // (times the samples traced, below)
         even[size_t(k)].clear();
@@ -118,6 +123,30 @@ void MmltRender::bootstrap() {
     tracePool(probe, to, true, even, &odd);
     for (int k = lo_; k <= hi_; ++k) probeLit_[size_t(k)] *= double(stats_.bootstrapSamples[size_t(k)]);
     closeBootstrap(even, odd);
+}
+
+// A chain's iteration costs about a pool sample of its length, and the chains are spread over
+// the lengths unlike the bootstrap (half of it equally): the slab's cost per sample of each
+// length weighted by its predicted share of the chains (chainShare_, the probe's b_k) over the
+// slab's cost per sample, from the CPU seconds of this rank's tasks (a length none of them
+// traced costs the average). 1 before the probe has spoken. The Cornell box at MaxPathLength
+// 64 and --time 6: the bootstrap's wall time per sample overstated a mutation's 3-fold, and
+// planned 1024 chains where the old split planned 1792.
+double MmltRender::chainCostRatio(const std::vector<PoolTask>& tasks, const std::vector<double>& taskSeconds, size_t t0, size_t t1) const {
+    if (chainShare_.empty()) return 1.0;
+    std::vector<double> seconds(size_t(kMax_) + 1, 0.0), samples(size_t(kMax_) + 1, 0.0);
+    double slabSeconds = 0, slabSamples = 0;
+    for (size_t ti = t0; ti < t1; ++ti) {
+        seconds[size_t(tasks[ti].k)] += taskSeconds[ti];
+        samples[size_t(tasks[ti].k)] += tasks[ti].n;
+        slabSeconds += taskSeconds[ti];
+        slabSamples += tasks[ti].n;
+    }
+    if (!(slabSeconds > 0)) return 1.0;
+    const double all = slabSeconds / slabSamples;
+    double chains = 0;
+    for (int k = lo_; k <= hi_; ++k) chains += chainShare_[size_t(k)] * (samples[size_t(k)] > 0 ? seconds[size_t(k)] / samples[size_t(k)] : all);
+    return chains / all;
 }
 
 // The first pool: two batches, the bootstrap's even and odd chunks, each weighed by the

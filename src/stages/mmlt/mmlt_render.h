@@ -58,8 +58,10 @@ private:
     bool tracePool(uint32_t from, const std::vector<uint32_t>& to, bool bootstrap, std::vector<SamplePool>& into,
                    std::vector<SamplePool>* odd = nullptr);
     void bootstrap();
+    double chainCostRatio(const std::vector<PoolTask>& tasks, const std::vector<double>& taskSeconds, size_t t0, size_t t1) const;
     void closeBootstrap(std::vector<SamplePool>& even, std::vector<SamplePool>& odd);
     void weighPools();
+    void replanPasses(double roundSeconds);
     void chooseTimedChains();
     bool allocateChains();
     void seedChains();
@@ -141,6 +143,7 @@ private:
     std::string chainsReason_;            // how C was chosen (--stats, the notice)
     uint64_t target_ = 0;                 // iterations per chain (spp renders)
     uint32_t passLength_ = 1;
+    double passes_ = 8;    // the passes planned (planPasses)
     uint32_t fresh_ = 64;  // fresh pool samples per length and pass (planPasses)
     uint32_t pass_ = 0;
     uint64_t iteration_ = 0;  // iterations of every chain so far
@@ -155,6 +158,7 @@ private:
     tbb::enumerable_thread_specific<RayCounters> rays_;
     std::vector<SamplePool> pools_, next_;       // [k]: this pass's pool, the next one's batch (large steps, then fresh)
     std::vector<uint64_t> batchLarge_;           // [batch]: the large steps of every length in the pools' batch
+    std::vector<double> chainShare_;             // [k]: the chains' share the probe predicts (empty: before it)
     std::vector<double> probeLit_;               // [k]: lit samples the probe predicts in the bootstrap (empty: no probe held out)
     std::vector<double> passB_;                  // sum over rounds of iterations times b_k
     std::vector<uint32_t> thinRounds_;           // [k]: thinnings of length k's pools so far
