@@ -44,6 +44,11 @@ TEST_CASE("MMLT pools: batch weights sum to 1 and are the plain mean where their
     CHECK(std::accumulate(a.begin(), a.end(), 0.0) == Approx(1.0).epsilon(1e-12));
     for (double x : a) CHECK((x >= 0 && x <= 1));
     CHECK(a[4] == 0.0);
+    // Every batch after the bootstrap empty: the bootstrap's halves take all.
+    const std::vector<double> first = poolWeights({{50, 0, 0.5, 1}, {70, 0, 0.5, 1}, {0, 0, 0.5, 1}}, {0, 0, 500}, 2);
+    CHECK(first[0] == Approx(50.0 / 120));
+    CHECK(first[1] == Approx(70.0 / 120));
+    CHECK(first[2] == 0.0);
 }
 
 namespace {

@@ -263,9 +263,9 @@ std::vector<double> poolWeights(const std::vector<PoolBatch>& batches, const std
     size_t last = p;  // the last batch with samples
     while (last > 0 && batches[last - 1].count == 0) --last;
     if (last == 0) return alpha;
-    auto later = [&](size_t b, size_t from) {  // M_b over the batches from..p-1
+    auto later = [&](size_t b, size_t from) {  // M_b over the batches from..last-1
         double m = 0;
-        for (size_t i = from; i < p; ++i) m += batches[b].share * double(large[i]) + double(batches[i].fresh);
+        for (size_t i = from; i < last; ++i) m += batches[b].share * double(large[i]) + double(batches[i].fresh);
         return m;
     };
     const size_t group = std::min(cross, p);
@@ -275,7 +275,7 @@ std::vector<double> poolWeights(const std::vector<PoolBatch>& batches, const std
         alpha[b] = n > 0 ? double(batches[b].count) / (n + later(b, group)) : 0.0;
         rest -= alpha[b];
     }
-    for (size_t b = group; b < p; ++b) {
+    for (size_t b = group; b < last; ++b) {
         const double nb = double(batches[b].count);
         const double g = b + 1 >= last ? 1.0 : nb > 0 ? nb / (nb + later(b, b + 1)) : 0.0;
         alpha[b] = g * rest;
