@@ -13,8 +13,8 @@ prints the ratio of the MMLT renders' mean brightness to the references', its st
 over the seeds, z, and the median ratio: an unbiased estimator's z is within +-3 but for one
 run in 370. The default configuration has 4 passes of few chains each (before 2026-12-06 MMLT's
 pools were biased there, the more so the smaller the pools and the more the passes; one pass
-hid it). About 4 minutes for 1000 seeds on
-2 cores. A heavy tail (a few seeds far above the mean) makes fewer seeds read low: keep 1000.
+hid it). About 4 minutes for 1000 seeds on 2 cores. A heavy tail (a few seeds far above the
+mean) makes fewer seeds read low: keep 1000.
 """
 import argparse
 import os

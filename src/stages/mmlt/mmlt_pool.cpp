@@ -104,17 +104,11 @@ void MmltRender::bootstrap() {
     std::vector<uint32_t> to(size_t(kMax_) + 1, probe);
     std::vector<SamplePool> even(size_t(kMax_) + 1), odd(size_t(kMax_) + 1);
     if (!tracePool(0, to, true, even, &odd) || fixed) return closeBootstrap(even, odd);
-    std::vector<double> b(size_t(kMax_) + 1, 0.0);
-    double sum = 0;
-    for (int k = lo_; k <= hi_; ++k) {
-        even[size_t(k)].add(odd[size_t(k)]);
-        b[size_t(k)] = even[size_t(k)].mean();
-        sum += b[size_t(k)];
-    }
+    for (int k = lo_; k <= hi_; ++k) even[size_t(k)].add(odd[size_t(k)]);
+    chainShare_ = shares(even);
     probeLit_.assign(size_t(kMax_) + 1, 0.0);
-    chainShare_.assign(size_t(kMax_) + 1, 0.0);
     for (int k = lo_; k <= hi_; ++k) {
-        const double share = chainShare_[size_t(k)] = sum > 0 ? b[size_t(k)] / sum : 1.0 / nLengths;  // no light yet: alike
+        const double share = chainShare_[size_t(k)];
         to[size_t(k)] = probe + uint32_t(std::clamp(std::ceil(whole * (0.5 / nLengths + 0.5 * share)), 2.0 * probe, double(1 << 20)));
         probeLit_[size_t(k)] = double(even[size_t(k)].lit.size()) / double(probe);  // (times the samples traced, below)
         even[size_t(k)].clear();
@@ -149,17 +143,20 @@ double MmltRender::chainCostRatio(const std::vector<PoolTask>& tasks, const std:
     return chains / all;
 }
 
+// Each length's share of the chains the pools `p` predict: b_k / sum b (the allocation's
+// rule), alike where no pool has light yet.
+std::vector<double> MmltRender::shares(const std::vector<SamplePool>& p) const {
+    std::vector<double> s(size_t(kMax_) + 1, 0.0);
+    double sum = 0;
+    for (int k = lo_; k <= hi_; ++k) sum += p[size_t(k)].mean();
+    for (int k = lo_; k <= hi_; ++k) s[size_t(k)] = sum > 0 ? p[size_t(k)].mean() / sum : 1.0 / double(hi_ - lo_ + 1);
+    return s;
+}
+
 // The first pool: two batches, the bootstrap's even and odd chunks, each weighed by the
 // share of the chains the other one predicts for the length (poolWeights: cross-fitted, so
 // that no batch's weight follows its own values).
 void MmltRender::closeBootstrap(std::vector<SamplePool>& even, std::vector<SamplePool>& odd) {
-    auto shares = [&](const std::vector<SamplePool>& half) {
-        std::vector<double> s(size_t(kMax_) + 1, 0.0);
-        double sum = 0;
-        for (int k = lo_; k <= hi_; ++k) sum += half[size_t(k)].mean();
-        for (int k = lo_; k <= hi_; ++k) s[size_t(k)] = sum > 0 ? half[size_t(k)].mean() / sum : 1.0 / double(hi_ - lo_ + 1);
-        return s;
-    };
     const std::vector<double> fromEven = shares(even), fromOdd = shares(odd);
     for (int k = lo_; k <= hi_; ++k) {
         SamplePool& pool = pools_[size_t(k)];

@@ -59,6 +59,7 @@ private:
                    std::vector<SamplePool>* odd = nullptr);
     void bootstrap();
     double chainCostRatio(const std::vector<PoolTask>& tasks, const std::vector<double>& taskSeconds, size_t t0, size_t t1) const;
+    std::vector<double> shares(const std::vector<SamplePool>& p) const;
     void closeBootstrap(std::vector<SamplePool>& even, std::vector<SamplePool>& odd);
     void weighPools();
     void replanPasses(double roundSeconds);
