@@ -465,7 +465,7 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
 }
 
-TEST_CASE("cli: --spectral renders PT spectrally and says so, elsewhere it warns and renders RGB", "[cli][spectral]") {
+TEST_CASE("cli: --spectral renders PT, LT and BPT spectrally and says so, elsewhere it warns and renders RGB", "[cli][spectral]") {
     TempDir dir;
     const std::string out = dir.file("out.pfm"), stats = dir.file("stats.json");
     Run r = run("--tracer pt --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
@@ -475,13 +475,21 @@ TEST_CASE("cli: --spectral renders PT spectrally and says so, elsewhere it warns
     std::string text = readFile(stats);
     CHECK(contains(text, "\"spectral\": true"));
     CHECK(contains(text, "\"spectral_reason\": \"\""));
+    for (const char* tracer : {"lt", "bpt"}) {
+        r = run(std::string("--tracer ") + tracer + " --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats),
+                dir);
+        INFO(tracer << " stderr: " << r.err);
+        REQUIRE(r.status == 0);
+        CHECK(r.err.find("warning") == std::string::npos);
+        CHECK(contains(readFile(stats), "\"spectral\": true"));
+    }
     // another tracer: RGB, a warning, the reason in --stats
-    r = run("--tracer bpt --spp 4 --threads 2 --spectral --width 64 --height 48 -o " + quote(out) + " --stats " + quote(stats), dir);
+    r = run("--tracer mmlt --spp 4 --threads 2 --spectral --width 64 --height 48 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
-    CHECK(contains(r.err, "warning: --spectral: spectral rendering is PT's only so far"));
+    CHECK(contains(r.err, "warning: --spectral: spectral rendering is PT's, LT's and BPT's only so far"));
     text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
-    CHECK(contains(text, "PT's only so far"));
+    CHECK(contains(text, "BPT's only so far"));
     // --rgb (the default) after --spectral: the last one wins
     r = run("--tracer pt --spp 4 --threads 2 --spectral --rgb" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
@@ -490,7 +498,8 @@ TEST_CASE("cli: --spectral renders PT spectrally and says so, elsewhere it warns
     CHECK(contains(text, "\"spectral_reason\": \"\""));
     // --describe says what a render with the same options would be, and why not spectral.
     CHECK(contains(run("--describe", dir).out, "spectral: no (RGB, the default"));
-    CHECK(contains(run("--describe --spectral --tracer bpt", dir).out, "spectral: no: spectral rendering is PT's only so far"));
+    CHECK(contains(run("--describe --spectral --tracer mmlt", dir).out, "spectral: no: spectral rendering is PT's, LT's and BPT's only so far"));
+    CHECK(contains(run("--describe --spectral --tracer bpt", dir).out, "spectral: yes (bpt"));
     CHECK(contains(run("--describe --spectral", dir).out, "spectral: yes"));  // (the built-in scene's first render: PT)
     CHECK(contains(run("--describe --spectral --tracer pt", dir).out, "spectral: yes"));
     const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");

@@ -124,7 +124,7 @@ std::string usageText() {
            "                           (default: luminance; docs/mmlt-levers.md)\n"
            "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
            "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
-           "  --spectral, --rgb        render with sampled wavelengths (so far PT only, and scenes without\n"
+           "  --spectral, --rgb        render with sampled wavelengths (so far PT, LT and BPT, and scenes without\n"
            "                           media, plastics, principled, blends or coated conductors: others\n"
            "                           render in RGB, with a warning), or in RGB (the default;\n"
            "                           docs/spectral.md)\n"

@@ -27,6 +27,9 @@ namespace wmlt {
 constexpr int kWavelengths = 3;  // one per colour channel
 constexpr float kLambdaMin = 360.0f, kLambdaMax = 830.0f;
 
+// The dimension of a hashed sample's key (PT's, BPT's, LT's) its wavelengths' one number reads.
+constexpr uint32_t kWavelengthDim = 0xfffffff0u;
+
 // A path's wavelengths and their sampling densities (per nm).
 struct Wavelengths {
     float lambda[kWavelengths];

@@ -88,7 +88,7 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
                                                         : renderPathTracing(scene, opt);
     r.stats.threads = threads;
     if (opt.spectral && !r.stats.spectral && r.stats.spectralReason.empty())
-        r.stats.spectralReason = "spectral rendering is PT's only so far: rendered in RGB (docs/spectral.md)";
+        r.stats.spectralReason = "spectral rendering is PT's, LT's and BPT's only so far: rendered in RGB (docs/spectral.md)";
     if (r.stats.buffers.empty()) r.stats.buffers = buffers;
     // The scene: its triangle meshes' arrays (a shape group's once, however many instances)
     // and what Embree holds (BVHs, instances), from Embree's memory monitor.

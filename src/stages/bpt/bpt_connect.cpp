@@ -117,6 +117,9 @@ void finishStrategies(const Scene& scene, BptBatch& b, float misBeta, bool splat
     for (size_t i = 0; i < w.n; ++i) {
         if (!weighStrategy(scene, b, w, i, misBeta, scratch, ss, counters)) continue;
         const uint32_t slot = w.slot[i];
+        // Spectral: the value at the slot's wavelengths as the film's linear sRGB (both
+        // subpaths are walked, so the wavelengths are final; the conversion is linear).
+        if (b.spectra) ss.value = srgbOfSample(ss.value, b.lambda[slot]);
         const int s = w.s[i], k = s + w.t[i] - 1;
         if (w.t[i] == 1 && !splat) {
             b.filmX[slot] = ss.px;

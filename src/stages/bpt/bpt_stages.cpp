@@ -59,6 +59,7 @@ void generateBptCameraPaths(const Scene& scene, BptBatch& b, const Tile& t, int 
             b.pathPdf[i] = cameraPdfOfRay(scene.camera, d);
             b.pathBeta[i] = Vec3(1.0f);
             b.pathNonSpecular[i] = 0;
+            if (b.spectra) b.lambda[i] = sampleWavelengths(sampleDimension(key, kWavelengthDim));
         });
     b.numPaths = b.numSlots;
 }
@@ -124,7 +125,8 @@ void generateBptLightPaths(const Scene& scene, BptBatch& b, const U& u) {
             b.light.mediumBack[y0] = back ? front : behind;
         }
         if (b.light.maxCount[i] < 2) return;
-        Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) / (pdfOrigin * e.pdfDir));
+        const Vec3 Le = b.spectra ? b.spectra->emission(li, e.Le, b.lambda[i]) : e.Le;
+        Vec3 beta = Le * (std::fabs(dot(e.n, e.dir)) / (pdfOrigin * e.pdfDir));
         if (isBlack(beta) || !isFinite(beta)) return;
         b.betaScale[i] = maxComponent(beta);
         b.pathSlot[n] = uint32_t(i);
@@ -194,6 +196,7 @@ template <class F>
 void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool cameraWalk) {
     const bool media = v.media;
     size_t h = 0;
+    b.numNew = 0;
     for (size_t i = 0; i < b.numPaths; ++i) {
         const RTCRayHit& rh = b.ray[i];
         prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
@@ -267,6 +270,7 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
         }
         v.kind[cur] = BptVertexKind::Surface;
         materialAt<F>(scene, sp, -rayDir(rh), v.bsdf[cur], b.textureJobs, b.pathNonSpecular[i] ? b.regularizedOffset : 0);
+        if (b.spectra) b.noteNewVertex(slot, cur, sp.material);  // its colours at the slot's wavelengths, below
         const MaterialKind kind = v.bsdf[cur].kind;
         v.delta[cur] = isDeltaMaterial(kind) ? 1 : 0;
         if (idx + 1 >= v.maxCount[slot]) continue;  // the walk ends here
@@ -276,6 +280,13 @@ void resolveBptHitsOf(const Scene& scene, BptBatch& b, BptVertices& v, bool came
     }
     b.numHits = h;
     if constexpr (F::textures) evaluateTextures(scene, b.textureJobs);  // every new vertex's, the walk's last too
+    // The spectral stage: every new vertex's colours at its slot's wavelengths; a dispersive
+    // dielectric keeps only the hero wavelength, for every strategy of the slot.
+    for (size_t j = 0; j < b.numNew; ++j) {
+        const int m = b.newMaterial[j];
+        Wavelengths& w = b.lambda[b.newSlot[j]];
+        if (b.spectra->colours(m, scene.desc.materials[size_t(m)], v.bsdf[b.newVertex[j]], w)) terminateSecondary(w);
+    }
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "kernels/bsdf.h"
 #include "kernels/chain_numbers.h"
 #include "kernels/rng.h"
+#include "scene/scene_spectra.h"
 #include "stages/bpt/bpt_samples.h"  // the sample sources the stages are templates on
 #include "stages/core/film.h"
 #include "stages/core/strategy_films.h"
@@ -248,6 +249,17 @@ constexpr uint32_t kCameraSampleSlots = 256;
     X(uint8_t, connLength) X(Vec3, connValue) X(float, connWeight) X(uint8_t, connS)
 // clang-format on
 
+// Allocated only for a spectral render (RenderOptions::spectral; docs/spectral.md):
+//   lambda: per slot, its wavelengths (the colour channels' meaning), shared by both
+//     subpaths and every strategy of the slot
+//   newSlot, newVertex, newMaterial: per new surface vertex of the walk's round (its slot,
+//     vertex index and material, SceneDesc::materials), for the spectral stage after the
+//     textures (resolveBptHits)
+// clang-format off
+#define WMLT_BPT_SPECTRAL_ARRAYS(X)                                                          \
+    X(Wavelengths, lambda) X(uint32_t, newSlot) X(uint32_t, newVertex) X(int32_t, newMaterial)
+// clang-format on
+
 // A t = 1 contribution kept with its slot (PSSMLT: a sample's splats are its chain's).
 struct SlotSplat {
     uint32_t slot;
@@ -262,8 +274,11 @@ struct BptBatch : PathWave {
     WMLT_BPT_RECT_LIGHT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_BPT_CAMERA_SAMPLE_ARRAYS(WMLT_SOA_ARRAY)
-    std::vector<uint32_t> cameraSampleOf;  // per light vertex
-    bool roulette = true;                  // Russian roulette in the walks (MMLT: off, lengths are fixed)
+    WMLT_BPT_SPECTRAL_ARRAYS(WMLT_SOA_ARRAY)
+    const SpectralScene* spectra = nullptr;  // a spectral render's (chosen once per render); nullptr: RGB
+    size_t numNew = 0;                       // spectral: the round's new surface vertices (newVertex)
+    std::vector<uint32_t> cameraSampleOf;    // per light vertex
+    bool roulette = true;                    // Russian roulette in the walks (MMLT: off, lengths are fixed)
     // pbrt's regularize, chosen once per render: Scene::regularizedOffset in BPT's batches
     // (renderBidirectional), the table a subpath's vertices take once pathNonSpecular; 0 in
     // MMLT's and PSSMLT's (it would bias their chains' target) and without regularize.
@@ -296,6 +311,9 @@ struct BptBatch : PathWave {
         if (needs.media) {
             WMLT_BPT_MEDIA_ARRAYS(WMLT_SOA_RESIZE)
         }
+        if (needs.spectral) {
+            WMLT_BPT_SPECTRAL_ARRAYS(WMLT_SOA_RESIZE)
+        }
         cam.reserve(n, maxLength + 1, needs.texturedEmitter, needs.media);
         light.reserve(n, maxLength, needs.texturedEmitter, needs.media);
         if (needs.pinhole) {
@@ -313,6 +331,12 @@ struct BptBatch : PathWave {
         splats.reserve(n);
     }
     void resizeConnections(size_t n) { WMLT_BPT_CONN_ARRAYS(WMLT_SOA_RESIZE) }
+    // Spectral: slot's new vertex cur (material m) takes its colours after the round's textures.
+    void noteNewVertex(uint32_t slot, size_t cur, int m) {
+        newSlot[numNew] = slot;
+        newVertex[numNew] = uint32_t(cur);
+        newMaterial[numNew++] = m;
+    }
     // The per-slot strategy and film point (MMLT's; PSSMLT's film point).
     void reserveStrategies(size_t n) { WMLT_BPT_STRATEGY_ARRAYS(WMLT_SOA_RESIZE) }
 };

@@ -190,6 +190,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         const size_t x1 = b.cam.at(slot, t - 2);  // k >= 1: t >= 2
         Vec3 Le = zKind == BptVertexKind::Env ? scene.env.Le(-b.cam.ng[zi]) : areaLe(scene.lights[li], b.cam.ng[zi], dirTo(b.cam.p[zi], b.cam.p[x1]));
         if (!b.cam.emitTex.empty() && zKind != BptVertexKind::Env) Le = Le * b.cam.emitTex[zi];
+        if (b.spectra) Le = b.spectra->emission(li, Le, b.lambda[slot]);
         w.value[i] = b.cam.beta[zi] * Le;
         w.light[i] = int16_t(li);
     } else if (s == 1 && t >= 2) {  // value = beta_z f(z) |cos| Le / (pmf pdf)
@@ -205,7 +206,7 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
         w.fWi[ez] = fr.toLocal(ls.wi);
         w.wi[ez] = fr.toLocal(dirTo(b.cam.p[zi], ls.p));
         w.scale[i] = absCosTheta(w.fWi[ez]);
-        w.value[i] = ls.Le;
+        w.value[i] = b.spectra ? b.spectra->emission(li, ls.Le, b.lambda[slot]) : ls.Le;
         w.tail[i] = pmf * ls.pdf;
         w.light[i] = int16_t(li);
         w.endP[i] = ls.p;
@@ -234,7 +235,10 @@ bool setUpStrategy(const Scene& scene, const BptBatch& b, uint32_t slot, int s, 
             const int li = b.light.light[yi];
             if (isDeltaLight(scene.lights[li])) return false;  // a point light is not seen
             Vec3 Le = areaLe(scene.lights[li], yN, cs.wi);
-            w.value[i] = b.light.beta[yi] * Le * (std::fabs(dot(cs.wi, yN)) * cs.We / cs.pdf);
+            // (spectral: y_0's beta holds the emitter's texture over its density, which the
+            // emitter's spectrum must see: emission is linear in its RGB's scale)
+            const Vec3 betaLe = b.spectra ? b.spectra->emission(li, b.light.beta[yi] * Le, b.lambda[slot]) : b.light.beta[yi] * Le;
+            w.value[i] = betaLe * (std::fabs(dot(cs.wi, yN)) * cs.We / cs.pdf);
         } else {
             const Frame& fr = b.light.shading[yi];
             const Vec3 toPrev = dirTo(y, b.light.p[b.light.at(slot, s - 2)]);

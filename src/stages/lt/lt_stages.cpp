@@ -43,6 +43,10 @@ void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n,
             setRay(b.conn[i], o, d, 0.0f, INFINITY);
             b.connPixel[i] = pixel;
             b.connValue[i] = scene.env.Le(d) * b.filmWeight[i];
+            if (b.spectra) {  // this sample's own wavelengths (its key's), to the film's sRGB
+                const Wavelengths w = sampleWavelengths(sampleDimension(key, kWavelengthDim));
+                b.connValue[i] = srgbOfSample(b.spectra->emission(scene.envLight, b.connValue[i], w), w);
+            }
             if (scene.features.media) {
                 b.connMedium[i] = scene.cameraMedium;
                 b.connKey[i] = key;
@@ -58,6 +62,7 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
     forEachTileSample(t, cam.width, [&](size_t i, int, int, uint32_t pixel, uint32_t s) {
         const uint64_t key = ltSampleKey(seed, pixel, s);
         b.key[i] = key;
+        if (b.spectra) b.lambda[i] = sampleWavelengths(sampleDimension(key, kWavelengthDim));
         float pmf;
         int li = scene.lightDistribution.sampleDiscrete(sampleDimension(key, 0), &pmf);
         LightEmission e;
@@ -72,7 +77,8 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
         if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
             CameraSample cs = sampleCameraFrom(cam, e.p, sampleDimension(key, 5), sampleDimension(key, 6));
             if (cs.valid) {
-                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi) * e.tex;  // (tex 1 but for textured emitters)
+                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi) * e.tex;                                   // (tex 1 but for textured emitters)
+                if (b.spectra) Le = srgbOfSample(b.spectra->emission(li, Le, b.lambda[i]), b.lambda[i]);  // (the film's, as every splat)
                 float cosL = std::fabs(dot(cs.wi, e.n));
                 if (!isBlack(Le)) {
                     if (media) {  // the face towards the camera (e.n is the face emission took)
@@ -84,7 +90,8 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
                 }
             }
         }
-        Vec3 beta = e.Le * (std::fabs(dot(e.n, e.dir)) * invPos / e.pdfDir);
+        const Vec3 Le = b.spectra ? b.spectra->emission(li, e.Le, b.lambda[i]) : e.Le;
+        Vec3 beta = Le * (std::fabs(dot(e.n, e.dir)) * invPos / e.pdfDir);
         if (isBlack(beta) || !isFinite(beta)) return;
         b.betaScale[i] = maxComponent(beta);
         b.pathSlot[n] = uint32_t(i);
@@ -138,6 +145,7 @@ void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
         const RTCRayHit& rh = b.ray[i];
         prefetchSurfaceAhead(scene, b.ray.data(), i, b.numPaths);
         if (media && b.mediumEvent[i]) {  // a scattering event in the path's medium: a Phase vertex
+            if (b.spectra) b.hitMaterial[h] = -1;
             recordMediumVertex(scene, b, h++, i);
             continue;
         }
@@ -149,10 +157,19 @@ void resolveLightHitsOf(const Scene& scene, LtBatch& b) {
             b.hitMediumIn[h] = g.mediumBoundary ? g.mediumInside : b.medium[i];
             b.hitMediumOut[h] = g.mediumBoundary ? g.mediumOutside : b.medium[i];
         }
+        if (b.spectra) b.hitMaterial[h] = sp.material;
         recordHit<F>(scene, b, h++, i, sp, -rayDir(rh), 0);  // (pbrt-v4's lightpath does not regularize)
     }
     b.numHits = h;
     if constexpr (F::textures) evaluateTextures(scene, b.textureJobs);
+    if (b.spectra) {  // the spectral stage: every hit's colours at its path's wavelengths
+        for (size_t k = 0; k < h; ++k) {
+            const int m = b.hitMaterial[k];
+            if (m < 0) continue;
+            Wavelengths& w = b.lambda[b.pathSlot[b.hitPath[k]]];
+            if (b.spectra->colours(m, scene.desc.materials[size_t(m)], b.bsdf[k], w)) terminateSecondary(w);
+        }
+    }
 }
 
 }  // namespace
@@ -183,6 +200,7 @@ void connectToCamera(const Scene& scene, LtBatch& b, int d) {
                 // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
                 float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
                 Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
+                if (b.spectra) v = srgbOfSample(v, b.lambda[b.pathSlot[path]]);  // the film's (the wavelengths as they stand now)
                 if (scene.features.media) {
                     b.connMedium[b.numConn] = dot(cs.wi, b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
                     b.connKey[b.numConn] = key;

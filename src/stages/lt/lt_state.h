@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "kernels/bsdf.h"
+#include "scene/scene_spectra.h"
 #include "stages/core/film.h"
 #include "stages/core/wave.h"
 
@@ -51,9 +52,16 @@ namespace wmlt {
     X(int32_t, hitMediumOut) X(int32_t, connMedium) X(uint64_t, connKey)
 // clang-format on
 
+// Allocated only for a spectral render (RenderOptions::spectral; docs/spectral.md):
+//   lambda: per slot, its wavelengths (the colour channels' meaning)
+//   hitMaterial: per hit, its material (SceneDesc::materials; -1: a medium vertex)
+#define WMLT_LT_SPECTRAL_ARRAYS(X) X(Wavelengths, lambda) X(int32_t, hitMaterial)
+
 struct LtBatch : PathWave {
     WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_ARRAY)
+    WMLT_LT_SPECTRAL_ARRAYS(WMLT_SOA_ARRAY)
+    const SpectralScene* spectra = nullptr;  // a spectral render's (chosen once per render); nullptr: RGB
     size_t numConn = 0;
     std::vector<Splat> splats;
     std::vector<PointSplat> points;  // filtered scenes: contributions at film points
@@ -64,6 +72,9 @@ struct LtBatch : PathWave {
         WMLT_LT_ARRAYS(WMLT_SOA_RESIZE)
         if (needs.media) {
             WMLT_LT_MEDIA_ARRAYS(WMLT_SOA_RESIZE)
+        }
+        if (needs.spectral) {
+            WMLT_LT_SPECTRAL_ARRAYS(WMLT_SOA_RESIZE)
         }
         splats.reserve(n);
     }

@@ -141,8 +141,7 @@ inline void addRadiance(PtBatch& b, uint32_t slot, Vec3 c, int length) {
 // pixel position within its stratum, 2-3 pick the lens point, and bounce d >= 1 reads
 // dimensions kBounceBase + (d - 1) * kBounceStride + (0: light choice, 1-2: light point,
 // 3: BSDF lobe, 4-5: BSDF direction, 6: Russian roulette).
-// A spectral render's wavelengths read dimension kWavelengthDim (one number per sample).
-constexpr uint32_t kWavelengthDim = 0xfffffff0u;
+// A spectral render's wavelengths read dimension kWavelengthDim (kernels/spectral.h).
 constexpr uint32_t kBounceBase = 4;
 constexpr uint32_t kBounceStride = 7;
 inline uint32_t bounceDim(int depth, uint32_t j) { return kBounceBase + uint32_t(depth - 1) * kBounceStride + j; }

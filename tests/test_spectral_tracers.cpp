@@ -1,0 +1,236 @@
+// Spectral rendering in every tracer that has it (docs/spectral.md): LT and BPT against PT,
+// all three with --spectral, on scenes where a tracer's spectral code could go wrong on its
+// own: pbrt's Cornell box whose light is a saturated orange (an RGB illuminant uplifted at
+// each of a tracer's emission sites: PT's hits and next-event estimation, LT's and BPT's
+// light subpaths, BPT's s = 0, s = 1 and t = 1 strategies), and a dispersive BK7 glass
+// sphere on a floor (the hero wavelength's index, and the path keeping only that
+// wavelength: in BPT for every strategy of the sample, in LT for the splats after it).
+// power.h's comparisons: K = 16 runs per tracer, at p = 1e-4 the brightness, the blocks
+// (max |z|, Bonferroni) and the blocks' shape (chi^2). PT's spectral renders are checked
+// against pbrt-v4's in test_pbrt_scenes.cpp, the white and grey furnaces in
+// test_render_analytic.cpp. Tagged [stat].
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <tuple>
+
+#include "kernels/spectral.h"
+#include "power.h"
+#include "render_stats.h"
+#include "scene/spectrum.h"
+#include "wavemmlt/render.h"
+#include "wavemmlt/scene_desc.h"
+
+using namespace wmlt;
+
+namespace {
+
+constexpr int K = 16;
+constexpr double kP = 1e-4;
+
+power::Runs runs(const SceneDesc& d, TracerKind t, int spp, int block, uint64_t seed0) {
+    power::Runs r(block);
+    RenderOptions o = rstats::renderOptions(t, spp, 0, 1, d.settings.maxPathLength);
+    o.spectral = true;
+    for (int k = 0; k < K; ++k) {
+        o.seed = seed0 + uint64_t(k);
+        const RenderResult res = render(d, o);
+        REQUIRE(res.stats.spectral);
+        REQUIRE(res.stats.samplesNonfiniteDiscarded == 0);
+        r.add(res);
+    }
+    return r;
+}
+
+// LT (ltSpp; 0: not compared) and BPT (bptSpp) against PT (ptSpp) on d: each able to see a 5%
+// brightness error.
+void agree(const std::string& what, const SceneDesc& d, int ptSpp, int ltSpp, int bptSpp, int block) {
+    const power::Runs pt = runs(d, TracerKind::PT, ptSpp, block, 100);
+    for (auto [t, spp, name] : {std::tuple{TracerKind::LT, ltSpp, "LT"}, std::tuple{TracerKind::BPT, bptSpp, "BPT"}}) {
+        if (spp == 0) continue;
+        const power::Runs r = runs(d, t, spp, block, 200);
+        for (const power::Verdict& v : {power::brightness(r, pt, kP), power::blocks(r, pt, kP), power::scatter(r, pt, kP)}) {
+            if (std::getenv("WMLT_TEST_VERBOSE")) std::cout << what << ", " << name << " vs PT: " << v.text << "\n";
+            INFO(what << ", " << name << " vs PT: " << v.text);
+            CHECK(v.pass);
+        }
+        const power::Verdict b = power::brightness(r, pt, kP);
+        INFO(what << ", " << name << ": " << b.text);
+        CHECK(b.detectable < 0.05);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("spectral tracers: LT and BPT render pbrt's orange-lit Cornell box as PT does", "[spectral][render][stat]") {
+    // (pbrt's path integrator ignores its fog, and so does the importer: test_pbrt_scenes.cpp)
+    SceneDesc d = loadScene(std::string(WAVEMMLT_TEST_DATA) + "/scenes/pbrt-v4/cornell-box/cornell-box-volume.pbrt");
+    REQUIRE(d.media.empty());
+    d.settings.width = d.settings.height = 32;
+    d.settings.maxPathLength = 5;
+    agree("orange Cornell box", d, 64, 64, 16, 4);
+}
+
+// A BK7 sphere on a floor, lit from the side by a quad: its caustic falls on the floor
+// beside it, dispersed at its edges. The camera sees the sphere (LT cannot: a glass seen
+// through from the camera is a delta vertex next to the lens), then the caustic alone.
+std::string bk7Scene(const std::string& camera, int fov) {
+    const std::string file = rstats::tempDir("spectral-tracers") + "/bk7.pbrt";
+    std::ofstream(file) << camera << R"(
+Camera "perspective" "float fov" [ )"
+                        << fov << R"( ]
+Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ 32 ]
+PixelFilter "box"
+WorldBegin
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 10 10 10 ]
+Shape "trianglemesh" "point3 P" [ -1.7465 0.765 -0.5  -1.2535 1.635 -0.5  -1.2535 1.635 0.5  -1.7465 0.765 0.5 ]
+  "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+AttributeBegin
+Material "dielectric" "spectrum eta" "glass-BK7"
+Translate 0 0.35 0
+Shape "sphere" "float radius" 0.3
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.6 0.6 0.6 ]
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 1 2 0 2 3 ]
+)";
+    return file;
+}
+
+TEST_CASE("spectral tracers: LT and BPT disperse through a BK7 sphere as PT does", "[spectral][render][stat]") {
+    SceneDesc seen = loadScene(bk7Scene("LookAt 0.5 1.4 1.6  0.5 0.2 0  0 1 0", 50));
+    REQUIRE(seen.spectra.size() == 1);  // BK7's Sellmeier index
+    seen.settings.maxPathLength = 6;
+    agree("BK7 sphere and its caustic", seen, 256, 0, 32, 4);
+    SceneDesc caustic = loadScene(bk7Scene("LookAt 0.75 1.2 0  0.75 0 0  0 0 1", 36));
+    caustic.settings.maxPathLength = 6;
+    agree("BK7 sphere's caustic", caustic, 4096, 256, 128, 4);
+}
+
+// A prism's spectrum against its closed form. An orthographic camera looks through a 30-degree
+// prism of SF11 (pbrt's glass-F11, the strongest disperser of its named glasses) at a thin
+// strip of white light far behind it: each pixel column sees the strip in the wavelengths
+// that Snell's law, with the glass's Sellmeier index, bends onto it. In the x-z plane
+// (the prism and the strip run along y, beyond the view): face 1 is z = 0, met head-on;
+// face 2 runs from (-4, 0) down to (4, -4 tan 30), so a ray entering at x leaves it at
+// z = -(x + 4) tan 30 with incidence 30 degrees inside; the strip is x in [14.79, 14.89]
+// at z = -25. A column's value is its pixel footprint's mean of
+//   int (1 - F1(l)) (1 - F2(l)) L(l) [the ray lands on the strip] cmf(l) dl / int ybar,
+// F the unpolarized Fresnel reflectance at each face, L the light's illuminant spectrum, cmf
+// the CIE matching functions, then XYZ to linear sRGB (the film's). Only paths of length 3
+// (camera, face 1, face 2, light) are rendered, which no other path of the scene has.
+namespace {
+
+constexpr double kTan30 = 0.57735026918962576;
+constexpr double kStripLo = 14.79, kStripHi = 14.89, kStripZ = -25;
+const char* const kPrism = R"(LookAt 0 0 10  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 64 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+Integrator "path" "integer maxdepth" [ 2 ]
+WorldBegin
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+Shape "trianglemesh" "point3 P" [ 14.79 -20 -25  14.89 -20 -25  14.89 20 -25  14.79 20 -25 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Material "dielectric" "spectrum eta" "glass-F11"
+Shape "trianglemesh" "point3 P" [ -4 -20 0  4 -20 0  4 -20 -4.618802  -4 20 0  4 20 0  4 20 -4.618802 ]
+  "integer indices" [ 0 1 4  0 4 3  1 2 5  1 5 4  2 0 3  2 3 5  0 2 1  3 4 5 ]
+)";
+
+double fresnel(double n1, double n2, double cosI, double cosT) {
+    const double rs = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT), rp = (n2 * cosI - n1 * cosT) / (n2 * cosI + n1 * cosT);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// The expected linear sRGB of each of the image's 64 columns (column 0 at x = +4: pbrt's
+// LookAt mirrors x), by quadrature: 32 positions per column, wavelengths every 0.05 nm.
+std::vector<Vec3> prismColumns() {
+    const Sellmeier* glass = namedGlass("glass-F11");
+    REQUIRE(glass);
+    constexpr int kColumns = 64, kSub = 32;
+    std::vector<Vec3> xyz(kColumns, Vec3(0.0f));
+    std::vector<double> acc(size_t(kColumns) * 3, 0.0);
+    const double dl = 0.05;
+    for (double l = double(kLambdaMin) + dl / 2; l < double(kLambdaMax); l += dl) {
+        const double n = sellmeierEta(*glass, float(l));
+        const double sinT = n * 0.5;  // face 2: sin 30 inside
+        if (sinT >= 1) continue;
+        const double cosI = std::sqrt(0.75), cosT = std::sqrt(1 - sinT * sinT);
+        const double T = (1 - fresnel(1, n, 1, 1)) * (1 - fresnel(n, 1, cosI, cosT));
+        // leaving face 2: t = n d + (n cos_i - cos_t) m, d = (0, -1), m = (sin 30, cos 30)
+        const double k = n * cosI - cosT, tx = k * 0.5, tz = -n + k * cosI;
+        Wavelengths w;
+        for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
+        const double L = rgbIlluminantAt(Vec3(1.0f), w).x;
+        const Vec3 cmf = cieMatching(float(l));
+        for (int c = 0; c < kColumns; ++c)
+            for (int j = 0; j < kSub; ++j) {
+                const double x = 4 - 8 * (c + (j + 0.5) / kSub) / kColumns;
+                const double zExit = -(x + 4) * kTan30;
+                const double land = x + (kStripZ - zExit) * tx / tz;
+                if (land < kStripLo || land > kStripHi) continue;
+                const double v = T * L * dl / kSub;
+                for (int ch = 0; ch < 3; ++ch) acc[size_t(c) * 3 + size_t(ch)] += v * double(cmf[ch]);
+            }
+    }
+    std::vector<Vec3> rgb(kColumns);
+    for (int c = 0; c < kColumns; ++c) {
+        const Vec3 x(float(acc[size_t(c) * 3] / cieYIntegral()), float(acc[size_t(c) * 3 + 1] / cieYIntegral()),
+                     float(acc[size_t(c) * 3 + 2] / cieYIntegral()));
+        rgb[size_t(c)] = xyzToSrgb(x);
+    }
+    return rgb;
+}
+
+}  // namespace
+
+TEST_CASE("spectral tracers: a prism's spectrum lies where Snell's law and the glass's Sellmeier index put it", "[spectral][render][stat]") {
+    const std::string file = rstats::tempDir("spectral-prism") + "/prism.pbrt";
+    std::ofstream(file) << kPrism;
+    const SceneDesc d = loadScene(file);
+    REQUIRE(d.settings.maxPathLength == 3);
+    const std::vector<Vec3> expected = prismColumns();
+    double peak = 0;
+    for (const Vec3& e : expected) peak = std::max(peak, double(luminance(e)));
+    REQUIRE(peak > 0.1);
+    for (auto [tracer, spp, name] : {std::tuple{TracerKind::PT, 256, "PT"}, std::tuple{TracerKind::BPT, 256, "BPT"}}) {
+        RenderOptions o = rstats::renderOptions(tracer, spp, 0, 3, 3);
+        o.spectral = true;
+        rstats::RunStats runs;  // per column and channel, the mean over the column's 16 pixels
+        for (int k = 0; k < 16; ++k) {
+            o.seed = 300 + uint64_t(k);
+            const RenderResult r = render(d, o);
+            REQUIRE(r.stats.spectral);
+            std::vector<double> cols(64 * 3, 0.0);
+            for (int y = 0; y < 16; ++y)
+                for (int x = 0; x < 64; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        cols[size_t(x) * 3 + size_t(c)] += double(r.image.rgb[(size_t(y) * 64 + size_t(x)) * 3 + size_t(c)]) / 16;
+            runs.add(cols);
+        }
+        // Every column within Bonferroni's bound at p = 1e-4 (Student's t of 16 runs; a column
+        // with no light: exactly 0).
+        const double bound = -rstats::normalQuantile(1e-4 / (2 * 64 * 3));
+        double worst = 0;
+        std::string at;
+        for (size_t i = 0; i < 64 * 3; ++i) {
+            const double e = double(expected[i / 3][int(i % 3)]), se = runs.se(i);
+            const double z =
+                se > 0 ? std::fabs(rstats::tToZ((runs.mean(i) - e) / se, runs.dof())) : (std::fabs(runs.mean(i) - e) <= 1e-6 ? 0 : INFINITY);
+            if (z > worst) {
+                worst = z;
+                at = "column " + std::to_string(i / 3) + " channel " + std::to_string(i % 3) + ": " + std::to_string(runs.mean(i)) + " expected " +
+                     std::to_string(e) + " se " + std::to_string(se);
+            }
+        }
+        INFO(name << ": worst " << at << " (|z| " << worst << ", bound " << bound << ")");
+        CHECK(worst <= bound);
+    }
+}
