@@ -465,44 +465,58 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
 }
 
-TEST_CASE("cli: --spectral renders PT, LT and BPT spectrally and says so, elsewhere it warns and renders RGB", "[cli][spectral]") {
+TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene it cannot warns and renders RGB, pbrt files are spectral by default",
+          "[cli][spectral]") {
     TempDir dir;
     const std::string out = dir.file("out.pfm"), stats = dir.file("stats.json");
-    Run r = run("--tracer pt --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
-    INFO("stderr: " << r.err);
-    REQUIRE(r.status == 0);
-    CHECK(r.err.find("warning") == std::string::npos);
-    std::string text = readFile(stats);
-    CHECK(contains(text, "\"spectral\": true"));
-    CHECK(contains(text, "\"spectral_reason\": \"\""));
-    for (const char* tracer : {"lt", "bpt"}) {
-        r = run(std::string("--tracer ") + tracer + " --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats),
-                dir);
+    for (const char* tracer : {"pt", "lt", "bpt", "mmlt", "pssmlt"}) {
+        const Run r = run(
+            std::string("--tracer ") + tracer + " --spp 4 --threads 2 --spectral" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
         INFO(tracer << " stderr: " << r.err);
         REQUIRE(r.status == 0);
         CHECK(r.err.find("warning") == std::string::npos);
-        CHECK(contains(readFile(stats), "\"spectral\": true"));
+        const std::string text = readFile(stats);
+        CHECK(contains(text, "\"spectral\": true"));
+        CHECK(contains(text, "\"spectral_reason\": \"\""));
     }
-    // another tracer: RGB, a warning, the reason in --stats
-    r = run("--tracer mmlt --spp 4 --threads 2 --spectral --width 64 --height 48 -o " + quote(out) + " --stats " + quote(stats), dir);
+    // a scene with what is not spectral yet: RGB, a warning, the reason in --stats
+    const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");
+    Run r = run(coated + " --tracer bpt --spp 1 --threads 2 --spectral --width 64 --height 48 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
-    CHECK(contains(r.err, "warning: --spectral: spectral rendering is PT's, LT's and BPT's only so far"));
-    text = readFile(stats);
+    CHECK(contains(r.err, "warning: --spectral: the scene has a coated conductor (not spectral yet): rendered in RGB"));
+    std::string text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
-    CHECK(contains(text, "BPT's only so far"));
+    CHECK(contains(text, "a coated conductor"));
     // --rgb (the default) after --spectral: the last one wins
     r = run("--tracer pt --spp 4 --threads 2 --spectral --rgb" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
     text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
     CHECK(contains(text, "\"spectral_reason\": \"\""));
+    // pbrt-v4 files render spectrally by default, as pbrt does; --rgb renders them in RGB. A
+    // pbrt file with what is not spectral yet renders RGB and says why in --stats, with no
+    // warning (it was not asked for).
+    const std::string box = quote(kData + "/scenes/pbrt-v4/cornell-box/cornell-box.pbrt");
+    r = run(box + " --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("warning") == std::string::npos);
+    CHECK(contains(readFile(stats), "\"spectral\": true"));
+    r = run(box + " --rgb --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    REQUIRE(r.status == 0);
+    CHECK(contains(readFile(stats), "\"spectral\": false"));
+    r = run(coated + " --tracer bpt --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("spectral") == std::string::npos);
+    text = readFile(stats);
+    CHECK(contains(text, "\"spectral\": false"));
+    CHECK(contains(text, "spectral by the format's default, but the scene has a coated conductor"));
     // --describe says what a render with the same options would be, and why not spectral.
-    CHECK(contains(run("--describe", dir).out, "spectral: no (RGB, the default"));
-    CHECK(contains(run("--describe --spectral --tracer mmlt", dir).out, "spectral: no: spectral rendering is PT's, LT's and BPT's only so far"));
+    CHECK(contains(run("--describe", dir).out, "spectral: no (RGB, the format's default"));
+    CHECK(contains(run(box + " --describe", dir).out, "spectral: yes (pt, the format's default"));
+    CHECK(contains(run(box + " --describe --rgb", dir).out, "spectral: no (RGB, asked for with --rgb)"));
+    CHECK(contains(run("--describe --spectral --tracer mmlt", dir).out, "spectral: yes (mmlt"));
     CHECK(contains(run("--describe --spectral --tracer bpt", dir).out, "spectral: yes (bpt"));
     CHECK(contains(run("--describe --spectral", dir).out, "spectral: yes"));  // (the built-in scene's first render: PT)
-    CHECK(contains(run("--describe --spectral --tracer pt", dir).out, "spectral: yes"));
-    const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");
     CHECK(contains(run(coated + " --describe --spectral --tracer pt", dir).out, "spectral: no: the scene has a coated conductor (not spectral yet)"));
 }
 

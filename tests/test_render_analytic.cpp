@@ -216,27 +216,32 @@ TEST_CASE("furnace: sphere enclosure around a sphere light, all and single lengt
     furnaceTest(options(16, 0, 1, 1), 16, 7000);
 }
 
-// Spectral PT, LT and BPT (--spectral, docs/spectral.md): a white furnace (albedo 1, a white
-// light) is the closed form L (1 - (1 - s)^63) in every channel at every wavelength, so its
+// Spectral PT, LT, BPT, MMLT and PSSMLT (--spectral, docs/spectral.md): a white furnace (albedo
+// 1, a white light) is the closed form L (1 - (1 - s)^(K - 1)) (K the longest path) in every channel at every wavelength, so its
 // image is that in R, G and B: the wavelength sampling, the uplifted spectra, the emitters'
 // spectra at every emission site of each tracer and the film's XYZ to sRGB add no bias. And a
 // grey one (albedo 0.5): RGB's closed form, since grey spectra are flat.
-TEST_CASE("furnace: spectral PT, LT and BPT, white and grey", "[render][analytic][spectral]") {
-    for (TracerKind tracer : {TracerKind::PT, TracerKind::LT, TracerKind::BPT})
+void spectralFurnace(const std::vector<TracerKind>& tracers) {
+    for (TracerKind tracer : tracers)
         for (const char* rho : {"1", "0.5"}) {
             std::string xml = kFurnaceHead;
             const std::string from = R"(<Diffuse r="0.6" g="0.5" b="0.4"/>)";
             xml.replace(xml.find(from), from.size(), std::string(R"(<Diffuse r=")") + rho + R"(" g=")" + rho + R"(" b=")" + rho + R"("/>)");
             const SceneDesc desc = loadSceneFromString(xml, "furnace.xml", ".");
+            // (MMLT, PSSMLT: 64 mutations per pixel, 256 chains, as the PSSMLT furnace below, and
+            // lengths up to 16: a chain tracer's every length has its pool)
+            const bool chains = tracer == TracerKind::MMLT || tracer == TracerKind::PSSMLT;
+            const int maxLength = chains ? 16 : 64;
             const double r = std::atof(rho), sFrac = (kFurnaceLightR / kEnclosureR) * (kFurnaceLightR / kEnclosureR);
             double expected = 0;
-            for (int k = 2; k <= 64; ++k) expected += r * kFurnaceL * sFrac * std::pow(r * (1 - sFrac), k - 2);
+            for (int k = 2; k <= maxLength; ++k) expected += r * kFurnaceL * sFrac * std::pow(r * (1 - sFrac), k - 2);
             rstats::RunStats runs;
             const int K = 12;
             for (int k = 0; k < K; ++k) {
-                RenderOptions o = options(16, 7700 + uint64_t(k), 1, 64);
+                RenderOptions o = options(chains ? 64 : 16, 7700 + uint64_t(k), 1, maxLength);
                 o.tracer = tracer;
                 o.spectral = true;
+                if (chains) o.chains = 256;
                 const RenderResult res = render(desc, o);
                 REQUIRE(res.stats.spectral);
                 std::vector<double> means(3, 0.0);
@@ -246,7 +251,7 @@ TEST_CASE("furnace: spectral PT, LT and BPT, white and grey", "[render][analytic
                 }
                 runs.add(means);
             }
-            const double bound = -rstats::normalQuantile(1e-4 / (2 * 18));
+            const double bound = -rstats::normalQuantile(1e-4 / (2 * 6 * double(tracers.size())));
             for (int c = 0; c < 3; ++c) {
                 const double z = rstats::tToZ((runs.mean(c) - expected) / runs.se(c), runs.dof());
                 INFO("tracer " << int(tracer) << " albedo " << rho << " channel " << c << ": image mean " << runs.mean(c) << " expected " << expected
@@ -254,6 +259,14 @@ TEST_CASE("furnace: spectral PT, LT and BPT, white and grey", "[render][analytic
                 CHECK(std::fabs(z) <= bound);
             }
         }
+}
+
+TEST_CASE("furnace: spectral PT, LT and BPT, white and grey", "[render][analytic][spectral]") {
+    spectralFurnace({TracerKind::PT, TracerKind::LT, TracerKind::BPT});
+}
+
+TEST_CASE("furnace: spectral MMLT and PSSMLT, white and grey", "[render][analytic][spectral][stat]") {
+    spectralFurnace({TracerKind::MMLT, TracerKind::PSSMLT});
 }
 
 // PSSMLT (test_pssmlt.cpp): its chains' images of all lengths and of one length each.

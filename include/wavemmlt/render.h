@@ -74,10 +74,13 @@ struct RenderOptions {
     // MMLT's levers (issue 44; docs/mmlt-levers.md), each chosen per pass and fixed within it.
     MmltTarget mmltTarget = MmltTarget::Luminance;
     bool learnSteps = false;  // each length's small-step size from its chains' acceptance in the last pass
-    // --spectral: render with sampled wavelengths (docs/spectral.md). So far PT only, and
-    // scenes without media, plastics, principled, blends or coated conductors: others render
-    // in RGB and RenderStats::spectralReason says why.
+    // --spectral: render with sampled wavelengths (docs/spectral.md), every tracer; scenes
+    // with media, plastics, principled, blends or coated conductors render in RGB and
+    // RenderStats::spectralReason says why.
     bool spectral = false;
+    // spectral is the scene format's default (Settings::spectral: pbrt-v4 files), not asked
+    // for: a scene that cannot render so renders RGB with its reason, but no warning.
+    bool spectralByDefault = false;
     // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
     std::string strategyImages;
     // BPT and MMLT: also return the image of each path length k (RenderResult::lengthImages;
@@ -115,10 +118,12 @@ struct RenderStats {
     // per-length split of the image's mean, which MMLT's b_k must reproduce.
     std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
-    // Whether the render was spectral (RenderOptions::spectral) and, when asked for and not
-    // done, why not.
+    // Whether the render was spectral (RenderOptions::spectral) and, when asked for (or the
+    // format's default: spectralByDefault) and not done, why not.
     bool spectral = false;
     std::string spectralReason;
+    bool spectralByDefault = false;
+    bool dispersionAsIndex = false;  // an RGB render of a dispersive dielectric: its index at 550 nm
     // The ranks of a render split across processes (RenderOptions::ranks), per rank: the
     // payload bytes it received (their sum is the job's traffic), and seconds inside
     // exchanges (waiting for the others included).

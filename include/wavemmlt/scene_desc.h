@@ -22,6 +22,9 @@ struct Settings {
     int maxPathLength = 10;  // segments, camera to light
     int minPathLength = 1;
     float probLarge = 0.3f;
+    // The format's rendering mode by default (--spectral, --rgb choose): pbrt-v4 files render
+    // spectrally, as pbrt does; the thesis format and Mitsuba files in RGB (docs/spectral.md).
+    bool spectral = false;
     std::string output = "render.exr";  // as written in the file (quotes stripped)
     std::string envMap;                 // resolved path, empty when none
 };

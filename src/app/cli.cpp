@@ -124,10 +124,10 @@ std::string usageText() {
            "                           (default: luminance; docs/mmlt-levers.md)\n"
            "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
            "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
-           "  --spectral, --rgb        render with sampled wavelengths (so far PT, LT and BPT, and scenes without\n"
+           "  --spectral, --rgb        render with sampled wavelengths (every tracer; scenes without\n"
            "                           media, plastics, principled, blends or coated conductors: others\n"
-           "                           render in RGB, with a warning), or in RGB (the default;\n"
-           "                           docs/spectral.md)\n"
+           "                           render in RGB, with a warning), or in RGB (default: pbrt-v4 files\n"
+           "                           spectral, as pbrt renders them; others RGB; docs/spectral.md)\n"
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
            "                           and _unweighted.exr (the folder is created)\n"
            "  --time SECONDS           render rounds of --spp samples until the time is spent (the built-in\n"
@@ -302,7 +302,8 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
     if (cl.passLength) opt.passLength = *cl.passLength;
     if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
     if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
-    if (cl.spectral) opt.spectral = *cl.spectral;
+    opt.spectral = cl.spectral ? *cl.spectral : s.spectral;
+    opt.spectralByDefault = !cl.spectral && s.spectral;
     if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));
     if (cl.bootstrap) opt.bootstrap = *cl.bootstrap;
     opt.probLarge = s.probLarge;
@@ -314,7 +315,9 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
 
 void checkChainMemory(long long chains, const Settings& s, bool media) {
     const double mem = physicalMemoryBytes();
-    const uint64_t perChain = s.tracer == TracerKind::PSSMLT ? pssmltChainBytes(s.maxPathLength, media) : mmltChainBytes(s.maxPathLength, media);
+    // (as a spectral render's chains, one number more: a bound either way)
+    const uint64_t perChain =
+        s.tracer == TracerKind::PSSMLT ? pssmltChainBytes(s.maxPathLength, media, true) : mmltChainBytes(s.maxPathLength, media, true);
     const double bytes = double(chains) * double(perChain);
     if (mem > 0 && bytes > 0.75 * mem)
         throw InputError("wavemmlt: --chains " + std::to_string(chains) + " would need " + bytesText(bytes) + " of chain state (" +

@@ -96,12 +96,13 @@ std::string nextStepsText() {
 // --describe's last line: whether a render with these options is spectral, and why not
 // (the reasons the tracers give in --stats' spectral_reason).
 std::string spectralLine(const wmlt::SceneDesc& scene, const wmlt::RenderOptions& opt) {
-    if (!opt.spectral) return "spectral: no (RGB, the default; --spectral asks for sampled wavelengths)\n";
-    const bool tracerSpectral = opt.tracer == wmlt::TracerKind::PT || opt.tracer == wmlt::TracerKind::LT || opt.tracer == wmlt::TracerKind::BPT;
-    if (!tracerSpectral) return "spectral: no: spectral rendering is PT's, LT's and BPT's only so far (--tracer pt, lt or bpt)\n";
+    if (!opt.spectral)
+        return scene.settings.spectral ? "spectral: no (RGB, asked for with --rgb)\n"
+                                       : "spectral: no (RGB, the format's default; --spectral asks for sampled wavelengths)\n";
     const std::string why = wmlt::spectralUnsupported(scene, wmlt::deriveFeatures(scene).media);
     if (!why.empty()) return "spectral: no: the scene has " + why + " (not spectral yet)\n";
-    return std::string("spectral: yes (") + wmlt::tracerName(opt.tracer) + ", sampled wavelengths: docs/spectral.md)\n";
+    return std::string("spectral: yes (") + wmlt::tracerName(opt.tracer) + (opt.spectralByDefault ? ", the format's default" : "") +
+           ", sampled wavelengths: docs/spectral.md)\n";
 }
 
 // Parses, loads and checks (throws InputError). Returns false when the job ends here

@@ -87,8 +87,10 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
                      : opt.tracer == TracerKind::BPT    ? renderBidirectional(scene, opt)
                                                         : renderPathTracing(scene, opt);
     r.stats.threads = threads;
-    if (opt.spectral && !r.stats.spectral && r.stats.spectralReason.empty())
-        r.stats.spectralReason = "spectral rendering is PT's, LT's and BPT's only so far: rendered in RGB (docs/spectral.md)";
+    r.stats.spectralByDefault = opt.spectralByDefault;
+    for (const MaterialDesc& m : scene.desc.materials) r.stats.dispersionAsIndex |= !r.stats.spectral && m.etaSpectrum >= 0;
+    if (opt.spectralByDefault && !r.stats.spectralReason.empty())
+        r.stats.spectralReason = "spectral by the format's default, but " + r.stats.spectralReason;
     if (r.stats.buffers.empty()) r.stats.buffers = buffers;
     // The scene: its triangle meshes' arrays (a shape group's once, however many instances)
     // and what Embree holds (BVHs, instances), from Embree's memory monitor.
@@ -100,7 +102,9 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
 std::vector<std::string> renderWarnings(const RenderResult& r) {
     std::vector<std::string> w;
     const RenderStats& s = r.stats;
-    if (!s.spectralReason.empty()) w.push_back("--spectral: " + s.spectralReason);
+    if (!s.spectralReason.empty() && !s.spectralByDefault) w.push_back("--spectral: " + s.spectralReason);
+    if (s.dispersionAsIndex)
+        w.push_back("a dispersive glass rendered in RGB, with its index at 550 nm (a spectral render disperses it: docs/spectral.md)");
     if (s.samplesNonfiniteDiscarded) w.push_back(std::to_string(s.samplesNonfiniteDiscarded) + " samples were NaN or infinite and were discarded");
     if (s.mmlt.chainsRun < s.mmlt.chainsAsked)
         w.push_back("ran " + std::to_string(s.mmlt.chainsRun) + " chains, not " + std::to_string(s.mmlt.chainsAsked) +

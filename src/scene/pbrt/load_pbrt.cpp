@@ -341,6 +341,7 @@ void Importer::options() {
     // Integrator: the tracer and pbrt's maxdepth (bounces) as path segments
     Params& ip = integrator_.params;
     const std::string type = integrator_.name.empty() ? "volpath" : integrator_.strings[0];
+    s_.settings.spectral = true;  // pbrt-v4 renders spectrally (docs/spectral.md)
     if (type == "path" || type == "volpath") s_.settings.tracer = TracerKind::PT;
     else if (type == "bdpt") s_.settings.tracer = TracerKind::BPT;
     else if (type == "lightpath") s_.settings.tracer = TracerKind::LT;

@@ -274,10 +274,7 @@ int Importer::material(const std::string& type, Directive& d) {
                     sd.source = q->strings[0];
                     s_.spectra.push_back(sd);
                     m.etaSpectrum = int(s_.spectra.size()) - 1;
-                    eta = sellmeierEta(*g, 550.0f);
-                    warn(q->at,
-                         "a dispersive glass: --tracer pt --spectral renders its dispersion; otherwise its index at 550 nm, " + std::to_string(eta));
-                    return eta;
+                    return double(sellmeierEta(*g, 550.0f));  // (an RGB render's index: renderWarnings says so)
                 }
                 SampledSpectrum s;
                 if (!q->strings.empty()) {

@@ -56,7 +56,8 @@ struct StrategyLayout {
     // walk's segment d = 1 .. t - 1 at j = d - 1, the light walk's d = 1 .. s - 1 at j = k + d - 1).
     static uint32_t mediaBase(int k) { return 1 + cameraSize(k) + lightSize(k) + kConnectSize; }
     static uint32_t mediaSize(int k) { return 2 * uint32_t(k); }
-    static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? mediaSize(k) : 0); }
+    // A spectral render: one more number, the last, the path's wavelengths (sampleWavelengths).
+    static uint32_t size(int k, bool media, bool spectral = false) { return mediaBase(k) + (media ? mediaSize(k) : 0) + (spectral ? 1 : 0); }
     static uint32_t blockSize(int k, BptStream c) { return c == kBptCamera ? cameraSize(k) : c == kBptLight ? lightSize(k) : kConnectSize; }
     // The numbers strategy (s, t) reads from each block (a prefix of it).
     static uint32_t cameraUsed(int t) { return t >= 2 ? 4 * uint32_t(t) - 4 : 0; }
@@ -70,6 +71,7 @@ struct StoredSamples {
     const float* u;  // slot i's row at u + row[i]
     const uint32_t* row;
     const uint8_t* length;  // slot i's path length k
+    bool media = false;     // the rows have the media block
     float operator()(uint32_t slot, BptStream c, uint32_t j) const { return u[row[slot] + StrategyLayout::base(length[slot], c) + j]; }
     static uint32_t connectJ(int, int, uint32_t m) { return m; }
     // The free-path number of walk segment d (media block).
@@ -77,6 +79,8 @@ struct StoredSamples {
         const int k = length[slot];
         return u[row[slot] + StrategyLayout::mediaBase(k) + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1)];
     }
+    // A spectral render's wavelengths' number (the row's last).
+    float wavelength(uint32_t slot) const { return u[row[slot] + StrategyLayout::size(length[slot], media)]; }
 };
 
 // PSSMLT's primary sample vector (Kelemen et al. 2002 over BPT): one whole BPT sample per
@@ -84,15 +88,17 @@ struct StoredSamples {
 // k light vertices). Blocks of the camera stream (StrategyLayout::cameraSize(k): the raster
 // point over the whole image at j = 0-1), the light stream (lightSize(k)), the connections
 // (each strategy its own numbers, as BPT's: s = 1 at z_{t-1}, t <= k, reads j = 5 t + 0-2;
-// t = 1 at y_{s-1}, s <= k, j = 5 s + 3-4) and, with media, the walks' free-path numbers
-// (StrategyLayout's media block at length k).
+// t = 1 at y_{s-1}, s <= k, j = 5 s + 3-4), with media the walks' free-path numbers
+// (StrategyLayout's media block at length k) and in a spectral render the wavelengths' number.
 struct WholeLayout {
     static uint32_t connectSize(int k) { return 5 * uint32_t(k) + 5; }
     static uint32_t base(int k, BptStream c) {
         return c == kBptCamera ? 0 : c == kBptLight ? StrategyLayout::cameraSize(k) : StrategyLayout::cameraSize(k) + StrategyLayout::lightSize(k);
     }
     static uint32_t mediaBase(int k) { return base(k, kBptConnect) + connectSize(k); }
-    static uint32_t size(int k, bool media) { return mediaBase(k) + (media ? StrategyLayout::mediaSize(k) : 0); }
+    static uint32_t size(int k, bool media, bool spectral = false) {
+        return mediaBase(k) + (media ? StrategyLayout::mediaSize(k) : 0) + (spectral ? 1 : 0);
+    }
 };
 
 // PSSMLT's proposals, each coordinate made when it is first read (Kelemen et al.'s lazy
@@ -147,6 +153,8 @@ struct WholeSamples {
     float medium(uint32_t slot, BptStream c, int d) const {
         return coordinate(slot, mediaBase + (c == kBptCamera ? 0u : uint32_t(k)) + uint32_t(d - 1));
     }
+    // A spectral render's wavelengths' number (the whole sample's last: WholeLayout::size).
+    float wavelength(uint32_t slot) const { return coordinate(slot, dims - 1); }
 };
 
 }  // namespace wmlt

@@ -68,9 +68,12 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
       stages_(whole ? kPssmltStages : kMmltStages),
       lo_(whole ? 0 : kMin_),
       hi_(whole ? 0 : kMax_),
-      batches_([&scene, whole, minLength = kMin_, maxLength = opt.maxPathLength] {
+      batches_([this, &scene, whole, minLength = kMin_, maxLength = opt.maxPathLength] {
           MmltBatch mb;
-          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, batchNeeds(scene), whole);
+          BatchNeeds needs = batchNeeds(scene);
+          needs.spectral = spectral_;
+          mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, needs, whole);
+          mb.bpt.spectra = spectral_ ? &spectra_ : nullptr;
           mb.bpt.minLength = minLength;
           mb.bpt.maxLength = maxLength;
           setNumbersRead(scene, mb);
@@ -295,7 +298,7 @@ uint32_t autoChains(double mutations, double iterationsPerChain, uint32_t least,
     return uint32_t(std::clamp(256.0 * batches, double(std::min(least, most)), double(most)));
 }
 
-uint64_t mmltChainBytes(int k, bool media) { return uint64_t(StrategyLayout::size(k, media)) * 8 + 5 * 4 + 12 + 8; }
+uint64_t mmltChainBytes(int k, bool media, bool spectral) { return uint64_t(StrategyLayout::size(k, media, spectral)) * 8 + 5 * 4 + 12 + 8; }
 
 RenderResult renderMmlt(const Scene& scene, const RenderOptions& opt) { return mmlt_detail::MmltRender(scene, opt).run(); }
 

@@ -30,7 +30,7 @@ uint32_t autoChains(double mutations, double iterationsPerChain = kAutoIteration
                     uint32_t most = kAutoChainsMost);
 
 // Bytes of chain state per chain of path length k (in a scene with media or not).
-uint64_t mmltChainBytes(int k, bool media);
+uint64_t mmltChainBytes(int k, bool media, bool spectral);
 
 // Throws InputError when no light reaches the camera (every b_k is 0) or when the chains
 // would not fit in memory.

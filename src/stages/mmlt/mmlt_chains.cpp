@@ -61,7 +61,7 @@ bool MmltRender::allocateChains() {
         }
         g.k = k;
         g.first = first;
-        g.dims = whole_ ? WholeLayout::size(kMax_, scene_.features.media) : StrategyLayout::size(k, scene_.features.media);
+        g.dims = whole_ ? WholeLayout::size(kMax_, scene_.features.media, spectral_) : StrategyLayout::size(k, scene_.features.media, spectral_);
         g.points = whole_ ? uint32_t(kMax_) : 0;  // PSSMLT: a t = 1 contribution for each s = 1 .. kMax
         g.weight = float(passWeight_ * pools_[size_t(k)].mean() / double(n[size_t(k)]));
         g.sigma = sigma_[size_t(k)];

@@ -135,9 +135,15 @@ private:
     int kMin_, kMax_;            // the path lengths rendered
     bool whole_;                 // PSSMLT
     const ChainStages& stages_;  // MMLT's or PSSMLT's (whole_), chosen once
-    int lo_, hi_;                // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
+    // --spectral: the scene's spectra (spectral_), or RGB with the reason (spectra_.unsupported),
+    // chosen once; a spectral render's rows have one more number, the wavelengths'.
+    SpectralScene spectra_ = opt_.spectral ? buildSpectralScene(scene_) : SpectralScene();
+    bool spectral_ = opt_.spectral && spectra_.unsupported.empty();
+    int lo_, hi_;  // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
     // Bytes of state per chain of group k.
-    uint64_t chainBytesOf(int k) const { return whole_ ? pssmltChainBytes(kMax_, scene_.features.media) : mmltChainBytes(k, scene_.features.media); }
+    uint64_t chainBytesOf(int k) const {
+        return whole_ ? pssmltChainBytes(kMax_, scene_.features.media, spectral_) : mmltChainBytes(k, scene_.features.media, spectral_);
+    }
     double pixels_, targetMutations_;
     uint32_t chains_ = 1;                 // C
     bool autoChains_ = opt_.chains == 0;  // --chains auto

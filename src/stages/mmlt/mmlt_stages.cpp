@@ -53,6 +53,7 @@ void forEachUsedOf(const MmltBatch& mb, uint32_t i, int k, Fn&& fn) {
         run(mbase, mbase + StrategyLayout::cameraMediaUsed(t));
         run(mbase + uint32_t(k), mbase + uint32_t(k) + StrategyLayout::lightMediaUsed(s));
     }
+    if (mb.bpt.spectra) fn(StrategyLayout::size(k, mb.bpt.cam.media));  // the wavelengths' number, the row's last
 }
 
 // Both subpaths' vertices packed at the walks' lengths (bpt_state.h, BptVertices::pack).
@@ -97,7 +98,7 @@ uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index) {
 }
 
 void fillPoolRows(MmltBatch& mb, int k, uint32_t pass, uint32_t index0, uint32_t n, uint64_t seed) {
-    const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media);
+    const uint32_t dims = StrategyLayout::size(k, mb.bpt.cam.media, mb.bpt.spectra != nullptr);
     for (uint32_t i = 0; i < n; ++i) {
         const uint64_t key = mmltPoolKey(seed, pass, k, index0 + i);
         mb.bpt.key[i] = key;
@@ -201,6 +202,8 @@ void evaluateProposals(const Scene& scene, MmltBatch& mb, float misBeta, RayCoun
     BptBatch& b = mb.bpt;
     const StoredSamples u = mb.samples();
     b.tally.nonfinite = 0;
+    if (b.spectra)  // each slot's wavelengths, from its row's number
+        for (uint32_t i = 0; i < b.numSlots; ++i) b.lambda[i] = sampleWavelengths(u.wavelength(i));
     generateChainCameraPaths(scene, b, u);
     walkBpt(scene, b, b.cam, true, false, counters, u);
     generateBptLightPaths(scene, b, u);

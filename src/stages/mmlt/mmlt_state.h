@@ -326,19 +326,19 @@ struct MmltBatch {
             bpt.Lqueued.resize(n);
             splatStart.resize(n + 1);
             WMLT_WHOLE_SLOT_ARRAYS(WMLT_SOA_RESIZE)
-            wholeDims = WholeLayout::size(maxLength, needs.media);
+            wholeDims = WholeLayout::size(maxLength, needs.media, needs.spectral);
             proposed.resize(n * wholeDims);
             read.assign(n * wholeDims, 0);
             readList.resize(n * wholeDims);
         } else {
-            u.assign(n * StrategyLayout::size(maxLength, needs.media), 0.0f);
+            u.assign(n * StrategyLayout::size(maxLength, needs.media, needs.spectral), 0.0f);
         }
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
         mapPools.resize(size_t(maxLength) + 1);
     }
-    StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data()}; }
+    StoredSamples samples() const { return StoredSamples{u.data(), row.data(), bpt.pathLength.data(), bpt.cam.media}; }
     WholeSamples wholeSamples() {
         const float* value = wholeGroup ? wholeGroup->value.data() : nullptr;
         const uint32_t* lastModified = wholeGroup ? wholeGroup->lastModified.data() : nullptr;

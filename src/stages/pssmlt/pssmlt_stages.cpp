@@ -74,6 +74,8 @@ void evaluateWholeProposals(const Scene& scene, MmltBatch& mb, float misBeta, Ra
     const WholeSamples u = mb.wholeSamples();
     b.tally.nonfinite = 0;
     b.slotSplats.clear();
+    if (b.spectra)  // each slot's wavelengths, from its sample's number
+        for (uint32_t i = 0; i < b.numSlots; ++i) b.lambda[i] = sampleWavelengths(u.wavelength(i));
     generateChainCameraPaths(scene, b, u);
     walkBpt(scene, b, b.cam, true, false, counters, u);
     generateBptLightPaths(scene, b, u);
@@ -140,8 +142,8 @@ void keepWholePoints(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i)
     g.pointCount[c] = uint8_t(n);
 }
 
-uint64_t pssmltChainBytes(int maxLength, bool media) {
-    return uint64_t(WholeLayout::size(maxLength, media)) * 8 + 5 * 4 + 12 + 8 + uint64_t(maxLength) * 20 + 1;
+uint64_t pssmltChainBytes(int maxLength, bool media, bool spectral) {
+    return uint64_t(WholeLayout::size(maxLength, media, spectral)) * 8 + 5 * 4 + 12 + 8 + uint64_t(maxLength) * 20 + 1;
 }
 
 }  // namespace wmlt

@@ -42,6 +42,6 @@ void commitWhole(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i, uin
 // Keeps slot i's t = 1 contributions as chain c's (an accepted proposal, a replayed seed).
 void keepWholePoints(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i);
 // Bytes of chain state per PSSMLT chain (paths up to maxLength).
-uint64_t pssmltChainBytes(int maxLength, bool media);
+uint64_t pssmltChainBytes(int maxLength, bool media, bool spectral);
 
 }  // namespace wmlt
