@@ -22,8 +22,9 @@
 //   --chains N, --bootstrap N, --pass-length N, --p-large X, --mis-beta X   passed to
 //                             RenderOptions (MMLT, BPT; chains: the default is auto, and
 //                             --sweep chains=auto,1024,65536 compares it with fixed counts)
-//   --mmlt-target luminance|relative, --mmlt-steps fixed|learned   MMLT's levers of issue 44,
-//                             passed to RenderOptions (mmltTarget, learnSteps) [RenderOptions']
+//   --mmlt-target luminance|relative, --mmlt-steps fixed|learned, --mmlt-delayed-rejection
+//                             off|on   MMLT's levers of issue 44, passed to RenderOptions
+//                             (mmltTarget, learnSteps, delayedRejection) [RenderOptions']
 //   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
 //                             bootstrap, pass-length, mis-beta, max-length, round-spp,
 //                             mmlt-target, mmlt-steps; "a,b,...,z" fills in the arithmetic
@@ -125,6 +126,7 @@ struct Options {
     int chains = 0, bootstrap = -1, passLength = 0;  // 0 / -1: RenderOptions' defaults
     double probLarge = -1, misBeta = -1;             // < 0: the scene's / RenderOptions' default
     int mmltTarget = -1, mmltSteps = -1;             // < 0: RenderOptions' defaults (else MmltTarget; 1: learned)
+    int mmltDelayed = -1;                            // < 0: RenderOptions' default; 1: delayed rejection on
     std::string refTracer = "bpt";
     bool refOnly = false;
     std::string sweepName;
@@ -225,7 +227,11 @@ Options parseArgs(int argc, char** argv) {
         else if (a == "--mis-beta") o.misBeta = toNumber(value(), "--mis-beta");
         else if (a == "--mmlt-target") o.mmltTarget = parseMmltTarget(value());
         else if (a == "--mmlt-steps") o.mmltSteps = parseMmltSteps(value());
-        else if (a == "--sweep") {
+        else if (a == "--mmlt-delayed-rejection") {
+            const std::string v = value();
+            if (v != "on" && v != "off") usage("--mmlt-delayed-rejection: '" + v + "' is not one of off, on");
+            o.mmltDelayed = v == "on";
+        } else if (a == "--sweep") {
             std::string v = value();
             size_t eq = v.find('=');
             if (eq == std::string::npos) usage("--sweep wants NAME=V1,V2,...");
@@ -257,7 +263,7 @@ struct Variant {
     std::string label = "-";  // the CSV's param column
     int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1, passLength = 0;
     double probLarge = -1, misBeta = -1;
-    int mmltTarget = -1, mmltSteps = -1;  // < 0: RenderOptions' defaults
+    int mmltTarget = -1, mmltSteps = -1, mmltDelayed = -1;  // < 0: RenderOptions' defaults
 };
 
 std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
@@ -271,6 +277,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
     base.misBeta = o.misBeta;
     base.mmltTarget = o.mmltTarget;
     base.mmltSteps = o.mmltSteps;
+    base.mmltDelayed = o.mmltDelayed;
     if (o.sweepName.empty()) return {base};
     std::vector<Variant> out;
     for (const std::string& v : o.sweepValues) {
@@ -314,6 +321,7 @@ RenderOptions makeOptions(const SceneDesc& desc, TracerKind tracer, const Varian
     if (v.misBeta >= 0) opt.misBeta = float(v.misBeta);
     if (v.mmltTarget >= 0) opt.mmltTarget = MmltTarget(v.mmltTarget);
     if (v.mmltSteps >= 0) opt.learnSteps = v.mmltSteps == 1;
+    if (v.mmltDelayed >= 0) opt.delayedRejection = v.mmltDelayed == 1;
     return opt;
 }
 

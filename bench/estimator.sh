@@ -61,6 +61,7 @@ defaultBudgets=2,6
 levers=(
   "mmlt-target=relative|--mmlt-target relative"
   "mmlt-steps=learned|--mmlt-steps learned"
+  "mmlt-delayed-rejection=on|--mmlt-delayed-rejection on"
 )
 
 old=6ee952b budgets="" seeds=3 only="" quick=0 out=build/bench-estimator

@@ -1,6 +1,7 @@
 // MMLT's levers (issue 44; docs/mmlt-levers.md): the relative-error target
-// (RenderOptions::mmltTarget) and learned step sizes (learnSteps). Each changes only what a
-// pass holds fixed, so each must keep:
+// (RenderOptions::mmltTarget), learned step sizes (learnSteps) and delayed rejection
+// (delayedRejection). Each changes only what a pass holds fixed (delayed rejection: the
+// kernel, by a second stage that keeps it reversible), so each must keep:
 //  1. the target map's kernel: a tile per film point, edges and NaN clamped, c = luminance
 //     times the tile's scale (kernels/mmlt_target.h);
 //  2. the estimator unbiased, with the MMLT power tests' power (power.h): every length of
@@ -30,12 +31,13 @@ namespace {
 constexpr int K = 32;
 constexpr double kP = 1e-4;
 
-RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64_t seed = 0, int bootstrap = 0) {
+RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64_t seed = 0, int bootstrap = 0, bool delayed = false) {
     RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, seed, 1, maxLength);
     o.chains = 1024;
     o.bootstrap = bootstrap;
     o.mmltTarget = target;
     o.learnSteps = learn;
+    o.delayedRejection = delayed;
     return o;
 }
 
@@ -51,8 +53,11 @@ struct Lever {
     MmltTarget target;
     bool learn;
     int runs;
+    bool delayed = false;
 };
-const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false, 2 * K}, {"learned steps", MmltTarget::Luminance, true, K}};
+const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false, 2 * K},
+                         {"learned steps", MmltTarget::Luminance, true, K},
+                         {"delayed rejection", MmltTarget::Luminance, false, K, true}};
 
 }  // namespace
 
@@ -81,7 +86,7 @@ TEST_CASE("MMLT levers keep every length of the Cornell box unbiased against BPT
     desc.settings.width = desc.settings.height = 16;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 64, 0, 1, L), K, 10000, B)[0];
     for (const Lever& lever : kLevers) {
-        const power::Runs m = power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16), lever.runs, 21000, B)[0];
+        const power::Runs m = power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16, lever.delayed), lever.runs, 21000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("Cornell box, ") + lever.name, kP, power::Claims{0.01, 0.01});
     }
 }
@@ -93,7 +98,7 @@ TEST_CASE("MMLT levers keep the seed room (its light above a drop ceiling) unbia
     desc.settings.maxPathLength = L;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 256, 0, 1, L), K, 14000, B)[0];
     for (const Lever& lever : kLevers) {
-        const power::Runs m = power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14), lever.runs, 22000, B)[0];
+        const power::Runs m = power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14, lever.delayed), lever.runs, 22000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("seed room, ") + lever.name, kP, power::Claims{0.05, 0});
     }
 }
@@ -147,4 +152,38 @@ TEST_CASE("MMLT levers: seeds replay bit for bit, one image for 1, 2 and 4 threa
     CHECK(off.stats.mmlt.target == MmltTarget::Luminance);
     CHECK(off.stats.mmlt.targetMaps == 0);
     CHECK_FALSE(off.stats.mmlt.learnedSteps);
+}
+
+TEST_CASE("MMLT delayed rejection: every rejected large step proposes again, one image for 1, 2 and 4 threads", "[mmlt]") {
+    const SceneDesc desc = loadSceneFromString(rstats::causticXml(16, 6), "caustic.xml", ".");
+    RenderOptions o = mmlt(256, 6, MmltTarget::Luminance, false, 43, 0, true);
+    o.passLength = 16;
+    const RenderResult a = render(desc, o);
+    const RenderStats::Mmlt& m = a.stats.mmlt;
+    REQUIRE(m.delayedRejection);
+    CHECK(m.replayMismatches == 0);
+    uint64_t second = 0, accepted = 0, rejectedLarge = 0;
+    for (int k = 1; k <= 6; ++k) {
+        second += m.proposedDelayed[size_t(k)];
+        accepted += m.acceptedDelayed[size_t(k)];
+        rejectedLarge += m.proposedLarge[size_t(k)] - m.acceptedLarge[size_t(k)];
+    }
+    CHECK(second == rejectedLarge);  // one second proposal per rejected large step, no other
+    CHECK(second > 0);
+    CHECK(accepted > 0);
+    CHECK(accepted < second);
+    for (int threads : {4, 1}) {
+        RenderOptions t = o;
+        t.threads = threads;
+        RenderResult b;
+        tbb::task_arena(threads).execute([&] { b = render(desc, t); });
+        INFO(threads << " threads");
+        CHECK(b.image.rgb == a.image.rgb);
+        CHECK(b.stats.mmlt.acceptedDelayed == m.acceptedDelayed);
+    }
+    o.delayedRejection = false;  // off: no second proposals, another image
+    const RenderResult off = render(desc, o);
+    CHECK_FALSE(off.stats.mmlt.delayedRejection);
+    for (int k = 1; k <= 6; ++k) CHECK(off.stats.mmlt.proposedDelayed[size_t(k)] == 0);
+    CHECK(off.image.rgb != a.image.rgb);
 }

@@ -74,6 +74,9 @@ struct RenderOptions {
     // MMLT's levers (issue 44; docs/mmlt-levers.md), each chosen per pass and fixed within it.
     MmltTarget mmltTarget = MmltTarget::Luminance;
     bool learnSteps = false;  // each length's small-step size from its chains' acceptance in the last pass
+    // A rejected large step gets a second proposal in the same iteration, a small step, with
+    // the acceptance that keeps the chain exact (delayed rejection; mmlt_delayed.cpp).
+    bool delayedRejection = false;
     // --spectral: render with sampled wavelengths (docs/spectral.md), every tracer; scenes
     // with media, plastics, principled, blends or coated conductors render in RGB and
     // RenderStats::spectralReason says why.
@@ -146,6 +149,7 @@ struct RenderStats {
         std::vector<uint64_t> poolSamples;       // pool samples of length k, all passes (fresh and large steps)
         std::vector<uint64_t> proposals;         // proposals made by chains of length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
+        std::vector<uint64_t> proposedDelayed, acceptedDelayed;  // second proposals (RenderOptions::delayedRejection)
         // Accepted and proposed steps summed over the lengths: [0] small, [1] large.
         void stepTotals(uint64_t accepted[2], uint64_t proposed[2]) const {
             accepted[0] = accepted[1] = proposed[0] = proposed[1] = 0;
@@ -177,6 +181,7 @@ struct RenderStats {
         uint32_t targetMaps = 0, targetTileSize = 0;
         double targetScaleLeast = 0, targetScaleMost = 0;
         bool learnedSteps = false;
+        bool delayedRejection = false;
         std::vector<float> smallStepSigma;       // each length's small steps' size in the last pass
         std::vector<uint64_t> poolDigestByRank;  // a hash of each rank's pools, every pass (split across ranks)
     } mmlt;

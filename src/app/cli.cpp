@@ -124,6 +124,9 @@ std::string usageText() {
            "                           (default: luminance; docs/mmlt-levers.md)\n"
            "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
            "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
+           "  --mmlt-delayed-rejection off|on   MMLT: a rejected large step proposes again in the same\n"
+           "                           iteration, a small step (delayed rejection; default: off;\n"
+           "                           docs/mmlt-levers.md)\n"
            "  --spectral, --rgb        render with sampled wavelengths (every tracer; scenes without\n"
            "                           media, plastics, principled, blends or coated conductors: others\n"
            "                           render in RGB, with a warning), or in RGB (default: pbrt-v4 files\n"
@@ -196,6 +199,10 @@ CommandLine parseCommandLine(int argc, char** argv) {
             MmltTarget t;
             if (!parseMmltTarget(v, t)) fail("--mmlt-target: '" + v + "' is not one of luminance, relative");
             cl.mmltTarget = t;
+        } else if (a == "--mmlt-delayed-rejection") {
+            const std::string v = value();
+            if (v == "on" || v == "off") cl.delayedRejection = v == "on";
+            else fail("--mmlt-delayed-rejection: '" + v + "' is not one of off, on");
         } else if (a == "--mmlt-steps") {
             const std::string v = value();
             if (v == "fixed" || v == "learned") cl.learnSteps = v == "learned";
@@ -302,6 +309,7 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
     if (cl.passLength) opt.passLength = *cl.passLength;
     if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
     if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
+    if (cl.delayedRejection) opt.delayedRejection = *cl.delayedRejection;
     opt.spectral = cl.spectral ? *cl.spectral : s.spectral;
     opt.spectralByDefault = !cl.spectral && s.spectral;
     if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));

@@ -40,6 +40,10 @@ void writeMmltStats(std::ostream& o, const RenderStats& st, const Settings& s) {
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
     if (m.learnedSteps) perLength("mmlt_small_step_sigma", [&](size_t k) { return m.smallStepSigma[k]; });
+    if (m.delayedRejection) {
+        perLength("mmlt_delayed_proposals", [&](size_t k) { return m.proposedDelayed[k]; });
+        perLength("mmlt_acceptance_delayed", [&](size_t k) { return rate(m.acceptedDelayed[k], m.proposedDelayed[k]); });
+    }
     uint64_t acc[2], prop[2];
     m.stepTotals(acc, prop);
     o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": " << rate(acc[1], prop[1])
@@ -53,6 +57,7 @@ void writeMmltStats(std::ostream& o, const RenderStats& st, const Settings& s) {
       << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked)) << ",\n  \"" << prefix
       << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
     o << ",\n  \"" << prefix << "target\": \"" << mmltTargetName(m.target) << "\"";
+    o << ",\n  \"" << prefix << "delayed_rejection\": " << (m.delayedRejection ? "true" : "false");
     if (m.target == MmltTarget::Relative)
         o << ",\n  \"" << prefix << "target_maps\": " << m.targetMaps << ",\n  \"" << prefix << "target_tile_size\": " << m.targetTileSize
           << ",\n  \"" << prefix << "target_scale\": {\"least\": " << m.targetScaleLeast << ", \"most\": " << m.targetScaleMost << "}";

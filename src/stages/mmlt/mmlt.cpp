@@ -107,7 +107,8 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
     stats_.b.assign(n, 0.0);
     stats_.chains.assign(n, 0);
     for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapSamples, &stats_.bootstrapNonzero, &stats_.poolSamples,
-                    &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall, &stats_.proposedLarge, &stats_.acceptedLarge})
+                    &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall, &stats_.proposedLarge, &stats_.acceptedLarge,
+                    &stats_.proposedDelayed, &stats_.acceptedDelayed})
         v->assign(n, 0);
     if (opt.lengthImages)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);

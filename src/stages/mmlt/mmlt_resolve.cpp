@@ -27,14 +27,15 @@ void MmltRender::sumAcrossRanks(RenderResult& res) {
     stats_.bByRank = {stats_.b};
     stats_.poolDigestByRank = {poolDigest_};
     if (!ranks_) return;
-    std::vector<uint64_t> v(size_t(4 * (kMaxPathLength + 1) + 2));
+    constexpr size_t kCounts = sizeof counters_.proposed / sizeof(uint64_t);  // per array: kinds times lengths
+    std::vector<uint64_t> v(2 * kCounts + 2);
     std::memcpy(v.data(), counters_.proposed, sizeof counters_.proposed);
-    std::memcpy(v.data() + 2 * (kMaxPathLength + 1), counters_.accepted, sizeof counters_.accepted);
+    std::memcpy(v.data() + kCounts, counters_.accepted, sizeof counters_.accepted);
     v[v.size() - 2] = stats_.replayed;
     v[v.size() - 1] = stats_.replayMismatches;
     ranks_->sumToRoot(v.data(), v.size());
     std::memcpy(counters_.proposed, v.data(), sizeof counters_.proposed);
-    std::memcpy(counters_.accepted, v.data() + 2 * (kMaxPathLength + 1), sizeof counters_.accepted);
+    std::memcpy(counters_.accepted, v.data() + kCounts, sizeof counters_.accepted);
     stats_.replayed = v[v.size() - 2];
     stats_.replayMismatches = v[v.size() - 1];
     std::vector<uint8_t> mine(stats_.b.size() * sizeof(double) + sizeof poolDigest_);
@@ -66,6 +67,7 @@ RenderResult MmltRender::resolve() {
     stats_.passLength = passLength_;
     stats_.smallStepSigma = sigma_;
     stats_.learnedSteps = opt_.learnSteps && !whole_;
+    stats_.delayedRejection = opt_.delayedRejection && !whole_;
     if (!brightness_.empty()) {
         stats_.target = MmltTarget::Relative;
         stats_.targetTileSize = uint32_t(tileSize_);
@@ -79,6 +81,8 @@ RenderResult MmltRender::resolve() {
         stats_.acceptedSmall[size_t(k)] = counters_.accepted[0][k];
         stats_.proposedLarge[size_t(k)] = counters_.proposed[1][k];
         stats_.acceptedLarge[size_t(k)] = counters_.accepted[1][k];
+        stats_.proposedDelayed[size_t(k)] = counters_.proposed[2][k];
+        stats_.acceptedDelayed[size_t(k)] = counters_.accepted[2][k];
         stats_.mutations += stats_.proposals[size_t(k)];
     }
     res.stats.mmlt = stats_;

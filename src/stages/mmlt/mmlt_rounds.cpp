@@ -61,10 +61,12 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
     for (SamplePool& p : mb.pools) p.clear();
     for (SamplePool& p : mb.mapPools) p.clear();
     mb.counters = MmltCounters();
+    mb.delayed = opt_.delayedRejection && !whole_;  // (chosen once per render)
     for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
         stages_.mutateChains(groups_, mb, opt_.seed, uint32_t(n), opt_.probLarge);
         stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());
         stages_.acceptAndSplat(scene_, groups_, mb);
+        if (mb.delayed) proposeAgain(scene_, groups_, mb, opt_.seed, uint32_t(n), opt_.misBeta, rays_.local());
     }
     for (uint32_t st = 0; st < kFilmStripes; ++st) {
         o.splats[st].swap(mb.splats[st]);

@@ -252,6 +252,25 @@ uint64_t countReplayMismatchesOf(std::vector<ChainGroup>& groups, MmltBatch& mb,
     return mismatches;
 }
 
+}  // namespace
+
+void commitProposal(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i, bool large, const Vec3& F, float cP) {
+    // The coordinates the proposal read (the chain's block is contiguous).
+    const uint32_t next = g.accepted[c] + 1;
+    const float* row = &mb.u[mb.row[i]];
+    float* value = &g.value[g.at(c, 0)];
+    uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
+    value[0] = row[0];
+    lastModified[0] = next;
+    forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
+        value[d] = row[d];
+        lastModified[d] = next;
+    });
+    commitState(g, c, large, F, cP, mb.bpt.filmX[i], mb.bpt.filmY[i]);
+}
+
+namespace {
+
 template <bool Whole>
 void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb) {
     for (const BatchSlice& sl : mb.slices) {
@@ -269,39 +288,33 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
                         "chain " + std::to_string(c) + " of length " + std::to_string(g.k) + " has target " + std::to_string(g.c[c]));
             WMLT_DCHECK(std::isfinite(g.weight) && g.weight >= 0, "length " + std::to_string(g.k) + "'s splat weight " + std::to_string(g.weight));
             const float filmX = mb.bpt.filmX[i], filmY = mb.bpt.filmY[i];
+            const int kind = mb.large[i];
+            // Delayed rejection (MMLT): a large step's current state is splatted by the second
+            // stage if it is rejected, and not at all if it is accepted (mmlt_delayed.cpp).
+            const bool delay = !Whole && kind && mb.delayed;
             if constexpr (Whole) {
                 splatWhole(scene, g, c, mb, i, a, cP);
             } else {
                 if (a > 0) mb.addSplat(scene, filmX, filmY, F * (a * g.weight / cP), k);
-                if (a < 1 && g.c[c] > 0) mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
+                if (a < 1 && g.c[c] > 0 && !delay) mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
-            const int kind = mb.large[i];
             ++mb.counters.proposed[kind][k];
             if (kind) mb.poolFor(mb.bpt.key[i], g.k, pool).addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
-            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;                               // rejected
-            ++mb.counters.accepted[kind][k];
-            // Commit: the coordinates the proposal read (the chain's block is contiguous).
-            const uint32_t next = g.accepted[c] + 1;
-            if constexpr (Whole) {
-                commitWhole(g, c, mb, i, next);
-            } else {
-                const float* row = mb.rowOf(i);
-                float* value = &g.value[g.at(c, 0)];
-                uint32_t* lastModified = &g.lastModified[g.at(c, 0)];
-                value[0] = row[0];
-                lastModified[0] = next;
-                forEachUsedOf(mb, i, g.k, [&](uint32_t d) {
-                    value[d] = row[d];
-                    lastModified[d] = next;
-                });
+            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) {                                       // rejected
+                if (delay) {
+                    mb.rejectedLarge.push_back({sl.group, c, 1, uint32_t(mb.rejectedLarge.size())});
+                    mb.rejectedC.push_back(cP);
+                }
+                continue;
             }
-            g.accepted[c] = next;
-            if (kind) g.lastLarge[c] = next;
-            g.F[c] = F;
-            g.c[c] = cP;
-            g.filmX[c] = filmX;
-            g.filmY[c] = filmY;
-            if constexpr (Whole) keepWholePoints(g, c, mb, i);
+            ++mb.counters.accepted[kind][k];
+            if constexpr (Whole) {
+                commitWhole(g, c, mb, i, g.accepted[c] + 1);
+                commitState(g, c, kind != 0, F, cP, filmX, filmY);
+                keepWholePoints(g, c, mb, i);
+            } else {
+                commitProposal(g, c, mb, i, kind != 0, F, cP);
+            }
         }
     }
 }

@@ -73,6 +73,23 @@ void addPoolSamples(MmltBatch& mb, uint32_t n, SamplePool& pool);
 // footprint: MmltBatch::addSplat), both times the group's weight, to
 // mb.splats, and commits accepted proposals. Large-step proposals join mb.pools.
 void acceptAndSplat(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb);
+// Chain c of g takes slot i's accepted proposal: the coordinates it read (MMLT), then
+// commitState. And the state alone: its count of accepted steps (and of its last large
+// one), F, c and film point.
+void commitProposal(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i, bool large, const Vec3& F, float cP);
+inline void commitState(ChainGroup& g, uint32_t c, bool large, const Vec3& F, float cP, float filmX, float filmY) {
+    const uint32_t next = ++g.accepted[c];
+    if (large) g.lastLarge[c] = next;
+    g.F[c] = F;
+    g.c[c] = cP;
+    g.filmX[c] = filmX;
+    g.filmY[c] = filmY;
+}
+// Delayed rejection's second stage (RenderOptions::delayedRejection; mmlt_delayed.cpp): the
+// chains of mb.rejectedLarge propose a small step from where they are, with their own keys,
+// accepted with the second stage's ratio; the lists are emptied.
+void proposeAgain(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float misBeta,
+                  RayCounters& counters);
 // Replayed seeds (evaluated rows of fillSeedRows): how many differ from their chain's
 // F, c or film point (an estimator bug); `plant` makes the first slot's differ (tests).
 uint64_t countReplayMismatches(std::vector<ChainGroup>& groups, MmltBatch& mb, bool plant);

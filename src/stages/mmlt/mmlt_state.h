@@ -181,10 +181,11 @@ inline uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0
 
 // Counters of one batch, per path length (merged in batch order).
 struct MmltCounters {
-    uint64_t proposed[2][kMaxPathLength + 1] = {}, accepted[2][kMaxPathLength + 1] = {};  // [0]: small, [1]: large
+    // [0]: small, [1]: large, [2]: a rejected large step's second proposal (delayed rejection)
+    uint64_t proposed[3][kMaxPathLength + 1] = {}, accepted[3][kMaxPathLength + 1] = {};
     uint64_t nonfinite = 0;
     void add(const MmltCounters& o) {
-        for (int s = 0; s < 2; ++s)
+        for (int s = 0; s < 3; ++s)
             for (int k = 0; k <= kMaxPathLength; ++k) {
                 proposed[s][k] += o.proposed[s][k];
                 accepted[s][k] += o.accepted[s][k];
@@ -229,6 +230,12 @@ struct MmltBatch {
     bool lensRead = true;
     uint8_t vertexLo = 0, vertexHi = 4;
     std::vector<BatchSlice> slices;
+    // Delayed rejection (RenderOptions::delayedRejection, mmlt_delayed.cpp): the chains whose
+    // large step this iteration rejected, one slice each, and each one's first proposal's
+    // target c(y1); the second stage runs them in slices' stead.
+    bool delayed = false;
+    std::vector<BatchSlice> rejectedLarge;
+    std::vector<float> rejectedC;
     // The pass's target map (kernels/mmlt_target.h; no map: the luminance), set by the driver
     // for every task: pools, seeds, replays and acceptance all read it.
     TargetMap target;
