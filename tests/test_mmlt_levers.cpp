@@ -59,6 +59,14 @@ const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false, 2 * K}
                          {"learned steps", MmltTarget::Luminance, true, K},
                          {"delayed rejection", MmltTarget::Luminance, false, K, true}};
 
+// desc rendered with o on `threads` workers (in an arena of that many).
+RenderResult renderWithThreads(const SceneDesc& desc, RenderOptions o, int threads) {
+    o.threads = threads;
+    RenderResult r;
+    tbb::task_arena(threads).execute([&] { r = render(desc, o); });
+    return r;
+}
+
 }  // namespace
 
 TEST_CASE("MMLT target map: the tile of a film point, and c = luminance times its scale", "[mmlt][kernels]") {
@@ -136,10 +144,7 @@ TEST_CASE("MMLT levers: seeds replay bit for bit, one image for 1, 2 and 4 threa
     }
     CHECK(moved >= 3);
     for (int threads : {4, 1}) {  // (4 first: a render with 1 thread caps the workers while it runs)
-        RenderOptions t = o;
-        t.threads = threads;
-        RenderResult b;
-        tbb::task_arena(threads).execute([&] { b = render(desc, t); });
+        const RenderResult b = renderWithThreads(desc, o, threads);
         INFO(threads << " threads");
         CHECK(b.image.rgb == a.image.rgb);
         CHECK(b.stats.mmlt.b == m.b);
@@ -173,10 +178,7 @@ TEST_CASE("MMLT delayed rejection: every rejected large step proposes again, one
     CHECK(accepted > 0);
     CHECK(accepted < second);
     for (int threads : {4, 1}) {
-        RenderOptions t = o;
-        t.threads = threads;
-        RenderResult b;
-        tbb::task_arena(threads).execute([&] { b = render(desc, t); });
+        const RenderResult b = renderWithThreads(desc, o, threads);
         INFO(threads << " threads");
         CHECK(b.image.rgb == a.image.rgb);
         CHECK(b.stats.mmlt.acceptedDelayed == m.acceptedDelayed);
