@@ -341,6 +341,8 @@ struct MmltBatch {
             u.assign(n * StrategyLayout::size(maxLength, needs.media, needs.spectral), 0.0f);
         }
         WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_RESIZE)
+        rejectedLarge.reserve(n);  // (delayed rejection: at most a slot each, no allocation in the loop)
+        rejectedC.reserve(n);
         for (auto& v : used) v.resize(n);
         pools.resize(size_t(maxLength) + 1);
         mapPools.resize(size_t(maxLength) + 1);
