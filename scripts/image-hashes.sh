@@ -8,7 +8,7 @@
 # Scenes: the built-in scene; the Cornell box and the seed room of tests/data; the seed
 # appendix (an environment map, textures); and a small outdoor scene written here with a
 # thin lens, a bump map, a glossy floor, glass and a mirror under the same environment map;
-# two scenes of participating media (below). Each with PT, LT, BPT, MMLT and PSSMLT (16 samples or mutations per pixel, 1024 chains, seed 7,
+# two scenes of participating media (below), in RGB and spectral (pbrt files' default). Each with PT, LT, BPT, MMLT and PSSMLT (16 samples or mutations per pixel, 1024 chains, seed 7,
 # 2 threads).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -75,8 +75,10 @@ scenes=("builtin|"
         "seed-room|$data/seed-room/seed-room.xml --width 48 --height 48 --max-length 6"
         "seed-appendix|$data/seed-room/seed-appendix.xml --width 48 --height 32 --max-length 6"
         "outdoor|$tmp/outdoor.xml"
-        "media|$tmp/media.pbrt --max-length 8"
-        "glow|$tmp/glow.pbrt --max-length 8|pt bpt mmlt pssmlt")
+        "media|$tmp/media.pbrt --max-length 8 --rgb"
+        "glow|$tmp/glow.pbrt --max-length 8 --rgb|pt bpt mmlt pssmlt"
+        "media-spectral|$tmp/media.pbrt --max-length 8 --spectral"
+        "glow-spectral|$tmp/glow.pbrt --max-length 8 --spectral|pt bpt mmlt pssmlt")
 for entry in "${scenes[@]}"; do
   name=${entry%%|*} rest=${entry#*|}
   args=${rest%%|*} tracers="pt lt bpt mmlt pssmlt"

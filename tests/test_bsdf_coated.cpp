@@ -28,6 +28,7 @@ struct Coat {
         x.coating.maxDepth = maxDepth;
         m.kind = MaterialKind::Coated;
         m.diffuse = R;
+        m.reflect = Vec3(1.0f);  // (coatBaseScale)
         if (conductor) setConductorIndex(m, Vec3(0.2f, 0.5f, 1.1f) / 1.5f, Vec3(3.5f, 2.5f, 1.8f) / 1.5f);
         setCoatBaseAlphas(m, baseAlpha, baseAlpha);
         m.eta = 1.5f;

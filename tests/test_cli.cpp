@@ -479,14 +479,29 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
         CHECK(contains(text, "\"spectral\": true"));
         CHECK(contains(text, "\"spectral_reason\": \"\""));
     }
-    // a scene with what is not spectral yet: RGB, a warning, the reason in --stats
-    const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");
-    Run r = run(coated + " --tracer bpt --spp 1 --threads 2 --spectral --width 64 --height 48 -o " + quote(out) + " --stats " + quote(stats), dir);
+    // a scene with what is not spectral yet (a pbrt mix): RGB, a warning, the reason in --stats
+    const std::string mix = quote(dir.write("mix.pbrt",
+                                            "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+                                            "LightSource \"point\" \"point3 from\" [0 0 -4] \"rgb I\" [10 10 10]\n"
+                                            "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n"
+                                            "MakeNamedMaterial \"b\" \"string type\" \"conductor\"\n"
+                                            "Material \"mix\" \"string materials\" [\"a\" \"b\"]\nShape \"sphere\"\n"));
+    Run r = run(mix + " --tracer bpt --spp 1 --threads 2 --spectral --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    INFO("stderr: " << r.err);
     REQUIRE(r.status == 0);
-    CHECK(contains(r.err, "warning: --spectral: the scene has a coated conductor (not spectral yet): rendered in RGB"));
+    CHECK(contains(r.err, "warning: --spectral: the scene has a blend material (not spectral yet): rendered in RGB"));
     std::string text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
-    CHECK(contains(text, "a coated conductor"));
+    CHECK(contains(text, "a blend material"));
+    // the coated gold killeroo (a coated conductor) and a fog box (a homogeneous medium) render spectrally
+    const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");
+    const std::string fog = quote(kData + "/scenes/pbrt-v4/cornell-box/cornell-box-volume.pbrt");
+    for (const std::string& f : {coated, fog + " --tracer bpt"}) {
+        r = run(f + " --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+        INFO(f << " stderr: " << r.err);
+        REQUIRE(r.status == 0);
+        CHECK(contains(readFile(stats), "\"spectral\": true"));
+    }
     // --rgb (the default) after --spectral: the last one wins
     r = run("--tracer pt --spp 4 --threads 2 --spectral --rgb" + kSmall + " -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
@@ -504,12 +519,12 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
     r = run(box + " --rgb --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
     CHECK(contains(readFile(stats), "\"spectral\": false"));
-    r = run(coated + " --tracer bpt --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    r = run(mix + " --tracer bpt --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
     CHECK(r.err.find("spectral") == std::string::npos);
     text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
-    CHECK(contains(text, "spectral by the format's default, but the scene has a coated conductor"));
+    CHECK(contains(text, "spectral by the format's default, but the scene has a blend material"));
     // --describe says what a render with the same options would be, and why not spectral.
     CHECK(contains(run("--describe", dir).out, "spectral: no (RGB, the format's default"));
     CHECK(contains(run(box + " --describe", dir).out, "spectral: yes (pt, the format's default"));
@@ -517,7 +532,8 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
     CHECK(contains(run("--describe --spectral --tracer mmlt", dir).out, "spectral: yes (mmlt"));
     CHECK(contains(run("--describe --spectral --tracer bpt", dir).out, "spectral: yes (bpt"));
     CHECK(contains(run("--describe --spectral", dir).out, "spectral: yes"));  // (the built-in scene's first render: PT)
-    CHECK(contains(run(coated + " --describe --spectral --tracer pt", dir).out, "spectral: no: the scene has a coated conductor (not spectral yet)"));
+    CHECK(contains(run(mix + " --describe --spectral --tracer pt", dir).out, "spectral: no: the scene has a blend material (not spectral yet)"));
+    CHECK(contains(run(coated + " --describe", dir).out, "spectral: yes"));
 }
 
 TEST_CASE("cli: --strategy-images writes a weighted and an unweighted EXR per strategy", "[cli]") {

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <tuple>
 
@@ -52,10 +53,11 @@ power::Runs runs(const SceneDesc& d, TracerKind t, int spp, int block, uint64_t 
 // LT (ltSpp; 0: not compared), BPT (bptSpp), MMLT and PSSMLT (mltSpp mutations per pixel)
 // against PT (ptSpp) on d: each able to see a 5% brightness error (MMLT and PSSMLT: mltPower;
 // their runs' brightness has a heavy tail where chains find a glass's caustics).
-void agree(const std::string& what, const SceneDesc& d, int ptSpp, int ltSpp, int bptSpp, int mltSpp, int block, double mltPower = 0.05) {
+void agree(const std::string& what, const SceneDesc& d, int ptSpp, int ltSpp, int bptSpp, int mltSpp, int block, double mltPower = 0.05,
+           bool pssmlt = true) {
     const power::Runs pt = runs(d, TracerKind::PT, ptSpp, block, 100);
     for (auto [t, spp, name] : {std::tuple{TracerKind::LT, ltSpp, "LT"}, std::tuple{TracerKind::BPT, bptSpp, "BPT"},
-                                std::tuple{TracerKind::MMLT, mltSpp, "MMLT"}, std::tuple{TracerKind::PSSMLT, mltSpp, "PSSMLT"}}) {
+                                std::tuple{TracerKind::MMLT, mltSpp, "MMLT"}, std::tuple{TracerKind::PSSMLT, pssmlt ? mltSpp : 0, "PSSMLT"}}) {
         if (spp == 0) continue;
         const power::Runs r = runs(d, t, spp, block, 200);
         for (const power::Verdict& v : {power::brightness(r, pt, kP), power::blocks(r, pt, kP), power::scatter(r, pt, kP)}) {
@@ -78,6 +80,35 @@ TEST_CASE("spectral tracers: LT, BPT, MMLT and PSSMLT render pbrt's orange-lit C
     d.settings.width = d.settings.height = 32;
     d.settings.maxPathLength = 5;
     agree("orange Cornell box", d, 64, 64, 16, 256, 4);
+}
+
+TEST_CASE("spectral tracers: LT, BPT and MMLT render a chromatic fog as PT does", "[spectral][render][media][stat]") {
+    // The same box with its fog kept (pbrt's volpath) and made chromatic: sigma_s (0.3, 0.6, 1)
+    // times 0.0015 per unit, optical depths 0.25 to 0.8 across the box; each path's
+    // coefficients at its wavelengths (SpectralScene::medium) in its free paths, its
+    // transmittances and BPT's densities. (PSSMLT runs BPT's media stages as MMLT does.) The
+    // file's walls are boundaries from vacuum inside to fog outside (its MediumInterface ""
+    // "fog" holds past WorldBegin), so a path off a wall whose normal faces out of the room
+    // goes on in vacuum and the tracers see different scenes (blocks apart by 2x): here the
+    // fog is everywhere (MediumInterface "fog" "fog" after WorldBegin: no boundaries).
+    std::ifstream in(std::string(WAVEMMLT_TEST_DATA) + "/scenes/pbrt-v4/cornell-box/cornell-box-volume.pbrt");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    for (auto [from, to] : {std::pair<std::string, std::string>{"\"rgb sigma_s\" [ 1 1 1 ]", "\"rgb sigma_s\" [ 0.3 0.6 1 ]"},
+                            std::pair<std::string, std::string>{"Integrator \"path\"", "Integrator \"volpath\""},
+                            std::pair<std::string, std::string>{"WorldBegin", "WorldBegin\nMediumInterface \"fog\" \"fog\""}}) {
+        const size_t at = s.find(from);
+        REQUIRE(at != std::string::npos);
+        s.replace(at, from.size(), to);
+    }
+    const std::string file = rstats::tempDir("spectral-fog") + "/fog.pbrt";
+    std::ofstream(file) << s;
+    SceneDesc d = loadScene(file);
+    REQUIRE(d.media.size() == 1);
+    d.settings.width = d.settings.height = 32;
+    d.settings.maxPathLength = 5;
+    agree("chromatic fog", d, 64, 64, 16, 256, 4, 0.05, false);
 }
 
 // A BK7 sphere on a floor, lit from the side by a quad: its caustic falls on the floor
@@ -259,6 +290,84 @@ TEST_CASE("spectral tracers: a prism's spectrum lies where Snell's law and the g
         CHECK(worst <= bound);
         INFO(name << ": the dim columns " << dimMean << ", expected " << dimExpected << ", the image " << total);
         CHECK(std::fabs(dimMean - dimExpected) <= 0.01 * total);
+    }
+}
+
+// An absorbing medium's colour against its closed form: an orthographic camera inside a
+// medium of sigma_a (0.9, 0.25, 0.05), sigma_s 0, looks at a white area light 2 away, so each
+// pixel is int exp(-2 sigma_a(l)) L(l) cmf(l) dl / int ybar in linear sRGB, sigma_a(l) its
+// RGB's unbounded spectrum (pbrt-v4's RGBUnboundedSpectrum) and L the light's illuminant
+// spectrum; the RGB product exp(-2 sigma_a) per channel is far from it (checked). Once as a
+// homogeneous medium (the free path's one-sample MIS over the path's wavelengths), once as
+// pbrt's uniformgrid of density 0.5 and twice the sigma_a (delta and ratio tracking against
+// the majorants scaled to the wavelengths, Medium::majorantScale).
+namespace {
+
+std::string inkScene(bool grid) {
+    const std::string file = rstats::tempDir("spectral-ink") + (grid ? "/grid.pbrt" : "/homogeneous.pbrt");
+    std::ofstream(file) << (grid ? R"(MakeNamedMedium "ink" "string type" [ "uniformgrid" ] "rgb sigma_a" [ 1.8 0.5 0.1 ] "rgb sigma_s" [ 0 0 0 ]
+  "integer nx" 2 "integer ny" 2 "integer nz" 2 "float density" [ 0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5 ] "point3 p0" [ -30 -30 0 ] "point3 p1" [ 30 30 20 ])"
+                                 : R"(MakeNamedMedium "ink" "string type" [ "homogeneous" ] "rgb sigma_a" [ 0.9 0.25 0.05 ] "rgb sigma_s" [ 0 0 0 ])")
+                        << R"(
+MediumInterface "" "ink"
+LookAt 0 0 10  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+Integrator "volpath" "integer maxdepth" [ 1 ]
+WorldBegin
+AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+Shape "trianglemesh" "point3 P" [ -20 -20 8  20 -20 8  20 20 8  -20 20 8 ] "integer indices" [ 0 1 2 0 2 3 ]
+)";
+    return file;
+}
+
+}  // namespace
+
+TEST_CASE("spectral tracers: an absorbing medium's colour is its transmittance at each wavelength, homogeneous and grid, in PT, BPT and MMLT",
+          "[spectral][render][media][stat]") {
+    const UnboundedSpectrum sigmaA = unboundedSpectrumOfRgb(Vec3(0.9f, 0.25f, 0.05f));
+    double acc[3] = {0, 0, 0};
+    const double dl = 0.05;
+    for (double l = double(kLambdaMin) + dl / 2; l < double(kLambdaMax); l += dl) {
+        Wavelengths w;
+        for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
+        const double v = std::exp(-2.0 * double(unboundedAt(sigmaA, float(l)))) * double(rgbIlluminantAt(Vec3(1.0f), w).x) * dl;
+        const Vec3 cmf = cieMatching(float(l));
+        for (int c = 0; c < 3; ++c) acc[c] += v * double(cmf[c]);
+    }
+    const Vec3 expected = xyzToSrgb(Vec3(float(acc[0] / cieYIntegral()), float(acc[1] / cieYIntegral()), float(acc[2] / cieYIntegral())));
+    const Vec3 rgbProduct(std::exp(-1.8f), std::exp(-0.5f), std::exp(-0.1f));
+    for (bool grid : {false, true}) {
+        const SceneDesc d = loadScene(inkScene(grid));
+        REQUIRE(d.media.size() == 1);
+        REQUIRE(d.media[0].density.empty() == !grid);
+        for (auto [kind, name] : {std::pair{TracerKind::PT, "PT"}, std::pair{TracerKind::BPT, "BPT"}, std::pair{TracerKind::MMLT, "MMLT"}}) {
+            RenderOptions o = rstats::renderOptions(kind, 16, 0, 1, 1);
+            o.spectral = true;
+            o.chains = 256;
+            rstats::RunStats runs;  // the image's mean per channel
+            for (int k = 0; k < 16; ++k) {
+                o.seed = 500 + uint64_t(k);
+                const RenderResult r = render(d, o);
+                REQUIRE(r.stats.spectral);
+                std::vector<double> mean(3, 0.0);
+                for (size_t i = 0; i < r.image.rgb.size(); ++i) mean[i % 3] += double(r.image.rgb[i]) / double(r.image.rgb.size() / 3);
+                runs.add(mean);
+            }
+            const double bound = -rstats::normalQuantile(1e-4 / (2 * 3));
+            double rgbWorst = 0;  // the RGB product's distance from the runs, in their standard errors
+            for (size_t c = 0; c < 3; ++c) {
+                const double z = rstats::tToZ((runs.mean(c) - double(expected[int(c)])) / runs.se(c), runs.dof());
+                const double zRgb = (double(rgbProduct[int(c)]) - double(expected[int(c)])) / runs.se(c);
+                INFO((grid ? "grid, " : "homogeneous, ")
+                     << name << " channel " << c << ": " << runs.mean(c) << " expected " << expected[int(c)] << " se " << runs.se(c) << " (|z| "
+                     << std::fabs(z) << "); RGB's product " << rgbProduct[int(c)]);
+                CHECK(std::fabs(z) <= bound);
+                rgbWorst = std::max(rgbWorst, std::fabs(zRgb));
+            }
+            CHECK(rgbWorst > 10);  // the test tells spectral from RGB
+        }
     }
 }
 

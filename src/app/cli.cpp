@@ -128,7 +128,7 @@ std::string usageText() {
            "                           iteration, a small step (delayed rejection; default: off;\n"
            "                           docs/mmlt-levers.md)\n"
            "  --spectral, --rgb        render with sampled wavelengths (every tracer; scenes without\n"
-           "                           media, plastics, principled, blends or coated conductors: others\n"
+           "                           principled or blend materials or media with RGB grids: others\n"
            "                           render in RGB, with a warning), or in RGB (default: pbrt-v4 files\n"
            "                           spectral, as pbrt renders them; others RGB; docs/spectral.md)\n"
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"

@@ -99,7 +99,7 @@ std::string spectralLine(const wmlt::SceneDesc& scene, const wmlt::RenderOptions
     if (!opt.spectral)
         return scene.settings.spectral ? "spectral: no (RGB, asked for with --rgb)\n"
                                        : "spectral: no (RGB, the format's default; --spectral asks for sampled wavelengths)\n";
-    const std::string why = wmlt::spectralUnsupported(scene, wmlt::deriveFeatures(scene).media);
+    const std::string why = wmlt::spectralUnsupported(scene);
     if (!why.empty()) return "spectral: no: the scene has " + why + " (not spectral yet)\n";
     return std::string("spectral: yes (") + wmlt::tracerName(opt.tracer) + (opt.spectralByDefault ? ", the format's default" : "") +
            ", sampled wavelengths: docs/spectral.md)\n";

@@ -37,11 +37,10 @@ struct BlendTextures {
     const std::vector<TextureDesc>* textures = nullptr;
     const MaterialDesc* part[2] = {nullptr, nullptr};
 };
-// Coated: the slab and the base as the description gives them (bsdf_coated.cpp; its albedo
-// and the base's alphas, which textures may drive, are read from the hit's BsdfParams).
-struct CoatingExtra : MaterialDesc::Coating {
-    Vec3 baseScale{1.0f};  // the conductor base's Fresnel times this (MaterialDesc::reflect)
-};
+// Coated: the slab and the base as the description gives them (bsdf_coated.cpp; its albedo,
+// the base's alphas and its Fresnel's scale, which textures or wavelengths may change, are
+// read from the hit's BsdfParams).
+struct CoatingExtra : MaterialDesc::Coating {};
 struct BsdfExtra {
     Microfacet dist;                 // rough kinds (a textured roughness: the constants it scales)
     bool anisotropic = false;        // rough kinds: isAnisotropic (the frame follows dp/du)
@@ -82,7 +81,9 @@ struct BsdfParams {
 // Conductors and a coated conductor's base: the complex index eta + i k relative to the
 // outside at the hit, eta in `diffuse` and k in `specular` (slots these kinds have no other
 // use for). Coated: the slab's albedo in `refract`, the conductor base's GGX alphas in
-// `shininess` and `blendWeight`. Written by the scene (constants) and the texture stage.
+// `shininess` and `blendWeight`, the scale of its Fresnel in `reflect` (as a conductor's:
+// MaterialDesc::reflect). Written by the scene (constants), the texture stage and the
+// spectral stage.
 inline Vec3 conductorEta(const BsdfParams& m) { return m.diffuse; }
 inline Vec3 conductorK(const BsdfParams& m) { return m.specular; }
 inline void setConductorIndex(BsdfParams& m, Vec3 eta, Vec3 k) {
@@ -91,6 +92,7 @@ inline void setConductorIndex(BsdfParams& m, Vec3 eta, Vec3 k) {
 }
 inline Vec3 coatingAlbedo(const BsdfParams& m) { return m.refract; }
 inline void setCoatingAlbedo(BsdfParams& m, Vec3 a) { m.refract = a; }
+inline Vec3 coatBaseScale(const BsdfParams& m) { return m.reflect; }
 inline float coatBaseAlphaU(const BsdfParams& m) { return m.shininess; }
 inline float coatBaseAlphaV(const BsdfParams& m) { return m.blendWeight; }
 inline void setCoatBaseAlphas(BsdfParams& m, float au, float av) {

@@ -191,7 +191,7 @@ struct Layers {
     explicit Layers(const BsdfParams& m)
         : top{m.eta, Microfacet(MicrofacetType::GGX, m.alphaX, m.alphaY)},
           diffuse{m.diffuse},
-          conductor{conductorEta(m), conductorK(m), m.x->coating.baseScale, Microfacet(MicrofacetType::GGX, coatBaseAlphaU(m), coatBaseAlphaV(m))},
+          conductor{conductorEta(m), conductorK(m), coatBaseScale(m), Microfacet(MicrofacetType::GGX, coatBaseAlphaU(m), coatBaseAlphaV(m))},
           conductorBase(m.x->coating.conductorBase),
           thickness(m.x->coating.thickness),
           g(m.x->coating.g),

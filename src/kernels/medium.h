@@ -30,7 +30,8 @@ struct Medium {
     int nx = 0, ny = 0, nz = 0;                               // > 0: heterogeneous
     Affine worldToGrid;
     bool clampEdges = false;
-    float majorant = 0;  // over the whole grid
+    float majorant = 0;          // over the whole grid
+    float majorantScale = 1.0f;  // the majorant grid's cells times this (a spectral render's coefficients)
     // The majorant grid: mx x my x mz cells over the unit cube (x fastest), each the largest
     // sigma_t of any point in it (made with the scene: scene.cpp, buildMajorants); the
     // tracking walks it cell by cell.
@@ -66,7 +67,7 @@ inline void walkMajorants(const Medium& m, Vec3 go, Vec3 gd, float t0, float t1,
     for (;;) {
         const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
         const float tEnd = std::min(tNext[a], t1);
-        const float maj = m.majorants[(size_t(cell[2]) * size_t(m.my) + size_t(cell[1])) * size_t(m.mx) + size_t(cell[0])];
+        const float maj = m.majorants[(size_t(cell[2]) * size_t(m.my) + size_t(cell[1])) * size_t(m.mx) + size_t(cell[0])] * m.majorantScale;
         if (tEnd > t && !f(t, tEnd, maj)) return;
         if (!(tEnd < t1)) return;
         t = tEnd;

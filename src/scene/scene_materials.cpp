@@ -74,8 +74,7 @@ void buildMaterials(const SceneDesc& d, Scene& s) {
             if (m.coating.conductorBase) setConductorIndex(b, m.conductorEta, m.conductorK);
             setCoatingAlbedo(b, m.coating.albedo);
             setCoatBaseAlphas(b, m.coating.baseAlpha, m.coating.baseAlphaV);
-            static_cast<MaterialDesc::Coating&>(x.coating) = m.coating;
-            x.coating.baseScale = m.reflect;
+            static_cast<MaterialDesc::Coating&>(x.coating) = m.coating;  // (the base's Fresnel scale: b.reflect, m.reflect)
         }
         s.materials.push_back(b);
         // (by the material's index: the regularized table reads the same textures)

@@ -53,26 +53,25 @@ Vec3 upliftedAt(const UpliftedColour& c, Vec3 rgb, bool unbounded, const Wavelen
 }
 
 // Why material m cannot be rendered spectrally yet ("" if it can): kinds whose per-material
-// data made at scene build depend on RGB colours.
+// data made at scene build depend on RGB colours (a principled material's tints are its base
+// colour over its luminance; a blend's parts are constants the spectral stage never sees).
+// (A plastic's sampling weight is made from RGB too, but it is a sampling choice only.)
 std::string unsupportedMaterial(const MaterialDesc& m) {
     using K = MaterialKind;
     switch (m.kind) {
-        case K::Plastic:
-        case K::RoughPlastic:
         case K::Principled:
         case K::Blend:
         case K::Phase: return std::string("a ") + kMaterialKindNames[int(m.kind)] + " material";
-        case K::Coated:
-            if (m.coating.conductorBase) return "a coated conductor";
-            return "";
         default: return "";
     }
 }
 
 }  // namespace
 
-std::string spectralUnsupported(const SceneDesc& d, bool media) {
-    if (media) return "participating media";
+std::string spectralUnsupported(const SceneDesc& d) {
+    for (const MediumDesc& m : d.media)  // values per voxel: RGB grids, an albedo or emission grid
+        if (!m.sigmaAGrid.empty() || !m.sigmaSGrid.empty() || !m.albedoGrid.empty() || !m.LeGrid.empty())
+            return "a medium with RGB grids (\"" + m.name + "\")";
     for (const MaterialDesc& m : d.materials)
         if (std::string why = unsupportedMaterial(m); !why.empty()) return why;
     return "";
@@ -81,7 +80,7 @@ std::string spectralUnsupported(const SceneDesc& d, bool media) {
 SpectralScene buildSpectralScene(const Scene& scene) {
     SpectralScene s;
     const SceneDesc& d = scene.desc;
-    s.unsupported = spectralUnsupported(d, scene.features.media);
+    s.unsupported = spectralUnsupported(d);
     if (!s.unsupported.empty()) return s;
     for (const SpectrumDesc& sd : d.spectra) s.dense.push_back(densify(sd));
     for (const MaterialDesc& m : d.materials) {
@@ -90,6 +89,7 @@ SpectralScene buildSpectralScene(const Scene& scene) {
                                uplift(m.kind == MaterialKind::Coated ? m.coating.albedo : m.refract, false), uplift(eta, true), uplift(k, true)});
         s.params.push_back(m.spectra);
     }
+    for (const MediumDesc& m : d.media) s.media.push_back({uplift(m.sigmaA, true), uplift(m.sigmaS, true), uplift(m.Le, true)});
     s.light.assign(scene.lights.size(), -1);
     for (size_t i = 0; i < d.lights.size() && i < scene.lights.size(); ++i) s.light[i] = d.lights[i].spectrum;
     s.lightL.assign(scene.lights.size(), UpliftedColour{});
@@ -98,6 +98,21 @@ SpectralScene buildSpectralScene(const Scene& scene) {
     for (UpliftedColour& c : s.lightL)
         if (c.rgb.x < 0) c.scale = 0;  // (none)
     return s;
+}
+
+Medium SpectralScene::medium(int m, const Medium& rgb, const Wavelengths& w) const {
+    const MediumSpectra& s = media[size_t(m)];
+    auto at = [&](const UpliftedColour& c) { return sigmoidPolyAt(c.poly, w) * c.scale; };  // (black: scale 0)
+    Medium r = rgb;
+    r.sigmaS = at(s.sigmaS);
+    r.sigmaT = at(s.sigmaA) + r.sigmaS;
+    if (r.emissive) r.Le = at(s.Le) * Vec3(srgbIlluminant(w.lambda[0]), srgbIlluminant(w.lambda[1]), srgbIlluminant(w.lambda[2]));
+    if (r.nx > 0) {  // a density grid: its majorants were made for the largest channel of the RGB sigma_t
+        const float before = maxComponent(rgb.sigmaT), now = maxComponent(r.sigmaT);
+        r.majorantScale = before > 0 ? now / before : 0.0f;
+        r.majorant = rgb.majorant * r.majorantScale;
+    }
+    return r;
 }
 
 bool SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, const Wavelengths& w) const {
@@ -114,6 +129,12 @@ bool SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, co
     auto index = [&](P q, int slot, Vec3 rgb) {
         if (ps[q] >= 0 && desc.texture[q] < 0) return denseAt(dense[size_t(ps[q])], w);
         return upliftedAt(k[size_t(slot)], rgb, true, w);
+    };
+    // A conductor's (or a coated conductor's base's) index; a conductor given by spectra keeps
+    // in reflect its RGB albedo correction (conductorAlbedoScale): 1 here.
+    auto conductor = [&]() {
+        setConductorIndex(out, index(P::ConductorEta, 4, conductorEta(out)), index(P::ConductorK, 5, conductorK(out)));
+        out.reflect = ps[P::ConductorEta] >= 0 && ps[P::ConductorK] >= 0 ? Vec3(1.0f) : colour(P::Reflect, 2, out.reflect);
     };
     switch (desc.kind) {
         case K::Matte: out.diffuse = colour(P::Diffuse, 0, out.diffuse); break;
@@ -133,13 +154,15 @@ bool SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, co
             }
             break;
         case K::Conductor:
-        case K::RoughConductor:
-            setConductorIndex(out, index(P::ConductorEta, 4, conductorEta(out)), index(P::ConductorK, 5, conductorK(out)));
-            // a conductor given by spectra keeps in reflect its RGB albedo correction: 1 here
-            out.reflect = ps[P::ConductorEta] >= 0 && ps[P::ConductorK] >= 0 ? Vec3(1.0f) : colour(P::Reflect, 2, out.reflect);
-            break;
-        case K::Coated:  // a diffuse base (coated conductors render in RGB)
+        case K::RoughConductor: conductor(); break;
+        case K::Plastic:
+        case K::RoughPlastic:
             out.diffuse = colour(P::Diffuse, 0, out.diffuse);
+            out.reflect = colour(P::Reflect, 2, out.reflect);
+            break;
+        case K::Coated:  // a diffuse or a conductor base (its index and Fresnel scale as a conductor's)
+            if (desc.coating.conductorBase) conductor();
+            else out.diffuse = colour(P::Diffuse, 0, out.diffuse);
             setCoatingAlbedo(out, colour(P::Albedo, 3, coatingAlbedo(out)));
             break;
         case K::DiffuseTransmission:

@@ -33,6 +33,12 @@ struct SpectralScene {
     // Refract (a coat's albedo), a conductor's eta and k.
     static constexpr int kSlots = 6;
     std::vector<std::array<UpliftedColour, kSlots>> constants;
+    // Per medium (Scene::media): sigma_a and sigma_s as unbounded spectra, Le as an
+    // illuminant (pbrt-v4's RGBUnboundedSpectrum and RGBIlluminantSpectrum).
+    struct MediumSpectra {
+        UpliftedColour sigmaA, sigmaS, Le;
+    };
+    std::vector<MediumSpectra> media;
 
     // Hit h's material m (SceneDesc::materials) at the wavelengths w: every colour parameter its
     // kind reads, in out (a hit's BsdfParams, its texture applied), from RGB or from its spectrum.
@@ -54,13 +60,17 @@ struct SpectralScene {
         }
         return rgbIlluminantAt(LeRgb, w);
     }
+    // Medium m (rgb: its RGB form, Scene::media) at w: sigma_t, sigma_s and Le there; a
+    // density grid's majorants scaled to bound sigma_t at w (Medium::majorantScale). A copy,
+    // made per segment: the stages read the media through PathMedia (stages/core/media.h).
+    Medium medium(int m, const Medium& rgb, const Wavelengths& w) const;
 };
 
-// The scene's spectra, or `unsupported` set (media, materials whose derived data is RGB:
-// plastics, principled, blends, coated conductors, conductors by reflectance).
+// The scene's spectra, or `unsupported` set (media with RGB grids, materials whose derived
+// data is RGB: principled, blends).
 SpectralScene buildSpectralScene(const Scene& scene);
-// The same reason from the description alone ("" when the scene can render spectrally;
-// media: it has participating media): --describe's.
-std::string spectralUnsupported(const SceneDesc& d, bool media);
+// The same reason from the description alone ("" when the scene can render spectrally):
+// --describe's.
+std::string spectralUnsupported(const SceneDesc& d);
 
 }  // namespace wmlt

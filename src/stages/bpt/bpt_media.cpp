@@ -47,8 +47,9 @@ void traverseBptMediaOf(const Scene& scene, BptBatch& b, const BptVertices& v, b
         SegmentDensities rho;
         Vec3 emitted(0.0f);
         traverseMediumOf<true, Emission>(
-            scene, b.ray[i], m, [&](uint32_t k, float& x, uint64_t& seed) { freePathNumber(u, slot, stream, d, k, x, seed); }, b.pathBeta[i],
-            b.mediumEvent[i], b.mediumT[i], prevInMedium, rho, emitted, c);
+            scene, pathMedia(scene, b, slot), b.ray[i], m,
+            [&](uint32_t k, float& x, uint64_t& seed) { freePathNumber(u, slot, stream, d, k, x, seed); }, b.pathBeta[i], b.mediumEvent[i],
+            b.mediumT[i], prevInMedium, rho, emitted, c);
         b.medium[i] = m;
         b.rhoFwd[i] = rho.fwd;
         b.rhoRev[i] = rho.rev;

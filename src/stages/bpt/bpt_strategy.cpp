@@ -105,8 +105,9 @@ bool throughMedia(const Scene& scene, const BptBatch& b, const StrategyWave& w, 
     const bool toInMedium = s >= 2 && t >= 2 && b.cam.kind[zi] == BptVertexKind::Medium;
     SegmentDensities rho;
     // (without pass-through boundaries: here, unblocked, the shadow ray tests visibility)
-    const Vec3 T = scene.features.passThrough ? transmittanceAlong(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho, c)
-                                              : transmittanceUnblocked<true>(scene, r, m, rayHash(r), fromInMedium, toInMedium, rho);
+    const PathMedia media = pathMedia(scene, b, slot);
+    const Vec3 T = scene.features.passThrough ? transmittanceAlong(scene, media, r, m, rayHash(r), fromInMedium, toInMedium, rho, c)
+                                              : transmittanceUnblocked<true>(media, r, m, rayHash(r), fromInMedium, toInMedium, rho);
     if (isBlack(T)) return false;
     value = value * T;
     pE[s - 1] *= fromZ ? rho.fwd : rho.rev;          // ending at y

@@ -21,8 +21,8 @@ namespace {
 // transmittanceAlong's walk; with Densities also each segment's free-path densities (the
 // segment next to each end ending in the medium there when that end is a medium vertex).
 template <bool Densities>
-Vec3 transmittanceOf(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium, SegmentDensities& rho,
-                     RayCounters& c) {
+Vec3 transmittanceOf(const Scene& scene, const PathMedia& media, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                     SegmentDensities& rho, RayCounters& c) {
     const Vec3 d(r.dir_x, r.dir_y, r.dir_z);
     RTCRayHit rh;
     setRayHit(rh, Vec3(r.org_x, r.org_y, r.org_z), d);
@@ -38,7 +38,7 @@ Vec3 transmittanceOf(const Scene& scene, const RTCRay& r, int m, uint64_t seed, 
         if (!last && !scene.geoms[rh.hit.geomID].passThrough) return Vec3(0.0f);  // occluded
         const float len = last ? remaining : rh.ray.tfar;
         if (m >= 0) {
-            const Medium& med = scene.media[size_t(m)];
+            const Medium med = media[m];
             T = T * mediumTransmittance(med, o, d, len, mix64(seed + k));
             if constexpr (Densities) {
                 rho.fwd *= freePathDensity(med, len, last && toInMedium);
@@ -55,14 +55,14 @@ Vec3 transmittanceOf(const Scene& scene, const RTCRay& r, int m, uint64_t seed, 
 
 }  // namespace
 
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, RayCounters& c) {
+Vec3 transmittanceAlong(const Scene& scene, const PathMedia& media, const RTCRay& r, int m, uint64_t seed, RayCounters& c) {
     SegmentDensities unused;
-    return transmittanceOf<false>(scene, r, m, seed, false, false, unused, c);
+    return transmittanceOf<false>(scene, media, r, m, seed, false, false, unused, c);
 }
 
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium, SegmentDensities& rho,
-                        RayCounters& c) {
-    return transmittanceOf<true>(scene, r, m, seed, fromInMedium, toInMedium, rho, c);
+Vec3 transmittanceAlong(const Scene& scene, const PathMedia& media, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                        SegmentDensities& rho, RayCounters& c) {
+    return transmittanceOf<true>(scene, media, r, m, seed, fromInMedium, toInMedium, rho, c);
 }
 
 }  // namespace wmlt

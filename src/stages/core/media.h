@@ -11,6 +11,7 @@
 #include "kernels/medium.h"
 #include "kernels/rng.h"
 #include "scene/scene.h"
+#include "scene/scene_spectra.h"
 #include "stages/core/trace.h"
 #include "stages/core/wave.h"
 
@@ -21,6 +22,24 @@ namespace wmlt {
 // (a scene without media reads the same numbers as before media existed).
 constexpr uint32_t kMediumBase = 1u << 24, kMediumStride = 256;
 inline uint32_t mediumDim(int depth, uint32_t k) { return kMediumBase + uint32_t(depth - 1) * kMediumStride + k; }
+
+// The media as one path sees them: the scene's (Scene::media), or in a spectral render
+// (spectra set) their coefficients at the path's wavelengths w (SpectralScene::medium). The
+// stages read a medium through this, a copy per segment.
+struct PathMedia {
+    const Scene& scene;
+    const SpectralScene* spectra = nullptr;
+    const Wavelengths* w = nullptr;
+    Medium operator[](int m) const {
+        const Medium& rgb = scene.media[size_t(m)];
+        return spectra ? spectra->medium(m, rgb, *w) : rgb;
+    }
+};
+// Batch b's slot's media (its lambda: the slot's wavelengths, in a spectral render).
+template <class Batch>
+inline PathMedia pathMedia(const Scene& scene, const Batch& b, uint32_t slot) {
+    return PathMedia{scene, b.spectra, b.spectra ? &b.lambda[slot] : nullptr};
+}
 
 // The medium a ray along d is in after crossing the surface rh hit, from medium m.
 int mediumAcross(const Scene& scene, const RTCRayHit& rh, Vec3 d, int m);
@@ -42,13 +61,13 @@ struct SegmentDensities {
 // ray up to its hit (emissionAlong, whole segments, times beta before each: the expected
 // value, whatever the free path then samples).
 template <bool Densities, bool Emission, class NumberOf>
-inline void traverseMediumOf(const Scene& scene, RTCRayHit& rh, int& m, NumberOf&& numberOf, Vec3& beta, uint8_t& event, float& eventT,
-                             bool prevInMedium, SegmentDensities& rho, Vec3& emitted, RayCounters& c) {
+inline void traverseMediumOf(const Scene& scene, const PathMedia& media, RTCRayHit& rh, int& m, NumberOf&& numberOf, Vec3& beta, uint8_t& event,
+                             float& eventT, bool prevInMedium, SegmentDensities& rho, Vec3& emitted, RayCounters& c) {
     event = 0;
     for (uint32_t k = 0;; ++k) {
         const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         if (m >= 0) {
-            const Medium& med = scene.media[size_t(m)];
+            const Medium med = media[m];
             const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z), d(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
             float u;
             uint64_t seed;
@@ -100,8 +119,9 @@ void traverseMediaOf(const Scene& scene, Batch& b, int depth, RayCounters& c) {
         int m = b.medium[i];
         const uint64_t key = b.key[b.pathSlot[i]];
         traverseMediumOf<false, false>(
-            scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(key, mediumDim(depth, k), u, seed); }, b.beta[i],
-            b.mediumEvent[i], b.mediumT[i], false, unused, noEmission, c);
+            scene, pathMedia(scene, b, b.pathSlot[i]), b.ray[i], m,
+            [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(key, mediumDim(depth, k), u, seed); }, b.beta[i], b.mediumEvent[i],
+            b.mediumT[i], false, unused, noEmission, c);
         b.medium[i] = m;
     }
 }
@@ -130,10 +150,10 @@ void recordMediumVertex(const Scene& scene, Batch& b, size_t h, size_t i) {
 // tracing (the caller tests visibility with the batched occlusion rays), and with Densities
 // its free-path densities.
 template <bool Densities>
-inline Vec3 transmittanceUnblocked(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+inline Vec3 transmittanceUnblocked(const PathMedia& media, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
                                    SegmentDensities& rho) {
     if (m < 0) return Vec3(1.0f);
-    const Medium& med = scene.media[size_t(m)];
+    const Medium med = media[m];
     if constexpr (Densities) {
         rho.fwd *= freePathDensity(med, r.tfar, toInMedium);
         rho.rev *= freePathDensity(med, r.tfar, fromInMedium);
@@ -157,11 +177,11 @@ inline uint64_t rayHash(const RTCRay& r) {
 // The transmittance along ray r (up to its tfar) from medium m through media and
 // pass-through boundaries; 0 when any other surface is in the way. A grid's ratio tracking
 // reads streams seeded by seed and the segment.
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, RayCounters& c);
+Vec3 transmittanceAlong(const Scene& scene, const PathMedia& media, const RTCRay& r, int m, uint64_t seed, RayCounters& c);
 // The same, with the densities of free-path samples along the ray (BPT's connections):
 // rho.fwd of a walk from r's origin that ends at its end (toInMedium: a medium vertex there),
 // rho.rev of one from its end that ends at its origin (fromInMedium).
-Vec3 transmittanceAlong(const Scene& scene, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium, SegmentDensities& rho,
-                        RayCounters& c);
+Vec3 transmittanceAlong(const Scene& scene, const PathMedia& media, const RTCRay& r, int m, uint64_t seed, bool fromInMedium, bool toInMedium,
+                        SegmentDensities& rho, RayCounters& c);
 
 }  // namespace wmlt

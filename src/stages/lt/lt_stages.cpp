@@ -43,9 +43,9 @@ void generateEnvCameraRays(const Scene& scene, LtBatch& b, const Tile& t, int n,
             setRay(b.conn[i], o, d, 0.0f, INFINITY);
             b.connPixel[i] = pixel;
             b.connValue[i] = scene.env.Le(d) * b.filmWeight[i];
-            if (b.spectra) {  // this sample's own wavelengths (its key's), to the film's sRGB
-                const Wavelengths w = sampleWavelengths(sampleDimension(key, kWavelengthDim));
-                b.connValue[i] = srgbOfSample(b.spectra->emission(scene.envLight, b.connValue[i], w), w);
+            if (b.spectra) {  // this sample's own wavelengths (its key's)
+                b.connLambda[i] = sampleWavelengths(sampleDimension(key, kWavelengthDim));
+                b.connValue[i] = b.spectra->emission(scene.envLight, b.connValue[i], b.connLambda[i]);
             }
             if (scene.features.media) {
                 b.connMedium[i] = scene.cameraMedium;
@@ -77,8 +77,11 @@ void generateLightPaths(const Scene& scene, LtBatch& b, const Tile& t, uint64_t 
         if (connectLength1 && !infinite && !isDeltaLight(scene.lights[li])) {  // (a point light is not seen)
             CameraSample cs = sampleCameraFrom(cam, e.p, sampleDimension(key, 5), sampleDimension(key, 6));
             if (cs.valid) {
-                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi) * e.tex;                                   // (tex 1 but for textured emitters)
-                if (b.spectra) Le = srgbOfSample(b.spectra->emission(li, Le, b.lambda[i]), b.lambda[i]);  // (the film's, as every splat)
+                Vec3 Le = areaLe(scene.lights[li], e.n, cs.wi) * e.tex;  // (tex 1 but for textured emitters)
+                if (b.spectra) {
+                    Le = b.spectra->emission(li, Le, b.lambda[i]);
+                    b.connLambda[b.numConn] = b.lambda[i];
+                }
                 float cosL = std::fabs(dot(cs.wi, e.n));
                 if (!isBlack(Le)) {
                     if (media) {  // the face towards the camera (e.n is the face emission took)
@@ -111,12 +114,14 @@ void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c
         SegmentDensities unused;
         for (size_t k = 0; k < b.numConn; ++k) {
             const uint64_t seed = mix64(b.connKey[k] ^ 0x434f4e4eull ^ (uint64_t(length) << 40));
+            const PathMedia media{scene, b.spectra, b.spectra ? &b.connLambda[k] : nullptr};
             if (!passThrough) {  // the transmittance here, visibility by the batched occlusion rays below
-                b.connValue[k] = b.connValue[k] * transmittanceUnblocked<false>(scene, b.conn[k], b.connMedium[k], seed, false, false, unused);
+                b.connValue[k] = b.connValue[k] * transmittanceUnblocked<false>(media, b.conn[k], b.connMedium[k], seed, false, false, unused);
                 if (isBlack(b.connValue[k])) b.conn[k].tfar = -1.0f;  // (a ray with tfar < tnear is not traced)
                 continue;
             }
-            const Vec3 v = b.connValue[k] * transmittanceAlong(scene, b.conn[k], b.connMedium[k], seed, c);
+            Vec3 v = b.connValue[k] * transmittanceAlong(scene, media, b.conn[k], b.connMedium[k], seed, c);
+            if (b.spectra) v = srgbOfSample(v, b.connLambda[k]);
             if (!isBlack(v) && b.tally.take(v, length)) pushSplat(b.splats, b.points, b.connPixel[k], b.connX[k], b.connY[k], v);
         }
         if (passThrough) {
@@ -128,7 +133,7 @@ void traceConnections(const Scene& scene, LtBatch& b, int length, RayCounters& c
     c.raysOccluded += b.numConn;
     for (size_t k = 0; k < b.numConn; ++k) {
         if (!(b.conn[k].tfar >= 0)) continue;
-        const Vec3 v = b.connValue[k];
+        const Vec3 v = b.spectra ? srgbOfSample(b.connValue[k], b.connLambda[k]) : b.connValue[k];  // (the film's)
         if (b.tally.take(v, length)) pushSplat(b.splats, b.points, b.connPixel[k], b.connX[k], b.connY[k], v);
     }
     b.numConn = 0;
@@ -200,7 +205,7 @@ void connectToCamera(const Scene& scene, LtBatch& b, int d) {
                 // beta f |cos_s| * correction * We / pdf (pbrt-v4 16.3.3, t = 1).
                 float corr = shadingCorrection(b.wo[h], cs.wi, fr.n, b.ng[h]);
                 Vec3 v = b.beta[path] * f * (absCosTheta(wiL) * corr * cs.We / cs.pdf);
-                if (b.spectra) v = srgbOfSample(v, b.lambda[b.pathSlot[path]]);  // the film's (the wavelengths as they stand now)
+                if (b.spectra) b.connLambda[b.numConn] = b.lambda[b.pathSlot[path]];  // (the wavelengths as they stand now)
                 if (scene.features.media) {
                     b.connMedium[b.numConn] = dot(cs.wi, b.ng[h]) < 0 ? b.hitMediumIn[h] : b.hitMediumOut[h];
                     b.connKey[b.numConn] = key;

@@ -55,7 +55,9 @@ namespace wmlt {
 // Allocated only for a spectral render (RenderOptions::spectral; docs/spectral.md):
 //   lambda: per slot, its wavelengths (the colour channels' meaning)
 //   hitMaterial: per hit, its material (SceneDesc::materials; -1: a medium vertex)
-#define WMLT_LT_SPECTRAL_ARRAYS(X) X(Wavelengths, lambda) X(int32_t, hitMaterial)
+//   connLambda: per camera connection, its path's wavelengths (connValue is at them until
+//               its splat, which is the film's sRGB)
+#define WMLT_LT_SPECTRAL_ARRAYS(X) X(Wavelengths, lambda) X(int32_t, hitMaterial) X(Wavelengths, connLambda)
 
 struct LtBatch : PathWave {
     WMLT_LT_ARRAYS(WMLT_SOA_ARRAY)

@@ -20,8 +20,9 @@ void traverseMedia(const Scene& scene, PtBatch& b, int depth, int minLength, int
         const uint32_t slot = b.pathSlot[i];
         Vec3 emitted(0.0f);
         traverseMediumOf<false, true>(
-            scene, b.ray[i], m, [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(b.key[slot], mediumDim(depth, k), u, seed); },
-            b.beta[i], b.mediumEvent[i], b.mediumT[i], false, unused, emitted, c);
+            scene, pathMedia(scene, b, slot), b.ray[i], m,
+            [&](uint32_t k, float& u, uint64_t& seed) { hashedFreePathNumber(b.key[slot], mediumDim(depth, k), u, seed); }, b.beta[i],
+            b.mediumEvent[i], b.mediumT[i], false, unused, emitted, c);
         b.medium[i] = m;
         if (count && !isBlack(emitted)) addRadiance(b, slot, emitted, depth);
     }
@@ -33,13 +34,14 @@ void traceShadowsThroughMedia(const Scene& scene, PtBatch& b, int length, RayCou
     for (size_t i = 0; i < b.numShadow; ++i) {
         // a grid's ratio tracking: a stream per shadow ray and segment, apart from the paths'
         const uint64_t seed = mix64(b.key[b.shadowSlot[i]] ^ 0x5348414430ull ^ (uint64_t(length) << 40));
+        const PathMedia media = pathMedia(scene, b, b.shadowSlot[i]);
         if (!passThrough) {  // the transmittance here, visibility by the batched occlusion rays below
-            const Vec3 T = transmittanceUnblocked<false>(scene, b.shadow[i], b.shadowMedium[i], seed, false, false, unused);
+            const Vec3 T = transmittanceUnblocked<false>(media, b.shadow[i], b.shadowMedium[i], seed, false, false, unused);
             b.shadowL[i] = b.shadowL[i] * T;
             if (isBlack(T)) b.shadow[i].tfar = -1.0f;  // (a ray with tfar < tnear is not traced)
             continue;
         }
-        const Vec3 T = transmittanceAlong(scene, b.shadow[i], b.shadowMedium[i], seed, c);
+        const Vec3 T = transmittanceAlong(scene, media, b.shadow[i], b.shadowMedium[i], seed, c);
         if (!isBlack(T)) addRadiance(b, b.shadowSlot[i], b.shadowL[i] * T, length);
     }
     if (!passThrough) traceShadows(scene, b, length, c);
