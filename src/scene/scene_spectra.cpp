@@ -100,6 +100,13 @@ SpectralScene buildSpectralScene(const Scene& scene) {
     return s;
 }
 
+SpectralMode chooseSpectralMode(const Scene& scene, bool asked) {
+    SpectralMode m;
+    if (asked) m.scene = buildSpectralScene(scene);
+    m.spectral = asked && m.scene.unsupported.empty();
+    return m;
+}
+
 Medium SpectralScene::medium(int m, const Medium& rgb, const Wavelengths& w) const {
     const MediumSpectra& s = media[size_t(m)];
     auto at = [&](const UpliftedColour& c) { return sigmoidPolyAt(c.poly, w) * c.scale; };  // (black: scale 0)

@@ -66,6 +66,19 @@ struct SpectralScene {
     Medium medium(int m, const Medium& rgb, const Wavelengths& w) const;
 };
 
+// A render's mode, chosen once per render: spectral when asked (RenderOptions::spectral) and the
+// scene can be (`scene` then holds its spectra), else RGB, with the reason when it was asked.
+struct SpectralMode {
+    SpectralScene scene;  // (built only when asked)
+    bool spectral = false;
+    const SpectralScene* spectra() const { return spectral ? &scene : nullptr; }
+    // --stats' spectral_reason: "" unless asked and rendered in RGB.
+    std::string reason(bool asked) const {
+        return asked && !spectral ? "the scene has " + scene.unsupported + " (not spectral yet): rendered in RGB" : std::string();
+    }
+};
+SpectralMode chooseSpectralMode(const Scene& scene, bool asked);
+
 // The scene's spectra, or `unsupported` set (media with RGB grids, materials whose derived
 // data is RGB: principled, blends).
 SpectralScene buildSpectralScene(const Scene& scene);

@@ -99,16 +99,13 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
                          "strategy images would need " + std::to_string(filmBytes >> 20) + " MiB (over 8 GiB): lower --max-length or the image size");
     if (!opt.strategyImages.empty() || opt.lengthImages)
         strategyFilms = std::make_unique<StrategyFilms>(scene.camera.width, scene.camera.height, opt.maxPathLength);
-    // --spectral: the scene's spectra, or RGB with the reason (chosen once per render)
-    SpectralScene spectra;
-    if (opt.spectral) spectra = buildSpectralScene(scene);
-    const bool spectral = opt.spectral && spectra.unsupported.empty();
+    const SpectralMode mode = chooseSpectralMode(scene, opt.spectral);  // --spectral (chosen once per render)
     tbb::enumerable_thread_specific<BptBatch> batches([&] {
         BptBatch b;
         BatchNeeds needs = batchNeeds(scene);
-        needs.spectral = spectral;
+        needs.spectral = mode.spectral;
         b.reserve(schedule.pathsPerBatch(), opt.maxPathLength, needs);
-        b.spectra = spectral ? &spectra : nullptr;
+        b.spectra = mode.spectra();
         b.regularizedOffset = scene.regularizedOffset;  // pbrt's BDPT regularizes both subpaths
         b.strategyFilms = strategyFilms.get();
         return b;
@@ -121,8 +118,8 @@ RenderResult renderBidirectional(const Scene& scene, const RenderOptions& opt) {
         {[&](uint32_t spp) { return imageOfJob(opt.ranks, film, splatFilm, spp); }, &counters});
 
     RenderResult res = startResult("bpt", scene, opt, pr, counters);
-    res.stats.spectral = spectral;
-    if (opt.spectral && !spectral) res.stats.spectralReason = "the scene has " + spectra.unsupported + " (not spectral yet): rendered in RGB";
+    res.stats.spectral = mode.spectral;
+    res.stats.spectralReason = mode.reason(opt.spectral);
     res.image = imageOfJob(opt.ranks, film, splatFilm, pr.completedSpp);
     totals.finish(scene, opt.ranks, pr.completedSpp, res.stats);
     if (strategyFilms) res.strategyImages = resolveStrategies(*strategyFilms, film, pr.completedSpp, opt.minPathLength);

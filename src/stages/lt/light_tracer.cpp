@@ -61,16 +61,13 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
     const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt);
     SplatFilm film(scene.camera.width, scene.camera.height);
     std::vector<TileSplats> outputs(schedule.tiles.size());
-    // --spectral: the scene's spectra, or RGB with the reason (chosen once per render)
-    SpectralScene spectra;
-    if (opt.spectral) spectra = buildSpectralScene(scene);
-    const bool spectral = opt.spectral && spectra.unsupported.empty();
+    const SpectralMode mode = chooseSpectralMode(scene, opt.spectral);  // --spectral (chosen once per render)
     tbb::enumerable_thread_specific<LtBatch> batches([&] {
         LtBatch b;
         BatchNeeds needs = batchNeeds(scene);
-        needs.spectral = spectral;
+        needs.spectral = mode.spectral;
         b.reserve(schedule.pathsPerBatch(), needs);
-        b.spectra = spectral ? &spectra : nullptr;
+        b.spectra = mode.spectra();
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;
@@ -81,8 +78,8 @@ RenderResult renderLightTracing(const Scene& scene, const RenderOptions& opt) {
         {[&](uint32_t spp) { return withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(spp); }); }, &counters});
 
     RenderResult res = startResult("lt", scene, opt, pr, counters);
-    res.stats.spectral = spectral;
-    if (opt.spectral && !spectral) res.stats.spectralReason = "the scene has " + spectra.unsupported + " (not spectral yet): rendered in RGB";
+    res.stats.spectral = mode.spectral;
+    res.stats.spectralReason = mode.reason(opt.spectral);
     res.image = withFilmOfJob(opt.ranks, film, [&](const SplatFilm& f) { return f.resolve(pr.completedSpp); });
     totals.finish(scene, opt.ranks, pr.completedSpp, res.stats);
     return res;

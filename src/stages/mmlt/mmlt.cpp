@@ -73,7 +73,7 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
           BatchNeeds needs = batchNeeds(scene);
           needs.spectral = spectral_;
           mb.reserve(kBatchChains + size_t(maxLength) + 1, maxLength, needs, whole);
-          mb.bpt.spectra = spectral_ ? &spectra_ : nullptr;
+          mb.bpt.spectra = spectralMode_.spectra();
           mb.bpt.minLength = minLength;
           mb.bpt.maxLength = maxLength;
           setNumbersRead(scene, mb);

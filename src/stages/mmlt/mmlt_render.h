@@ -135,10 +135,10 @@ private:
     int kMin_, kMax_;            // the path lengths rendered
     bool whole_;                 // PSSMLT
     const ChainStages& stages_;  // MMLT's or PSSMLT's (whole_), chosen once
-    // --spectral: the scene's spectra (spectral_), or RGB with the reason (spectra_.unsupported),
-    // chosen once; a spectral render's rows have one more number, the wavelengths'.
-    SpectralScene spectra_ = opt_.spectral ? buildSpectralScene(scene_) : SpectralScene();
-    bool spectral_ = opt_.spectral && spectra_.unsupported.empty();
+    // --spectral: the scene's spectra, or RGB with the reason, chosen once; a spectral render's
+    // rows have one more number, the wavelengths'.
+    SpectralMode spectralMode_ = chooseSpectralMode(scene_, opt_.spectral);
+    bool spectral_ = spectralMode_.spectral;
     int lo_, hi_;  // the groups' k (the pools'): MMLT kMin..kMax, PSSMLT 0
     // Bytes of state per chain of group k.
     uint64_t chainBytesOf(int k) const {

@@ -62,7 +62,7 @@ RenderResult MmltRender::resolve() {
     pr.passes = rounds_;
     RenderResult res = startResult(whole_ ? "pssmlt" : "mmlt", scene_, opt_, pr, rays_);
     res.stats.spectral = spectral_;
-    if (opt_.spectral && !spectral_) res.stats.spectralReason = "the scene has " + spectra_.unsupported + " (not spectral yet): rendered in RGB";
+    res.stats.spectralReason = spectralMode_.reason(opt_.spectral);
     stats_.iterations = iteration_;
     stats_.passLength = passLength_;
     stats_.smallStepSigma = sigma_;

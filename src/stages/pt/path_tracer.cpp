@@ -48,17 +48,14 @@ void traceBatch(const Scene& scene, const RenderOptions& opt, const Tile& tile, 
 RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
     const PassSchedule schedule = makePassSchedule(scene.camera.width, scene.camera.height, opt);
     Film film(scene.camera.width, scene.camera.height);
-    // --spectral: the scene's spectra, or RGB with the reason (chosen once per render)
-    SpectralScene spectra;
-    if (opt.spectral) spectra = buildSpectralScene(scene);
-    const bool spectral = opt.spectral && spectra.unsupported.empty();
+    const SpectralMode mode = chooseSpectralMode(scene, opt.spectral);  // --spectral (chosen once per render)
     tbb::enumerable_thread_specific<PtBatch> batches([&] {
         PtBatch b;
         BatchNeeds needs = batchNeeds(scene);
-        needs.spectral = spectral;
+        needs.spectral = mode.spectral;
         b.reserve(schedule.pathsPerBatch(), needs);
         b.regularizedOffset = scene.regularizedOffset;  // pbrt's path integrator regularizes
-        b.spectra = spectral ? &spectra : nullptr;
+        b.spectra = mode.spectra();
         return b;
     });
     tbb::enumerable_thread_specific<RayCounters> counters;
@@ -69,8 +66,8 @@ RenderResult renderPathTracing(const Scene& scene, const RenderOptions& opt) {
                               {}, {[&](uint32_t) { return withFilmOfJob(opt.ranks, film, [](const Film& f) { return f.resolve(); }); }, &counters});
 
     RenderResult res = startResult("pt", scene, opt, pr, counters);
-    res.stats.spectral = spectral;
-    if (opt.spectral && !spectral) res.stats.spectralReason = "the scene has " + spectra.unsupported + " (not spectral yet): rendered in RGB";
+    res.stats.spectral = mode.spectral;
+    res.stats.spectralReason = mode.reason(opt.spectral);
     PathLengthSums lengths;
     for (const ContributionTally& t : totals) {
         lengths.add(t.lengths);
