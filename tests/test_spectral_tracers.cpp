@@ -371,6 +371,66 @@ TEST_CASE("spectral tracers: an absorbing medium's colour is its transmittance a
     }
 }
 
+// A Mitsuba file's spectra (which make it render spectrally, as Mitsuba's scalar_spectral): a
+// diffuse plane of a narrow-band reflectance R under a directional light of a narrow-band
+// irradiance E, seen straight down by an orthographic camera: each pixel is
+// int R(l) E(l) / pi cmf(l) dl / int ybar in linear sRGB (R and E linear between their pairs).
+// The RGB render's product of the projections is far from it (checked).
+TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra against their closed form, in PT, BPT and MMLT",
+          "[spectral][render][mitsuba][stat]") {
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <sensor type="orthographic">
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="directional"><vector name="direction" value="0, 0, -1"/><spectrum name="irradiance" value="450:0, 500:3, 550:3, 600:0"/></emitter>
+  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
+    <bsdf type="diffuse"><spectrum name="reflectance" value="500:0.05, 530:0.9, 580:0.9, 620:0.05"/></bsdf></shape>
+</scene>)",
+                                              "bands.xml", ".");
+    REQUIRE(d.settings.spectral);
+    auto lerp = [](double l, std::initializer_list<std::pair<double, double>> pairs) {  // linear between pairs, 0 outside
+        const std::vector<std::pair<double, double>> p(pairs);
+        if (l < p.front().first || l > p.back().first) return 0.0;
+        for (size_t i = 0; i + 1 < p.size(); ++i)
+            if (l <= p[i + 1].first) return p[i].second + (p[i + 1].second - p[i].second) * (l - p[i].first) / (p[i + 1].first - p[i].first);
+        return 0.0;
+    };
+    double acc[3] = {0, 0, 0};
+    const double dl = 0.05;
+    for (double l = double(kLambdaMin) + dl / 2; l < double(kLambdaMax); l += dl) {
+        const double v = lerp(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * lerp(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi * dl;
+        const Vec3 cmf = cieMatching(float(l));
+        for (int c = 0; c < 3; ++c) acc[c] += v * double(cmf[c]);
+    }
+    const Vec3 expected = xyzToSrgb(Vec3(float(acc[0] / cieYIntegral()), float(acc[1] / cieYIntegral()), float(acc[2] / cieYIntegral())));
+    const Vec3 rgbProduct = d.materials[0].diffuse * d.lights[0].radiance * (1.0f / kPi);
+    for (auto [kind, name] : {std::pair{TracerKind::PT, "PT"}, std::pair{TracerKind::BPT, "BPT"}, std::pair{TracerKind::MMLT, "MMLT"}}) {
+        RenderOptions o = rstats::renderOptions(kind, 16, 0, 2, 2);
+        o.spectral = true;
+        o.chains = 256;
+        rstats::RunStats runs;  // the image's mean per channel
+        for (int k = 0; k < 16; ++k) {
+            o.seed = 700 + uint64_t(k);
+            const RenderResult r = render(d, o);
+            REQUIRE(r.stats.spectral);
+            std::vector<double> mean(3, 0.0);
+            for (size_t i = 0; i < r.image.rgb.size(); ++i) mean[i % 3] += double(r.image.rgb[i]) / double(r.image.rgb.size() / 3);
+            runs.add(mean);
+        }
+        const double bound = -rstats::normalQuantile(1e-4 / (2 * 3));
+        double rgbWorst = 0;
+        for (size_t c = 0; c < 3; ++c) {
+            const double z = rstats::tToZ((runs.mean(c) - double(expected[int(c)])) / runs.se(c), runs.dof());
+            rgbWorst = std::max(rgbWorst, std::fabs(double(rgbProduct[int(c)]) - double(expected[int(c)])) / runs.se(c));
+            INFO(name << " channel " << c << ": " << runs.mean(c) << " expected " << expected[int(c)] << " se " << runs.se(c) << " (|z| "
+                      << std::fabs(z) << "); RGB's product " << rgbProduct[int(c)]);
+            CHECK(std::fabs(z) <= bound);
+        }
+        CHECK(rgbWorst > 10);  // the test tells spectral from RGB
+    }
+}
+
 // The wavelengths are a primary-sample number of MMLT's and PSSMLT's chains (the row's last),
 // mutated like any other: a seed gives one image for any thread count, and every replayed seed
 // (its wavelengths, its dispersion) gives back its pool entry bit for bit.

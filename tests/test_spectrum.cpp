@@ -128,6 +128,40 @@ TEST_CASE("Mitsuba: <spectrum> parameters", "[spectrum][mitsuba][import]") {
         checkRgb(d.lights[1].radiance, 3.0f * xyzToLinearSrgb(Vec3(1.0f)), 1e-6);
         checkRgb(d.lights[2].radiance, 2.0f * xyzToLinearSrgb(Vec3(1.0f)), 2e-3);
     }
+    {   // kept for spectral renders, which the file's spectra choose (Mitsuba's scalar_spectral):
+        // a reflectance's pairs as given; an emitter's with luminance 1, its RGB carrying it;
+        // a constant reflectance not (its RGB's spectrum is the constant); a blackbody as Planck's
+        // law per nm (its normalised curve times its peak)
+        const SceneDesc d = load(R"(<shape type="cube"><bsdf type="diffuse"><spectrum name="reflectance" value="400:0.2, 700:0.6"/></bsdf></shape>
+  <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="0.25"/></bsdf></shape>
+  <emitter type="directional"><spectrum name="irradiance" value="400:2, 700:2"/></emitter>
+  <emitter type="point"><spectrum name="intensity" type="blackbody"><float name="temperature" value="3000"/></spectrum></emitter>)");
+        CHECK(d.settings.spectral);
+        const MaterialDesc& m = d.materials[size_t(d.shapes[0].material)];
+        REQUIRE(m.spectra[MaterialParam::Diffuse] >= 0);
+        const SpectrumDesc& r = d.spectra[size_t(m.spectra[MaterialParam::Diffuse])];
+        CHECK(r.lambda == std::vector<float>{400, 700});
+        CHECK(r.value == std::vector<float>{0.2f, 0.6f});
+        CHECK(r.scale == 1.0f);
+        CHECK(d.materials[size_t(d.shapes[1].material)].spectra[MaterialParam::Diffuse] == -1);
+        REQUIRE(d.lights[1].spectrum >= 0);
+        const SpectrumDesc& e = d.spectra[size_t(d.lights[1].spectrum)];
+        CHECK(e.scale * luminance(d.lights[1].radiance) == Approx(1.0f).epsilon(1e-6));
+        REQUIRE(d.lights[2].spectrum >= 0);
+        const SpectrumDesc& bb = d.spectra[size_t(d.lights[2].spectrum)];
+        CHECK(bb.kind == SpectrumDesc::Kind::Blackbody);
+        CHECK(bb.kelvin == 3000.0f);
+        // its peak radiance (Wien: 966 nm, beyond the visible): 2 h c^2 / l^5 / (exp(h c / (l k T)) - 1), per nm
+        const double l = 2.8977721e-3 / 3000, peak = 1e-9 * 2 * 6.62606957e-34 * 299792458.0 * 299792458.0 / std::pow(l, 5) /
+                                                     (std::exp(6.62606957e-34 * 299792458.0 / (l * 1.3806488e-23 * 3000)) - 1);
+        CHECK(double(bb.scale) * double(luminance(d.lights[2].radiance)) == Approx(peak).epsilon(1e-5));
+        // RGB colours alone: an RGB render
+        CHECK_FALSE(
+            load(R"(<shape type="cube"><bsdf type="diffuse"><rgb name="reflectance" value="0.2, 0.4, 0.6"/></bsdf></shape>)").settings.spectral);
+        CHECK(errorOf(
+                  R"(<emitter type="point"><spectrum name="intensity" type="blackbody"><float name="kelvin" value="3000"/></spectrum></emitter>)") ==
+              "t.xml:4: <float name=\"kelvin\">: a blackbody spectrum takes one <float name=\"temperature\"> (kelvin)");
+    }
     {  // a reflectance out of gamut: clamped to [0, 1], with a warning naming the line
         const SceneDesc d = load(R"(<shape type="cube"><bsdf type="diffuse"><spectrum name="reflectance" value="600:2, 700:2"/></bsdf></shape>)");
         const Vec3 r = d.materials[size_t(d.shapes[0].material)].diffuse;

@@ -246,5 +246,13 @@ inline double blackbodyNormalized(double lambdaNm, double kelvin) {
     };
     return planck(lambdaNm) / planck(2.8977721e-3 / kelvin * 1e9);  // the peak: Wien's displacement law
 }
+// Planck's spectral radiance at its peak, in W m^-2 sr^-1 nm^-1 (Mitsuba 3's "blackbody" is
+// blackbodyNormalized times this).
+inline double blackbodyPeakPerNm(double kelvin) {
+    if (!(kelvin > 0)) return 0;
+    constexpr double c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;  // SI
+    const double l = 2.8977721e-3 / kelvin;
+    return 1e-9 * (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
+}
 
 }  // namespace wmlt

@@ -166,4 +166,25 @@ const Sellmeier* namedGlass(const std::string& name) {
     return nullptr;
 }
 
+int keepSpectrum(SceneDesc& desc, const SampledSpectrum& s, float scale, const std::string& source, float kelvin) {
+    SpectrumDesc d;
+    d.kind = kelvin > 0 ? SpectrumDesc::Kind::Blackbody : SpectrumDesc::Kind::Tabulated;
+    d.kelvin = kelvin;
+    if (!(kelvin > 0))
+        for (size_t i = 0; i < s.lambda.size(); ++i) {
+            d.lambda.push_back(float(s.lambda[i]));
+            d.value.push_back(float(s.value[i]));
+        }
+    d.scale = scale;
+    d.source = source;
+    // the same spectrum again (an area light's directive on many shapes): the same entry
+    for (size_t i = 0; i < desc.spectra.size(); ++i) {
+        const SpectrumDesc& e = desc.spectra[i];
+        if (e.kind == d.kind && e.kelvin == d.kelvin && e.scale == d.scale && e.lambda == d.lambda && e.value == d.value && e.source == d.source)
+            return int(i);
+    }
+    desc.spectra.push_back(std::move(d));
+    return int(desc.spectra.size()) - 1;
+}
+
 }  // namespace wmlt

@@ -8,6 +8,7 @@
 
 #include "kernels/spectral.h"
 #include "wavemmlt/math.h"
+#include "wavemmlt/scene_desc.h"
 
 namespace wmlt {
 
@@ -46,6 +47,12 @@ Vec3 spectrumToRgb(const SampledSpectrum& s, bool illuminantD65, bool* clamped =
 // under D65 at each angle). Gold's red, out of sRGB's gamut, needs 1.05: the projected
 // indices alone reflect 4.6% too little at normal incidence.
 Vec3 conductorAlbedoScale(const SampledSpectrum& eta, const SampledSpectrum& k, Vec3 etaRgb, Vec3 kRgb);
+
+// s kept in the scene model for spectral renders (SceneDesc::spectra) times scale, by its
+// source's name ("spds/Au.eta.spd", "blackbody 5500 K"; kelvin > 0: a blackbody, normalised
+// to 1 at its peak, s unused): its index, an equal entry's when there is one (an area light's
+// spectrum on many shapes).
+int keepSpectrum(SceneDesc& d, const SampledSpectrum& s, float scale, const std::string& source, float kelvin = 0);
 
 // pbrt-v4's named glasses ("glass-BK7", "-BAF10", "-FK51A", "-LASF9", and "-F5", "-F10",
 // "-F11": Schott's SF5, N-SF10 and SF11) by their catalogue Sellmeier coefficients

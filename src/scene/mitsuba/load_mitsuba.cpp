@@ -277,6 +277,7 @@ void Importer::emitter(Node n, int shape) {
         LightDesc l;
         l.kind = k;
         l.radiance = p.getColor(name, Vec3(1.0f), Props::ColorUse::Emission);
+        l.spectrum = p.lastSpectrum();
         if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, std::string(name) + " must be >= 0");
         return l;
     };
@@ -292,6 +293,7 @@ void Importer::emitter(Node n, int shape) {
             l.texture = texture(tx);
         } else {
             l.radiance = p.getColor("radiance", Vec3(1.0f), Props::ColorUse::Emission);
+            l.spectrum = p.lastSpectrum();
             if (!(l.radiance.x >= 0 && l.radiance.y >= 0 && l.radiance.z >= 0)) p.fail(n, "radiance must be >= 0");
         }
         // A rectangle: the analytic rect light; any other mesh (obj, ply, serialized, cube, disk),
@@ -549,6 +551,10 @@ SceneDesc Importer::run(const std::string& xml, const std::string& name) {
     substitute(files_, root, params_);
     topLevel(root);
     if (s_.lights.empty() && s_.envMap.width == 0) files_.fail(root, "the scene has no emitter");
+    // Mitsuba files name no variant: one that gives spectra (a <spectrum> of pairs or a file,
+    // an emitter's constant, a blackbody) renders spectrally, as its scalar_spectral variant
+    // would; one of RGB colours alone in RGB (docs/mitsuba.md, docs/spectral.md).
+    s_.settings.spectral = !s_.spectra.empty();
     return std::move(s_);
 }
 

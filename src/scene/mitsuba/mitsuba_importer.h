@@ -37,7 +37,7 @@ private:
     Props props(Node n) {
         Props p(files_, n, camel_);
         p.setIds(&ids_);
-        p.setContext(&base_, &s_.warnings);
+        p.setContext(&base_, &s_.warnings, &s_);
         return p;
     }
     std::string resolve(const std::string& f) const {

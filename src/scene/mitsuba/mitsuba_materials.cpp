@@ -175,6 +175,7 @@ void Importer::materialParams(Props& p, MaterialDesc& m) {
         }
         Vec3 c = p.getColor(name, def, use);
         if (!(c.x >= 0 && c.y >= 0 && c.z >= 0)) p.fail(p.node(), std::string(name) + " must be >= 0");
+        m.spectra[param] = p.lastSpectrum();  // (a <spectrum>: kept for spectral renders)
         return c;
     };
     // anisotropic: alpha_u != alpha_v accepted (Mitsuba 3's roughconductor and

@@ -203,6 +203,7 @@ std::string Props::getString(const std::string& name, const std::string& def) {
     return value(files_, it->n);
 }
 Vec3 Props::getColor(const std::string& name, Vec3 def, ColorUse use) {
+    last_ = -1;
     Item* it = find(name);
     if (!it) return def;
     expectTag(files_, it->n, {"rgb", "spectrum", "float"});
@@ -214,22 +215,52 @@ Vec3 Props::getColor(const std::string& name, Vec3 def, ColorUse use) {
     files_.fail(it->n, "expected one value or three (r, g, b)");
 }
 Vec3 Props::spectrum(Node n, ColorUse use) {
-    const bool hasFile = bool(n.attribute("filename")), hasValue = bool(n.attribute("value"));
-    if (hasFile == hasValue) files_.fail(n, "a spectrum needs either value or filename");
     SampledSpectrum s;
-    std::string why;
-    if (hasFile) {
+    std::string why, source;
+    float kelvin = 0, peak = 1;  // a blackbody: its temperature, its radiance at its peak
+    const std::string type = n.attribute("type").value();
+    if (type == "blackbody") {  // Planck's law in W m^-2 sr^-1 nm^-1, as Mitsuba 3's
+        double T = -1;
+        for (Node c : n.children()) {
+            if (std::string(c.name()) != "float" || std::string(c.attribute("name").value()) != "temperature")
+                files_.fail(c, "a blackbody spectrum takes one <float name=\"temperature\"> (kelvin)");
+            T = number(files_, c, c.attribute("value").value());
+        }
+        if (!(T > 0 && T < 1e6)) files_.fail(n, "a blackbody spectrum needs a temperature in kelvin, > 0");
+        kelvin = float(T);
+        peak = float(blackbodyPeakPerNm(T));
+        for (int l = int(kLambdaMin); l <= int(kLambdaMax); ++l) {
+            s.lambda.push_back(l);
+            s.value.push_back(blackbodyNormalized(l, T) * double(peak));
+        }
+        source = "blackbody " + std::to_string(int(std::lround(T))) + " K";
+    } else if (!type.empty()) {
+        files_.fail(n, "spectrum type \"" + type + "\" is not supported (values, a file or blackbody are)");
+    }
+    const bool hasFile = bool(n.attribute("filename")), hasValue = bool(n.attribute("value"));
+    if (kelvin > 0) {
+        if (hasFile || hasValue) files_.fail(n, "a blackbody spectrum has no value or filename");
+    } else if (hasFile == hasValue) {
+        files_.fail(n, "a spectrum needs either value or filename");
+    } else if (hasFile) {
         std::filesystem::path f(n.attribute("filename").value());
         if (f.is_relative() && base_ && !base_->empty()) f = std::filesystem::path(*base_) / f;
         why = readSpectrumFile(f.lexically_normal().string(), s);
         if (!why.empty()) files_.fail(n, f.lexically_normal().string() + ": " + why);
+        source = n.attribute("filename").value();
     } else {
         const std::string text = n.attribute("value").value();
+        source = files_.where(n);
         if (text.find(':') == std::string::npos) {  // one value: a constant spectrum
             const std::vector<double> v = numbers(files_, n, text);
             if (v.size() != 1) files_.fail(n, "a spectrum's value is one number or wavelength:value pairs");
-            // Mitsuba 3 RGB: an emitter's constant spectrum is E white, purple-ish in sRGB.
-            return use == ColorUse::Emission ? float(v[0]) * xyzToLinearSrgb(Vec3(1.0f)) : Vec3(float(v[0]));
+            if (use != ColorUse::Emission) return Vec3(float(v[0]));  // (its RGB's spectrum is the constant)
+            // Mitsuba 3 RGB: an emitter's constant spectrum is E white, purple-ish in sRGB; kept
+            // as the constant for spectral renders.
+            const Vec3 c = float(v[0]) * xyzToLinearSrgb(Vec3(1.0f));
+            if (keep_ && luminance(c) > 0)
+                last_ = keepSpectrum(*keep_, SampledSpectrum{{double(kLambdaMin), double(kLambdaMax)}, {v[0], v[0]}}, 1.0f / luminance(c), source);
+            return c;
         }
         why = parseSpectrumPairs(text, s);
         if (!why.empty()) files_.fail(n, why);
@@ -244,6 +275,10 @@ Vec3 Props::spectrum(Node n, ColorUse use) {
                              (high ? " clamped to [0, 1]" : " after negative components were clamped to 0"));
     }
     if (high) c = Vec3(std::min(c.x, 1.0f), std::min(c.y, 1.0f), std::min(c.z, 1.0f));
+    // kept for spectral renders: as given (a blackbody: normalised, times its peak), an
+    // emitter's with luminance 1 (its RGB, returned, carries the luminance)
+    const float y = use == ColorUse::Emission ? luminance(c) : 1.0f;
+    if (keep_ && y > 0) last_ = keepSpectrum(*keep_, s, peak / y, source, kelvin);
     return c;
 }
 Vec3 Props::getPoint(const std::string& name, Vec3 def) {

@@ -59,8 +59,9 @@ public:
     bool getBool(const std::string& name, bool def);
     std::string getString(const std::string& name, const std::string& def);
     // A colour: <rgb value="r, g, b" | "v">, <float>, or <spectrum value="v" |
-    // value="lambda:v, ..." | filename="x.spd"> projected as Mitsuba 3's RGB variants do
-    // (scene/spectrum.h; docs/mitsuba.md "Spectra"): per `use`.
+    // value="lambda:v, ..." | filename="x.spd" | type="blackbody"> projected as Mitsuba 3's RGB
+    // variants do (scene/spectrum.h; docs/mitsuba.md "Spectra"): per `use`. A spectrum is
+    // also kept for spectral renders (setContext's SceneDesc; lastSpectrum).
     enum class ColorUse {
         Reflectance,  // pairs under D65, clamped to [0, 1] with a warning
         Unbounded,    // pairs under D65, only negatives clamped (a conductor's eta and k)
@@ -80,10 +81,15 @@ public:
     [[noreturn]] void fail(Node n, const std::string& msg) const { files_.fail(n, msg); }
     void setIds(const std::map<std::string, Node>* ids) { ids_ = ids; }
     // Where relative file names (a spectrum's .spd) start, and where warnings go.
-    void setContext(const std::string* base, std::vector<std::string>* warnings) {
+    void setContext(const std::string* base, std::vector<std::string>* warnings, SceneDesc* keep = nullptr) {
         base_ = base;
         warnings_ = warnings;
+        keep_ = keep;
     }
+    // The last getColor's spectrum as kept (SceneDesc::spectra; an emission's with luminance
+    // 1, the RGB it returned carrying the luminance), or -1: RGB, a texture, a constant
+    // reflectance (whose spectrum is its RGB's).
+    int lastSpectrum() const { return last_; }
 
 private:
     const Files& files_;
@@ -99,6 +105,8 @@ private:
     const std::map<std::string, Node>* ids_ = nullptr;
     const std::string* base_ = nullptr;
     std::vector<std::string>* warnings_ = nullptr;
+    SceneDesc* keep_ = nullptr;
+    int last_ = -1;
     Vec3 spectrum(Node n, ColorUse use);
     Item* find(const std::string& name);
     Node resolve(Node n) const;  // <ref id> -> the element with that id
