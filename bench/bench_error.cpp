@@ -23,8 +23,9 @@
 //                             RenderOptions (MMLT, BPT; chains: the default is auto, and
 //                             --sweep chains=auto,1024,65536 compares it with fixed counts)
 //   --mmlt-target luminance|relative, --mmlt-steps fixed|learned, --mmlt-delayed-rejection
-//                             off|on   MMLT's levers of issue 44, passed to RenderOptions
-//                             (mmltTarget, learnSteps, delayedRejection) [RenderOptions']
+//                             off|on, --mmlt-target-exponent B   MMLT's levers of issue 44,
+//                             passed to RenderOptions (mmltTarget, learnSteps,
+//                             delayedRejection, mmltTargetExponent) [RenderOptions']
 //   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
 //                             bootstrap, pass-length, mis-beta, max-length, round-spp,
 //                             mmlt-target, mmlt-steps; "a,b,...,z" fills in the arithmetic
@@ -127,6 +128,7 @@ struct Options {
     double probLarge = -1, misBeta = -1;             // < 0: the scene's / RenderOptions' default
     int mmltTarget = -1, mmltSteps = -1;             // < 0: RenderOptions' defaults (else MmltTarget; 1: learned)
     int mmltDelayed = -1;                            // < 0: RenderOptions' default; 1: delayed rejection on
+    double targetExponent = -1;                      // < 0: RenderOptions' default (--mmlt-target-exponent)
     std::string refTracer = "bpt";
     bool refOnly = false;
     std::string sweepName;
@@ -227,7 +229,10 @@ Options parseArgs(int argc, char** argv) {
         else if (a == "--mis-beta") o.misBeta = toNumber(value(), "--mis-beta");
         else if (a == "--mmlt-target") o.mmltTarget = parseMmltTarget(value());
         else if (a == "--mmlt-steps") o.mmltSteps = parseMmltSteps(value());
-        else if (a == "--mmlt-delayed-rejection") {
+        else if (a == "--mmlt-target-exponent") {
+            o.targetExponent = toNumber(value(), "--mmlt-target-exponent");
+            if (!(o.targetExponent > 0 && o.targetExponent <= 1)) usage("--mmlt-target-exponent: must be in (0, 1]");
+        } else if (a == "--mmlt-delayed-rejection") {
             const std::string v = value();
             if (v != "on" && v != "off") usage("--mmlt-delayed-rejection: '" + v + "' is not one of off, on");
             o.mmltDelayed = v == "on";
@@ -238,7 +243,7 @@ Options parseArgs(int argc, char** argv) {
             o.sweepName = v.substr(0, eq);
             o.sweepValues = expandProgression(splitList(v.substr(eq + 1)));
             static const char* names[] = {"p-large",    "chains",    "bootstrap",   "pass-length", "mis-beta",
-                                          "max-length", "round-spp", "mmlt-target", "mmlt-steps"};
+                                          "max-length", "round-spp", "mmlt-target", "mmlt-steps",  "mmlt-target-exponent"};
             bool known = false;
             for (const char* n : names) known |= o.sweepName == n;
             if (!known) usage("unknown --sweep parameter '" + o.sweepName + "'");
@@ -264,6 +269,7 @@ struct Variant {
     int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1, passLength = 0;
     double probLarge = -1, misBeta = -1;
     int mmltTarget = -1, mmltSteps = -1, mmltDelayed = -1;  // < 0: RenderOptions' defaults
+    double targetExponent = -1;
 };
 
 std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
@@ -278,6 +284,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
     base.mmltTarget = o.mmltTarget;
     base.mmltSteps = o.mmltSteps;
     base.mmltDelayed = o.mmltDelayed;
+    base.targetExponent = o.targetExponent;
     if (o.sweepName.empty()) return {base};
     std::vector<Variant> out;
     for (const std::string& v : o.sweepValues) {
@@ -301,6 +308,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
         else if (o.sweepName == "mis-beta") x.misBeta = d;
         else if (o.sweepName == "max-length") x.maxLength = int(d);
         else if (o.sweepName == "round-spp") x.roundSpp = int(d);
+        else if (o.sweepName == "mmlt-target-exponent") x.targetExponent = d;
         out.push_back(x);
     }
     return out;
@@ -322,6 +330,7 @@ RenderOptions makeOptions(const SceneDesc& desc, TracerKind tracer, const Varian
     if (v.mmltTarget >= 0) opt.mmltTarget = MmltTarget(v.mmltTarget);
     if (v.mmltSteps >= 0) opt.learnSteps = v.mmltSteps == 1;
     if (v.mmltDelayed >= 0) opt.delayedRejection = v.mmltDelayed == 1;
+    if (v.targetExponent > 0) opt.mmltTargetExponent = float(v.targetExponent);
     return opt;
 }
 

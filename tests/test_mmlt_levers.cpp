@@ -1,9 +1,9 @@
 // MMLT's levers (issue 44; docs/mmlt-levers.md): the relative-error target
-// (RenderOptions::mmltTarget), learned step sizes (learnSteps) and delayed rejection
-// (delayedRejection). Each changes only what a pass holds fixed (delayed rejection: the
+// (RenderOptions::mmltTarget), learned step sizes (learnSteps), delayed rejection
+// (delayedRejection) and the tempered target (mmltTargetExponent). Each changes only what a pass holds fixed (delayed rejection: the
 // kernel, by a second stage that keeps it reversible), so each must keep:
 //  1. the target map's kernel: a tile per film point, edges and NaN clamped, c = luminance
-//     times the tile's scale (kernels/mmlt_target.h);
+//     (to the exponent) times the tile's scale (kernels/mmlt_target.h);
 //  2. the estimator unbiased, with the MMLT power tests' power (power.h): every length of
 //     the Cornell box against BPT, where a 1% error in one length's brightness fails, and
 //     the seed room (5%), each lever alone;
@@ -31,13 +31,15 @@ namespace {
 constexpr int K = 32;
 constexpr double kP = 1e-4;
 
-RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64_t seed = 0, int bootstrap = 0, bool delayed = false) {
+RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64_t seed = 0, int bootstrap = 0, bool delayed = false,
+                   float exponent = 1) {
     RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, seed, 1, maxLength);
     o.chains = 1024;
     o.bootstrap = bootstrap;
     o.mmltTarget = target;
     o.learnSteps = learn;
     o.delayedRejection = delayed;
+    o.mmltTargetExponent = exponent;
     return o;
 }
 
@@ -54,10 +56,12 @@ struct Lever {
     bool learn;
     int runs;
     bool delayed = false;
+    float exponent = 1;
 };
 const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false, 2 * K},
                          {"learned steps", MmltTarget::Luminance, true, K},
-                         {"delayed rejection", MmltTarget::Luminance, false, K, true}};
+                         {"delayed rejection", MmltTarget::Luminance, false, K, true},
+                         {"tempered target", MmltTarget::Luminance, false, 3 * K / 2, false, 0.5f}};
 
 // desc rendered with o on `threads` workers (in an arena of that many).
 RenderResult renderWithThreads(const SceneDesc& desc, RenderOptions o, int threads) {
@@ -84,6 +88,10 @@ TEST_CASE("MMLT target map: the tile of a film point, and c = luminance times it
     CHECK(targetOf(F, 9.0f, 5.0f, m) == luminance(F) * 6.0f);
     CHECK(targetOf(F, 9.0f, 5.0f, TargetMap{}) == luminance(F));
     CHECK(targetOf(F) == luminance(F));
+    TargetMap tempered = m;  // c = luminance^beta, then the tile's scale
+    tempered.exponent = 0.5f;
+    CHECK(targetOf(F, 9.0f, 5.0f, tempered) == std::sqrt(luminance(F)) * 6.0f);
+    CHECK(targetOf(Vec3(0.0f), 9.0f, 5.0f, tempered) == 0.0f);
     CHECK(targetOf(Vec3(nan, 0.0f, 0.0f), 1.0f, 1.0f, m) == 0.0f);
     CHECK(targetOf(Vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f)) == 0.0f);
 }
@@ -94,7 +102,8 @@ TEST_CASE("MMLT levers keep every length of the Cornell box unbiased against BPT
     desc.settings.width = desc.settings.height = 16;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 64, 0, 1, L), K, 10000, B)[0];
     for (const Lever& lever : kLevers) {
-        const power::Runs m = power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16, lever.delayed), lever.runs, 21000, B)[0];
+        const power::Runs m =
+            power::tracerRuns(desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16, lever.delayed, lever.exponent), lever.runs, 21000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("Cornell box, ") + lever.name, kP, power::Claims{0.01, 0.01});
     }
 }
@@ -106,7 +115,8 @@ TEST_CASE("MMLT levers keep the seed room (its light above a drop ceiling) unbia
     desc.settings.maxPathLength = L;
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 256, 0, 1, L), K, 14000, B)[0];
     for (const Lever& lever : kLevers) {
-        const power::Runs m = power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14, lever.delayed), lever.runs, 22000, B)[0];
+        const power::Runs m =
+            power::tracerRuns(desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14, lever.delayed, lever.exponent), lever.runs, 22000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("seed room, ") + lever.name, kP, power::Claims{0.05, 0});
     }
 }
@@ -188,4 +198,28 @@ TEST_CASE("MMLT delayed rejection: every rejected large step proposes again, one
     CHECK_FALSE(off.stats.mmlt.delayedRejection);
     for (int k = 1; k <= 6; ++k) CHECK(off.stats.mmlt.proposedDelayed[size_t(k)] == 0);
     CHECK(off.image.rgb != a.image.rgb);
+}
+
+TEST_CASE("MMLT tempered target: the exponent is reported, replays are exact, one image for 1, 2 and 4 threads", "[mmlt]") {
+    const SceneDesc desc = loadSceneFromString(rstats::causticXml(16, 6), "caustic.xml", ".");
+    RenderOptions o = mmlt(256, 6, MmltTarget::Luminance, false, 44, 0, false, 0.5f);
+    o.passLength = 16;
+    const RenderResult a = render(desc, o);
+    CHECK(a.stats.mmlt.targetExponent == 0.5f);
+    CHECK(a.stats.mmlt.replayMismatches == 0);
+    CHECK(a.stats.mmlt.replayed > 0);
+    for (int threads : {4, 1}) {
+        const RenderResult b = renderWithThreads(desc, o, threads);
+        INFO(threads << " threads");
+        CHECK(b.image.rgb == a.image.rgb);
+        CHECK(b.stats.mmlt.b == a.stats.mmlt.b);
+    }
+    o.mmltTargetExponent = 1;  // the luminance: another image (b_k in other units)
+    const RenderResult lum = render(desc, o);
+    CHECK(lum.stats.mmlt.targetExponent == 1.0f);
+    CHECK(lum.image.rgb != a.image.rgb);
+    // PSSMLT keeps the luminance
+    o.tracer = TracerKind::PSSMLT;
+    o.mmltTargetExponent = 0.5f;
+    CHECK(render(desc, o).stats.mmlt.targetExponent == 1.0f);
 }

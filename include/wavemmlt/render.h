@@ -73,6 +73,9 @@ struct RenderOptions {
     int passLength = 0;      // iterations of every chain between restarts from a new pool; 0: automatic
     // MMLT's levers (issue 44; docs/mmlt-levers.md), each chosen per pass and fixed within it.
     MmltTarget mmltTarget = MmltTarget::Luminance;
+    // The target's exponent beta in (0, 1]: c = luminance^beta (a tempered target,
+    // kernels/mmlt_target.h; 1: the luminance). MMLT only (PSSMLT keeps the luminance).
+    float mmltTargetExponent = 1.0f;
     bool learnSteps = false;  // each length's small-step size from its chains' acceptance in the last pass
     // A rejected large step gets a second proposal in the same iteration, a small step, with
     // the acceptance that keeps the chain exact (delayed rejection; mmlt_delayed.cpp).
@@ -178,6 +181,7 @@ struct RenderStats {
         // in pixels, and the last map's least and greatest scale (mean brightness over the
         // tile's); b is then in the target's units, not luminance.
         MmltTarget target = MmltTarget::Luminance;
+        float targetExponent = 1;  // beta (RenderOptions::mmltTargetExponent)
         uint32_t targetMaps = 0, targetTileSize = 0;
         double targetScaleLeast = 0, targetScaleMost = 0;
         bool learnedSteps = false;

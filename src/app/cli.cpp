@@ -124,13 +124,16 @@ std::string usageText() {
            "                           (default: luminance; docs/mmlt-levers.md)\n"
            "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
            "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
+           "  --mmlt-target-exponent B MMLT: the target is the luminance to the power B in (0, 1], a\n"
+           "                           tempered target (default: 1; docs/mmlt-levers.md)\n"
            "  --mmlt-delayed-rejection off|on   MMLT: a rejected large step proposes again in the same\n"
            "                           iteration, a small step (delayed rejection; default: off;\n"
            "                           docs/mmlt-levers.md)\n"
            "  --spectral, --rgb        render with sampled wavelengths (every tracer; scenes without\n"
            "                           principled or blend materials or media with RGB grids: others\n"
            "                           render in RGB, with a warning), or in RGB (default: pbrt-v4 files\n"
-           "                           spectral, as pbrt renders them; others RGB; docs/spectral.md)\n"
+           "                           spectral, as pbrt renders them, Mitsuba files that give spectra\n"
+           "                           spectral; others RGB; docs/spectral.md)\n"
            "  --strategy-images DIR    BPT: also write each strategy (s, t) as DIR/s<s>_t<t>_weighted.exr\n"
            "                           and _unweighted.exr (the folder is created)\n"
            "  --time SECONDS           render rounds of --spp samples until the time is spent (the built-in\n"
@@ -199,6 +202,9 @@ CommandLine parseCommandLine(int argc, char** argv) {
             MmltTarget t;
             if (!parseMmltTarget(v, t)) fail("--mmlt-target: '" + v + "' is not one of luminance, relative");
             cl.mmltTarget = t;
+        } else if (a == "--mmlt-target-exponent") {
+            cl.targetExponent = float(parseReal(a, value(), 0, 1));
+            if (!(*cl.targetExponent > 0)) fail("--mmlt-target-exponent: must be greater than 0");
         } else if (a == "--mmlt-delayed-rejection") {
             const std::string v = value();
             if (v == "on" || v == "off") cl.delayedRejection = v == "on";
@@ -310,6 +316,7 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
     if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
     if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
     if (cl.delayedRejection) opt.delayedRejection = *cl.delayedRejection;
+    if (cl.targetExponent) opt.mmltTargetExponent = *cl.targetExponent;
     opt.spectral = cl.spectral ? *cl.spectral : s.spectral;
     opt.spectralByDefault = !cl.spectral && s.spectral;
     if (cl.chains) opt.chains = int(std::min<long long>(*cl.chains, std::numeric_limits<int>::max()));

@@ -57,6 +57,7 @@ void writeMmltStats(std::ostream& o, const RenderStats& st, const Settings& s) {
       << "chains_asked\": " << (m.chainsAuto ? std::string("\"auto\"") : std::to_string(m.chainsAsked)) << ",\n  \"" << prefix
       << "chains_run\": " << m.chainsRun << ",\n  \"" << prefix << "chains_reason\": \"" << m.chainsReason << "\"";
     o << ",\n  \"" << prefix << "target\": \"" << mmltTargetName(m.target) << "\"";
+    o << ",\n  \"" << prefix << "target_exponent\": " << m.targetExponent;
     o << ",\n  \"" << prefix << "delayed_rejection\": " << (m.delayedRejection ? "true" : "false");
     if (m.target == MmltTarget::Relative)
         o << ",\n  \"" << prefix << "target_maps\": " << m.targetMaps << ",\n  \"" << prefix << "target_tile_size\": " << m.targetTileSize

@@ -6,7 +6,10 @@
 // transport", sec. 4: I(x) / B(pixel(x))): the chains then spread their mutations over the
 // image as the relative error asks, not in proportion to brightness. Any c > 0 wherever
 // F != 0 keeps the estimator unbiased (the splats divide by c: F / c * b_k), so the map
-// only moves effort. Pure: the driver builds the map (stages/mmlt/mmlt_learn.cpp).
+// only moves effort. With an exponent beta < 1 (RenderOptions::mmltTargetExponent, a tempered
+// target) c = luminance(F)^beta: the chains spend fewer iterations on the brightest paths and
+// leave them sooner (the ratio of two paths' c is the ratio of their luminances to the beta),
+// each visit weighing more (F / c). Pure: the driver builds the map (stages/mmlt/mmlt_learn.cpp).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -22,6 +25,7 @@ struct TargetMap {
     const float* scale = nullptr;
     int tilesX = 1, tilesY = 1;
     float invTileSize = 1;  // 1 / pixels per tile side
+    float exponent = 1;     // beta: c = luminance^beta (1: the luminance itself)
 };
 
 // The tile holding film point (px, py) in pixels; a point off the film (or NaN) is clamped
@@ -33,9 +37,10 @@ inline int targetTileOf(const TargetMap& m, float px, float py) {
     return ty * m.tilesX + tx;
 }
 
-// c = luminance(F) (times the tile's scale with a map), 0 when anything is not finite.
+// c = luminance(F)^beta (times the tile's scale with a map), 0 when anything is not finite.
 inline float targetOf(const Vec3& F, float px, float py, const TargetMap& m) {
     float c = luminance(F);
+    if (m.exponent != 1.0f && c > 0) c = std::pow(c, m.exponent);
     if (m.scale) c *= m.scale[targetTileOf(m, px, py)];
     return std::isfinite(c) && isFinite(F) ? c : 0.0f;
 }

@@ -152,7 +152,8 @@ PYBIND11_MODULE(wavemmlt, m) {
             "render", [](const PyScene& s, py::kwargs kw) { return render(s, kw); },
             "render(tracer=..., spp=..., time=..., seed=..., chains=..., threads=..., progress=callable(fraction), "
             "length_images=False, strategy_images=False, and any other option of the command line: width, height, "
-            "max_length, min_length, p_large, bootstrap, pass_length, mis_beta, mmlt_target, mmlt_steps, spectral, "
+            "max_length, min_length, p_large, bootstrap, pass_length, mis_beta, mmlt_target, mmlt_steps, mmlt_target_exponent, "
+            "mmlt_delayed_rejection, spectral, "
             "filter, eye, look_at, up, fov, focus_distance, f_stop) -> Render. Ctrl-C stops the render at its next "
             "boundary and raises KeyboardInterrupt with the render so far as its .render")
         .def(

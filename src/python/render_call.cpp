@@ -21,9 +21,32 @@ namespace wmlt::python {
 
 namespace {
 
-const std::set<std::string> kOptions = {"tracer",   "spp",    "time",  "threads", "chains",     "bootstrap",  "pass_length",    "p_large",
-                                        "mis_beta", "seed",   "width", "height",  "max_length", "min_length", "mmlt_target",    "mmlt_steps",
-                                        "spectral", "filter", "eye",   "look_at", "up",         "fov",        "focus_distance", "f_stop"};
+const std::set<std::string> kOptions = {"tracer",
+                                        "spp",
+                                        "time",
+                                        "threads",
+                                        "chains",
+                                        "bootstrap",
+                                        "pass_length",
+                                        "p_large",
+                                        "mis_beta",
+                                        "seed",
+                                        "width",
+                                        "height",
+                                        "max_length",
+                                        "min_length",
+                                        "mmlt_target",
+                                        "mmlt_steps",
+                                        "mmlt_target_exponent",
+                                        "mmlt_delayed_rejection",
+                                        "spectral",
+                                        "filter",
+                                        "eye",
+                                        "look_at",
+                                        "up",
+                                        "fov",
+                                        "focus_distance",
+                                        "f_stop"};
 
 std::string valueText(const std::string& key, const py::handle& v) {
     if (py::isinstance<py::bool_>(v)) throw InputError("wavemmlt: " + key + "=" + std::string(py::str(v)) + ": not a value of " + key);

@@ -181,7 +181,11 @@ private:
     // The relative target (mmlt_learn.cpp): the map the tasks read (no scale: luminance),
     // its tiles' side in pixels, their scales, and per length k the luminance sums of its
     // samples per tile ([k * tiles + tile]) and their count.
-    TargetMap map_;
+    TargetMap map_ = [this] {  // (the tempered target's exponent: MMLT's, chosen once)
+        TargetMap m;
+        m.exponent = whole_ ? 1.0f : opt_.mmltTargetExponent;
+        return m;
+    }();
     std::vector<float> sigma_;   // [k]: the small steps' size of length k's chains this pass
     MmltCounters passCounters_;  // counters_ when the pass started (learnStepSizes)
     int tileSize_ = 1;

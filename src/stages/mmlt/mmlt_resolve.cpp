@@ -68,6 +68,7 @@ RenderResult MmltRender::resolve() {
     stats_.smallStepSigma = sigma_;
     stats_.learnedSteps = opt_.learnSteps && !whole_;
     stats_.delayedRejection = opt_.delayedRejection && !whole_;
+    stats_.targetExponent = map_.exponent;
     if (!brightness_.empty()) {
         stats_.target = MmltTarget::Relative;
         stats_.targetTileSize = uint32_t(tileSize_);
