@@ -38,6 +38,9 @@ void MmltRender::sumAcrossRanks(RenderResult& res) {
     std::memcpy(counters_.accepted, v.data() + kCounts, sizeof counters_.accepted);
     stats_.replayed = v[v.size() - 2];
     stats_.replayMismatches = v[v.size() - 1];
+    std::vector<double> lum(counters_.splatLuminance, counters_.splatLuminance + kMaxPathLength + 1);
+    ranks_->sumToRoot(lum);
+    std::copy(lum.begin(), lum.end(), counters_.splatLuminance);
     std::vector<uint8_t> mine(stats_.b.size() * sizeof(double) + sizeof poolDigest_);
     std::memcpy(mine.data(), stats_.b.data(), stats_.b.size() * sizeof(double));
     std::memcpy(mine.data() + stats_.b.size() * sizeof(double), &poolDigest_, sizeof poolDigest_);
@@ -87,7 +90,13 @@ RenderResult MmltRender::resolve() {
         stats_.mutations += stats_.proposals[size_t(k)];
     }
     res.stats.mmlt = stats_;
-    if (!whole_) res.stats.lengthMeanLuminance = stats_.b;  // (PSSMLT's one b is every length's)
+    if (!whole_) {  // (PSSMLT's one b is every length's)
+        // the luminance target: b_k is length k's mean luminance; another: what k splatted,
+        // over the image's divisor
+        res.stats.lengthMeanLuminance = stats_.b;
+        if (map_.exponent != 1.0f)
+            for (int k = lo_; k <= hi_; ++k) res.stats.lengthMeanLuminance[size_t(k)] = weighted_ > 0 ? counters_.splatLuminance[k] / weighted_ : 0.0;
+    }
     const double norm = weighted_ > 0 ? pixels_ / weighted_ : 0.0;
     res.image = image();
     sumStatsToRoot(opt_.ranks, res.stats);  // rays, samples discarded, the exchanges' cost

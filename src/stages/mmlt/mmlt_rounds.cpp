@@ -62,6 +62,7 @@ void MmltRender::runBatch(size_t ti, uint32_t r, uint32_t stripeShift, TaskOutpu
     for (SamplePool& p : mb.mapPools) p.clear();
     mb.counters = MmltCounters();
     mb.delayed = opt_.delayedRejection && !whole_;  // (chosen once per render)
+    mb.tallyLuminance = map_.exponent != 1.0f;      // (a tempered target: RenderStats::lengthMeanLuminance from the splats)
     for (uint64_t n = iteration_; n < iteration_ + r; ++n) {
         stages_.mutateChains(groups_, mb, opt_.seed, uint32_t(n), opt_.probLarge);
         stages_.evaluateProposals(scene_, mb, opt_.misBeta, rays_.local());

@@ -184,12 +184,16 @@ struct MmltCounters {
     // [0]: small, [1]: large, [2]: a rejected large step's second proposal (delayed rejection)
     uint64_t proposed[3][kMaxPathLength + 1] = {}, accepted[3][kMaxPathLength + 1] = {};
     uint64_t nonfinite = 0;
+    // The luminance splatted per length (MmltBatch::tallyLuminance only: a target other than
+    // the luminance, whose b_k is then no length's mean luminance)
+    double splatLuminance[kMaxPathLength + 1] = {};
     void add(const MmltCounters& o) {
         for (int s = 0; s < 3; ++s)
             for (int k = 0; k <= kMaxPathLength; ++k) {
                 proposed[s][k] += o.proposed[s][k];
                 accepted[s][k] += o.accepted[s][k];
             }
+        for (int k = 0; k <= kMaxPathLength; ++k) splatLuminance[k] += o.splatLuminance[k];
         nonfinite += o.nonfinite;
     }
 };
@@ -267,7 +271,9 @@ struct MmltBatch {
             pointLength[st].clear();
         }
     }
+    bool tallyLuminance = false;  // counters.splatLuminance (a tempered target; chosen once)
     __attribute__((always_inline)) void addSplat(const Scene& scene, float px, float py, Vec3 v, uint8_t k) {
+        if (tallyLuminance) counters.splatLuminance[k] += double(luminance(v));
         if (scene.filter.box) {  // the pixel holding the point, inline
             addSplat(rasterPixel(scene.camera, px, py), v, k);
             return;
