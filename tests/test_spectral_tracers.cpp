@@ -306,6 +306,52 @@ TEST_CASE("spectral tracers: a prism's spectrum lies where Snell's law and the g
 // the majorants scaled to the wavelengths, Medium::majorantScale).
 namespace {
 
+// The film's linear sRGB of a radiance spectrum L(lambda) (nm): int L cmf / int ybar by
+// quadrature every 0.05 nm, then XYZ to linear sRGB.
+template <class Spectrum>
+Vec3 srgbOfSpectrum(Spectrum&& L) {
+    double acc[3] = {0, 0, 0};
+    const double dl = 0.05;
+    for (double l = double(kLambdaMin) + dl / 2; l < double(kLambdaMax); l += dl) {
+        const double v = L(l) * dl;
+        const Vec3 cmf = cieMatching(float(l));
+        for (int c = 0; c < 3; ++c) acc[c] += v * double(cmf[c]);
+    }
+    return xyzToSrgb(Vec3(float(acc[0] / cieYIntegral()), float(acc[1] / cieYIntegral()), float(acc[2] / cieYIntegral())));
+}
+
+// PT, BPT and MMLT render d (paths of `length` segments only), whose every pixel is
+// `expected`, 16 times each (seeds from seed0): each channel of the image's mean within
+// Bonferroni's bound at p = 1e-4 (Student's t of the runs), and `rgb`, what an RGB render
+// would give, 10+ standard errors away in some channel (the test tells spectral from RGB).
+void checkUniform(const std::string& what, const SceneDesc& d, int length, uint64_t seed0, Vec3 expected, Vec3 rgb) {
+    for (auto [kind, name] : {std::pair{TracerKind::PT, "PT"}, std::pair{TracerKind::BPT, "BPT"}, std::pair{TracerKind::MMLT, "MMLT"}}) {
+        RenderOptions o = rstats::renderOptions(kind, 16, 0, length, length);
+        o.spectral = true;
+        o.chains = 256;
+        rstats::RunStats runs;  // the image's mean per channel
+        for (int k = 0; k < 16; ++k) {
+            o.seed = seed0 + uint64_t(k);
+            const RenderResult r = render(d, o);
+            REQUIRE(r.stats.spectral);
+            std::vector<double> mean(3, 0.0);
+            for (size_t i = 0; i < r.image.rgb.size(); ++i) mean[i % 3] += double(r.image.rgb[i]) / double(r.image.rgb.size() / 3);
+            runs.add(mean);
+        }
+        const double bound = -rstats::normalQuantile(1e-4 / (2 * 3));
+        double rgbWorst = 0;
+        for (size_t c = 0; c < 3; ++c) {
+            const double z = rstats::tToZ((runs.mean(c) - double(expected[int(c)])) / runs.se(c), runs.dof());
+            rgbWorst = std::max(rgbWorst, std::fabs(double(rgb[int(c)]) - double(expected[int(c)])) / runs.se(c));
+            INFO(what << ", " << name << " channel " << c << ": " << runs.mean(c) << " expected " << expected[int(c)] << " se " << runs.se(c)
+                      << " (|z| " << std::fabs(z) << "); RGB's " << rgb[int(c)]);
+            CHECK(std::fabs(z) <= bound);
+        }
+        INFO(what << ", " << name << ": RGB's distance " << rgbWorst << " standard errors");
+        CHECK(rgbWorst > 10);
+    }
+}
+
 std::string inkScene(bool grid) {
     const std::string file = rstats::tempDir("spectral-ink") + (grid ? "/grid.pbrt" : "/homogeneous.pbrt");
     std::ofstream(file) << (grid ? R"(MakeNamedMedium "ink" "string type" [ "uniformgrid" ] "rgb sigma_a" [ 1.8 0.5 0.1 ] "rgb sigma_s" [ 0 0 0 ]
@@ -330,55 +376,19 @@ Shape "trianglemesh" "point3 P" [ -20 -20 8  20 -20 8  20 20 8  -20 20 8 ] "inte
 TEST_CASE("spectral tracers: an absorbing medium's colour is its transmittance at each wavelength, homogeneous and grid, in PT, BPT and MMLT",
           "[spectral][render][media][stat]") {
     const UnboundedSpectrum sigmaA = unboundedSpectrumOfRgb(Vec3(0.9f, 0.25f, 0.05f));
-    double acc[3] = {0, 0, 0};
-    const double dl = 0.05;
-    for (double l = double(kLambdaMin) + dl / 2; l < double(kLambdaMax); l += dl) {
+    const Vec3 expected = srgbOfSpectrum([&](double l) {
         Wavelengths w;
         for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
-        const double v = std::exp(-2.0 * double(unboundedAt(sigmaA, float(l)))) * double(rgbIlluminantAt(Vec3(1.0f), w).x) * dl;
-        const Vec3 cmf = cieMatching(float(l));
-        for (int c = 0; c < 3; ++c) acc[c] += v * double(cmf[c]);
-    }
-    const Vec3 expected = xyzToSrgb(Vec3(float(acc[0] / cieYIntegral()), float(acc[1] / cieYIntegral()), float(acc[2] / cieYIntegral())));
-    const Vec3 rgbProduct(std::exp(-1.8f), std::exp(-0.5f), std::exp(-0.1f));
+        return std::exp(-2.0 * double(unboundedAt(sigmaA, float(l)))) * double(rgbIlluminantAt(Vec3(1.0f), w).x);
+    });
     for (bool grid : {false, true}) {
         const SceneDesc d = loadScene(inkScene(grid));
         REQUIRE(d.media.size() == 1);
         REQUIRE(d.media[0].density.empty() == !grid);
-        for (auto [kind, name] : {std::pair{TracerKind::PT, "PT"}, std::pair{TracerKind::BPT, "BPT"}, std::pair{TracerKind::MMLT, "MMLT"}}) {
-            RenderOptions o = rstats::renderOptions(kind, 16, 0, 1, 1);
-            o.spectral = true;
-            o.chains = 256;
-            rstats::RunStats runs;  // the image's mean per channel
-            for (int k = 0; k < 16; ++k) {
-                o.seed = 500 + uint64_t(k);
-                const RenderResult r = render(d, o);
-                REQUIRE(r.stats.spectral);
-                std::vector<double> mean(3, 0.0);
-                for (size_t i = 0; i < r.image.rgb.size(); ++i) mean[i % 3] += double(r.image.rgb[i]) / double(r.image.rgb.size() / 3);
-                runs.add(mean);
-            }
-            const double bound = -rstats::normalQuantile(1e-4 / (2 * 3));
-            double rgbWorst = 0;  // the RGB product's distance from the runs, in their standard errors
-            for (size_t c = 0; c < 3; ++c) {
-                const double z = rstats::tToZ((runs.mean(c) - double(expected[int(c)])) / runs.se(c), runs.dof());
-                const double zRgb = (double(rgbProduct[int(c)]) - double(expected[int(c)])) / runs.se(c);
-                INFO((grid ? "grid, " : "homogeneous, ")
-                     << name << " channel " << c << ": " << runs.mean(c) << " expected " << expected[int(c)] << " se " << runs.se(c) << " (|z| "
-                     << std::fabs(z) << "); RGB's product " << rgbProduct[int(c)]);
-                CHECK(std::fabs(z) <= bound);
-                rgbWorst = std::max(rgbWorst, std::fabs(zRgb));
-            }
-            CHECK(rgbWorst > 10);  // the test tells spectral from RGB
-        }
+        checkUniform(grid ? "grid" : "homogeneous", d, 1, 500, expected, Vec3(std::exp(-1.8f), std::exp(-0.5f), std::exp(-0.1f)));
     }
 }
 
-// A Mitsuba file's spectra (which make it render spectrally, as Mitsuba's scalar_spectral): a
-// diffuse plane of a narrow-band reflectance R under a directional light of a narrow-band
-// irradiance E, seen straight down by an orthographic camera: each pixel is
-// int R(l) E(l) / pi cmf(l) dl / int ybar in linear sRGB (R and E linear between their pairs).
-// The RGB render's product of the projections is far from it (checked).
 TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra against their closed form, in PT, BPT and MMLT",
           "[spectral][render][mitsuba][stat]") {
     const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
@@ -399,39 +409,10 @@ TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra agai
             if (l <= p[i + 1].first) return p[i].second + (p[i + 1].second - p[i].second) * (l - p[i].first) / (p[i + 1].first - p[i].first);
         return 0.0;
     };
-    double acc[3] = {0, 0, 0};
-    const double dl = 0.05;
-    for (double l = double(kLambdaMin) + dl / 2; l < double(kLambdaMax); l += dl) {
-        const double v = lerp(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * lerp(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi * dl;
-        const Vec3 cmf = cieMatching(float(l));
-        for (int c = 0; c < 3; ++c) acc[c] += v * double(cmf[c]);
-    }
-    const Vec3 expected = xyzToSrgb(Vec3(float(acc[0] / cieYIntegral()), float(acc[1] / cieYIntegral()), float(acc[2] / cieYIntegral())));
-    const Vec3 rgbProduct = d.materials[0].diffuse * d.lights[0].radiance * (1.0f / kPi);
-    for (auto [kind, name] : {std::pair{TracerKind::PT, "PT"}, std::pair{TracerKind::BPT, "BPT"}, std::pair{TracerKind::MMLT, "MMLT"}}) {
-        RenderOptions o = rstats::renderOptions(kind, 16, 0, 2, 2);
-        o.spectral = true;
-        o.chains = 256;
-        rstats::RunStats runs;  // the image's mean per channel
-        for (int k = 0; k < 16; ++k) {
-            o.seed = 700 + uint64_t(k);
-            const RenderResult r = render(d, o);
-            REQUIRE(r.stats.spectral);
-            std::vector<double> mean(3, 0.0);
-            for (size_t i = 0; i < r.image.rgb.size(); ++i) mean[i % 3] += double(r.image.rgb[i]) / double(r.image.rgb.size() / 3);
-            runs.add(mean);
-        }
-        const double bound = -rstats::normalQuantile(1e-4 / (2 * 3));
-        double rgbWorst = 0;
-        for (size_t c = 0; c < 3; ++c) {
-            const double z = rstats::tToZ((runs.mean(c) - double(expected[int(c)])) / runs.se(c), runs.dof());
-            rgbWorst = std::max(rgbWorst, std::fabs(double(rgbProduct[int(c)]) - double(expected[int(c)])) / runs.se(c));
-            INFO(name << " channel " << c << ": " << runs.mean(c) << " expected " << expected[int(c)] << " se " << runs.se(c) << " (|z| "
-                      << std::fabs(z) << "); RGB's product " << rgbProduct[int(c)]);
-            CHECK(std::fabs(z) <= bound);
-        }
-        CHECK(rgbWorst > 10);  // the test tells spectral from RGB
-    }
+    const Vec3 expected = srgbOfSpectrum([&](double l) {
+        return lerp(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * lerp(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi;
+    });
+    checkUniform("narrow bands", d, 2, 700, expected, d.materials[0].diffuse * d.lights[0].radiance * (1.0f / kPi));
 }
 
 // The wavelengths are a primary-sample number of MMLT's and PSSMLT's chains (the row's last),
