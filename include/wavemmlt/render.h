@@ -82,11 +82,12 @@ struct RenderOptions {
     // the acceptance that keeps the chain exact (delayed rejection; mmlt_delayed.cpp).
     bool delayedRejection = false;
     // --spectral: render with sampled wavelengths (docs/spectral.md), every tracer; scenes
-    // with media, plastics, principled, blends or coated conductors render in RGB and
+    // with principled or blend materials or media given by RGB grids render in RGB and
     // RenderStats::spectralReason says why.
     bool spectral = false;
-    // spectral is the scene format's default (Settings::spectral: pbrt-v4 files), not asked
-    // for: a scene that cannot render so renders RGB with its reason, but no warning.
+    // spectral is the scene format's default (Settings::spectral: pbrt-v4 files, Mitsuba files
+    // that give spectra), not asked for: a scene that cannot render so renders RGB with its
+    // reason, but no warning.
     bool spectralByDefault = false;
     // BPT: write one EXR per strategy (s, t), weighted and unweighted, into this folder.
     std::string strategyImages;
