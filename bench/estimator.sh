@@ -62,7 +62,7 @@ levers=(
   "mmlt-target=relative|--mmlt-target relative"
   "mmlt-steps=learned|--mmlt-steps learned"
   "mmlt-delayed-rejection=on|--mmlt-delayed-rejection on"
-  "mmlt-target-exponent=1|--mmlt-target-exponent 1"
+  "mmlt-target-exponent=0.5|--mmlt-target-exponent 0.5"
 )
 
 old=6ee952b budgets="" seeds=3 only="" quick=0 out=build/bench-estimator

@@ -61,9 +61,9 @@ RenderOptions mmltOptions(int spp, uint64_t seed, int minLength, int maxLength, 
     o.chains = chains;
     o.bootstrap = bootstrap;
     o.probLarge = probLarge;
-    // the luminance target (exponent 1): these tests check what holds for it, b_k as BPT's
-    // mean luminance per length and the image's as sum_k b_k (the default's tempered target,
-    // luminance^0.5: test_mmlt_power.cpp, test_mmlt_levers.cpp)
+    // the luminance target (exponent 1, the default): these tests check what holds for it, b_k
+    // as BPT's mean luminance per length and the image's as sum_k b_k (the tempered target:
+    // test_mmlt_levers.cpp)
     o.mmltTargetExponent = 1;
     return o;
 }

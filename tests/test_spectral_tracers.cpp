@@ -146,9 +146,7 @@ TEST_CASE("spectral tracers: LT, BPT, MMLT and PSSMLT disperse through a BK7 sph
     agree("BK7 sphere and its caustic", seen, 256, 0, 32, 256, 4, 0.1);  // (MMLT: 5.4% to 8.6% at 256 to 512 mutations)
     SceneDesc caustic = loadScene(bk7Scene("LookAt 0.75 1.2 0  0.75 0 0  0 0 1", 36));
     caustic.settings.maxPathLength = 6;
-    // (MMLT: 1536 mutations per pixel; its tempered target spends more of them off the caustic,
-    // whose brightness is then 5.5% detectable at 1024)
-    agree("BK7 sphere's caustic", caustic, 4096, 256, 128, 1536, 4, 0.05, 1024);
+    agree("BK7 sphere's caustic", caustic, 4096, 256, 128, 1024, 4, 0.05);
 }
 
 // A prism's spectrum against its closed form. An orthographic camera looks through a 30-degree

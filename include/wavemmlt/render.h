@@ -74,9 +74,10 @@ struct RenderOptions {
     // MMLT's levers (issue 44; docs/mmlt-levers.md), each chosen per pass and fixed within it.
     MmltTarget mmltTarget = MmltTarget::Luminance;
     // The target's exponent beta in (0, 1]: c = luminance^beta (a tempered target,
-    // kernels/mmlt_target.h; 1: the luminance). MMLT only (PSSMLT keeps the luminance). 0.5:
-    // the estimator suite's choice (docs/mmlt-levers.md).
-    float mmltTargetExponent = 0.5f;
+    // kernels/mmlt_target.h; 1: the luminance). MMLT only (PSSMLT keeps the luminance). Not
+    // the default: on the estimator suite 0.5 wins on the seed room and loses on the
+    // volumetric caustic and Veach Ajar (docs/mmlt-levers.md).
+    float mmltTargetExponent = 1.0f;
     bool learnSteps = false;  // each length's small-step size from its chains' acceptance in the last pass
     // A rejected large step gets a second proposal in the same iteration, a small step, with
     // the acceptance that keeps the chain exact (delayed rejection; mmlt_delayed.cpp).

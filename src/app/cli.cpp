@@ -125,7 +125,7 @@ std::string usageText() {
            "  --mmlt-steps fixed|learned   MMLT: small steps of sigma 0.01, or each length's learned between\n"
            "                           passes from its chains' acceptance (default: fixed; docs/mmlt-levers.md)\n"
            "  --mmlt-target-exponent B MMLT: the target is the luminance to the power B in (0, 1], a\n"
-           "                           tempered target (default: 0.5; 1: the luminance; docs/mmlt-levers.md)\n"
+           "                           tempered target (default: 1, the luminance; docs/mmlt-levers.md)\n"
            "  --mmlt-delayed-rejection off|on   MMLT: a rejected large step proposes again in the same\n"
            "                           iteration, a small step (delayed rejection; default: off;\n"
            "                           docs/mmlt-levers.md)\n"
