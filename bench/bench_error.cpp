@@ -23,9 +23,11 @@
 //                             RenderOptions (MMLT, BPT; chains: the default is auto, and
 //                             --sweep chains=auto,1024,65536 compares it with fixed counts)
 //   --mmlt-target luminance|relative, --mmlt-steps fixed|learned, --mmlt-delayed-rejection
-//                             off|on, --mmlt-target-exponent B   MMLT's levers of issue 44,
-//                             passed to RenderOptions (mmltTarget, learnSteps,
-//                             delayedRejection, mmltTargetExponent) [RenderOptions']
+//                             off|on, --mmlt-target-exponent B, --mmlt-film-steps
+//                             off|learned|always
+//                             MMLT's levers of issue 44, passed to RenderOptions (mmltTarget,
+//                             learnSteps, delayedRejection, mmltTargetExponent, filmSteps)
+//                             [RenderOptions']
 //   --sweep NAME=V1,V2,...    run every tracer once per value; NAME is one of p-large, chains,
 //                             bootstrap, pass-length, mis-beta, max-length, round-spp,
 //                             mmlt-target, mmlt-steps; "a,b,...,z" fills in the arithmetic
@@ -128,6 +130,7 @@ struct Options {
     double probLarge = -1, misBeta = -1;             // < 0: the scene's / RenderOptions' default
     int mmltTarget = -1, mmltSteps = -1;             // < 0: RenderOptions' defaults (else MmltTarget; 1: learned)
     int mmltDelayed = -1;                            // < 0: RenderOptions' default; 1: delayed rejection on
+    int mmltFilm = -1;                               // < 0: RenderOptions' default; else FilmSteps
     double targetExponent = -1;                      // < 0: RenderOptions' default (--mmlt-target-exponent)
     std::string refTracer = "bpt";
     bool refOnly = false;
@@ -236,6 +239,11 @@ Options parseArgs(int argc, char** argv) {
             const std::string v = value();
             if (v != "on" && v != "off") usage("--mmlt-delayed-rejection: '" + v + "' is not one of off, on");
             o.mmltDelayed = v == "on";
+        } else if (a == "--mmlt-film-steps") {
+            const std::string v = value();
+            FilmSteps f;
+            if (!parseFilmSteps(v, f)) usage("--mmlt-film-steps: '" + v + "' is not one of off, learned, always");
+            o.mmltFilm = int(f);
         } else if (a == "--sweep") {
             std::string v = value();
             size_t eq = v.find('=');
@@ -268,7 +276,7 @@ struct Variant {
     std::string label = "-";  // the CSV's param column
     int maxLength = 0, roundSpp = 1, chains = 0, bootstrap = -1, passLength = 0;
     double probLarge = -1, misBeta = -1;
-    int mmltTarget = -1, mmltSteps = -1, mmltDelayed = -1;  // < 0: RenderOptions' defaults
+    int mmltTarget = -1, mmltSteps = -1, mmltDelayed = -1, mmltFilm = -1;  // < 0: RenderOptions' defaults
     double targetExponent = -1;
 };
 
@@ -284,6 +292,7 @@ std::vector<Variant> variants(const Options& o, int sceneMaxLength) {
     base.mmltTarget = o.mmltTarget;
     base.mmltSteps = o.mmltSteps;
     base.mmltDelayed = o.mmltDelayed;
+    base.mmltFilm = o.mmltFilm;
     base.targetExponent = o.targetExponent;
     if (o.sweepName.empty()) return {base};
     std::vector<Variant> out;
@@ -330,6 +339,7 @@ RenderOptions makeOptions(const SceneDesc& desc, TracerKind tracer, const Varian
     if (v.mmltTarget >= 0) opt.mmltTarget = MmltTarget(v.mmltTarget);
     if (v.mmltSteps >= 0) opt.learnSteps = v.mmltSteps == 1;
     if (v.mmltDelayed >= 0) opt.delayedRejection = v.mmltDelayed == 1;
+    if (v.mmltFilm >= 0) opt.filmSteps = FilmSteps(v.mmltFilm);
     if (v.targetExponent > 0) opt.mmltTargetExponent = float(v.targetExponent);
     return opt;
 }

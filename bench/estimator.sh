@@ -8,14 +8,16 @@
 # per (scene, budget, seed), the variants' order rotating with the seed, so that every
 # variant sees the same machine load; one uncounted 1 s run of each binary per scene first.
 #
-#   bench/estimator.sh [--old REV] [--budgets 2,6] [--seeds N] [--scenes a,b,...] [--quick]
-#                      [--out DIR]
+#   bench/estimator.sh [--old REV] [--budgets 2,6] [--seeds N] [--scenes a,b,...]
+#                      [--levers a,b,...] [--quick] [--out DIR]
 #
 #   --old REV      the revision OLD is built from (bench/old_build.sh, in build-bench-old/)
 #                  [6ee952b]; it runs with its defaults and is never given a lever's option
 #   --budgets B,B  seconds per run, for every scene [each scene's own, below: 2,6]
 #   --seeds N      seeds 1..N per (scene, budget, variant) [3]
 #   --scenes LIST  a subset by name: seed-room, cornell, veach-bidir, caustic, veach-ajar [all]
+#   --levers LIST  a subset of the levers below by label (mmlt-film-steps=learned, ...), or
+#                  "none" for OLD against NEW alone [all]
 #   --quick        a smoke run: the first budget and one seed
 #   --out DIR      where the outputs go [build/bench-estimator]
 #
@@ -63,13 +65,15 @@ levers=(
   "mmlt-steps=learned|--mmlt-steps learned"
   "mmlt-delayed-rejection=on|--mmlt-delayed-rejection on"
   "mmlt-target-exponent=0.5|--mmlt-target-exponent 0.5"
+  "mmlt-film-steps=learned|--mmlt-film-steps learned"
 )
 
-old=6ee952b budgets="" seeds=3 only="" quick=0 out=build/bench-estimator
+old=6ee952b budgets="" seeds=3 only="" onlyLevers="" quick=0 out=build/bench-estimator
 while [ $# -gt 0 ]; do
   case $1 in
     --old) old=$2; shift 2 ;; --budgets) budgets=$2; shift 2 ;; --seeds) seeds=$2; shift 2 ;;
-    --scenes) only=$2; shift 2 ;; --quick) quick=1; shift ;; --out) out=$2; shift 2 ;;
+    --scenes) only=$2; shift 2 ;; --levers) onlyLevers=$2; shift 2 ;; --quick) quick=1; shift ;;
+    --out) out=$2; shift 2 ;;
     *) echo "estimator.sh: unknown option $1 (see the comment at the top of bench/estimator.sh)" >&2; exit 2 ;;
   esac
 done
@@ -101,7 +105,15 @@ done
 
 # the variants: label|binary (old, new)|options
 variants=("old|old|" "new|new|")
-for l in "${levers[@]}"; do variants+=("new:${l%%|*}|new|${l#*|}"); done
+knownLevers=" "
+for l in "${levers[@]}"; do
+  knownLevers+="${l%%|*} "
+  if [ -n "$onlyLevers" ] && [[ ",$onlyLevers," != *",${l%%|*},"* ]]; then continue; fi
+  variants+=("new:${l%%|*}|new|${l#*|}")
+done
+for n in ${onlyLevers//,/ }; do
+  [ "$n" = none ] || [[ $knownLevers == *" $n "* ]] || { echo "estimator.sh: unknown lever '$n' (one of:$knownLevers)" >&2; exit 2; }
+done
 
 [ -f build/CMakeCache.txt ] || { echo "estimator.sh: build/ is not configured: run scripts/setup.sh first" >&2; exit 2; }
 cmake --build build -j"$(nproc)" --target wavemmlt_bench_error >/dev/null

@@ -335,7 +335,7 @@ TEST_CASE("cli: bad options exit 2", "[cli]") {
     Run f = run("--tracer pt --strategy-images " + quote(dir.file("s")) + kSmall + " -o " + quote(out), dir);
     CHECK(f.status == 2);
     CHECK(contains(f.err, "--strategy-images"));
-    for (const char* bad : {"--mmlt-target brightest", "--mmlt-steps wild"}) {
+    for (const char* bad : {"--mmlt-target brightest", "--mmlt-steps wild", "--mmlt-film-steps on"}) {
         Run g = run(std::string(bad) + kSmall + " -o " + quote(out), dir);
         INFO(bad << ": " << g.err);
         CHECK(g.status == 2);
@@ -454,15 +454,20 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
     CHECK(contains(text, "\"mmlt_replay_mismatches\": 0"));
     CHECK(contains(text, "\"mmlt_target\": \"luminance\""));
     // The levers (docs/mmlt-levers.md): what they learned.
-    Run l = run(kSmall + " --spp 64 --threads 2 --mmlt-target relative --mmlt-steps learned -o " + quote(out) + " --stats " + quote(stats), dir);
+    Run l = run(kSmall + " --spp 64 --threads 2 --mmlt-target relative --mmlt-steps learned --mmlt-film-steps always -o " + quote(out) + " --stats " +
+                    quote(stats),
+                dir);
     INFO("stderr: " << l.err);
     REQUIRE(l.status == 0);
     const std::string learned = readFile(stats);
     JsonChecker jl(learned);
     REQUIRE(jl.document());
-    for (const char* key : {"mmlt_target", "mmlt_target_maps", "mmlt_target_tile_size", "mmlt_target_scale", "mmlt_small_step_sigma"})
+    for (const char* key : {"mmlt_target", "mmlt_target_maps", "mmlt_target_tile_size", "mmlt_target_scale", "mmlt_small_step_sigma",
+                            "mmlt_film_step_share", "mmlt_film_steps_proposed", "mmlt_acceptance_film"})
         CHECK(jl.topKeys.count(key) == 1);
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
+    CHECK(contains(learned, "\"mmlt_film_steps\": \"always\""));
+    CHECK(contains(text, "\"mmlt_film_steps\": \"off\""));
 }
 
 TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene it cannot warns and renders RGB, pbrt files are spectral by default",

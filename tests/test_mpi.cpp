@@ -112,7 +112,8 @@ const std::vector<TracerCase> kTracers = {{"pt", TracerKind::PT, 16},
                                           {"mmlt", TracerKind::MMLT, 128},
                                           {"pssmlt", TracerKind::PSSMLT, 64}};
 
-// MMLT with its levers on: a target map and step sizes learned from samples every rank merges alike.
+// MMLT with its levers on: a target map and step sizes learned from samples every rank merges
+// alike, and film steps.
 const TracerCase kLevers = {"mmlt-levers", TracerKind::MMLT, 128, true};
 
 std::vector<std::string> allSpecs() {
@@ -134,6 +135,7 @@ RenderResult renderOne(const TracerCase& t, uint64_t seed, int threads = 2) {
     if (t.levers) {
         o.mmltTarget = MmltTarget::Relative;
         o.learnSteps = true;
+        o.filmSteps = FilmSteps::Always;
     }
     return render(cornell(), o);
 }

@@ -57,6 +57,22 @@ inline bool parseMmltTarget(const std::string& name, MmltTarget& t) {
     return false;
 }
 
+// MMLT's film steps (docs/mmlt-levers.md): small steps that move only the raster point and
+// keep every other number. Off; learned: from the second pass on, 0.3 of the small steps of
+// each length whose small steps were accepted less than 0.6 of the time in the last pass;
+// always: 0.3 of every length's small steps from the first pass on.
+enum class FilmSteps { Off, Learned, Always };
+// Its names (--mmlt-film-steps, --stats' mmlt_film_steps); parseFilmSteps: false for another name.
+inline const char* filmStepsName(FilmSteps f) { return f == FilmSteps::Learned ? "learned" : f == FilmSteps::Always ? "always" : "off"; }
+inline bool parseFilmSteps(const std::string& name, FilmSteps& f) {
+    for (FilmSteps x : {FilmSteps::Off, FilmSteps::Learned, FilmSteps::Always})
+        if (name == filmStepsName(x)) {
+            f = x;
+            return true;
+        }
+    return false;
+}
+
 struct RenderOptions {
     TracerKind tracer = TracerKind::PT;
     int spp = 16;           // samples per pixel
@@ -82,6 +98,9 @@ struct RenderOptions {
     // A rejected large step gets a second proposal in the same iteration, a small step, with
     // the acceptance that keeps the chain exact (delayed rejection; mmlt_delayed.cpp).
     bool delayedRejection = false;
+    // Film steps (FilmSteps): small steps that move only the raster point, by 3 sigma
+    // (mmlt_stages.cpp, proposeFilmStep; which lengths: mmlt_learn.cpp, learnFilmSteps).
+    FilmSteps filmSteps = FilmSteps::Off;
     // --spectral: render with sampled wavelengths (docs/spectral.md), every tracer; scenes
     // with principled or blend materials or media given by RGB grids render in RGB and
     // RenderStats::spectralReason says why.
@@ -156,6 +175,7 @@ struct RenderStats {
         std::vector<uint64_t> proposals;         // proposals made by chains of length k
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
         std::vector<uint64_t> proposedDelayed, acceptedDelayed;  // second proposals (RenderOptions::delayedRejection)
+        std::vector<uint64_t> proposedFilm, acceptedFilm;        // film steps (RenderOptions::filmSteps)
         // Accepted and proposed steps summed over the lengths: [0] small, [1] large.
         void stepTotals(uint64_t accepted[2], uint64_t proposed[2]) const {
             accepted[0] = accepted[1] = proposed[0] = proposed[1] = 0;
@@ -189,6 +209,8 @@ struct RenderStats {
         double targetScaleLeast = 0, targetScaleMost = 0;
         bool learnedSteps = false;
         bool delayedRejection = false;
+        FilmSteps filmSteps = FilmSteps::Off;
+        std::vector<float> filmStepShare;        // each length's share of film steps in the last pass
         std::vector<float> smallStepSigma;       // each length's small steps' size in the last pass
         std::vector<uint64_t> poolDigestByRank;  // a hash of each rank's pools, every pass (split across ranks)
     } mmlt;

@@ -129,6 +129,10 @@ std::string usageText() {
            "  --mmlt-delayed-rejection off|on   MMLT: a rejected large step proposes again in the same\n"
            "                           iteration, a small step (delayed rejection; default: off;\n"
            "                           docs/mmlt-levers.md)\n"
+           "  --mmlt-film-steps off|learned|always   MMLT: 0.3 of the small steps move only the raster\n"
+           "                           point (film steps): learned: from the second pass on, in the\n"
+           "                           lengths whose small steps were mostly rejected in the last pass;\n"
+           "                           always: in every length (default: off; docs/mmlt-levers.md)\n"
            "  --spectral, --rgb        render with sampled wavelengths (every tracer; scenes without\n"
            "                           principled or blend materials or media with RGB grids: others\n"
            "                           render in RGB, with a warning), or in RGB (default: pbrt-v4 files\n"
@@ -209,6 +213,11 @@ CommandLine parseCommandLine(int argc, char** argv) {
             const std::string v = value();
             if (v == "on" || v == "off") cl.delayedRejection = v == "on";
             else fail("--mmlt-delayed-rejection: '" + v + "' is not one of off, on");
+        } else if (a == "--mmlt-film-steps") {
+            const std::string v = value();
+            FilmSteps f;
+            if (!parseFilmSteps(v, f)) fail("--mmlt-film-steps: '" + v + "' is not one of off, learned, always");
+            cl.filmSteps = f;
         } else if (a == "--mmlt-steps") {
             const std::string v = value();
             if (v == "fixed" || v == "learned") cl.learnSteps = v == "learned";
@@ -316,6 +325,7 @@ RenderOptions renderOptionsFor(const CommandLine& cl, const Settings& s) {
     if (cl.mmltTarget) opt.mmltTarget = *cl.mmltTarget;
     if (cl.learnSteps) opt.learnSteps = *cl.learnSteps;
     if (cl.delayedRejection) opt.delayedRejection = *cl.delayedRejection;
+    if (cl.filmSteps) opt.filmSteps = *cl.filmSteps;
     if (cl.targetExponent) opt.mmltTargetExponent = *cl.targetExponent;
     opt.spectral = cl.spectral ? *cl.spectral : s.spectral;
     opt.spectralByDefault = !cl.spectral && s.spectral;

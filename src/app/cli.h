@@ -23,6 +23,7 @@ struct CommandLine {
     std::optional<MmltTarget> mmltTarget;  // MMLT: --mmlt-target
     std::optional<bool> learnSteps;        // MMLT: --mmlt-steps learned
     std::optional<bool> delayedRejection;  // MMLT: --mmlt-delayed-rejection on
+    std::optional<FilmSteps> filmSteps;    // MMLT: --mmlt-film-steps
     std::optional<float> targetExponent;   // MMLT: --mmlt-target-exponent beta
     std::optional<bool> spectral;          // --spectral / --rgb
     std::string strategyImages;            // BPT: folder for per-strategy EXRs

@@ -40,6 +40,11 @@ void writeMmltStats(std::ostream& o, const RenderStats& st, const Settings& s) {
     perLength("mmlt_acceptance_small", [&](size_t k) { return rate(m.acceptedSmall[k], m.proposedSmall[k]); });
     perLength("mmlt_acceptance_large", [&](size_t k) { return rate(m.acceptedLarge[k], m.proposedLarge[k]); });
     if (m.learnedSteps) perLength("mmlt_small_step_sigma", [&](size_t k) { return m.smallStepSigma[k]; });
+    if (m.filmSteps != FilmSteps::Off) {
+        perLength("mmlt_film_step_share", [&](size_t k) { return m.filmStepShare[k]; });
+        perLength("mmlt_film_steps_proposed", [&](size_t k) { return m.proposedFilm[k]; });
+        perLength("mmlt_acceptance_film", [&](size_t k) { return rate(m.acceptedFilm[k], m.proposedFilm[k]); });
+    }
     if (m.delayedRejection) {
         perLength("mmlt_delayed_proposals", [&](size_t k) { return m.proposedDelayed[k]; });
         perLength("mmlt_acceptance_delayed", [&](size_t k) { return rate(m.acceptedDelayed[k], m.proposedDelayed[k]); });
@@ -59,6 +64,7 @@ void writeMmltStats(std::ostream& o, const RenderStats& st, const Settings& s) {
     o << ",\n  \"" << prefix << "target\": \"" << mmltTargetName(m.target) << "\"";
     o << ",\n  \"" << prefix << "target_exponent\": " << m.targetExponent;
     o << ",\n  \"" << prefix << "delayed_rejection\": " << (m.delayedRejection ? "true" : "false");
+    o << ",\n  \"" << prefix << "film_steps\": \"" << filmStepsName(m.filmSteps) << "\"";
     if (m.target == MmltTarget::Relative)
         o << ",\n  \"" << prefix << "target_maps\": " << m.targetMaps << ",\n  \"" << prefix << "target_tile_size\": " << m.targetTileSize
           << ",\n  \"" << prefix << "target_scale\": {\"least\": " << m.targetScaleLeast << ", \"most\": " << m.targetScaleMost << "}";

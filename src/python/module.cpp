@@ -153,7 +153,7 @@ PYBIND11_MODULE(wavemmlt, m) {
             "render(tracer=..., spp=..., time=..., seed=..., chains=..., threads=..., progress=callable(fraction), "
             "length_images=False, strategy_images=False, and any other option of the command line: width, height, "
             "max_length, min_length, p_large, bootstrap, pass_length, mis_beta, mmlt_target, mmlt_steps, mmlt_target_exponent, "
-            "mmlt_delayed_rejection, spectral, "
+            "mmlt_delayed_rejection, mmlt_film_steps, spectral, "
             "filter, eye, look_at, up, fov, focus_distance, f_stop) -> Render. Ctrl-C stops the render at its next "
             "boundary and raises KeyboardInterrupt with the render so far as its .render")
         .def(

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
             if (tracer == "mmlt-levers") {
                 o.mmltTarget = MmltTarget::Relative;
                 o.learnSteps = true;
+                o.filmSteps = FilmSteps::Always;
             }
             o.spp = std::atoi(spec.c_str() + c1 + 1);
             if (c2 != std::string::npos) o.chains = std::atoi(spec.c_str() + c2 + 1);

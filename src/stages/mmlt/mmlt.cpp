@@ -108,12 +108,14 @@ MmltRender::MmltRender(const Scene& scene, const RenderOptions& opt, bool whole)
     stats_.chains.assign(n, 0);
     for (auto* v : {&stats_.chainsSeeded, &stats_.distinctSeeds, &stats_.bootstrapSamples, &stats_.bootstrapNonzero, &stats_.poolSamples,
                     &stats_.proposals, &stats_.proposedSmall, &stats_.acceptedSmall, &stats_.proposedLarge, &stats_.acceptedLarge,
-                    &stats_.proposedDelayed, &stats_.acceptedDelayed})
+                    &stats_.proposedDelayed, &stats_.acceptedDelayed, &stats_.proposedFilm, &stats_.acceptedFilm})
         v->assign(n, 0);
     if (opt.lengthImages)
         for (size_t k = 0; k < n; ++k) lengthFilms_.emplace_back(scene.camera.width, scene.camera.height);
     planTargetMap();
     sigma_.assign(n, kSmallStepSigma);
+    // Film steps: always, or (learned) from the second pass on (learnFilmSteps).
+    filmStep_.assign(n, opt.filmSteps == FilmSteps::Always && !whole_ ? kFilmStepShare : 0.0f);
     // Memory, refused before anything large is allocated: the chain state at its largest
     // (every chain at MaxPathLength), the films, a round's splats.
     const double chainBytes = double(chains_) * double(chainBytesOf(kMax_));
@@ -231,7 +233,7 @@ MmltRender::NextPass MmltRender::decideNextPass(double restartSeconds) {
 // any pool).
 bool MmltRender::refillPools() {
     retarget();        // RenderOptions::mmltTarget = Relative: a new target, the pools under it
-    learnStepSizes();  // RenderOptions::learnSteps: each length's small-step size
+    learnFromSteps();  // RenderOptions::learnSteps, filmSteps: each length's small steps
     std::vector<uint64_t> large(size_t(kMax_) + 1, 0);
     uint64_t allLarge = 0;
     for (int k = lo_; k <= hi_; ++k) allLarge += large[size_t(k)] = next_[size_t(k)].count;

@@ -65,6 +65,7 @@ bool MmltRender::allocateChains() {
         g.points = whole_ ? uint32_t(kMax_) : 0;  // PSSMLT: a t = 1 contribution for each s = 1 .. kMax
         g.weight = float(passWeight_ * pools_[size_t(k)].mean() / double(n[size_t(k)]));
         g.sigma = sigma_[size_t(k)];
+        g.filmStep = filmStep_[size_t(k)];
         first += n[size_t(k)];
         groups_.push_back(std::move(g));
         groups_.back().resize(n[size_t(k)]);

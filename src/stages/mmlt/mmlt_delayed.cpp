@@ -26,7 +26,9 @@ void proposeAgain(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch
                   RayCounters& counters) {
     if (mb.rejectedLarge.empty()) return;
     std::swap(mb.slices, mb.rejectedLarge);
-    mutateChains(groups, mb, seed ^ 0x44454c4159454452ull /* "DELAYEDR" */, iteration, 0.0f);  // small steps only
+    mb.secondStage = true;  // small steps only, none of them a film step
+    mutateChains(groups, mb, seed ^ 0x44454c4159454452ull /* "DELAYEDR" */, iteration, 0.0f);
+    mb.secondStage = false;
     evaluateProposals(scene, mb, misBeta, counters);
     for (const BatchSlice& sl : mb.slices) {
         ChainGroup& g = groups[size_t(sl.group)];

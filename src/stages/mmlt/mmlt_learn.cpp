@@ -1,6 +1,6 @@
 // What MMLT learns between passes (mmlt_render.h; docs/mmlt-levers.md, with the
 // measurements), each fixed within a pass so that every pass stays an exact Metropolis
-// estimator: the relative-error target and the small steps' sizes.
+// estimator: the relative-error target, the small steps' sizes and the share of film steps.
 //
 // The relative-error target (RenderOptions::mmltTarget = Relative; the target itself:
 // kernels/mmlt_target.h). One in four of the independent samples the render draws (the
@@ -95,14 +95,21 @@ void MmltRender::retarget() {
     stats_.targetScaleMost = most;
 }
 
-// Learned step sizes (RenderOptions::learnSteps): after a pass, each length's small-step
-// size moves toward the acceptance kTargetAcceptance its chains' small steps should have:
-// log sigma += kStepGain (a - a*), at most a factor e a pass, within [2^-10, 1/4]. Small
-// steps' acceptance falls with sigma (on the seed room about 0.25 per unit of log sigma,
-// 0.77 at 0.003 to 0.15 at 0.03), so a gain of 3 closes most of the gap in one pass. The
-// counts are this pass's of every rank (integers: their sum is the same in any order).
-void MmltRender::learnStepSizes() {
-    if (!opt_.learnSteps || whole_) return;
+// What the pass's small steps teach (RenderOptions::learnSteps, filmSteps), at a pass
+// boundary: each length's small-step size and its share of film steps for the next pass.
+void MmltRender::learnFromSteps() {
+    const bool learnFilm = opt_.filmSteps == FilmSteps::Learned;
+    if (whole_ || (!opt_.learnSteps && !learnFilm)) return;
+    const std::vector<uint64_t> counts = passSmallSteps();
+    if (opt_.learnSteps) learnStepSizes(counts);
+    if (learnFilm) learnFilmSteps(counts);
+    passCounters_ = counters_;
+}
+
+// The pass's small steps (film steps and second stages aside) of each length k, proposed at
+// [2k] and accepted at [2k + 1], over every rank (integers: their sum is the same in any
+// order, so every rank learns the same).
+std::vector<uint64_t> MmltRender::passSmallSteps() {
     std::vector<uint64_t> counts(2 * (size_t(kMax_) + 1));
     for (int k = lo_; k <= hi_; ++k) {
         counts[2 * size_t(k)] = counters_.proposed[0][k] - passCounters_.proposed[0][k];
@@ -119,6 +126,15 @@ void MmltRender::learnStepSizes() {
                 counts[i] += v;
             }
     }
+    return counts;
+}
+
+// Learned step sizes (RenderOptions::learnSteps): after a pass, each length's small-step
+// size moves toward the acceptance kTargetAcceptance its chains' small steps should have:
+// log sigma += kStepGain (a - a*), at most a factor e a pass, within [2^-10, 1/4]. Small
+// steps' acceptance falls with sigma (on the seed room about 0.25 per unit of log sigma,
+// 0.77 at 0.003 to 0.15 at 0.03), so a gain of 3 closes most of the gap in one pass.
+void MmltRender::learnStepSizes(const std::vector<uint64_t>& counts) {
     for (int k = lo_; k <= hi_; ++k) {
         const uint64_t proposed = counts[2 * size_t(k)], accepted = counts[2 * size_t(k) + 1];
         if (proposed < 64) continue;  // too few to say
@@ -126,7 +142,22 @@ void MmltRender::learnStepSizes() {
         const double step = std::clamp(kStepGain * (a - kTargetAcceptance), -1.0, 1.0);
         sigma_[size_t(k)] = float(std::clamp(double(sigma_[size_t(k)]) * std::exp(step), 1.0 / 1024, 0.25));
     }
-    passCounters_ = counters_;
+}
+
+// Learned film steps (RenderOptions::filmSteps; the step: mmlt_stages.cpp, proposeFilmStep): a
+// length whose small steps were accepted less than kFilmStepBelow of the time in the pass
+// makes kFilmStepShare of its small steps film steps in the next; the others none. Where
+// small steps are rejected, a chain sits on one path and splats one pixel (the seed room's
+// and Veach Ajar's light through a gap: a small step of every number loses the gap); a film
+// step moves the path's whole camera end across the film, most of the time still through
+// the gap. Where small steps are accepted anyway (the Cornell box), film steps only
+// explore less per step. A length with fewer than 64 small steps keeps its share.
+void MmltRender::learnFilmSteps(const std::vector<uint64_t>& counts) {
+    for (int k = lo_; k <= hi_; ++k) {
+        const uint64_t proposed = counts[2 * size_t(k)], accepted = counts[2 * size_t(k) + 1];
+        if (proposed < 64) continue;  // too few to say
+        filmStep_[size_t(k)] = double(accepted) < kFilmStepBelow * double(proposed) ? kFilmStepShare : 0.0f;
+    }
 }
 
 }  // namespace wmlt::mmlt_detail

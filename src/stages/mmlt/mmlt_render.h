@@ -36,6 +36,8 @@ constexpr double kTargetTiles = 256;            // the relative target's map: at
 constexpr double kTargetFloor = 0.1;            // its brightness floor, a share of the image's mean
 constexpr double kTargetAcceptance = 0.4;       // learned step sizes: the small steps' acceptance sought
 constexpr double kStepGain = 3;                 // and the gain of log sigma on the gap
+constexpr double kFilmStepBelow = 0.6;          // film steps: for lengths whose small steps' acceptance is below this
+constexpr float kFilmStepShare = 0.3f;          // this share of their small steps
 
 using Clock = std::chrono::steady_clock;
 
@@ -88,11 +90,14 @@ private:
     RenderResult resolve();
     // What the render learns between passes (mmlt_learn.cpp): the relative target's map (its
     // tiles, the brightness sums of the samples set aside for it, a new map at a pass
-    // boundary) and each length's small-step size.
+    // boundary), each length's small-step size and its share of film steps.
     void planTargetMap();
     void collectBrightness(const SamplePool& p, int k);
     void retarget();
-    void learnStepSizes();
+    void learnFromSteps();
+    std::vector<uint64_t> passSmallSteps();
+    void learnStepSizes(const std::vector<uint64_t>& counts);
+    void learnFilmSteps(const std::vector<uint64_t>& counts);
     // Render time: paused time (a viewer's) is left out.
     double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0_).count() - paused_; }
     Image image() const;
@@ -186,8 +191,9 @@ private:
         m.exponent = whole_ ? 1.0f : opt_.mmltTargetExponent;
         return m;
     }();
-    std::vector<float> sigma_;   // [k]: the small steps' size of length k's chains this pass
-    MmltCounters passCounters_;  // counters_ when the pass started (learnStepSizes)
+    std::vector<float> sigma_;     // [k]: the small steps' size of length k's chains this pass
+    std::vector<float> filmStep_;  // [k]: the share of their small steps that are film steps
+    MmltCounters passCounters_;    // counters_ when the pass started (learnFromSteps)
     int tileSize_ = 1;
     std::vector<float> scale_;
     std::vector<double> brightness_;

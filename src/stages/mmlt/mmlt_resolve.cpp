@@ -71,6 +71,8 @@ RenderResult MmltRender::resolve() {
     stats_.smallStepSigma = sigma_;
     stats_.learnedSteps = opt_.learnSteps && !whole_;
     stats_.delayedRejection = opt_.delayedRejection && !whole_;
+    stats_.filmSteps = whole_ ? FilmSteps::Off : opt_.filmSteps;
+    stats_.filmStepShare = filmStep_;
     stats_.targetExponent = map_.exponent;
     if (!brightness_.empty()) {
         stats_.target = MmltTarget::Relative;
@@ -87,6 +89,8 @@ RenderResult MmltRender::resolve() {
         stats_.acceptedLarge[size_t(k)] = counters_.accepted[1][k];
         stats_.proposedDelayed[size_t(k)] = counters_.proposed[2][k];
         stats_.acceptedDelayed[size_t(k)] = counters_.accepted[2][k];
+        stats_.proposedFilm[size_t(k)] = counters_.proposed[kFilmStep][k];
+        stats_.acceptedFilm[size_t(k)] = counters_.accepted[kFilmStep][k];
         stats_.mutations += stats_.proposals[size_t(k)];
     }
     res.stats.mmlt = stats_;

@@ -155,6 +155,39 @@ void drawSmallSteps(MmltBatch& mb) {
     st.count = 0;
 }
 
+// Slot i proposes a film step from chain c (RenderOptions::filmSteps): the chain's state
+// with its raster point moved (filmStepOf), when its strategy reads one (t >= 2; else the
+// state itself, a move that changes nothing). Every coordinate the state reads is up to date
+// (the last accepted proposal read it), so the row is the chain's values. The strategy,
+// and so the coordinates read, are the state's: the move and its reverse both read these.
+void proposeFilmStep(MmltBatch& mb, uint32_t i, const ChainGroup& g, uint32_t c) {
+    mb.large[i] = kFilmStep;
+    const uint64_t key = mb.bpt.key[i];
+    const size_t at = g.at(c, 0);
+    float* row = mb.rowOf(i);
+    row[0] = g.value[at];
+    setStrategy(mb, i, g.k, row[0]);
+    forEachUsedOf(mb, i, g.k, [&](uint32_t d) { row[d] = g.value[at + d]; });
+    if (mb.used[kBptCamera][i] == 0) return;
+    const uint32_t cb = StrategyLayout::base(g.k, kBptCamera);  // the raster point: camera j = 0, 1
+    for (uint32_t d = cb; d < cb + 2; ++d) row[d] = filmStepOf(key, d, g.value[at + d], g.sigma);
+}
+
+// Commits an accepted film step: the raster point's two numbers (still up to date as of the
+// chain's last accepted proposal: a film step is no step of the lazy count, so lastModified
+// and accepted stay), F, c and the film point.
+void commitFilmStep(ChainGroup& g, uint32_t c, const MmltBatch& mb, uint32_t i, const Vec3& F, float cP) {
+    if (mb.used[kBptCamera][i] > 0) {
+        const uint32_t cb = StrategyLayout::base(g.k, kBptCamera);
+        const float* row = &mb.u[mb.row[i]];
+        for (uint32_t d = cb; d < cb + 2; ++d) g.value[g.at(c, d)] = row[d];
+    }
+    g.F[c] = F;
+    g.c[c] = cP;
+    g.filmX[c] = mb.bpt.filmX[i];
+    g.filmY[c] = mb.bpt.filmY[i];
+}
+
 }  // namespace
 
 void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t seed, uint32_t iteration, float probLarge) {
@@ -170,6 +203,10 @@ void mutateChains(const std::vector<ChainGroup>& groups, MmltBatch& mb, uint64_t
             const uint32_t i = sl.slot0 + j, c = sl.c0 + j;
             const bool large = beginProposal(mb, i, g, c, seed, iteration, probLarge);
             const uint64_t key = mb.bpt.key[i];
+            if (!large && g.filmStep > 0 && !mb.secondStage && sampleDimension(key, kDimFilmStep) < g.filmStep) {
+                proposeFilmStep(mb, i, g, c);
+                continue;
+            }
             const size_t at = g.at(c, 0);
             const uint32_t lastLarge = g.lastLarge[c], n = g.accepted[c] + 1;
             float* row = mb.rowOf(i);
@@ -291,7 +328,7 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
             const int kind = mb.large[i];
             // Delayed rejection (MMLT): a large step's current state is splatted by the second
             // stage if it is rejected, and not at all if it is accepted (mmlt_delayed.cpp).
-            const bool delay = !Whole && kind && mb.delayed;
+            const bool delay = !Whole && kind == 1 && mb.delayed;
             if constexpr (Whole) {
                 splatWhole(scene, g, c, mb, i, a, cP);
             } else {
@@ -299,8 +336,8 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
                 if (a < 1 && g.c[c] > 0 && !delay) mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
             ++mb.counters.proposed[kind][k];
-            if (kind) mb.poolFor(mb.bpt.key[i], g.k, pool).addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
-            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) {                                       // rejected
+            if (kind == 1) mb.poolFor(mb.bpt.key[i], g.k, pool).addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
+            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) {                                            // rejected
                 if (delay) {
                     mb.rejectedLarge.push_back({sl.group, c, 1, uint32_t(mb.rejectedLarge.size())});
                     mb.rejectedC.push_back(cP);
@@ -312,6 +349,8 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
                 commitWhole(g, c, mb, i, g.accepted[c] + 1);
                 commitState(g, c, kind != 0, F, cP, filmX, filmY);
                 keepWholePoints(g, c, mb, i);
+            } else if (kind == kFilmStep) {
+                commitFilmStep(g, c, mb, i, F, cP);
             } else {
                 commitProposal(g, c, mb, i, kind != 0, F, cP);
             }

@@ -148,6 +148,7 @@ struct ChainGroup {
     uint32_t points = 0;            // PSSMLT: t = 1 contributions a chain keeps at most
     float weight = 0;               // b_k of the pass's pool / count: each splat's factor
     float sigma = kSmallStepSigma;  // its small steps' size this pass (RenderOptions::learnSteps)
+    float filmStep = 0;             // a small step's probability of being a film step this pass (RenderOptions::filmSteps)
     WMLT_CHAIN_COORDINATE_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_ARRAYS(WMLT_SOA_ARRAY)
     WMLT_CHAIN_POINT_ARRAYS(WMLT_SOA_ARRAY)
@@ -179,16 +180,20 @@ struct BatchSlice {
 // The slots a batch's slices fill.
 inline uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0 : b.back().slot0 + b.back().n; }
 
+// MmltBatch::large of a film step (RenderOptions::filmSteps; mmlt_stages.cpp).
+constexpr uint8_t kFilmStep = 3;
+
 // Counters of one batch, per path length (merged in batch order).
 struct MmltCounters {
-    // [0]: small, [1]: large, [2]: a rejected large step's second proposal (delayed rejection)
-    uint64_t proposed[3][kMaxPathLength + 1] = {}, accepted[3][kMaxPathLength + 1] = {};
+    // [kind] (MmltBatch::large): [0] small, [1] large, [2] a rejected large step's second
+    // proposal (delayed rejection), [3] a film step
+    uint64_t proposed[4][kMaxPathLength + 1] = {}, accepted[4][kMaxPathLength + 1] = {};
     uint64_t nonfinite = 0;
     // The luminance splatted per length (MmltBatch::tallyLuminance only: a target other than
     // the luminance, whose b_k is then no length's mean luminance)
     double splatLuminance[kMaxPathLength + 1] = {};
     void add(const MmltCounters& o) {
-        for (int s = 0; s < 3; ++s)
+        for (int s = 0; s < 4; ++s)
             for (int k = 0; k <= kMaxPathLength; ++k) {
                 proposed[s][k] += o.proposed[s][k];
                 accepted[s][k] += o.accepted[s][k];
@@ -223,7 +228,8 @@ struct MmltBatch {
     // longest length's size were 2 KB apart at MaxPathLength 64). Per slot:
     //   row: where its row starts in u
     //   chain: its chain (its index within its group)
-    //   large: the proposal is a large step
+    //   large: the proposal's kind: 0 a small step, 1 a large step, kFilmStep a film step
+    //     (the raster point alone, RenderOptions::filmSteps)
     std::vector<float> u;
 #define WMLT_MMLT_SLOT_ARRAYS(X) X(uint32_t, row) X(uint32_t, chain) X(uint8_t, large)
     WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_ARRAY)
@@ -238,6 +244,7 @@ struct MmltBatch {
     // large step this iteration rejected, one slice each, and each one's first proposal's
     // target c(y1); the second stage runs them in slices' stead.
     bool delayed = false;
+    bool secondStage = false;  // mutateChains is proposing the second stage's small steps (no film steps)
     std::vector<BatchSlice> rejectedLarge;
     std::vector<float> rejectedC;
     // The pass's target map (kernels/mmlt_target.h; no map: the luminance), set by the driver
