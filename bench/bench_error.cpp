@@ -534,7 +534,7 @@ void benchScene(const std::string& path, const Options& o, std::vector<Row>& row
                         const double samples = mlt ? double(r.stats.mmlt.mutations) : double(r.stats.spp) * o.width * o.height;
                         row.samplesPerSecond += (r.stats.seconds > 0 ? samples / r.stats.seconds : 0.0) / o.reps;
                         if (mlt) {  // acceptance of small and large steps, all lengths
-                            uint64_t acc[2], prop[2];
+                            uint64_t acc[3], prop[3];
                             r.stats.mmlt.stepTotals(acc, prop);
                             row.acceptSmall = std::max(row.acceptSmall, 0.0) + (prop[0] ? double(acc[0]) / prop[0] : 0.0) / o.reps;
                             row.acceptLarge = std::max(row.acceptLarge, 0.0) + (prop[1] ? double(acc[1]) / prop[1] : 0.0) / o.reps;

@@ -16,7 +16,7 @@
 #   --budgets B,B  seconds per run, for every scene [each scene's own, below: 2,6]
 #   --seeds N      seeds 1..N per (scene, budget, variant) [3]
 #   --scenes LIST  a subset by name: seed-room, cornell, veach-bidir, caustic, veach-ajar [all]
-#   --levers LIST  a subset of the levers below by label (mmlt-film-steps=learned, ...), or
+#   --levers LIST  a subset of the levers below by label (mmlt-film-steps=off, ...), or
 #                  "none" for OLD against NEW alone [all]
 #   --quick        a smoke run: the first budget and one seed
 #   --out DIR      where the outputs go [build/bench-estimator]
@@ -65,7 +65,7 @@ levers=(
   "mmlt-steps=learned|--mmlt-steps learned"
   "mmlt-delayed-rejection=on|--mmlt-delayed-rejection on"
   "mmlt-target-exponent=0.5|--mmlt-target-exponent 0.5"
-  "mmlt-film-steps=learned|--mmlt-film-steps learned"
+  "mmlt-film-steps=off|--mmlt-film-steps off"
 )
 
 old=6ee952b budgets="" seeds=3 only="" onlyLevers="" quick=0 out=build/bench-estimator

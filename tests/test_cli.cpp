@@ -467,7 +467,7 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
         CHECK(jl.topKeys.count(key) == 1);
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
     CHECK(contains(learned, "\"mmlt_film_steps\": \"always\""));
-    CHECK(contains(text, "\"mmlt_film_steps\": \"off\""));
+    CHECK(contains(text, "\"mmlt_film_steps\": \"learned\""));
 }
 
 TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene it cannot warns and renders RGB, pbrt files are spectral by default",

@@ -90,7 +90,7 @@ RenderResult renderMmlt(const SceneDesc& desc, const RenderOptions& o) {
         }
         CHECK((m.chainsSeeded[k] > 0) == (m.b[k] > 0));
         CHECK(m.distinctSeeds[k] <= m.chainsSeeded[k]);
-        CHECK(m.proposedSmall[k] + m.proposedLarge[k] == m.proposals[k]);
+        CHECK(m.proposedSmall[k] + m.proposedLarge[k] + m.proposedFilm[k] == m.proposals[k]);  // an iteration's three kinds
         proposals += m.proposals[k];
     }
     CHECK(m.mutations == proposals);

@@ -1,7 +1,8 @@
 // MMLT's levers (issue 44; docs/mmlt-levers.md): the relative-error target
 // (RenderOptions::mmltTarget), learned step sizes (learnSteps), delayed rejection
-// (delayedRejection), the tempered target (mmltTargetExponent) and film steps (filmSteps; the
-// others on the luminance target, where they were built and measured). Each changes only what
+// (delayedRejection), the tempered target (mmltTargetExponent) and film steps (filmSteps, the
+// default since they won on the estimator suite; the others on the luminance target and
+// without film steps, where they were built and measured). Each changes only what
 // a pass holds fixed (delayed rejection and film steps: the kernel, by a second stage that
 // keeps it reversible, or by another symmetric proposal), so each must keep:
 //  1. the target map's kernel: a tile per film point, edges and NaN clamped, c = luminance

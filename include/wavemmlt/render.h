@@ -58,9 +58,9 @@ inline bool parseMmltTarget(const std::string& name, MmltTarget& t) {
 }
 
 // MMLT's film steps (docs/mmlt-levers.md): small steps that move only the raster point and
-// keep every other number. Off; learned: from the second pass on, 0.3 of the small steps of
-// each length whose small steps were accepted less than 0.6 of the time in the last pass;
-// always: 0.3 of every length's small steps from the first pass on.
+// keep every other number. Off; learned (the default): from the second pass on, 0.3 of the
+// small steps of each length whose small steps were accepted less than 0.6 of the time in the
+// last pass; always: 0.3 of every length's small steps from the first pass on.
 enum class FilmSteps { Off, Learned, Always };
 // Its names (--mmlt-film-steps, --stats' mmlt_film_steps); parseFilmSteps: false for another name.
 inline const char* filmStepsName(FilmSteps f) { return f == FilmSteps::Learned ? "learned" : f == FilmSteps::Always ? "always" : "off"; }
@@ -100,7 +100,9 @@ struct RenderOptions {
     bool delayedRejection = false;
     // Film steps (FilmSteps): small steps that move only the raster point, by 3 sigma
     // (mmlt_stages.cpp, proposeFilmStep; which lengths: mmlt_learn.cpp, learnFilmSteps).
-    FilmSteps filmSteps = FilmSteps::Off;
+    // Learned by default: on the estimator suite it loses nowhere beyond the seeds' spread
+    // and wins on Veach Ajar (docs/mmlt-levers.md). MMLT only (PSSMLT has none).
+    FilmSteps filmSteps = FilmSteps::Learned;
     // --spectral: render with sampled wavelengths (docs/spectral.md), every tracer; scenes
     // with principled or blend materials or media given by RGB grids render in RGB and
     // RenderStats::spectralReason says why.
@@ -176,14 +178,17 @@ struct RenderStats {
         std::vector<uint64_t> proposedSmall, acceptedSmall, proposedLarge, acceptedLarge;
         std::vector<uint64_t> proposedDelayed, acceptedDelayed;  // second proposals (RenderOptions::delayedRejection)
         std::vector<uint64_t> proposedFilm, acceptedFilm;        // film steps (RenderOptions::filmSteps)
-        // Accepted and proposed steps summed over the lengths: [0] small, [1] large.
-        void stepTotals(uint64_t accepted[2], uint64_t proposed[2]) const {
-            accepted[0] = accepted[1] = proposed[0] = proposed[1] = 0;
+        // Accepted and proposed steps summed over the lengths: [0] small, [1] large, [2] film
+        // steps (the three kinds of an iteration's proposal: they add up to `proposals`).
+        void stepTotals(uint64_t accepted[3], uint64_t proposed[3]) const {
+            for (int i = 0; i < 3; ++i) accepted[i] = proposed[i] = 0;
             for (size_t k = 0; k < proposedSmall.size(); ++k) {
                 accepted[0] += acceptedSmall[k];
                 proposed[0] += proposedSmall[k];
                 accepted[1] += acceptedLarge[k];
                 proposed[1] += proposedLarge[k];
+                accepted[2] += acceptedFilm[k];
+                proposed[2] += proposedFilm[k];
             }
         }
         std::vector<uint64_t> bootstrapSamples;    // bootstrap samples of length k (the first pass's pool)

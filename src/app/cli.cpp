@@ -132,7 +132,7 @@ std::string usageText() {
            "  --mmlt-film-steps off|learned|always   MMLT: 0.3 of the small steps move only the raster\n"
            "                           point (film steps): learned: from the second pass on, in the\n"
            "                           lengths whose small steps were mostly rejected in the last pass;\n"
-           "                           always: in every length (default: off; docs/mmlt-levers.md)\n"
+           "                           always: in every length (default: learned; docs/mmlt-levers.md)\n"
            "  --spectral, --rgb        render with sampled wavelengths (every tracer; scenes without\n"
            "                           principled or blend materials or media with RGB grids: others\n"
            "                           render in RGB, with a warning), or in RGB (default: pbrt-v4 files\n"

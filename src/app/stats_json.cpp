@@ -49,10 +49,11 @@ void writeMmltStats(std::ostream& o, const RenderStats& st, const Settings& s) {
         perLength("mmlt_delayed_proposals", [&](size_t k) { return m.proposedDelayed[k]; });
         perLength("mmlt_acceptance_delayed", [&](size_t k) { return rate(m.acceptedDelayed[k], m.proposedDelayed[k]); });
     }
-    uint64_t acc[2], prop[2];
+    uint64_t acc[3], prop[3];
     m.stepTotals(acc, prop);
-    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": " << rate(acc[1], prop[1])
-      << ", \"all\": " << rate(acc[0] + acc[1], prop[0] + prop[1]) << "}"
+    o << ",\n  \"" << prefix << "acceptance\": {\"small\": " << rate(acc[0], prop[0]) << ", \"large\": " << rate(acc[1], prop[1]);
+    if (prop[2]) o << ", \"film\": " << rate(acc[2], prop[2]);
+    o << ", \"all\": " << rate(acc[0] + acc[1] + acc[2], prop[0] + prop[1] + prop[2]) << "}"
       << ",\n  \"" << prefix << "mutations\": " << m.mutations << ",\n  \"" << prefix
       << "mutations_per_second\": " << (st.seconds > 0 ? double(m.mutations) / st.seconds : 0.0) << ",\n  \"" << prefix
       << "iterations\": " << m.iterations << ",\n  \"" << prefix << "passes\": " << m.passes << ",\n  \"" << prefix
