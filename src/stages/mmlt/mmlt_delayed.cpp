@@ -39,9 +39,9 @@ void proposeAgain(const Scene& scene, std::vector<ChainGroup>& groups, MmltBatch
         const float a = cP > c1 ? std::min(1.0f, (cP - c1) / (cx - c1)) : 0.0f;
         if (a > 0) mb.addSplat(scene, mb.bpt.filmX[i], mb.bpt.filmY[i], F * (a * g.weight / cP), k);
         if (a < 1) mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / cx), k);
-        ++mb.counters.proposed[2][k];
+        ++mb.counters.proposed[kSecondStage][k];
         if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) continue;
-        ++mb.counters.accepted[2][k];
+        ++mb.counters.accepted[kSecondStage][k];
         commitProposal(g, c, mb, i, false, F, cP);
     }
     std::swap(mb.slices, mb.rejectedLarge);

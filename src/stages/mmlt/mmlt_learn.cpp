@@ -112,8 +112,8 @@ void MmltRender::learnFromSteps() {
 std::vector<uint64_t> MmltRender::passSmallSteps() {
     std::vector<uint64_t> counts(2 * (size_t(kMax_) + 1));
     for (int k = lo_; k <= hi_; ++k) {
-        counts[2 * size_t(k)] = counters_.proposed[0][k] - passCounters_.proposed[0][k];
-        counts[2 * size_t(k) + 1] = counters_.accepted[0][k] - passCounters_.accepted[0][k];
+        counts[2 * size_t(k)] = counters_.proposed[kSmallStep][k] - passCounters_.proposed[kSmallStep][k];
+        counts[2 * size_t(k) + 1] = counters_.accepted[kSmallStep][k] - passCounters_.accepted[kSmallStep][k];
     }
     if (ranks_) {
         std::vector<size_t> sizes;

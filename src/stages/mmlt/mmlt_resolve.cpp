@@ -83,12 +83,12 @@ RenderResult MmltRender::resolve() {
     for (int k = lo_; k <= hi_; ++k) stats_.b[size_t(k)] = weighted_ > 0 ? passB_[size_t(k)] / weighted_ : 0.0;
     sumAcrossRanks(res);
     for (int k = lo_; k <= hi_; ++k) {
-        stats_.proposedSmall[size_t(k)] = counters_.proposed[0][k];
-        stats_.acceptedSmall[size_t(k)] = counters_.accepted[0][k];
-        stats_.proposedLarge[size_t(k)] = counters_.proposed[1][k];
-        stats_.acceptedLarge[size_t(k)] = counters_.accepted[1][k];
-        stats_.proposedDelayed[size_t(k)] = counters_.proposed[2][k];
-        stats_.acceptedDelayed[size_t(k)] = counters_.accepted[2][k];
+        stats_.proposedSmall[size_t(k)] = counters_.proposed[kSmallStep][k];
+        stats_.acceptedSmall[size_t(k)] = counters_.accepted[kSmallStep][k];
+        stats_.proposedLarge[size_t(k)] = counters_.proposed[kLargeStep][k];
+        stats_.acceptedLarge[size_t(k)] = counters_.accepted[kLargeStep][k];
+        stats_.proposedDelayed[size_t(k)] = counters_.proposed[kSecondStage][k];
+        stats_.acceptedDelayed[size_t(k)] = counters_.accepted[kSecondStage][k];
         stats_.proposedFilm[size_t(k)] = counters_.proposed[kFilmStep][k];
         stats_.acceptedFilm[size_t(k)] = counters_.accepted[kFilmStep][k];
         stats_.mutations += stats_.proposals[size_t(k)];

@@ -328,7 +328,7 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
             const int kind = mb.large[i];
             // Delayed rejection (MMLT): a large step's current state is splatted by the second
             // stage if it is rejected, and not at all if it is accepted (mmlt_delayed.cpp).
-            const bool delay = !Whole && kind == 1 && mb.delayed;
+            const bool delay = !Whole && kind == kLargeStep && mb.delayed;
             if constexpr (Whole) {
                 splatWhole(scene, g, c, mb, i, a, cP);
             } else {
@@ -336,8 +336,9 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
                 if (a < 1 && g.c[c] > 0 && !delay) mb.addSplat(scene, g.filmX[c], g.filmY[c], g.F[c] * ((1.0f - a) * g.weight / g.c[c]), k);
             }
             ++mb.counters.proposed[kind][k];
-            if (kind == 1) mb.poolFor(mb.bpt.key[i], g.k, pool).addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
-            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) {                                            // rejected
+            if (kind == kLargeStep)
+                mb.poolFor(mb.bpt.key[i], g.k, pool).addSample(mb.bpt.key[i], cP, F, filmX, filmY);  // an independent uniform sample of u
+            if (!(sampleDimension(mb.bpt.key[i], kDimAccept) < a)) {                                 // rejected
                 if (delay) {
                     mb.rejectedLarge.push_back({sl.group, c, 1, uint32_t(mb.rejectedLarge.size())});
                     mb.rejectedC.push_back(cP);
@@ -347,12 +348,12 @@ void acceptAndSplatOf(const Scene& scene, std::vector<ChainGroup>& groups, MmltB
             ++mb.counters.accepted[kind][k];
             if constexpr (Whole) {
                 commitWhole(g, c, mb, i, g.accepted[c] + 1);
-                commitState(g, c, kind != 0, F, cP, filmX, filmY);
+                commitState(g, c, kind == kLargeStep, F, cP, filmX, filmY);
                 keepWholePoints(g, c, mb, i);
             } else if (kind == kFilmStep) {
                 commitFilmStep(g, c, mb, i, F, cP);
             } else {
-                commitProposal(g, c, mb, i, kind != 0, F, cP);
+                commitProposal(g, c, mb, i, kind == kLargeStep, F, cP);
             }
         }
     }

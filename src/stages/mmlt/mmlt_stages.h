@@ -30,7 +30,7 @@ inline bool beginProposal(MmltBatch& mb, uint32_t i, const ChainGroup& g, uint32
     const bool large = sampleDimension(key, kDimLarge) < probLarge;
     mb.bpt.key[i] = key;
     mb.chain[i] = c;
-    mb.large[i] = large ? 1 : 0;
+    mb.large[i] = large ? kLargeStep : kSmallStep;
     return large;
 }
 uint64_t mmltPoolKey(uint64_t seed, uint32_t pass, int k, uint32_t index);

@@ -180,13 +180,14 @@ struct BatchSlice {
 // The slots a batch's slices fill.
 inline uint32_t slotsIn(const std::vector<BatchSlice>& b) { return b.empty() ? 0 : b.back().slot0 + b.back().n; }
 
-// MmltBatch::large of a film step (RenderOptions::filmSteps; mmlt_stages.cpp).
-constexpr uint8_t kFilmStep = 3;
+// The kinds of a proposal (MmltBatch::large, MmltCounters' first index): a small step, a large
+// step, delayed rejection's second proposal (mmlt_delayed.cpp) and a film step
+// (RenderOptions::filmSteps; mmlt_stages.cpp).
+constexpr uint8_t kSmallStep = 0, kLargeStep = 1, kSecondStage = 2, kFilmStep = 3;
 
 // Counters of one batch, per path length (merged in batch order).
 struct MmltCounters {
-    // [kind] (MmltBatch::large): [0] small, [1] large, [2] a rejected large step's second
-    // proposal (delayed rejection), [3] a film step
+    // [kind]: kSmallStep, kLargeStep, kSecondStage, kFilmStep
     uint64_t proposed[4][kMaxPathLength + 1] = {}, accepted[4][kMaxPathLength + 1] = {};
     uint64_t nonfinite = 0;
     // The luminance splatted per length (MmltBatch::tallyLuminance only: a target other than
@@ -228,8 +229,8 @@ struct MmltBatch {
     // longest length's size were 2 KB apart at MaxPathLength 64). Per slot:
     //   row: where its row starts in u
     //   chain: its chain (its index within its group)
-    //   large: the proposal's kind: 0 a small step, 1 a large step, kFilmStep a film step
-    //     (the raster point alone, RenderOptions::filmSteps)
+    //   large: the proposal's kind: kSmallStep, kLargeStep or kFilmStep (the raster point
+    //     alone, RenderOptions::filmSteps)
     std::vector<float> u;
 #define WMLT_MMLT_SLOT_ARRAYS(X) X(uint32_t, row) X(uint32_t, chain) X(uint8_t, large)
     WMLT_MMLT_SLOT_ARRAYS(WMLT_SOA_ARRAY)
