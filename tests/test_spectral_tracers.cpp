@@ -24,6 +24,7 @@
 #include "kernels/spectral.h"
 #include "power.h"
 #include "render_stats.h"
+#include "scene/scene_spectra.h"
 #include "scene/spectrum.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
@@ -416,6 +417,52 @@ TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra agai
         return lerp(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * lerp(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi;
     });
     checkUniform("narrow bands", d, 2, 700, expected, d.materials[0].diffuse * d.lights[0].radiance * (1.0f / kPi));
+}
+
+// pbrt's mix renders spectrally as pbrt-v4 renders it: one part per hit (part 1 with
+// probability amount, by a hash of the point), each part's colours at the path's
+// wavelengths. A floor of a mix (amount 0.3) of two diffuse materials of narrow-band
+// reflectances R_0, R_1 under a white sky (rgb L 1: the colour space's illuminant D), seen
+// straight down: each pixel is int ((1 - a) R_0 + a R_1) D cmf / int ybar in linear sRGB;
+// the RGB blend of the parts' projections is far from it (checked).
+TEST_CASE("spectral tracers: pbrt's mix of two spectral reflectances against its closed form, in PT, BPT and MMLT",
+          "[spectral][render][blend][stat]") {
+    const std::string file = rstats::tempDir("spectral-mix") + "/mix.pbrt";
+    std::ofstream(file) << R"(LookAt 0 5 0  0 0 0  0 0 1
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+Integrator "path" "integer maxdepth" [ 1 ]
+WorldBegin
+LightSource "infinite" "rgb L" [ 1 1 1 ]
+MakeNamedMaterial "a" "string type" "diffuse" "spectrum reflectance" [ 400 0.02 495 0.02 505 0.95 520 0.95 530 0.02 700 0.02 ]
+MakeNamedMaterial "b" "string type" "diffuse" "spectrum reflectance" [ 400 0.02 590 0.02 600 0.95 615 0.95 625 0.02 700 0.02 ]
+Material "mix" "string materials" [ "a" "b" ] "float amount" 0.3
+Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "integer indices" [ 0 2 1 0 3 2 ]
+)";
+    const SceneDesc d = loadScene(file);
+    REQUIRE(d.settings.spectral);
+    const MaterialDesc& mix = d.materials[size_t(d.shapes[0].material)];
+    REQUIRE(mix.kind == MaterialKind::Blend);
+    REQUIRE(blendChoosesPart(d.materials, mix));
+    REQUIRE(spectralUnsupported(d).empty());
+    auto lerp = [](double l, std::initializer_list<std::pair<double, double>> pairs) {  // linear between pairs, 0 outside
+        const std::vector<std::pair<double, double>> p(pairs);
+        if (l < p.front().first || l > p.back().first) return 0.0;
+        for (size_t i = 0; i + 1 < p.size(); ++i)
+            if (l <= p[i + 1].first) return p[i].second + (p[i + 1].second - p[i].second) * (l - p[i].first) / (p[i + 1].first - p[i].first);
+        return 0.0;
+    };
+    const double a = 0.3;
+    const Vec3 expected = srgbOfSpectrum([&](double l) {
+        Wavelengths w;
+        for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
+        const double R0 = lerp(l, {{400, 0.02}, {495, 0.02}, {505, 0.95}, {520, 0.95}, {530, 0.02}, {700, 0.02}});
+        const double R1 = lerp(l, {{400, 0.02}, {590, 0.02}, {600, 0.95}, {615, 0.95}, {625, 0.02}, {700, 0.02}});
+        return ((1 - a) * R0 + a * R1) * double(rgbIlluminantAt(Vec3(1.0f), w).x);
+    });
+    const Vec3 rgb = d.materials[size_t(mix.blendPart[0])].diffuse * float(1 - a) + d.materials[size_t(mix.blendPart[1])].diffuse * float(a);
+    checkUniform("pbrt mix", d, 2, 900, expected, rgb);
 }
 
 // The wavelengths are a primary-sample number of MMLT's and PSSMLT's chains (the row's last),

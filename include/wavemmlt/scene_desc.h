@@ -184,11 +184,14 @@ struct MaterialDesc {
     // luminance at the hit), else rays pass straight through (an any-hit test).
     float opacity = 1;
     int opacityTexture = -1;  // index into SceneDesc::textures, -1: none
-    // Blend: its two parts (indices into SceneDesc::materials: kinds other than Blend, with
-    // constant parameters and no bump, normal map or mask) and the weight w of part 1,
-    // a constant in [0, 1] or (texture[BlendWeight]) that texture's luminance at the hit.
+    // Blend: its two parts (indices into SceneDesc::materials: kinds other than Blend,
+    // without a mask) and the weight w of part 1, a constant in [0, 1] or
+    // (texture[BlendWeight]) that texture's luminance at the hit. blendPerHit: one part per
+    // hit, part 1 with probability w (pbrt-v4's mix), instead of f = (1 - w) f_0 + w f_1
+    // (Mitsuba's blendbsdf); blendChoosesPart.
     int blendPart[2] = {-1, -1};
     float blendWeight = 0.5f;
+    bool blendPerHit = false;
     // Principled (Mitsuba's `principled`): base_color is `diffuse` (its texture the Diffuse
     // one), eta iorInside / iorOutside; its float parameters below, each a constant or
     // (texture[principledParam(q)]) that texture's luminance at the hit; sampling rates of
@@ -220,6 +223,19 @@ struct MaterialDesc {
 inline bool principledTransmits(const MaterialDesc& m) {
     const int t = int(PrincipledParam::SpecTrans);
     return m.kind == MaterialKind::Principled && (m.principled[t] > 0 || m.texture[principledParam(PrincipledParam::SpecTrans)] >= 0);
+}
+
+// Whether blend m is resolved to one of its parts at each hit (Scene::choosesPart, chosen by
+// a hash of the point): pbrt-v4's mix always (so its parts' colours render spectrally, as
+// pbrt's), and any blend of a bump- or normal-mapped part (the parts' shading normals differ).
+inline bool blendChoosesPart(const std::vector<MaterialDesc>& materials, const MaterialDesc& m) {
+    if (m.kind != MaterialKind::Blend) return false;
+    if (m.blendPerHit) return true;
+    for (int part : m.blendPart) {
+        const MaterialDesc& q = materials[size_t(part)];
+        if (q.bump >= 0 || q.normalMap >= 0) return true;
+    }
+    return false;
 }
 
 // A rough kind's roughness along v (alphaV, or alpha where none was given), and whether it

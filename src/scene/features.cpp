@@ -40,15 +40,13 @@ SceneFeatures deriveFeatures(const SceneDesc& d) {
         if (m.opacity < 1 || m.opacityTexture >= 0) f.masks = true;
         if (isAnisotropic(m)) f.anisotropic = true;
         if (m.kind == MaterialKind::Blend) {  // a part's delta lobes and anisotropy count as the blend's
-            bool choosesPart = false;         // bump- or normal-mapped parts: one of them at each hit (Scene::choosesPart)
             for (int part : m.blendPart) {
                 const MaterialDesc& q = d.materials[size_t(part)];
                 if (isDeltaMaterial(q.kind) || q.kind == MaterialKind::Plastic || q.kind == MaterialKind::Coated)
                     f.delta = true;  // (a smooth coat's mirror)
                 if (isAnisotropic(q)) f.anisotropic = true;
-                if (q.bump >= 0 || q.normalMap >= 0) choosesPart = true;
             }
-            if (choosesPart) {  // the stages then meet the parts themselves
+            if (blendChoosesPart(d.materials, m)) {  // one part at each hit (Scene::choosesPart): the stages meet the parts themselves
                 f.bump = true;
                 for (int part : m.blendPart) {
                     const MaterialDesc& q = d.materials[size_t(part)];

@@ -88,8 +88,9 @@ public:
     // path's first non-specular bounce; 0: no such table.
     uint32_t regularizedOffset = 0;
     std::vector<uint8_t> texturedMaterial;  // by material index: it reads a texture (the texture stage)
-    // By material index: a blend whose parts perturb the normal (bump or normal maps), resolved
-    // to one part per hit as pbrt-v4 resolves every mix (surface.cpp, choosePart).
+    // By material index: a blend resolved to one part per hit (blendChoosesPart: pbrt's mix, a
+    // blend whose parts perturb the normal), as pbrt-v4 resolves every mix (surface.cpp,
+    // choosePart).
     std::vector<uint8_t> choosesPart;
     std::vector<BsdfExtra> bsdfExtras;         // by index into materials: the Mitsuba kinds' constants
     std::vector<BsdfParams> blendParts;        // each Blend's two parts (BsdfExtra::blendParts)

@@ -102,11 +102,8 @@ void buildMaterials(const SceneDesc& d, Scene& s) {
             s.bsdfExtras[i].blendTextures = &s.blendTextures.back();
         }
         // anisotropic parts: the blend's frame follows dp/du for them (shadingFrame)
-        for (int part : m.blendPart) {
-            const MaterialDesc& q = d.materials[size_t(part)];
-            s.bsdfExtras[i].anisotropic |= isAnisotropic(q);
-            if (i < n && (q.bump >= 0 || q.normalMap >= 0)) s.choosesPart[i] = 1;
-        }
+        for (int part : m.blendPart) s.bsdfExtras[i].anisotropic |= isAnisotropic(d.materials[size_t(part)]);
+        if (i < n && blendChoosesPart(d.materials, m)) s.choosesPart[i] = 1;
     }
 }
 

@@ -52,15 +52,18 @@ Vec3 upliftedAt(const UpliftedColour& c, Vec3 rgb, bool unbounded, const Wavelen
     return sigmoidPolyAt(c.poly, w) * c.scale;
 }
 
-// Why material m cannot be rendered spectrally yet ("" if it can): kinds whose per-material
-// data made at scene build depend on RGB colours (a principled material's tints are its base
-// colour over its luminance; a blend's parts are constants the spectral stage never sees).
-// (A plastic's sampling weight is made from RGB too, but it is a sampling choice only.)
-std::string unsupportedMaterial(const MaterialDesc& m) {
+// Why material m of d cannot be rendered spectrally yet ("" if it can): kinds whose
+// per-material data made at scene build depend on RGB colours (a principled material's tints
+// are its base colour over its luminance; a linear blend's parts are constants the spectral
+// stage never sees: a blend resolved per hit, pbrt's mix, is its parts there). (A plastic's
+// sampling weight is made from RGB too, but it is a sampling choice only.)
+std::string unsupportedMaterial(const SceneDesc& d, const MaterialDesc& m) {
     using K = MaterialKind;
     switch (m.kind) {
-        case K::Principled:
         case K::Blend:
+            if (blendChoosesPart(d.materials, m)) return "";
+            [[fallthrough]];
+        case K::Principled:
         case K::Phase: return std::string("a ") + kMaterialKindNames[int(m.kind)] + " material";
         default: return "";
     }
@@ -73,7 +76,7 @@ std::string spectralUnsupported(const SceneDesc& d) {
         if (!m.sigmaAGrid.empty() || !m.sigmaSGrid.empty() || !m.albedoGrid.empty() || !m.LeGrid.empty())
             return "a medium with RGB grids (\"" + m.name + "\")";
     for (const MaterialDesc& m : d.materials)
-        if (std::string why = unsupportedMaterial(m); !why.empty()) return why;
+        if (std::string why = unsupportedMaterial(d, m); !why.empty()) return why;
     return "";
 }
 

@@ -80,7 +80,7 @@ struct SpectralMode {
 SpectralMode chooseSpectralMode(const Scene& scene, bool asked);
 
 // The scene's spectra, or `unsupported` set (media with RGB grids, materials whose derived
-// data is RGB: principled, blends).
+// data is RGB: principled, linear blends).
 SpectralScene buildSpectralScene(const Scene& scene);
 // The same reason from the description alone ("" when the scene can render spectrally):
 // --describe's.

@@ -359,6 +359,7 @@ int Importer::material(const std::string& type, Directive& d) {
         const Param* q = p.find("materials");
         if (!q || q->type != "string" || q->strings.size() != 2) fail(d.at, "mix needs \"string materials\" with two names");
         m.kind = MaterialKind::Blend;
+        m.blendPerHit = true;  // one part per hit, as pbrt-v4 (so each part's colours render spectrally)
         for (int k = 0; k < 2; ++k) {
             auto it = namedMaterials_.find(q->strings[size_t(k)]);
             if (it == namedMaterials_.end()) fail(q->at, "mix: no material named \"" + q->strings[size_t(k)] + "\"");
@@ -367,7 +368,7 @@ int Importer::material(const std::string& type, Directive& d) {
             if (part.kind == MaterialKind::Blend) fail(q->at, "a mix inside a mix is not supported");
             m.blendPart[k] = it->second;
         }
-        // pbrt chooses material 1 with probability amount per hit; the mean is this blend
+        // pbrt chooses material 1 with probability amount per hit: blendPerHit
         m.blendWeight = floatParam(p, "amount", 0.5f, m.texture[MaterialParam::BlendWeight]);
         if (m.texture[MaterialParam::BlendWeight] >= 0) m.blendWeight = 1;
         if (!(m.blendWeight >= 0 && m.blendWeight <= 1)) fail(d.at, "mix: amount must be in [0, 1]");

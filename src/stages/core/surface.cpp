@@ -46,7 +46,7 @@ void sphereDerivativesMitsuba(const GeomRecord& g, Vec3 l, Vec3& dpdu, Vec3& dpd
     dpdv = g.toWorld.vector(Vec3(cosT * std::cos(phi), cosT * std::sin(phi), -sinT) * kPi);
 }
 
-// A blend of bump- or normal-mapped parts (Scene::choosesPart) is part 1 where a hash of the
+// A blend resolved per hit (Scene::choosesPart: pbrt's mix, bump- or normal-mapped parts) is part 1 where a hash of the
 // hit point is below its weight there, else part 0: pbrt-v4's mix, which chooses one
 // material per hit for every mix, by a hash of the point (and wo: here the point alone, so
 // that a camera and a light subpath see the same part at a point).
