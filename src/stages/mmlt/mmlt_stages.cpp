@@ -78,6 +78,10 @@ void setNumbersRead(const Scene& scene, MmltBatch& mb) {
     forEachMaterialKind([&](auto kind) {
         if (scene.features.has(decltype(kind)::value)) reads |= BsdfOf<decltype(kind)::value>::reads;
     });
+    // Medium vertices sample the phase function, which no shape's material stands for: with
+    // only surfaces that read no direction (a medium in an interface box, a glass ball in
+    // fog) their numbers were left out of the rows, and read what the row held before.
+    if (scene.features.media) reads |= BsdfOf<MaterialKind::Phase>::reads;
     // Bit m of a vertex's four numbers (0 lobe, 1-2 direction, 3 roulette), then the run
     // [lo, hi) that covers the bits (a number in a gap would be proposed unread: harmless).
     const uint32_t bits = (reads & kReadsLobe ? 1 : 0) | (reads & kReadsDirection ? 6 : 0) | (mb.bpt.roulette ? 8 : 0);
