@@ -84,7 +84,13 @@ void addConnection(const Scene& scene, BptBatch& b, uint32_t target, float x, fl
 
 }  // namespace
 
-void addVolumeEmission(BptBatch& b, uint32_t slot, Vec3 emitted, int k) { addCameraSide(b, slot, emitted, 1.0f, 0, k); }
+void addVolumeEmission(BptBatch& b, uint32_t slot, Vec3 emitted, int k) {
+    // Spectral: at the slot's wavelengths as the film's linear sRGB, as every strategy's
+    // value (finishStrategies); a dispersion that ends the secondary wavelengths later on
+    // the walk leaves this estimate unbiased, it reads nothing of what follows.
+    if (b.spectra) emitted = srgbOfSample(emitted, b.lambda[slot]);
+    addCameraSide(b, slot, emitted, 1.0f, 0, k);
+}
 
 void evaluateStrategyBsdfs(const BptBatch& b, StrategyWave& w) {
     size_t n = 0;
