@@ -484,21 +484,21 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
         CHECK(contains(text, "\"spectral\": true"));
         CHECK(contains(text, "\"spectral_reason\": \"\""));
     }
-    // a scene with what is not spectral yet (a medium of RGB grids): RGB, a warning, the reason in --stats
-    const std::string grid =
-        quote(dir.write("grid.pbrt",
-                        "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
-                        "LightSource \"point\" \"point3 from\" [0 0 -4] \"rgb I\" [10 10 10]\n"
-                        "MakeNamedMedium \"smoke\" \"string type\" \"rgbgrid\" \"integer nx\" 1 \"integer ny\" 1 \"integer nz\" 1 "
-                        "\"rgb sigma_a\" [ 0.1 0.2 0.3 ] \"rgb sigma_s\" [ 0.3 0.2 0.1 ]\n"
-                        "MediumInterface \"smoke\" \"\"\nMaterial \"interface\"\nShape \"sphere\"\n"));
-    Run r = run(grid + " --tracer bpt --spp 1 --threads 2 --spectral --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    // a scene with what is not spectral yet (a Mitsuba principled BSDF; the file gives a
+    // spectrum, so spectral is its default): RGB, a warning, the reason in --stats
+    const std::string principled = quote(dir.write("principled.xml", R"(<scene version="3.0.0">
+  <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, -5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>
+  <emitter type="point"><point name="position" x="0" y="0" z="-4"/><spectrum name="intensity" value="400:10, 700:10"/></emitter>
+  <shape type="sphere"><bsdf type="principled"/></shape>
+</scene>)"));
+    Run r =
+        run(principled + " --tracer bpt --spp 1 --threads 2 --spectral --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
     INFO("stderr: " << r.err);
     REQUIRE(r.status == 0);
-    CHECK(contains(r.err, "warning: --spectral: the scene has a medium with RGB grids (\"smoke\") (not spectral yet): rendered in RGB"));
+    CHECK(contains(r.err, "warning: --spectral: the scene has a principled material (not spectral yet): rendered in RGB"));
     std::string text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
-    CHECK(contains(text, "a medium with RGB grids"));
+    CHECK(contains(text, "a principled material"));
     // the coated gold killeroo (a coated conductor) and a fog box (a homogeneous medium) render spectrally
     const std::string coated = quote(kData + "/scenes/pbrt-v4/killeroos/killeroo-coated-gold.pbrt");
     const std::string fog = quote(kData + "/scenes/pbrt-v4/cornell-box/cornell-box-volume.pbrt");
@@ -515,8 +515,9 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
     CHECK(contains(text, "\"spectral\": false"));
     CHECK(contains(text, "\"spectral_reason\": \"\""));
     // pbrt-v4 files render spectrally by default, as pbrt does; --rgb renders them in RGB. A
-    // pbrt file with what is not spectral yet renders RGB and says why in --stats, with no
-    // warning (it was not asked for).
+    // file spectral by its format's default (the Mitsuba file that gives a spectrum) with what
+    // is not spectral yet renders RGB and says why in --stats, with no warning (it was not
+    // asked for).
     const std::string box = quote(kData + "/scenes/pbrt-v4/cornell-box/cornell-box.pbrt");
     r = run(box + " --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
@@ -525,12 +526,12 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
     r = run(box + " --rgb --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
     CHECK(contains(readFile(stats), "\"spectral\": false"));
-    r = run(grid + " --tracer bpt --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
+    r = run(principled + " --tracer bpt --spp 1 --threads 2 --width 32 --height 32 -o " + quote(out) + " --stats " + quote(stats), dir);
     REQUIRE(r.status == 0);
     CHECK(r.err.find("spectral") == std::string::npos);
     text = readFile(stats);
     CHECK(contains(text, "\"spectral\": false"));
-    CHECK(contains(text, "spectral by the format's default, but the scene has a medium with RGB grids"));
+    CHECK(contains(text, "spectral by the format's default, but the scene has a principled material"));
     // --describe says what a render with the same options would be, and why not spectral.
     CHECK(contains(run("--describe", dir).out, "spectral: no (RGB, the format's default"));
     CHECK(contains(run(box + " --describe", dir).out, "spectral: yes (pt, the format's default"));
@@ -538,8 +539,8 @@ TEST_CASE("cli: --spectral renders every tracer spectrally and says so, a scene 
     CHECK(contains(run("--describe --spectral --tracer mmlt", dir).out, "spectral: yes (mmlt"));
     CHECK(contains(run("--describe --spectral --tracer bpt", dir).out, "spectral: yes (bpt"));
     CHECK(contains(run("--describe --spectral", dir).out, "spectral: yes"));  // (the built-in scene's first render: PT)
-    CHECK(contains(run(grid + " --describe --spectral --tracer pt", dir).out,
-                   "spectral: no: the scene has a medium with RGB grids (\"smoke\") (not spectral yet)"));
+    CHECK(contains(run(principled + " --describe --spectral --tracer pt", dir).out,
+                   "spectral: no: the scene has a principled material (not spectral yet)"));
     CHECK(contains(run(coated + " --describe", dir).out, "spectral: yes"));
 }
 

@@ -21,9 +21,12 @@
 #include <string>
 #include <tuple>
 
+#include "chi2.h"
+#include "kernels/medium.h"
 #include "kernels/spectral.h"
 #include "power.h"
 #include "render_stats.h"
+#include "scene/scene.h"
 #include "scene/scene_spectra.h"
 #include "scene/spectrum.h"
 #include "wavemmlt/render.h"
@@ -351,12 +354,19 @@ void checkUniform(const std::string& what, const SceneDesc& d, int length, uint6
     }
 }
 
-std::string inkScene(bool grid) {
-    const std::string file = rstats::tempDir("spectral-ink") + (grid ? "/grid.pbrt" : "/homogeneous.pbrt");
-    std::ofstream(file) << (grid ? R"(MakeNamedMedium "ink" "string type" [ "uniformgrid" ] "rgb sigma_a" [ 1.8 0.5 0.1 ] "rgb sigma_s" [ 0 0 0 ]
-  "integer nx" 2 "integer ny" 2 "integer nz" 2 "float density" [ 0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5 ] "point3 p0" [ -30 -30 0 ] "point3 p1" [ 30 30 20 ])"
-                                 : R"(MakeNamedMedium "ink" "string type" [ "homogeneous" ] "rgb sigma_a" [ 0.9 0.25 0.05 ] "rgb sigma_s" [ 0 0 0 ])")
-                        << R"(
+// The ink: a medium of sigma_a (0.9, 0.25, 0.05) (kind 0 homogeneous, 1 a density grid of
+// twice that at density 0.5, 2 pbrt's rgbgrid of it in every voxel) with the camera in it.
+std::string inkScene(int kind) {
+    const char* names[] = {"/homogeneous.pbrt", "/grid.pbrt", "/rgbgrid.pbrt"};
+    const char* media[] = {
+        R"(MakeNamedMedium "ink" "string type" [ "homogeneous" ] "rgb sigma_a" [ 0.9 0.25 0.05 ] "rgb sigma_s" [ 0 0 0 ])",
+        R"(MakeNamedMedium "ink" "string type" [ "uniformgrid" ] "rgb sigma_a" [ 1.8 0.5 0.1 ] "rgb sigma_s" [ 0 0 0 ]
+  "integer nx" 2 "integer ny" 2 "integer nz" 2 "float density" [ 0.5 0.5 0.5 0.5 0.5 0.5 0.5 0.5 ] "point3 p0" [ -30 -30 0 ] "point3 p1" [ 30 30 20 ])",
+        R"(MakeNamedMedium "ink" "string type" [ "rgbgrid" ] "integer nx" 2 "integer ny" 2 "integer nz" 2 "point3 p0" [ -30 -30 0 ] "point3 p1" [ 30 30 20 ]
+  "rgb sigma_a" [ 0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05 ]
+  "rgb sigma_s" [ 0 0 0  0 0 0  0 0 0  0 0 0  0 0 0  0 0 0  0 0 0  0 0 0 ])"};
+    const std::string file = rstats::tempDir("spectral-ink") + names[kind];
+    std::ofstream(file) << media[kind] << R"(
 MediumInterface "" "ink"
 LookAt 0 0 10  0 0 0  0 1 0
 Camera "orthographic"
@@ -372,20 +382,133 @@ Shape "trianglemesh" "point3 P" [ -20 -20 8  20 -20 8  20 20 8  -20 20 8 ] "inte
 
 }  // namespace
 
-TEST_CASE("spectral tracers: an absorbing medium's colour is its transmittance at each wavelength, homogeneous and grid, in PT, BPT and MMLT",
-          "[spectral][render][media][stat]") {
+TEST_CASE(
+    "spectral tracers: an absorbing medium's colour is its transmittance at each wavelength, homogeneous, density grid and RGB grid, in PT, BPT and "
+    "MMLT",
+    "[spectral][render][media][stat]") {
     const UnboundedSpectrum sigmaA = unboundedSpectrumOfRgb(Vec3(0.9f, 0.25f, 0.05f));
     const Vec3 expected = srgbOfSpectrum([&](double l) {
         Wavelengths w;
         for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
         return std::exp(-2.0 * double(unboundedAt(sigmaA, float(l)))) * double(rgbIlluminantAt(Vec3(1.0f), w).x);
     });
-    for (bool grid : {false, true}) {
-        const SceneDesc d = loadScene(inkScene(grid));
+    for (int kind : {0, 1, 2}) {
+        const SceneDesc d = loadScene(inkScene(kind));
         REQUIRE(d.media.size() == 1);
-        REQUIRE(d.media[0].density.empty() == !grid);
-        checkUniform(grid ? "grid" : "homogeneous", d, 1, 500, expected, Vec3(std::exp(-1.8f), std::exp(-0.5f), std::exp(-0.1f)));
+        REQUIRE(d.media[0].density.empty() == (kind != 1));
+        REQUIRE(d.media[0].sigmaAGrid.empty() == (kind != 2));
+        const char* what[] = {"homogeneous", "density grid", "rgbgrid"};
+        checkUniform(what[kind], d, 1, 500, expected, Vec3(std::exp(-1.8f), std::exp(-0.5f), std::exp(-0.1f)));
     }
+}
+
+// pbrt's rgbgrid in a spectral render (SpectralScene::medium, kernels/medium.h): at a voxel's
+// centre sigma_t and sigma_s are its RGBs' unbounded spectra at the wavelengths, and at any
+// point and wavelengths the majorant grid's cell bounds sigma_t (each voxel's largest value
+// over 360-830 nm: a majorant made from the RGB alone would not, an unbounded spectrum
+// reaching up to twice its largest component). Random values in [0, 3] on a 3 x 3 x 3 grid.
+TEST_CASE("spectral tracers: an RGB grid's spectra at the voxels, and majorants that bound them at any wavelength", "[spectral][media]") {
+    const std::string file = rstats::tempDir("spectral-rgbgrid") + "/grid.pbrt";
+    chi2::Pcg32 rng(11);
+    std::vector<Vec3> a, sc;
+    std::string sa, ss;
+    for (int i = 0; i < 27; ++i) {
+        a.push_back(Vec3(3 * rng.uniform(), 3 * rng.uniform(), 3 * rng.uniform()));
+        sc.push_back(Vec3(3 * rng.uniform(), 3 * rng.uniform(), 3 * rng.uniform()));
+        for (int c = 0; c < 3; ++c) {
+            sa += std::to_string(a.back()[c]) + " ";
+            ss += std::to_string(sc.back()[c]) + " ";
+        }
+    }
+    std::ofstream(file) << R"(LookAt 0 0 -5  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+LightSource "point" "point3 from" [ 0 3 0 ]
+MakeNamedMedium "smoke" "string type" "rgbgrid" "integer nx" 3 "integer ny" 3 "integer nz" 3 "point3 p0" [ -1 -1 -1 ] "point3 p1" [ 1 1 1 ]
+  "rgb sigma_a" [ )" << sa
+                        << R"(] "rgb sigma_s" [ )" << ss << R"(]
+MediumInterface "smoke" ""
+Material "interface"
+Shape "sphere" "float radius" 2
+)";
+    const SceneDesc d = loadScene(file);
+    REQUIRE(d.media[0].sigmaAGrid.size() == 27);
+    for (int i = 0; i < 27; ++i) {  // (the file's numbers as read back)
+        a[size_t(i)] = d.media[0].sigmaAGrid[size_t(i)];
+        sc[size_t(i)] = d.media[0].sigmaSGrid[size_t(i)];
+    }
+    const std::unique_ptr<Scene> scene = Scene::build(d, 1);
+    const SpectralScene spectra = buildSpectralScene(*scene);
+    REQUIRE(spectra.unsupported.empty());
+    int above = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        Wavelengths w;
+        for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = kLambdaMin + (kLambdaMax - kLambdaMin) * rng.uniform();
+        const Medium m = spectra.medium(0, scene->media[0], w);
+        REQUIRE(m.specSigmaS != nullptr);
+        const int v = trial % 27, x = v % 3, y = v / 3 % 3, z = v / 9;
+        Vec3 sT, sS;
+        gridCoefficients(m, Vec3((x + 0.5f) / 3, (y + 0.5f) / 3, (z + 0.5f) / 3), sT, sS);
+        const UnboundedSpectrum us = unboundedSpectrumOfRgb(sc[size_t(v)]), ua = unboundedSpectrumOfRgb(a[size_t(v)]);
+        for (int i = 0; i < kWavelengths; ++i) {
+            CHECK(sS[i] == Approx(unboundedAt(us, w.lambda[i])).epsilon(1e-5).margin(1e-6));
+            CHECK(sT[i] == Approx(unboundedAt(us, w.lambda[i]) + unboundedAt(ua, w.lambda[i])).epsilon(1e-5).margin(1e-6));
+        }
+        for (int p = 0; p < 50; ++p) {
+            const Vec3 q(rng.uniform(), rng.uniform(), rng.uniform());
+            gridCoefficients(m, q, sT, sS);
+            const int cx = std::min(int(q.x * float(m.mx)), m.mx - 1), cy = std::min(int(q.y * float(m.my)), m.my - 1),
+                      cz = std::min(int(q.z * float(m.mz)), m.mz - 1);
+            const float majorant = m.majorants[(size_t(cz) * size_t(m.my) + size_t(cy)) * size_t(m.mx) + size_t(cx)] * m.majorantScale;
+            CHECK(maxComponent(sT) <= majorant * (1 + 1e-5f));
+            CHECK(majorant <= m.majorant);
+            const Medium& rgb = scene->media[0];
+            if (maxComponent(sT) > rgb.majorants[(size_t(cz) * size_t(rgb.my) + size_t(cy)) * size_t(rgb.mx) + size_t(cx)]) ++above;
+        }
+    }
+    INFO(above << " of 10000 points' spectral sigma_t above their cell's RGB majorant");
+    CHECK(above > 0);  // (what a majorant of the RGB alone would have missed)
+}
+
+// pbrt's rgbgrid emitting: sigma_a (0.9, 0.25, 0.05) and Le (0.2, 0.6, 1) in every voxel, the
+// camera in it, 10 above a black floor (the point light below it lights no path of length 1,
+// the only length rendered): each pixel is int Le(l) D(l) (1 - exp(-10 sigma_a(l)))
+// cmf / int ybar (Le's and sigma_a's spectra pbrt-v4's RGBIlluminantSpectrum and
+// RGBUnboundedSpectrum, D the colour space's illuminant); the RGB product is far from it.
+TEST_CASE("spectral tracers: an emitting RGB grid's colour against its closed form, in PT, BPT and MMLT", "[spectral][render][media][stat]") {
+    const std::string file = rstats::tempDir("spectral-glow") + "/glow.pbrt";
+    std::string sigmaA, sigmaS, Le;
+    for (int i = 0; i < 8; ++i) {
+        sigmaA += "0.9 0.25 0.05 ";
+        sigmaS += "0 0 0 ";
+        Le += "0.2 0.6 1 ";
+    }
+    std::ofstream(file) << R"(MakeNamedMedium "glow" "string type" [ "rgbgrid" ] "integer nx" 2 "integer ny" 2 "integer nz" 2
+  "point3 p0" [ -30 -30 -20 ] "point3 p1" [ 30 30 40 ] "rgb sigma_a" [ )"
+                        << sigmaA << R"(] "rgb sigma_s" [ )" << sigmaS << R"(] "rgb Le" [ )" << Le << R"(]
+MediumInterface "" "glow"
+LookAt 0 0 10  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+Integrator "volpath" "integer maxdepth" [ 1 ]
+WorldBegin
+LightSource "point" "point3 from" [ 0 0 -100 ] "rgb I" [ 1 1 1 ]
+Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+Shape "trianglemesh" "point3 P" [ -20 -20 0  20 -20 0  20 20 0  -20 20 0 ] "integer indices" [ 0 2 1 0 3 2 ]
+)";
+    const SceneDesc d = loadScene(file);
+    REQUIRE(d.media.size() == 1);
+    REQUIRE(d.media[0].LeGrid.size() == 8);
+    REQUIRE(spectralUnsupported(d).empty());
+    const UnboundedSpectrum sigmaAs = unboundedSpectrumOfRgb(Vec3(0.9f, 0.25f, 0.05f));
+    const Vec3 expected = srgbOfSpectrum([&](double l) {
+        Wavelengths w;
+        for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
+        return -std::expm1(-10.0 * double(unboundedAt(sigmaAs, float(l)))) * double(rgbIlluminantAt(Vec3(0.2f, 0.6f, 1.0f), w).x);
+    });
+    const Vec3 rgb(0.2f * -std::expm1(-9.0f), 0.6f * -std::expm1(-2.5f), 1.0f * -std::expm1(-0.5f));
+    checkUniform("rgbgrid Le", d, 1, 600, expected, rgb);
 }
 
 // A Mitsuba file's spectra (which make it render spectrally, as Mitsuba's scalar_spectral): a

@@ -15,9 +15,22 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/spectral.h"
 #include "wavemmlt/math.h"
 
 namespace wmlt {
+
+// One voxel of an RGB grid in a spectral render (SpectralScene): its colour's spectrum,
+// scale times the sigmoid of the quadratic (kernels/spectral.h), made once per render.
+struct VoxelSpectrum {
+    SigmoidPoly poly;
+    float scale = 0;
+};
+// Its values at the wavelengths whose positions in [360, 830] nm, mapped to [0, 1], are t.
+inline Vec3 voxelAt(const VoxelSpectrum& v, Vec3 t) {
+    auto at = [&](float x) { return sigmoid((v.poly.c0 * x + v.poly.c1) * x + v.poly.c2); };
+    return Vec3(at(t.x), at(t.y), at(t.z)) * v.scale;
+}
 
 // A medium as the stages read it: extinction and scattering coefficients per unit length,
 // and the phase function's g; a heterogeneous one (density non-null) times the density grid
@@ -42,6 +55,12 @@ struct Medium {
     Vec3 Le{0.0f};
     const Vec3* gridLe = nullptr;
     const Vec3* gridAlbedo = nullptr;  // a density grid's albedo per voxel: sigma_s = albedo sigma_t
+    // A spectral render's copy (SpectralScene::medium, per path segment): the RGB grids above
+    // as spectra per voxel, read at the path's wavelengths (lambdaT: each one's position in
+    // [360, 830] nm, mapped to [0, 1]) instead of the RGB (null: the RGB grids, or none);
+    // the emission's times the colour space's illuminant there (illuminant).
+    const VoxelSpectrum *specSigmaA = nullptr, *specSigmaS = nullptr, *specAlbedo = nullptr, *specLe = nullptr;
+    Vec3 lambdaT{0.0f}, illuminant{0.0f};
 };
 
 // Calls f(ta, tb, majorant) for the majorant grid's cells along the ray go + t gd (grid
@@ -148,8 +167,9 @@ struct MediumRng {
 
 // A grid's value at q in grid space (the unit cube): trilinear between voxel centres, T
 // float or Vec3, values[i] for voxel i (0 outside the cube unless m.clampEdges).
-template <class T>
-inline T gridLookup(const Medium& m, const T* values, Vec3 q) {
+// (gridLookupBy: voxel i's value is fetch(i).)
+template <class T, class Fetch>
+inline T gridLookupBy(const Medium& m, Vec3 q, Fetch&& fetch) {
     const float fx = q.x * float(m.nx) - 0.5f, fy = q.y * float(m.ny) - 0.5f, fz = q.z * float(m.nz) - 0.5f;
     const float x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
     const float tx = fx - x0, ty = fy - y0, tz = fz - z0;
@@ -159,7 +179,7 @@ inline T gridLookup(const Medium& m, const T* values, Vec3 q) {
         } else if (x < 0 || y < 0 || z < 0 || x >= m.nx || y >= m.ny || z >= m.nz) {
             return T(0.0f);
         }
-        return values[(size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)];
+        return T(fetch((size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)));
     };
     const int ix = int(x0), iy = int(y0), iz = int(z0);
     auto lerp = [](float t, T a, T b) { return a + (b - a) * t; };
@@ -168,6 +188,15 @@ inline T gridLookup(const Medium& m, const T* values, Vec3 q) {
     const T c11 = lerp(tx, at(ix, iy + 1, iz + 1), at(ix + 1, iy + 1, iz + 1));
     return lerp(tz, lerp(ty, c00, c10), lerp(ty, c01, c11));
 }
+template <class T>
+inline T gridLookup(const Medium& m, const T* values, Vec3 q) {
+    return gridLookupBy<T>(m, q, [values](size_t i) { return values[i]; });
+}
+// A spectral grid (VoxelSpectrum) at the medium's wavelengths, interpolated as pbrt-v4's
+// RGBGridMedium does: each voxel's spectrum at the wavelengths, then trilinearly.
+inline Vec3 spectralGridLookup(const Medium& m, const VoxelSpectrum* values, Vec3 q) {
+    return gridLookupBy<Vec3>(m, q, [&](size_t i) { return voxelAt(values[i], m.lambdaT); });
+}
 inline float gridDensity(const Medium& m, Vec3 q) { return gridLookup(m, m.density, q); }
 
 // A heterogeneous medium's sigma_t and sigma_s at q in grid space.
@@ -175,7 +204,13 @@ inline void gridCoefficients(const Medium& m, Vec3 q, Vec3& sigmaT, Vec3& sigmaS
     if (m.density) {
         const float d = gridDensity(m, q);
         sigmaT = m.sigmaT * d;
-        sigmaS = m.gridAlbedo ? sigmaT * gridLookup(m, m.gridAlbedo, q) : m.sigmaS * d;
+        if (m.specAlbedo) sigmaS = sigmaT * spectralGridLookup(m, m.specAlbedo, q);
+        else sigmaS = m.gridAlbedo ? sigmaT * gridLookup(m, m.gridAlbedo, q) : m.sigmaS * d;
+        return;
+    }
+    if (m.specSigmaS) {
+        sigmaS = spectralGridLookup(m, m.specSigmaS, q);
+        sigmaT = spectralGridLookup(m, m.specSigmaA, q) + sigmaS;
         return;
     }
     sigmaS = gridLookup(m, m.gridSigmaS, q);
@@ -291,7 +326,9 @@ inline Vec3 emissionAlong(const Medium& m, Vec3 o, Vec3 d, float tMax, MediumRng
     if (!(m.majorant > 0) || !gridSpan(m, o, d, tMax, go, gd, t0, t1)) return Vec3(0.0f);
     Vec3 T(1.0f), E(0.0f);
     forEachCollision(m, go, gd, t0, t1, rng, [&](float t, float maj, Vec3 sT, Vec3 sS) {
-        const Vec3 Le = m.gridLe ? gridLookup(m, m.gridLe, go + gd * t) : m.Le;
+        const Vec3 Le = m.specLe   ? spectralGridLookup(m, m.specLe, go + gd * t) * m.illuminant
+                        : m.gridLe ? gridLookup(m, m.gridLe, go + gd * t)
+                                   : m.Le;
         E = E + T * vmax(sT - sS, Vec3(0.0f)) * Le * (1.0f / maj);
         T = T * vmax(Vec3(1.0f) - sT * (1.0f / maj), Vec3(0.0f));
         return !isBlack(T);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <unordered_map>
 
@@ -164,35 +165,15 @@ bool closedMesh(const TriangleMesh& m) {
     return !edges.empty();
 }
 
-// The majorant grid of a density grid (m.density, nx, ny, nz set): at most 16 cells per
-// axis, each the largest density among the voxels whose trilinear support reaches into it
-// (and 0, the value outside, where the cube's faces are), times the largest sigma_t. Into
-// cells; sets m.mx, my, mz (m.majorants is the caller's to point at cells).
-inline void buildMajorants(Medium& m, std::vector<float>& cells) {
+// The majorant grid of a density grid (m.density, nx, ny, nz set) or of RGB coefficient
+// grids: buildMajorants sets m.mx, my, mz (at most 16 cells per axis) and fills cells by
+// majorantCells with each voxel's largest density times the largest sigma_t, or its
+// largest component of sigma_t (m.majorants is the caller's to point at cells).
+void buildMajorants(Medium& m, std::vector<float>& cells) {
     m.mx = std::min(m.nx, 16), m.my = std::min(m.ny, 16), m.mz = std::min(m.nz, 16);
-    cells.assign(size_t(m.mx) * size_t(m.my) * size_t(m.mz), 0.0f);
     const float sMax = std::max(m.sigmaT.x, std::max(m.sigmaT.y, m.sigmaT.z));
-    // voxel i's centre is (i + 0.5) / n: it reaches [(i - 0.5) / n, (i + 1.5) / n]
-    auto range = [](int c, int cells, int n, int& lo, int& hi) {
-        lo = std::max(0, int(std::floor(float(c) / float(cells) * float(n) - 1.5f)));
-        hi = std::min(n - 1, int(std::ceil(float(c + 1) / float(cells) * float(n) + 0.5f)));
-    };
-    for (int cz = 0; cz < m.mz; ++cz)
-        for (int cy = 0; cy < m.my; ++cy)
-            for (int cx = 0; cx < m.mx; ++cx) {
-                int x0, x1, y0, y1, z0, z1;
-                range(cx, m.mx, m.nx, x0, x1);
-                range(cy, m.my, m.ny, y0, y1);
-                range(cz, m.mz, m.nz, z0, z1);
-                float d = 0;
-                for (int z = z0; z <= z1; ++z)
-                    for (int y = y0; y <= y1; ++y)
-                        for (int x = x0; x <= x1; ++x) {
-                            const size_t i = (size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x);
-                            d = std::max(d, m.density ? m.density[i] * sMax : maxComponent(m.gridSigmaA[i] + m.gridSigmaS[i]));
-                        }
-                cells[(size_t(cz) * size_t(m.my) + size_t(cy)) * size_t(m.mx) + size_t(cx)] = d;
-            }
+    majorantCells(
+        m, [&](size_t i) { return m.density ? m.density[i] * sMax : maxComponent(m.gridSigmaA[i] + m.gridSigmaS[i]); }, cells);
 }
 
 // The media as the stages read them, and the checks the importers leave to the model.
@@ -352,6 +333,31 @@ void placeLightsInMedia(const SceneDesc& d, Scene& s) {
 }
 
 }  // namespace
+
+// Each cell of m's majorant grid (m.mx, my, mz) the largest voxelMax(i) among the voxels i
+// whose trilinear support reaches into it (and 0, the value outside, where the cube's
+// faces are).
+void majorantCells(const Medium& m, const std::function<float(size_t)>& voxelMax, std::vector<float>& cells) {
+    cells.assign(size_t(m.mx) * size_t(m.my) * size_t(m.mz), 0.0f);
+    // voxel i's centre is (i + 0.5) / n: it reaches [(i - 0.5) / n, (i + 1.5) / n]
+    auto range = [](int c, int cells, int n, int& lo, int& hi) {
+        lo = std::max(0, int(std::floor(float(c) / float(cells) * float(n) - 1.5f)));
+        hi = std::min(n - 1, int(std::ceil(float(c + 1) / float(cells) * float(n) + 0.5f)));
+    };
+    for (int cz = 0; cz < m.mz; ++cz)
+        for (int cy = 0; cy < m.my; ++cy)
+            for (int cx = 0; cx < m.mx; ++cx) {
+                int x0, x1, y0, y1, z0, z1;
+                range(cx, m.mx, m.nx, x0, x1);
+                range(cy, m.my, m.ny, y0, y1);
+                range(cz, m.mz, m.nz, z0, z1);
+                float d = 0;
+                for (int z = z0; z <= z1; ++z)
+                    for (int y = y0; y <= y1; ++y)
+                        for (int x = x0; x <= x1; ++x) d = std::max(d, voxelMax((size_t(z) * size_t(m.ny) + size_t(y)) * size_t(m.nx) + size_t(x)));
+                cells[(size_t(cz) * size_t(m.my) + size_t(cy)) * size_t(m.mx) + size_t(cx)] = d;
+            }
+}
 
 void Scene::setImage(const CameraDesc& c, int width, int height) {
     camera = makeCamera(c, width, height);

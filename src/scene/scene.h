@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -149,5 +150,10 @@ private:
 // Scene::build's materials, from s.desc's (scene_materials.cpp): Scene::materials,
 // bsdfExtras, texturedMaterial, choosesPart, the blends' parts and textures.
 void buildMaterials(const SceneDesc& d, Scene& s);
+
+// Each cell of grid medium m's majorant grid (m.mx, my, mz set) the largest voxelMax(i)
+// among the voxels i whose trilinear support reaches into it (scene.cpp; the spectral
+// majorants of RGB grids: scene_spectra.cpp).
+void majorantCells(const Medium& m, const std::function<float(size_t)>& voxelMax, std::vector<float>& cells);
 
 }  // namespace wmlt

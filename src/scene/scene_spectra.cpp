@@ -52,6 +52,43 @@ Vec3 upliftedAt(const UpliftedColour& c, Vec3 rgb, bool unbounded, const Wavelen
     return sigmoidPolyAt(c.poly, w) * c.scale;
 }
 
+// A voxel's RGB as a spectrum, unbounded (coefficients, emission) or bounded (an albedo).
+VoxelSpectrum voxelSpectrum(Vec3 rgb, bool unbounded) {
+    const UpliftedColour c = uplift(rgb, unbounded);
+    return {c.poly, c.scale};
+}
+
+// The largest value of v at any wavelength in [360, 830] nm: the sigmoid is increasing, so
+// where its quadratic in t = (lambda - 360) / 470 is largest on [0, 1] (an end, or the vertex).
+float voxelMax(const VoxelSpectrum& v) {
+    auto q = [&](float t) { return (v.poly.c0 * t + v.poly.c1) * t + v.poly.c2; };
+    float x = std::max(q(0.0f), q(1.0f));
+    if (v.poly.c0 < 0) {
+        const float t = -v.poly.c1 / (2 * v.poly.c0);
+        if (t > 0 && t < 1) x = std::max(x, q(t));
+    }
+    return v.scale * sigmoid(x);
+}
+
+// Medium desc (built as rgb) as spectra: its constants, and its RGB grids voxel by voxel.
+SpectralScene::MediumSpectra mediumSpectra(const MediumDesc& desc, const Medium& rgb) {
+    SpectralScene::MediumSpectra s{uplift(desc.sigmaA, true), uplift(desc.sigmaS, true), uplift(desc.Le, true), {}, {}, {}, {}, {}, 0};
+    auto grid = [](const std::vector<Vec3>& values, bool unbounded, std::vector<VoxelSpectrum>& out) {
+        out.reserve(values.size());
+        for (Vec3 v : values) out.push_back(voxelSpectrum(v, unbounded));
+    };
+    grid(desc.sigmaAGrid, true, s.gridSigmaA);
+    grid(desc.sigmaSGrid, true, s.gridSigmaS);
+    grid(desc.albedoGrid, false, s.gridAlbedo);
+    grid(desc.LeGrid, true, s.gridLe);
+    if (!s.gridSigmaS.empty()) {  // sigma_t's majorants at any wavelength
+        majorantCells(
+            rgb, [&](size_t i) { return voxelMax(s.gridSigmaA[i]) + voxelMax(s.gridSigmaS[i]); }, s.majorants);
+        for (float c : s.majorants) s.majorant = std::max(s.majorant, c);
+    }
+    return s;
+}
+
 // Why material m of d cannot be rendered spectrally yet ("" if it can): kinds whose
 // per-material data made at scene build depend on RGB colours (a principled material's tints
 // are its base colour over its luminance; a linear blend's parts are constants the spectral
@@ -72,9 +109,6 @@ std::string unsupportedMaterial(const SceneDesc& d, const MaterialDesc& m) {
 }  // namespace
 
 std::string spectralUnsupported(const SceneDesc& d) {
-    for (const MediumDesc& m : d.media)  // values per voxel: RGB grids, an albedo or emission grid
-        if (!m.sigmaAGrid.empty() || !m.sigmaSGrid.empty() || !m.albedoGrid.empty() || !m.LeGrid.empty())
-            return "a medium with RGB grids (\"" + m.name + "\")";
     for (const MaterialDesc& m : d.materials)
         if (std::string why = unsupportedMaterial(d, m); !why.empty()) return why;
     return "";
@@ -92,7 +126,7 @@ SpectralScene buildSpectralScene(const Scene& scene) {
                                uplift(m.kind == MaterialKind::Coated ? m.coating.albedo : m.refract, false), uplift(eta, true), uplift(k, true)});
         s.params.push_back(m.spectra);
     }
-    for (const MediumDesc& m : d.media) s.media.push_back({uplift(m.sigmaA, true), uplift(m.sigmaS, true), uplift(m.Le, true)});
+    for (size_t i = 0; i < d.media.size(); ++i) s.media.push_back(mediumSpectra(d.media[i], scene.media[i]));
     s.light.assign(scene.lights.size(), -1);
     for (size_t i = 0; i < d.lights.size() && i < scene.lights.size(); ++i) s.light[i] = d.lights[i].spectrum;
     s.lightL.assign(scene.lights.size(), UpliftedColour{});
@@ -117,10 +151,24 @@ Medium SpectralScene::medium(int m, const Medium& rgb, const Wavelengths& w) con
     r.sigmaS = at(s.sigmaS);
     r.sigmaT = at(s.sigmaA) + r.sigmaS;
     if (r.emissive) r.Le = at(s.Le) * Vec3(srgbIlluminant(w.lambda[0]), srgbIlluminant(w.lambda[1]), srgbIlluminant(w.lambda[2]));
-    if (r.nx > 0) {  // a density grid: its majorants were made for the largest channel of the RGB sigma_t
+    if (r.density) {  // a density grid: its majorants were made for the largest channel of the RGB sigma_t
         const float before = maxComponent(rgb.sigmaT), now = maxComponent(r.sigmaT);
         r.majorantScale = before > 0 ? now / before : 0.0f;
         r.majorant = rgb.majorant * r.majorantScale;
+    }
+    // RGB grids: their voxels' spectra at w (kernels/medium.h, spectralGridLookup)
+    for (int i = 0; i < kWavelengths; ++i) r.lambdaT[i] = (w.lambda[i] - kLambdaMin) / (kLambdaMax - kLambdaMin);
+    if (!s.gridSigmaS.empty()) {
+        r.specSigmaA = s.gridSigmaA.data();
+        r.specSigmaS = s.gridSigmaS.data();
+        r.majorants = s.majorants.data();  // (the same cells as the RGB grid's)
+        r.majorant = s.majorant;
+        r.majorantScale = 1;
+    }
+    if (!s.gridAlbedo.empty()) r.specAlbedo = s.gridAlbedo.data();
+    if (!s.gridLe.empty()) {
+        r.specLe = s.gridLe.data();
+        r.illuminant = Vec3(srgbIlluminant(w.lambda[0]), srgbIlluminant(w.lambda[1]), srgbIlluminant(w.lambda[2]));
     }
     return r;
 }

@@ -34,9 +34,14 @@ struct SpectralScene {
     static constexpr int kSlots = 6;
     std::vector<std::array<UpliftedColour, kSlots>> constants;
     // Per medium (Scene::media): sigma_a and sigma_s as unbounded spectra, Le as an
-    // illuminant (pbrt-v4's RGBUnboundedSpectrum and RGBIlluminantSpectrum).
+    // illuminant (pbrt-v4's RGBUnboundedSpectrum and RGBIlluminantSpectrum); its RGB grids
+    // voxel by voxel alike (the albedo's bounded, as a reflectance), and RGB coefficient
+    // grids' majorant grid for the spectra (each voxel's largest sigma_t at any wavelength).
     struct MediumSpectra {
         UpliftedColour sigmaA, sigmaS, Le;
+        std::vector<VoxelSpectrum> gridSigmaA, gridSigmaS, gridAlbedo, gridLe;
+        std::vector<float> majorants;
+        float majorant = 0;
     };
     std::vector<MediumSpectra> media;
 
@@ -79,8 +84,8 @@ struct SpectralMode {
 };
 SpectralMode chooseSpectralMode(const Scene& scene, bool asked);
 
-// The scene's spectra, or `unsupported` set (media with RGB grids, materials whose derived
-// data is RGB: principled, linear blends).
+// The scene's spectra, or `unsupported` set (materials whose derived data is RGB:
+// principled, linear blends).
 SpectralScene buildSpectralScene(const Scene& scene);
 // The same reason from the description alone ("" when the scene can render spectrally):
 // --describe's.
