@@ -402,6 +402,48 @@ TEST_CASE(
     }
 }
 
+// A scene with no material at all, only fog in a box of interface walls under a point light:
+// PT's spectral stage met its medium vertices with the material index the hit's record held
+// before (a crash here, index 0 of no materials; elsewhere a stale material's colours on a
+// phase function). PT, BPT and MMLT render it spectrally and agree (6 runs each, blocks of
+// 4 x 4 pixels, compareRuns at p = 1e-4).
+TEST_CASE("spectral tracers: fog in a box of interface walls, no material anywhere, in PT, BPT and MMLT", "[spectral][render][media]") {
+    const std::string file = rstats::tempDir("spectral-fogbox") + "/fog.pbrt";
+    std::ofstream(file) << R"(LookAt 0 0.5 -4  0 0 0  0 1 0
+Camera "perspective" "float fov" 40
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+WorldBegin
+LightSource "point" "point3 from" [ 2 3 -2 ] "rgb I" [ 20 20 20 ]
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.5 0.8 1.2 ] "rgb sigma_s" [ 1 0.7 0.3 ]
+MediumInterface "fog" ""
+Material "interface"
+Shape "trianglemesh" "point3 P" [ -1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1  -1 -1 1  1 -1 1  1 1 1  -1 1 1 ]
+  "integer indices" [ 0 2 1 0 3 2  4 5 6 4 6 7  0 1 5 0 5 4  3 7 6 3 6 2  0 4 7 0 7 3  1 2 6 1 6 5 ]
+)";
+    const SceneDesc d = loadScene(file);
+    REQUIRE(d.materials.empty());
+    std::vector<std::vector<rstats::RunStats>> runs(3, std::vector<rstats::RunStats>(3));
+    const TracerKind tracers[3] = {TracerKind::PT, TracerKind::BPT, TracerKind::MMLT};
+    for (int t = 0; t < 3; ++t)
+        for (int k = 0; k < 6; ++k) {
+            RenderOptions o = rstats::renderOptions(tracers[t], 32, 40 + uint64_t(10 * t + k), 2, 3);
+            o.spectral = true;
+            o.chains = 1024;
+            const RenderResult r = render(d, o);
+            REQUIRE(r.stats.spectral);
+            for (int c = 0; c < 3; ++c) runs[size_t(t)][size_t(c)].add(rstats::blockMeans(r.image, 4, c));
+        }
+    for (int t = 1; t < 3; ++t)
+        for (int c = 0; c < 3; ++c) {
+            double ratio = 0;
+            const rstats::ZTestResult z = rstats::compareRuns(runs[size_t(t)][size_t(c)], runs[0][size_t(c)], 1e-4, &ratio);
+            INFO("tracer " << int(tracers[t]) << " against PT, channel " << c << ": " << z.describe() << ", ratio of means " << ratio);
+            CHECK(z.pass);
+            CHECK(ratio > 0.5);
+        }
+}
+
 // pbrt's rgbgrid in a spectral render (SpectralScene::medium, kernels/medium.h): at a voxel's
 // centre sigma_t and sigma_s are its RGBs' unbounded spectra at the wavelengths, and at any
 // point and wavelengths the majorant grid's cell bounds sigma_t (each voxel's largest value

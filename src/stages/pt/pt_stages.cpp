@@ -73,7 +73,10 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
         const uint32_t slot = b.pathSlot[i];
         const Vec3 d = rayDir(rh);
         if (media && b.mediumEvent[i]) {
-            if (depth < maxLength) recordPtMediumVertex(scene, b, h++, i, d, matte);
+            if (depth < maxLength) {
+                if (b.spectra) b.hitMaterial[h] = -1;  // (no material for the spectral stage to colour)
+                recordPtMediumVertex(scene, b, h++, i, d, matte);
+            }
             continue;
         }
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
@@ -126,7 +129,7 @@ void resolveHitsOf(const Scene& scene, PtBatch& b, int depth, int minLength, int
     if (b.spectra) {  // the spectral stage: every hit's colours at its path's wavelengths
         for (size_t k = 0; k < h; ++k) {
             const int m = b.hitMaterial[k];
-            if (m < 0) continue;  // (a medium vertex: spectral renders have no media yet)
+            if (m < 0) continue;  // a medium vertex (its coefficients at w: PathMedia, per segment)
             Wavelengths& w = b.lambda[b.pathSlot[b.hitPath[k]]];
             if (b.spectra->colours(m, scene.desc.materials[size_t(m)], b.bsdf[k], w)) terminateSecondary(w);
             if (matte) b.hitKd[k] = b.bsdf[k].diffuse;
