@@ -55,9 +55,10 @@ inline float originPdf(const Scene& scene, int li, const PathPoint& x0) {
 // Density of x1 as the first scattering vertex of a light subpath from x0 (light li):
 // emitted direction (cosine about the normal; a point light: uniform, a spot: uniform in its
 // cone) as area density;
-// the environment: the emission disc's density 1 / (pi R^2) projected onto x1's surface.
+// the environment: the emission disc's density 1 / (pi R^2) projected onto x1's surface
+// (a medium vertex: along the ray, no cosine, as the light walk's own density of it).
 inline float emissionPdfAt(const Scene& scene, int li, const PathPoint& x0, const PathPoint& x1) {
-    if (x0.kind == BptVertexKind::Env) return std::fabs(dot(x1.ng, x0.ng)) / (kPi * scene.radius * scene.radius);
+    if (x0.kind == BptVertexKind::Env) return (hasCosine(x1.kind) ? std::fabs(dot(x1.ng, x0.ng)) : 1.0f) / (kPi * scene.radius * scene.radius);
     if (const Light& l = scene.lights[li]; isDeltaLight(l)) {
         const float pdf = isSpot(l) ? pointEmissionPdf(l, dirTo(x0.p, x1.p)) : kUniformSpherePdf;
         return solidAngleToArea(pdf, x0.p, x1.p, x1.ng, hasCosine(x1.kind));
@@ -367,8 +368,10 @@ bool weighStrategy(const Scene& scene, const BptBatch& b, const StrategyWave& w,
         const PathPoint y = x(s - 1);
         // The direction is -wi of setUpStrategy's camera sample bit for bit (the same
         // difference and length), whose raster point was inside the image: no check again.
+        // (An orthographic film's density projected onto y; a medium vertex: along the ray.)
+        const float filmCos = hasCosine(y.kind) ? std::fabs(dot(y.ng, cam.forward)) : 1.0f;
         pE[s - 1] = isPinhole(cam) ? w.cameraPdfArea[i]
-                    : cam.ortho    ? cameraPdfOfRay(cam, cam.forward) * std::fabs(dot(y.ng, cam.forward))  // the film's, projected
+                    : cam.ortho    ? cameraPdfOfRay(cam, cam.forward) * filmCos
                                    : pdfAt(cameraPdfOfRay(cam, dirTo(w.endP[i], y.p)), w.endP[i], y);
         if (s >= 2) pE[s - 2] = pdfAt(w.pdfCam[ey], y.p, x(s - 2));
     } else {  // s = 1, t >= 2
