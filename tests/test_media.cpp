@@ -556,6 +556,25 @@ TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[me
                  << ", channel " << c << ": " << z.describe() << ", ratio " << ratio);
             CHECK(z.pass);
         }
+    // Spectral (docs/spectral.md): the albedo grid's voxels uplifted as reflectances, read at
+    // the wavelengths; a grey one is exactly the constant's spectrum, so the one-channel grid
+    // renders what the constant albedo renders spectrally too.
+    for (int c = 0; c < 3; ++c) {
+        rstats::RunStats ra, rb;
+        for (int k = 0; k < 6; ++k) {
+            RenderOptions oa = rstats::renderOptions(TracerKind::PT, 16, 520 + uint64_t(k), 1, kMaxPathLength), ob = oa;
+            oa.spectral = ob.spectral = true;
+            ob.seed = 530 + uint64_t(k);
+            const RenderResult a = render(oneChannel, oa), b = render(homogeneousGrid, ob);
+            REQUIRE(a.stats.spectral);
+            ra.add(rstats::blockMeans(a.image, 2, c));
+            rb.add(rstats::blockMeans(b.image, 2, c));
+        }
+        double ratio = 0;
+        const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
+        INFO("spectral, one-channel albedo grid, channel " << c << ": " << z.describe() << ", ratio " << ratio);
+        CHECK(z.pass);
+    }
     CHECK_THAT(mitsubaError(scene(sigmaGrid, grid("albedo", "albedo-big.vol"))),
                Catch::Contains("bad.xml:2") && Catch::Contains("another grid than sigma_t's"));
 }
