@@ -1,4 +1,5 @@
-// Scenes of the media tests (test_media.cpp, test_media_mmlt.cpp), as pbrt-v4 text.
+// Scenes of the media tests (test_media.cpp, test_media_mmlt.cpp, test_spectral_tracers.cpp),
+// as pbrt-v4 text.
 #pragma once
 #include <cstdint>
 #include <fstream>
@@ -17,6 +18,27 @@ inline wmlt::SceneDesc load(const std::string& name, const std::string& text) {
     const std::string path = dir + "/" + name;
     std::ofstream(path, std::ios::binary) << text;
     return wmlt::loadScene(path);
+}
+
+// Fog (sigma_a (0.5, 0.8, 1.2), sigma_s (1, 0.7, 0.3)) in a box [-1, 1]^3 of pbrt interface
+// walls under a point light, and no other surface, no material at all: its medium vertices'
+// phase samples are the only bounces (MMLT's numbers read, the spectral stage's materials).
+inline std::string fogInInterfaceBox(int resolution) {
+    const std::string r = std::to_string(resolution);
+    return R"(LookAt 0 0.5 -4  0 0 0  0 1 0
+Camera "perspective" "float fov" 40
+Film "rgb" "integer xresolution" [ )" +
+           r + " ] \"integer yresolution\" [ " + r + R"( ]
+PixelFilter "box"
+Integrator "volpath" "integer maxdepth" [ 6 ]
+WorldBegin
+LightSource "point" "point3 from" [ 2 3 -2 ] "rgb I" [ 20 20 20 ]
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.5 0.8 1.2 ] "rgb sigma_s" [ 1 0.7 0.3 ]
+MediumInterface "fog" ""
+Material "interface"
+Shape "trianglemesh" "point3 P" [ -1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1  -1 -1 1  1 -1 1  1 1 1  -1 1 1 ]
+  "integer indices" [ 0 2 1 0 3 2  4 5 6 4 6 7  0 1 5 0 5 4  3 7 6 3 6 2  0 4 7 0 7 3  1 2 6 1 6 5 ]
+)";
 }
 
 // A cube [-h, h]^3 about c as a pbrt trianglemesh, its winding's normals outward (or inward).

@@ -24,6 +24,7 @@
 #include "chi2.h"
 #include "kernels/medium.h"
 #include "kernels/spectral.h"
+#include "media_scenes.h"
 #include "power.h"
 #include "render_stats.h"
 #include "scene/scene.h"
@@ -308,6 +309,15 @@ TEST_CASE("spectral tracers: a prism's spectrum lies where Snell's law and the g
 // the majorants scaled to the wavelengths, Medium::majorantScale).
 namespace {
 
+// A spectrum given as (wavelength, value) pairs at l: linear between them, 0 outside.
+double pairsAt(double l, std::initializer_list<std::pair<double, double>> pairs) {
+    const std::vector<std::pair<double, double>> p(pairs);
+    if (l < p.front().first || l > p.back().first) return 0.0;
+    for (size_t i = 0; i + 1 < p.size(); ++i)
+        if (l <= p[i + 1].first) return p[i].second + (p[i + 1].second - p[i].second) * (l - p[i].first) / (p[i + 1].first - p[i].first);
+    return 0.0;
+}
+
 // The film's linear sRGB of a radiance spectrum L(lambda) (nm): int L cmf / int ybar by
 // quadrature every 0.05 nm, then XYZ to linear sRGB.
 template <class Spectrum>
@@ -354,6 +364,19 @@ void checkUniform(const std::string& what, const SceneDesc& d, int length, uint6
     }
 }
 
+// The camera of the ink and glow scenes: orthographic, looking down the z axis from z = 10
+// inside medium `medium`, 16 x 16 pixels, paths of one segment.
+std::string lookingDownIn(const std::string& medium) {
+    return "\nMediumInterface \"\" \"" + medium + R"("
+LookAt 0 0 10  0 0 0  0 1 0
+Camera "orthographic"
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+PixelFilter "box"
+Integrator "volpath" "integer maxdepth" [ 1 ]
+WorldBegin
+)";
+}
+
 // The ink: a medium of sigma_a (0.9, 0.25, 0.05) (kind 0 homogeneous, 1 a density grid of
 // twice that at density 0.5, 2 pbrt's rgbgrid of it in every voxel) with the camera in it.
 std::string inkScene(int kind) {
@@ -366,15 +389,7 @@ std::string inkScene(int kind) {
   "rgb sigma_a" [ 0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05  0.9 0.25 0.05 ]
   "rgb sigma_s" [ 0 0 0  0 0 0  0 0 0  0 0 0  0 0 0  0 0 0  0 0 0  0 0 0 ])"};
     const std::string file = rstats::tempDir("spectral-ink") + names[kind];
-    std::ofstream(file) << media[kind] << R"(
-MediumInterface "" "ink"
-LookAt 0 0 10  0 0 0  0 1 0
-Camera "orthographic"
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-PixelFilter "box"
-Integrator "volpath" "integer maxdepth" [ 1 ]
-WorldBegin
-AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+    std::ofstream(file) << media[kind] << lookingDownIn("ink") << R"(AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -20 -20 8  20 -20 8  20 20 8  -20 20 8 ] "integer indices" [ 0 1 2 0 2 3 ]
 )";
     return file;
@@ -409,18 +424,7 @@ TEST_CASE(
 // 4 x 4 pixels, compareRuns at p = 1e-4).
 TEST_CASE("spectral tracers: fog in a box of interface walls, no material anywhere, in PT, BPT and MMLT", "[spectral][render][media]") {
     const std::string file = rstats::tempDir("spectral-fogbox") + "/fog.pbrt";
-    std::ofstream(file) << R"(LookAt 0 0.5 -4  0 0 0  0 1 0
-Camera "perspective" "float fov" 40
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-PixelFilter "box"
-WorldBegin
-LightSource "point" "point3 from" [ 2 3 -2 ] "rgb I" [ 20 20 20 ]
-MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [ 0.5 0.8 1.2 ] "rgb sigma_s" [ 1 0.7 0.3 ]
-MediumInterface "fog" ""
-Material "interface"
-Shape "trianglemesh" "point3 P" [ -1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1  -1 -1 1  1 -1 1  1 1 1  -1 1 1 ]
-  "integer indices" [ 0 2 1 0 3 2  4 5 6 4 6 7  0 1 5 0 5 4  3 7 6 3 6 2  0 4 7 0 7 3  1 2 6 1 6 5 ]
-)";
+    std::ofstream(file) << media_scenes::fogInInterfaceBox(16);
     const SceneDesc d = loadScene(file);
     REQUIRE(d.materials.empty());
     std::vector<std::vector<rstats::RunStats>> runs(3, std::vector<rstats::RunStats>(3));
@@ -527,15 +531,8 @@ TEST_CASE("spectral tracers: an emitting RGB grid's colour against its closed fo
     }
     std::ofstream(file) << R"(MakeNamedMedium "glow" "string type" [ "rgbgrid" ] "integer nx" 2 "integer ny" 2 "integer nz" 2
   "point3 p0" [ -30 -30 -20 ] "point3 p1" [ 30 30 40 ] "rgb sigma_a" [ )"
-                        << sigmaA << R"(] "rgb sigma_s" [ )" << sigmaS << R"(] "rgb Le" [ )" << Le << R"(]
-MediumInterface "" "glow"
-LookAt 0 0 10  0 0 0  0 1 0
-Camera "orthographic"
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-PixelFilter "box"
-Integrator "volpath" "integer maxdepth" [ 1 ]
-WorldBegin
-LightSource "point" "point3 from" [ 0 0 -100 ] "rgb I" [ 1 1 1 ]
+                        << sigmaA << R"(] "rgb sigma_s" [ )" << sigmaS << R"(] "rgb Le" [ )" << Le << "]" << lookingDownIn("glow")
+                        << R"(LightSource "point" "point3 from" [ 0 0 -100 ] "rgb I" [ 1 1 1 ]
 Material "diffuse" "rgb reflectance" [ 0 0 0 ]
 Shape "trianglemesh" "point3 P" [ -20 -20 0  20 -20 0  20 20 0  -20 20 0 ] "integer indices" [ 0 2 1 0 3 2 ]
 )";
@@ -571,15 +568,8 @@ TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra agai
 </scene>)",
                                               "bands.xml", ".");
     REQUIRE(d.settings.spectral);
-    auto lerp = [](double l, std::initializer_list<std::pair<double, double>> pairs) {  // linear between pairs, 0 outside
-        const std::vector<std::pair<double, double>> p(pairs);
-        if (l < p.front().first || l > p.back().first) return 0.0;
-        for (size_t i = 0; i + 1 < p.size(); ++i)
-            if (l <= p[i + 1].first) return p[i].second + (p[i + 1].second - p[i].second) * (l - p[i].first) / (p[i + 1].first - p[i].first);
-        return 0.0;
-    };
     const Vec3 expected = srgbOfSpectrum([&](double l) {
-        return lerp(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * lerp(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi;
+        return pairsAt(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * pairsAt(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi;
     });
     checkUniform("narrow bands", d, 2, 700, expected, d.materials[0].diffuse * d.lights[0].radiance * (1.0f / kPi));
 }
@@ -611,19 +601,12 @@ Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "inte
     REQUIRE(mix.kind == MaterialKind::Blend);
     REQUIRE(blendChoosesPart(d.materials, mix));
     REQUIRE(spectralUnsupported(d).empty());
-    auto lerp = [](double l, std::initializer_list<std::pair<double, double>> pairs) {  // linear between pairs, 0 outside
-        const std::vector<std::pair<double, double>> p(pairs);
-        if (l < p.front().first || l > p.back().first) return 0.0;
-        for (size_t i = 0; i + 1 < p.size(); ++i)
-            if (l <= p[i + 1].first) return p[i].second + (p[i + 1].second - p[i].second) * (l - p[i].first) / (p[i + 1].first - p[i].first);
-        return 0.0;
-    };
     const double a = 0.3;
     const Vec3 expected = srgbOfSpectrum([&](double l) {
         Wavelengths w;
         for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = float(l);
-        const double R0 = lerp(l, {{400, 0.02}, {495, 0.02}, {505, 0.95}, {520, 0.95}, {530, 0.02}, {700, 0.02}});
-        const double R1 = lerp(l, {{400, 0.02}, {590, 0.02}, {600, 0.95}, {615, 0.95}, {625, 0.02}, {700, 0.02}});
+        const double R0 = pairsAt(l, {{400, 0.02}, {495, 0.02}, {505, 0.95}, {520, 0.95}, {530, 0.02}, {700, 0.02}});
+        const double R1 = pairsAt(l, {{400, 0.02}, {590, 0.02}, {600, 0.95}, {615, 0.95}, {625, 0.02}, {700, 0.02}});
         return ((1 - a) * R0 + a * R1) * double(rgbIlluminantAt(Vec3(1.0f), w).x);
     });
     const Vec3 rgb = d.materials[size_t(mix.blendPart[0])].diffuse * float(1 - a) + d.materials[size_t(mix.blendPart[1])].diffuse * float(a);
