@@ -307,7 +307,7 @@ TEST_CASE("spectral tracers: a prism's spectrum lies where Snell's law and the g
 // homogeneous medium (the free path's one-sample MIS over the path's wavelengths), once as
 // pbrt's uniformgrid of density 0.5 and twice the sigma_a (delta and ratio tracking against
 // the majorants scaled to the wavelengths, Medium::majorantScale), once as pbrt's rgbgrid of
-// it in every voxel (each voxel's spectrum, VoxelSpectrum, and the spectral majorants).
+// it in every voxel (each voxel's spectrum, voxelAt, and the spectral majorants).
 namespace {
 
 // A spectrum given as (wavelength, value) pairs at l: linear between them, 0 outside.

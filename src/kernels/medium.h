@@ -20,16 +20,11 @@
 
 namespace wmlt {
 
-// One voxel of an RGB grid in a spectral render (SpectralScene): its colour's spectrum,
-// scale times the sigmoid of the quadratic (kernels/spectral.h), made once per render.
-struct VoxelSpectrum {
-    SigmoidPoly poly;
-    float scale = 0;
-};
-// Its values at the wavelengths whose positions in [360, 830] nm, mapped to [0, 1], are t.
-inline Vec3 voxelAt(const VoxelSpectrum& v, Vec3 t) {
-    auto at = [&](float x) { return sigmoid((v.poly.c0 * x + v.poly.c1) * x + v.poly.c2); };
-    return Vec3(at(t.x), at(t.y), at(t.z)) * v.scale;
+// One voxel of an RGB grid in a spectral render (SpectralScene, made once per render): its
+// colour's spectrum (kernels/spectral.h; a bounded one has scale 1), at the wavelengths whose
+// positions in [360, 830] nm, mapped to [0, 1], are t.
+inline Vec3 voxelAt(const UnboundedSpectrum& v, Vec3 t) {
+    return Vec3(sigmoidPolyAtT(v.poly, t.x), sigmoidPolyAtT(v.poly, t.y), sigmoidPolyAtT(v.poly, t.z)) * v.scale;
 }
 
 // A medium as the stages read it: extinction and scattering coefficients per unit length,
@@ -59,7 +54,7 @@ struct Medium {
     // as spectra per voxel, read at the path's wavelengths (lambdaT: each one's position in
     // [360, 830] nm, mapped to [0, 1]) instead of the RGB (null: the RGB grids, or none);
     // the emission's times the colour space's illuminant there (illuminant).
-    const VoxelSpectrum *specSigmaA = nullptr, *specSigmaS = nullptr, *specAlbedo = nullptr, *specLe = nullptr;
+    const UnboundedSpectrum *specSigmaA = nullptr, *specSigmaS = nullptr, *specAlbedo = nullptr, *specLe = nullptr;
     Vec3 lambdaT{0.0f}, illuminant{0.0f};
 };
 
@@ -192,9 +187,9 @@ template <class T>
 inline T gridLookup(const Medium& m, const T* values, Vec3 q) {
     return gridLookupBy<T>(m, q, [values](size_t i) { return values[i]; });
 }
-// A spectral grid (VoxelSpectrum) at the medium's wavelengths, interpolated as pbrt-v4's
+// A spectral grid (voxelAt) at the medium's wavelengths, interpolated as pbrt-v4's
 // RGBGridMedium does: each voxel's spectrum at the wavelengths, then trilinearly.
-inline Vec3 spectralGridLookup(const Medium& m, const VoxelSpectrum* values, Vec3 q) {
+inline Vec3 spectralGridLookup(const Medium& m, const UnboundedSpectrum* values, Vec3 q) {
     return gridLookupBy<Vec3>(m, q, [&](size_t i) { return voxelAt(values[i], m.lambdaT); });
 }
 inline float gridDensity(const Medium& m, Vec3 q) { return gridLookup(m, m.density, q); }

@@ -117,10 +117,9 @@ inline float sigmoid(float x) {
     return 0.5f + x / (2.0f * std::sqrt(1.0f + x * x));
 }
 
-inline float sigmoidPolyAt(SigmoidPoly c, float lambda) {
-    const float t = (lambda - kLambdaMin) / (kLambdaMax - kLambdaMin);
-    return sigmoid((c.c0 * t + c.c1) * t + c.c2);
-}
+// (At t, the wavelength's position in [360, 830] nm mapped to [0, 1].)
+inline float sigmoidPolyAtT(SigmoidPoly c, float t) { return sigmoid((c.c0 * t + c.c1) * t + c.c2); }
+inline float sigmoidPolyAt(SigmoidPoly c, float lambda) { return sigmoidPolyAtT(c, (lambda - kLambdaMin) / (kLambdaMax - kLambdaMin)); }
 
 // The table's grid: res nodes per axis; the nodes of z = max(rgb) crowd towards 0 and 1,
 // z_i = smoothstep(smoothstep(i / (res - 1))).

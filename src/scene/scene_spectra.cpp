@@ -53,27 +53,26 @@ Vec3 upliftedAt(const UpliftedColour& c, Vec3 rgb, bool unbounded, const Wavelen
 }
 
 // A voxel's RGB as a spectrum, unbounded (coefficients, emission) or bounded (an albedo).
-VoxelSpectrum voxelSpectrum(Vec3 rgb, bool unbounded) {
+UnboundedSpectrum voxelSpectrum(Vec3 rgb, bool unbounded) {
     const UpliftedColour c = uplift(rgb, unbounded);
-    return {c.poly, c.scale};
+    return {c.scale, c.poly};
 }
 
 // The largest value of v at any wavelength in [360, 830] nm: the sigmoid is increasing, so
 // where its quadratic in t = (lambda - 360) / 470 is largest on [0, 1] (an end, or the vertex).
-float voxelMax(const VoxelSpectrum& v) {
-    auto q = [&](float t) { return (v.poly.c0 * t + v.poly.c1) * t + v.poly.c2; };
-    float x = std::max(q(0.0f), q(1.0f));
+float voxelMax(const UnboundedSpectrum& v) {
+    float x = std::max(sigmoidPolyAtT(v.poly, 0.0f), sigmoidPolyAtT(v.poly, 1.0f));
     if (v.poly.c0 < 0) {
         const float t = -v.poly.c1 / (2 * v.poly.c0);
-        if (t > 0 && t < 1) x = std::max(x, q(t));
+        if (t > 0 && t < 1) x = std::max(x, sigmoidPolyAtT(v.poly, t));
     }
-    return v.scale * sigmoid(x);
+    return v.scale * x;
 }
 
 // Medium desc (built as rgb) as spectra: its constants, and its RGB grids voxel by voxel.
 SpectralScene::MediumSpectra mediumSpectra(const MediumDesc& desc, const Medium& rgb) {
     SpectralScene::MediumSpectra s{uplift(desc.sigmaA, true), uplift(desc.sigmaS, true), uplift(desc.Le, true), {}, {}, {}, {}, {}, 0};
-    auto grid = [](const std::vector<Vec3>& values, bool unbounded, std::vector<VoxelSpectrum>& out) {
+    auto grid = [](const std::vector<Vec3>& values, bool unbounded, std::vector<UnboundedSpectrum>& out) {
         out.reserve(values.size());
         for (Vec3 v : values) out.push_back(voxelSpectrum(v, unbounded));
     };

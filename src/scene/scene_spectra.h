@@ -39,7 +39,7 @@ struct SpectralScene {
     // grids' majorant grid for the spectra (each voxel's largest sigma_t at any wavelength).
     struct MediumSpectra {
         UpliftedColour sigmaA, sigmaS, Le;
-        std::vector<VoxelSpectrum> gridSigmaA, gridSigmaS, gridAlbedo, gridLe;
+        std::vector<UnboundedSpectrum> gridSigmaA, gridSigmaS, gridAlbedo, gridLe;
         std::vector<float> majorants;
         float majorant = 0;
     };
