@@ -22,6 +22,7 @@
 #include <tuple>
 
 #include "chi2.h"
+#include "kernels/bsdf.h"
 #include "kernels/medium.h"
 #include "kernels/spectral.h"
 #include "media_scenes.h"
@@ -30,6 +31,7 @@
 #include "scene/scene.h"
 #include "scene/scene_spectra.h"
 #include "scene/spectrum.h"
+#include "stages/render_scene.h"
 #include "wavemmlt/render.h"
 #include "wavemmlt/scene_desc.h"
 
@@ -575,6 +577,44 @@ TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra agai
     checkUniform("narrow bands", d, 2, 700, expected, d.materials[0].diffuse * d.lights[0].radiance * (1.0f / kPi));
 }
 
+// Mitsuba's principled renders spectrally: its base colour at the path's wavelengths, its
+// tints the base over the RGB base's luminance Y (docs/spectral.md). A plane of spec_trans 1
+// and spec_tint 1 (no diffuse: the main lobe's reflection is Schlick's of c_tint R0, c_tint =
+// base / Y) of a narrow-band base under a directional light of a narrow-band irradiance E at
+// 60 degrees, seen straight down: each pixel is int f(l) E(l) cos cmf / int ybar in linear
+// sRGB, f(l) the kernel's principledF with the base base(l) and Y (bsdf_principled.cpp,
+// checked against Mitsuba 3's closed form in test_bsdf_principled.cpp).
+TEST_CASE("spectral tracers: a Mitsuba principled material's tinted reflection against its closed form, in PT, BPT and MMLT",
+          "[spectral][render][mitsuba][principled][stat]") {
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <sensor type="orthographic">
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="directional"><vector name="direction" value="-0.8660254, 0, -0.5"/><spectrum name="irradiance" value="450:0, 500:3, 560:3, 620:0"/></emitter>
+  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
+    <bsdf type="principled"><spectrum name="base_color" value="500:0.05, 530:0.9, 580:0.9, 620:0.05"/>
+      <float name="spec_trans" value="1"/><float name="spec_tint" value="1"/><float name="roughness" value="0.4"/></bsdf></shape>
+</scene>)",
+                                              "principled.xml", ".");
+    REQUIRE(d.settings.spectral);
+    REQUIRE(spectralUnsupported(d).empty());
+    const std::unique_ptr<Scene> scene = Scene::build(d, 1);
+    const float Y = principledLuminance(d.materials[0].diffuse);
+    const Vec3 wo(0, 0, 1), wi(0.8660254f, 0, 0.5f);
+    auto f = [&](Vec3 base, float tintY) {
+        BsdfParams m = scene->materials[0];
+        m.diffuse = base;
+        setPrincipledTintLuminance(m, tintY);
+        return principledF(m, wo, wi);
+    };
+    const Vec3 expected = srgbOfSpectrum([&](double l) {
+        const double base = pairsAt(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}});
+        return double(f(Vec3(float(base)), Y).x) * pairsAt(l, {{450, 0}, {500, 3}, {560, 3}, {620, 0}}) * 0.5;
+    });
+    checkUniform("principled", d, 2, 1100, expected, f(d.materials[0].diffuse, 0) * d.lights[0].radiance * 0.5f);
+}
+
 // pbrt's mix renders spectrally as pbrt-v4 renders it: one part per hit (part 1 with
 // probability amount, by a hash of the point), each part's colours at the path's
 // wavelengths. A floor of a mix (amount 0.3) of two diffuse materials of narrow-band
@@ -612,6 +652,63 @@ Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "inte
     });
     const Vec3 rgb = d.materials[size_t(mix.blendPart[0])].diffuse * float(1 - a) + d.materials[size_t(mix.blendPart[1])].diffuse * float(a);
     checkUniform("pbrt mix", d, 2, 900, expected, rgb);
+}
+
+// A spectral Mitsuba file's blendbsdf renders spectrally, one part per hit (part 1 with
+// probability weight, docs/spectral.md): the linear blend's mean. Two diffuse parts of
+// narrow-band reflectances R_0, R_1 (weight 0.3) under the narrow-band directional light E
+// of the test above: each pixel is int ((1 - w) R_0 + w R_1) E / pi cmf / int ybar.
+TEST_CASE("spectral tracers: a spectral Mitsuba file's blendbsdf against its closed form, in PT, BPT and MMLT",
+          "[spectral][render][mitsuba][blend][stat]") {
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <sensor type="orthographic">
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="directional"><vector name="direction" value="0, 0, -1"/><spectrum name="irradiance" value="450:0, 500:3, 550:3, 600:0"/></emitter>
+  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
+    <bsdf type="blendbsdf"><float name="weight" value="0.3"/>
+      <bsdf type="diffuse"><spectrum name="reflectance" value="450:0.02, 480:0.95, 500:0.95, 510:0.02"/></bsdf>
+      <bsdf type="diffuse"><spectrum name="reflectance" value="500:0.02, 540:0.95, 560:0.95, 580:0.02"/></bsdf></bsdf></shape>
+</scene>)",
+                                              "blend.xml", ".");
+    REQUIRE(d.settings.spectral);
+    REQUIRE(spectralUnsupported(d).empty());
+    const MaterialDesc& blend = d.materials[size_t(d.shapes[0].material)];
+    const double w = 0.3;
+    const Vec3 expected = srgbOfSpectrum([&](double l) {
+        const double R0 = pairsAt(l, {{450, 0.02}, {480, 0.95}, {500, 0.95}, {510, 0.02}});
+        const double R1 = pairsAt(l, {{500, 0.02}, {540, 0.95}, {560, 0.95}, {580, 0.02}});
+        return ((1 - w) * R0 + w * R1) * pairsAt(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi;
+    });
+    const Vec3 R = d.materials[size_t(blend.blendPart[0])].diffuse * float(1 - w) + d.materials[size_t(blend.blendPart[1])].diffuse * float(w);
+    checkUniform("blendbsdf", d, 2, 1300, expected, R * d.lights[0].radiance * (1.0f / kPi));
+}
+
+// An RGB Mitsuba file's blendbsdf is the linear blend in RGB renders (its parts constants the
+// spectral stage never sees) and one part per hit in spectral ones: render() resolves it
+// (resolveBlendsForSpectral); a scene built for RGB and rendered with spectral asked renders
+// in RGB and says why.
+TEST_CASE("spectral tracers: a linear blend renders spectrally through render(), in RGB from a scene built without resolving it",
+          "[spectral][blend]") {
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <sensor type="orthographic"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+  <emitter type="constant"/>
+  <shape type="rectangle"><bsdf type="blendbsdf"><bsdf type="diffuse"/><bsdf type="roughconductor"/></bsdf></shape>
+</scene>)",
+                                              "rgb-blend.xml", ".");
+    REQUIRE(!d.settings.spectral);
+    REQUIRE(!blendChoosesPart(d.materials, d.materials[size_t(d.shapes[0].material)]));
+    REQUIRE(spectralUnsupported(d).empty());
+    RenderOptions o = rstats::renderOptions(TracerKind::PT, 1, 0, 1, 2);
+    o.spectral = true;
+    const RenderResult r = render(d, o);
+    CHECK(r.stats.spectral);
+    CHECK(r.stats.spectralReason.empty());
+    const std::unique_ptr<Scene> scene = Scene::build(d, 1);
+    const RenderResult rgb = renderScene(*scene, o);
+    CHECK(!rgb.stats.spectral);
+    CHECK(rgb.stats.spectralReason == "the scene has a linear blend material (not spectral yet): rendered in RGB");
 }
 
 // The wavelengths are a primary-sample number of MMLT's and PSSMLT's chains (the row's last),

@@ -11,6 +11,7 @@
 
 #include "app/interactive.h"
 #include "scene/read_file.h"
+#include "scene/scene_spectra.h"
 #include "wavemmlt/error.h"
 
 namespace wmlt {
@@ -74,6 +75,7 @@ int runInteractive(const CommandLine& cl, SceneDesc scene, const RenderOptions& 
 
     const int threads = base.threads > 0 ? base.threads : tbb::info::default_concurrency();
     std::unique_ptr<Scene> built;
+    if (base.spectral) resolveBlendsForSpectral(scene);  // (its linear blends, one part per hit)
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
         built = Scene::build(std::move(scene), threads);

@@ -118,7 +118,10 @@ inline void blendPoint(const BsdfParams& m, float& u, float& v, Vec3& p, Vec3& n
 // Principled (Mitsuba's `principled`): base_color is `diffuse`, eta `eta`, the GGX alphas
 // (from roughness and anisotropic) alphaX, alphaY; its other weights at the hit are kept in
 // slots the kind has no other use for (shininess, specular, reflect, refract), so that
-// BsdfParams stays 80 bytes for every kind. Read and written only through these two.
+// BsdfParams stays 80 bytes for every kind. Read and written only through these functions.
+// The tints' normaliser (refract.z, 0 unless set): the base colour's luminance, which the
+// kernel computes from `diffuse` unless the spectral stage gave the RGB colour's (`diffuse`
+// then holds the base at the path's wavelengths, not RGB).
 struct PrincipledLobes {
     float roughness = 0.5f, metallic = 0, specTrans = 0, specTint = 0, sheen = 0, sheenTint = 0, flatness = 0, clearcoat = 0, clearcoatGloss = 0;
 };
@@ -139,6 +142,12 @@ inline void setPrincipled(BsdfParams& m, const float v[kPrincipledParams]) {
     m.alphaX = std::max(0.001f, r2 / aspect);
     m.alphaY = std::max(0.001f, r2 * aspect);
 }
+
+// Mitsuba's luminance of linear RGB (the principled tints are normalised by it).
+inline float principledLuminance(Vec3 c) { return 0.212671f * c.x + 0.715160f * c.y + 0.072169f * c.z; }
+// The base colour's luminance for the tints: the spectral stage's (its RGB's), else `diffuse`'s.
+inline void setPrincipledTintLuminance(BsdfParams& m, float l) { m.refract.z = l; }
+inline float principledTintLuminance(const BsdfParams& m) { return m.refract.z > 0 ? m.refract.z : principledLuminance(m.diffuse); }
 
 // The microfacet distribution at a hit: the material's, or its textured roughness'.
 inline Microfacet distributionAt(const BsdfParams& m) { return m.alphaX > 0 ? Microfacet(m.x->dist.type, m.alphaX, m.alphaY) : m.x->dist; }

@@ -23,9 +23,6 @@
 namespace wmlt {
 namespace {
 
-// Mitsuba's luminance of linear RGB (its tints are normalised by it).
-inline float lum(Vec3 c) { return 0.212671f * c.x + 0.715160f * c.y + 0.072169f * c.z; }
-
 inline float schlickWeight(float c) {
     const float m = std::clamp(1.0f - c, 0.0f, 1.0f), m2 = m * m;
     return m2 * m2 * m;
@@ -121,7 +118,7 @@ Vec3 principledF(const BsdfParams& m, Vec3 wo, Vec3 wi) {
         return tint * (w.bsdf * (1.0f - F) * DG * std::fabs(cosOH * dot(wi, h)) / denom);
     }
     // the base colour's hue (normalised by its luminance): the spec and sheen tints'
-    const float l = lum(base);
+    const float l = principledTintLuminance(m);
     const Vec3 cTint = l > 0 ? base / l : Vec3(1.0f);
     Vec3 f(0.0f);
     if (F > 0) {

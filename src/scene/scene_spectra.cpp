@@ -88,35 +88,34 @@ SpectralScene::MediumSpectra mediumSpectra(const MediumDesc& desc, const Medium&
     return s;
 }
 
-// Why material m of d cannot be rendered spectrally yet ("" if it can): kinds whose
-// per-material data made at scene build depend on RGB colours (a principled material's tints
-// are its base colour over its luminance; a linear blend's parts are constants the spectral
-// stage never sees: a blend resolved per hit, pbrt's mix, is its parts there). (A plastic's
-// sampling weight is made from RGB too, but it is a sampling choice only.)
-std::string unsupportedMaterial(const SceneDesc& d, const MaterialDesc& m) {
-    using K = MaterialKind;
-    switch (m.kind) {
-        case K::Blend:
-            if (blendChoosesPart(d.materials, m)) return "";
-            [[fallthrough]];
-        case K::Principled:
-        case K::Phase: return std::string("a ") + kMaterialKindNames[int(m.kind)] + " material";
-        default: return "";
-    }
+// Why material m of d cannot be rendered spectrally yet ("" if it can), blends resolved or
+// not (perHit): a linear blend, whose parts are constants the spectral stage never sees (a
+// blend resolved per hit is its parts there). (A plastic's and a principled material's
+// sampling weights are made from RGB, but they are sampling choices only.)
+std::string unsupportedMaterial(const SceneDesc& d, const MaterialDesc& m, bool perHit) {
+    if (m.kind == MaterialKind::Blend && !perHit && !blendChoosesPart(d.materials, m)) return "a linear blend material";
+    if (m.kind == MaterialKind::Phase) return "a phase material";
+    return "";
 }
 
 }  // namespace
 
+void resolveBlendsForSpectral(SceneDesc& d) {
+    for (MaterialDesc& m : d.materials)
+        if (m.kind == MaterialKind::Blend) m.blendPerHit = true;
+}
+
 std::string spectralUnsupported(const SceneDesc& d) {
     for (const MaterialDesc& m : d.materials)
-        if (std::string why = unsupportedMaterial(d, m); !why.empty()) return why;
+        if (std::string why = unsupportedMaterial(d, m, true); !why.empty()) return why;
     return "";
 }
 
 SpectralScene buildSpectralScene(const Scene& scene) {
     SpectralScene s;
     const SceneDesc& d = scene.desc;
-    s.unsupported = spectralUnsupported(d);
+    for (const MaterialDesc& m : d.materials)
+        if (s.unsupported.empty()) s.unsupported = unsupportedMaterial(d, m, false);
     if (!s.unsupported.empty()) return s;
     for (const SpectrumDesc& sd : d.spectra) s.dense.push_back(densify(sd));
     for (const MaterialDesc& m : d.materials) {
@@ -222,6 +221,12 @@ bool SpectralScene::colours(int m, const MaterialDesc& desc, BsdfParams& out, co
             else out.diffuse = colour(P::Diffuse, 0, out.diffuse);
             setCoatingAlbedo(out, colour(P::Albedo, 3, coatingAlbedo(out)));
             break;
+        case K::Principled: {  // the base at w; the tints normalised by the RGB base's luminance (docs/spectral.md)
+            const Vec3 rgb = out.diffuse;
+            out.diffuse = colour(P::Diffuse, 0, rgb);
+            setPrincipledTintLuminance(out, principledLuminance(rgb));
+            break;
+        }
         case K::DiffuseTransmission:
             out.diffuse = colour(P::Diffuse, 0, out.diffuse);
             out.refract = colour(P::Refract, 3, out.refract);

@@ -84,11 +84,18 @@ struct SpectralMode {
 };
 SpectralMode chooseSpectralMode(const Scene& scene, bool asked);
 
-// The scene's spectra, or `unsupported` set (materials whose derived data is RGB:
-// principled, linear blends).
+// A spectral render's description (render() and the interactive session apply it before
+// Scene::build): every linear blend (Mitsuba's blendbsdf) resolved to one part per hit
+// (blendPerHit: part 1 with probability its weight, as pbrt-v4's mix), which has the linear
+// blend's mean and whose parts the spectral stage colours; an RGB render keeps the linear
+// blend bit for bit (docs/spectral.md).
+void resolveBlendsForSpectral(SceneDesc& d);
+
+// The scene's spectra, or `unsupported` set (what the spectral stage cannot colour: a linear
+// blend, in a scene built without resolveBlendsForSpectral).
 SpectralScene buildSpectralScene(const Scene& scene);
-// The same reason from the description alone ("" when the scene can render spectrally):
-// --describe's.
+// The same reason from the description alone, for a render that resolves its blends ("" when
+// the scene can render spectrally): --describe's.
 std::string spectralUnsupported(const SceneDesc& d);
 
 }  // namespace wmlt

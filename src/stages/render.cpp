@@ -2,6 +2,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "scene/scene_spectra.h"
 #include "stages/bpt/bidirectional.h"
 #include "stages/core/distributed.h"
 #include "stages/core/memory.h"
@@ -120,6 +121,7 @@ RenderResult render(SceneDesc desc, const RenderOptions& opt) {
     // Films that would not fit are refused before the scene is built.
     checkOptions(opt, desc.settings.width, desc.settings.height);
     const int threads = threadCount(opt);
+    if (opt.spectral) resolveBlendsForSpectral(desc);  // (its linear blends, one part per hit)
     std::unique_ptr<Scene> scene;
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
