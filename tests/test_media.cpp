@@ -557,24 +557,29 @@ TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[me
             CHECK(z.pass);
         }
     // Spectral (docs/spectral.md): the albedo grid's voxels uplifted as reflectances, read at
-    // the wavelengths; a grey one is exactly the constant's spectrum, so the one-channel grid
-    // renders what the constant albedo renders spectrally too.
-    for (int c = 0; c < 3; ++c) {
-        rstats::RunStats ra, rb;
-        for (int k = 0; k < 6; ++k) {
-            RenderOptions oa = rstats::renderOptions(TracerKind::PT, 16, 520 + uint64_t(k), 1, kMaxPathLength), ob = oa;
-            oa.spectral = ob.spectral = true;
-            ob.seed = 530 + uint64_t(k);
-            const RenderResult a = render(oneChannel, oa), b = render(homogeneousGrid, ob);
-            REQUIRE(a.stats.spectral);
-            ra.add(rstats::blockMeans(a.image, 2, c));
-            rb.add(rstats::blockMeans(b.image, 2, c));
+    // the wavelengths, and a constant albedo's reflectance spectrum times sigma_t's (as
+    // Mitsuba 3's scalar_spectral), so each grid renders what its constant renders
+    // spectrally too. (The constant's sigma_s uplifted as one unbounded spectrum, as until
+    // 2026-12-07, is too close for this scene to tell: test_spectral_tracers.cpp checks the
+    // spectra themselves.)
+    for (const Pair& pr : {Pair{&withGrid, &withConstant}, Pair{&oneChannel, &homogeneousGrid}})
+        for (int c = 0; c < 3; ++c) {
+            rstats::RunStats ra, rb;
+            for (int k = 0; k < 6; ++k) {
+                RenderOptions oa = rstats::renderOptions(TracerKind::PT, 16, 520 + uint64_t(k), 1, kMaxPathLength), ob = oa;
+                oa.spectral = ob.spectral = true;
+                ob.seed = 530 + uint64_t(k);
+                const RenderResult a = render(*pr.a, oa), b = render(*pr.b, ob);
+                REQUIRE(a.stats.spectral);
+                ra.add(rstats::blockMeans(a.image, 2, c));
+                rb.add(rstats::blockMeans(b.image, 2, c));
+            }
+            double ratio = 0;
+            const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
+            INFO("spectral, " << (pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid") << ", channel " << c << ": "
+                              << z.describe() << ", ratio " << ratio);
+            CHECK(z.pass);
         }
-        double ratio = 0;
-        const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
-        INFO("spectral, one-channel albedo grid, channel " << c << ": " << z.describe() << ", ratio " << ratio);
-        CHECK(z.pass);
-    }
     CHECK_THAT(mitsubaError(scene(sigmaGrid, grid("albedo", "albedo-big.vol"))),
                Catch::Contains("bad.xml:2") && Catch::Contains("another grid than sigma_t's"));
 }

@@ -519,6 +519,41 @@ Shape "sphere" "float radius" 2
     CHECK(above > 0);  // (what a majorant of the RGB alone would have missed)
 }
 
+// A Mitsuba medium's constant albedo in a spectral render: sigma_s(l) = albedo(l) sigma_t(l),
+// the albedo's reflectance spectrum times sigma_t's unbounded one (Mitsuba 3's scalar_spectral),
+// not the RGB product albedo sigma_t uplifted as one unbounded spectrum (what it was: for a
+// saturated albedo that differs by more than 10% of sigma_t somewhere in 360-830 nm).
+TEST_CASE("spectral tracers: a Mitsuba constant albedo is its reflectance spectrum times sigma_t's", "[spectral][media][mitsuba]") {
+    const Vec3 albedo(0.9f, 0.3f, 0.05f), sigmaT(1.0f, 2.0f, 0.5f);
+    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
+  <medium type="homogeneous" id="fog"><rgb name="albedo" value="0.9, 0.3, 0.05"/><rgb name="sigma_t" value="1, 2, 0.5"/></medium>
+  <sensor type="perspective"><ref id="fog"/></sensor>
+  <emitter type="point"/>
+</scene>)",
+                                              "albedo.xml", ".");
+    REQUIRE(d.media.size() == 1);
+    const std::unique_ptr<Scene> scene = Scene::build(d, 1);
+    const SpectralScene spectra = buildSpectralScene(*scene);
+    REQUIRE(spectra.unsupported.empty());
+    const SigmoidPoly a = sigmoidPolyOfRgb(albedo);
+    const UnboundedSpectrum t = unboundedSpectrumOfRgb(sigmaT), product = unboundedSpectrumOfRgb(albedo * sigmaT);
+    double productOff = 0;
+    chi2::Pcg32 rng(5);
+    for (int trial = 0; trial < 200; ++trial) {
+        Wavelengths w;
+        for (int i = 0; i < kWavelengths; ++i) w.lambda[i] = kLambdaMin + (kLambdaMax - kLambdaMin) * rng.uniform();
+        const Medium m = spectra.medium(0, scene->media[0], w);
+        for (int i = 0; i < kWavelengths; ++i) {
+            const float sT = unboundedAt(t, w.lambda[i]), sS = sigmoidPolyAt(a, w.lambda[i]) * sT;
+            CHECK(m.sigmaT[i] == Approx(sT).epsilon(1e-5));
+            CHECK(m.sigmaS[i] == Approx(sS).epsilon(1e-5).margin(1e-7));
+            productOff = std::max(productOff, double(std::fabs(unboundedAt(product, w.lambda[i]) - sS) / sT));
+        }
+    }
+    INFO("the RGB product's spectrum is off by up to " << productOff << " of sigma_t");
+    CHECK(productOff > 0.1);
+}
+
 // pbrt's rgbgrid emitting: sigma_a (0.9, 0.25, 0.05) and Le (0.2, 0.6, 1) in every voxel, the
 // camera in it, 10 above a black floor (the point light below it lights no path of length 1,
 // the only length rendered): each pixel is int Le(l) D(l) (1 - exp(-10 sigma_a(l)))

@@ -377,6 +377,10 @@ struct MediumDesc {
     // A density grid's albedo per voxel (Mitsuba's albedo gridvolume): sigma_s = albedo
     // sigma_t there, trilinear as the density (sigmaA + sigmaS is then sigma_t; their split unused).
     std::vector<Vec3> albedoGrid;
+    // Mitsuba's constant albedo (sigma_s = albedo sigma_t; -1: none, pbrt's coefficients),
+    // kept for spectral renders, which multiply its reflectance spectrum by sigma_t's as
+    // Mitsuba 3's scalar_spectral does (docs/spectral.md).
+    Vec3 albedo{-1.0f};
 };
 
 // One placement of a group of shapes (Mitsuba's instance of a shapegroup): stored once,

@@ -71,7 +71,15 @@ float voxelMax(const UnboundedSpectrum& v) {
 
 // Medium desc (built as rgb) as spectra: its constants, and its RGB grids voxel by voxel.
 SpectralScene::MediumSpectra mediumSpectra(const MediumDesc& desc, const Medium& rgb) {
-    SpectralScene::MediumSpectra s{uplift(desc.sigmaA, true), uplift(desc.sigmaS, true), uplift(desc.Le, true), {}, {}, {}, {}, {}, 0};
+    SpectralScene::MediumSpectra s;
+    s.sigmaA = uplift(desc.sigmaA, true);
+    s.sigmaS = uplift(desc.sigmaS, true);
+    s.Le = uplift(desc.Le, true);
+    if (desc.albedo.x >= 0 && desc.albedoGrid.empty()) {  // Mitsuba's constant albedo: sigma_s = albedo(l) sigma_t(l)
+        s.byAlbedo = true;
+        s.sigmaT = uplift(desc.sigmaA + desc.sigmaS, true);
+        s.albedo = uplift(desc.albedo, false);
+    }
     auto grid = [](const std::vector<Vec3>& values, bool unbounded, std::vector<UnboundedSpectrum>& out) {
         out.reserve(values.size());
         for (Vec3 v : values) out.push_back(voxelSpectrum(v, unbounded));
@@ -146,8 +154,13 @@ Medium SpectralScene::medium(int m, const Medium& rgb, const Wavelengths& w) con
     const MediumSpectra& s = media[size_t(m)];
     auto at = [&](const UpliftedColour& c) { return sigmoidPolyAt(c.poly, w) * c.scale; };  // (black: scale 0)
     Medium r = rgb;
-    r.sigmaS = at(s.sigmaS);
-    r.sigmaT = at(s.sigmaA) + r.sigmaS;
+    if (s.byAlbedo) {
+        r.sigmaT = at(s.sigmaT);
+        r.sigmaS = r.sigmaT * at(s.albedo);
+    } else {
+        r.sigmaS = at(s.sigmaS);
+        r.sigmaT = at(s.sigmaA) + r.sigmaS;
+    }
     if (r.emissive) r.Le = at(s.Le) * Vec3(srgbIlluminant(w.lambda[0]), srgbIlluminant(w.lambda[1]), srgbIlluminant(w.lambda[2]));
     if (r.density) {  // a density grid: its majorants were made for the largest channel of the RGB sigma_t
         const float before = maxComponent(rgb.sigmaT), now = maxComponent(r.sigmaT);

@@ -37,8 +37,12 @@ struct SpectralScene {
     // illuminant (pbrt-v4's RGBUnboundedSpectrum and RGBIlluminantSpectrum); its RGB grids
     // voxel by voxel alike (the albedo's bounded, as a reflectance), and RGB coefficient
     // grids' majorant grid for the spectra (each voxel's largest sigma_t at any wavelength).
+    // A Mitsuba medium's constant albedo (byAlbedo): sigma_t unbounded and the albedo bounded,
+    // sigma_s their product at each wavelength, as Mitsuba 3's scalar_spectral.
     struct MediumSpectra {
         UpliftedColour sigmaA, sigmaS, Le;
+        UpliftedColour sigmaT, albedo;
+        bool byAlbedo = false;
         std::vector<UnboundedSpectrum> gridSigmaA, gridSigmaS, gridAlbedo, gridLe;
         std::vector<float> majorants;
         float majorant = 0;

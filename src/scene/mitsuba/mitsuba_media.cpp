@@ -140,6 +140,7 @@ int Importer::medium(Node n) {
     }
     const float scale = p.getFloat("scale", 1.0f);
     p.getBool("sample_emitted", true);
+    m.albedo = albedo;
     m.sigmaS = albedo * sigmaT * scale;
     m.sigmaA = (sigmaT * scale) - m.sigmaS;
     for (Node ph : p.nested("phase")) {
