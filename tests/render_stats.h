@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +21,19 @@
 #include "wavemmlt/scene_desc.h"
 
 namespace rstats {
+
+// Each channel's block means (B x B pixels) of K images, image(k) for k = 0..K-1, each
+// rendered once for all three channels: channelRuns(K, B, image)[c] is what a channel-by-
+// channel test compares (the same runs as rendering the same seeds again for each channel).
+template <class ImageOf>
+std::array<RunStats, 3> channelRuns(int K, int B, ImageOf&& image) {
+    std::array<RunStats, 3> runs;
+    for (int k = 0; k < K; ++k) {
+        const wmlt::Image img = image(k);
+        for (int c = 0; c < 3; ++c) runs[size_t(c)].add(blockMeans(img, B, c));
+    }
+    return runs;
+}
 
 // Options for a test render: spp samples per pixel stratified as the CLI does, 2 threads.
 inline wmlt::RenderOptions renderOptions(wmlt::TracerKind tracer, int spp, uint64_t seed, int minLength, int maxLength, int threads = 2) {

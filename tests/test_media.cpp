@@ -124,18 +124,15 @@ AttributeEnd
     REQUIRE(d.shapes[0].mediumBoundary);
     CHECK(d.shapes[0].mediumInside == 0);
     CHECK(d.shapes[0].mediumOutside == -1);
-    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT})
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+        const auto runs = rstats::channelRuns(6, 2, [&](int k) { return render(d, rstats::renderOptions(tr, 16, 10 + uint64_t(k), 1, 6)).image; });
         for (int c = 0; c < 3; ++c) {
             const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
-            rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k) {
-                const Image img = render(d, rstats::renderOptions(tr, 16, 10 + uint64_t(k), 1, 6)).image;
-                runs.add(rstats::blockMeans(img, 2, c));
-            }
-            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma)));
+            const rstats::ZTestResult z = rstats::zTest(runs[size_t(c)], std::vector<double>(16, std::exp(-sigma)));
             INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe());
             CHECK(z.pass);
         }
+    }
 }
 
 TEST_CASE("media in PT: single scattering of a point light in an infinite medium", "[media][render][stat]") {
@@ -169,6 +166,15 @@ TEST_CASE("media in PT: single scattering of a point light in an infinite medium
         return sum * (hi - lo) / n;
     };
     const Camera cam = makeCamera(d.camera, 16, 16);
+    // (Not LT: with the camera in a scattering medium the light tracer's connections from
+    // vertices near the lens weigh 1 / r^2, an estimator of infinite variance, which a
+    // test from measured variance cannot judge; its media tests keep the camera outside.
+    // BPT's weights give those connections little weight there.)
+    const TracerKind tracers[2] = {TracerKind::PT, TracerKind::BPT};
+    std::array<std::array<rstats::RunStats, 3>, 2> runs;
+    for (int t = 0; t < 2; ++t)
+        runs[size_t(t)] =
+            rstats::channelRuns(6, 4, [&](int k) { return render(d, rstats::renderOptions(tracers[t], 64, 20 + uint64_t(k), 2, 2)).image; });
     for (int c = 0; c < 3; ++c) {
         std::vector<double> expected(16, 0.0);
         for (int y = 0; y < 16; ++y)
@@ -179,15 +185,9 @@ TEST_CASE("media in PT: single scattering of a point light in an infinite medium
                         generateCameraRay(cam, float(x) + (float(i) + 0.5f) / 4, float(y) + (float(j) + 0.5f) / 4, 0.5f, 0.5f, o, w);
                         expected[size_t(y / 4) * 4 + size_t(x / 4)] += radiance(o, w, c) / (16 * 16);
                     }
-        // (Not LT: with the camera in a scattering medium the light tracer's connections from
-        // vertices near the lens weigh 1 / r^2, an estimator of infinite variance, which a
-        // test from measured variance cannot judge; its media tests keep the camera outside.
-        // BPT's weights give those connections little weight there.)
-        for (TracerKind tr : {TracerKind::PT, TracerKind::BPT}) {
-            rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(d, rstats::renderOptions(tr, 64, 20 + uint64_t(k), 2, 2)).image, 4, c));
-            const rstats::ZTestResult z = rstats::zTest(runs, expected);
-            INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe() << "; mean expected " << blockMean(expected));
+        for (int t = 0; t < 2; ++t) {
+            const rstats::ZTestResult z = rstats::zTest(runs[size_t(t)][size_t(c)], expected);
+            INFO("tracer " << int(tracers[t]) << " channel " << c << ": " << z.describe() << "; mean expected " << blockMean(expected));
             CHECK(z.pass);
         }
     }
@@ -364,15 +364,15 @@ TEST_CASE("media in PT: a heterogeneous grid, unbiased (a furnace of random dens
     const SceneDesc d = loadText("grid-furnace.pbrt", furnace);
     REQUIRE(d.media.size() == 1);
     REQUIRE(d.media[0].density.size() == 64);
-    for (TracerKind tr : {TracerKind::PT, TracerKind::BPT})  // (the camera is in the medium: not LT)
+    for (TracerKind tr : {TracerKind::PT, TracerKind::BPT}) {  // (the camera is in the medium: not LT)
+        const auto runs =
+            rstats::channelRuns(6, 2, [&](int k) { return render(d, rstats::renderOptions(tr, 16, 70 + uint64_t(k), 1, kMaxPathLength)).image; });
         for (int c = 0; c < 3; ++c) {
-            rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k)
-                runs.add(rstats::blockMeans(render(d, rstats::renderOptions(tr, 16, 70 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
-            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+            const rstats::ZTestResult z = rstats::zTest(runs[size_t(c)], std::vector<double>(16, 1.0));
             INFO("tracer " << int(tr) << " channel " << c << ": " << z.describe());
             CHECK(z.pass);
         }
+    }
     // 2. An absorbing slab z in [0, 1] whose density ramps along z (nz = 2: a, b at the voxel
     //    centres z = 1/4, 3/4, 0 outside, trilinear): the optical depth along z is
     //    sigma_a 0.4375 (a + b); x and y constant over the view (the grid four voxels wide, the
@@ -399,15 +399,15 @@ AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
 Shape "trianglemesh" "point3 P" [ -1.5 -1.5 5  1.5 -1.5 5  1.5 1.5 5  -1.5 1.5 5 ] "integer indices" [ 0 2 1 0 3 2 ]
 AttributeEnd
 )");
-    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT})
+    for (TracerKind tr : {TracerKind::PT, TracerKind::LT, TracerKind::BPT, TracerKind::MMLT}) {
+        const auto runs = rstats::channelRuns(6, 2, [&](int k) { return render(slab, rstats::renderOptions(tr, 16, 80 + uint64_t(k), 1, 6)).image; });
         for (int c = 0; c < 3; ++c) {
             const double sigma = c == 0 ? 0.5 : c == 1 ? 1.0 : 2.0;
-            rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k) runs.add(rstats::blockMeans(render(slab, rstats::renderOptions(tr, 16, 80 + uint64_t(k), 1, 6)).image, 2, c));
-            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, std::exp(-sigma * 0.4375 * 2.0)));
+            const rstats::ZTestResult z = rstats::zTest(runs[size_t(c)], std::vector<double>(16, std::exp(-sigma * 0.4375 * 2.0)));
             INFO("slab, tracer " << int(tr) << " channel " << c << ": " << z.describe());
             CHECK(z.pass);
         }
+    }
     // 3. pbrt's rgbgrid: sigma_s per voxel and channel (random in [0, 1.5]), no absorption:
     //    the furnace again, channel by channel.
     const std::string sigS = media_scenes::randomNumbers(3 * 27, 0, 1.5, h);
@@ -422,15 +422,15 @@ AttributeEnd
     const SceneDesc rgb = loadText("rgb-furnace.pbrt", rgbFurnace);
     REQUIRE(rgb.media.size() == 1);
     REQUIRE(rgb.media[0].sigmaSGrid.size() == 27);
-    for (TracerKind tr : {TracerKind::PT, TracerKind::BPT})
+    for (TracerKind tr : {TracerKind::PT, TracerKind::BPT}) {
+        const auto runs =
+            rstats::channelRuns(6, 2, [&](int k) { return render(rgb, rstats::renderOptions(tr, 16, 75 + uint64_t(k), 1, kMaxPathLength)).image; });
         for (int c = 0; c < 3; ++c) {
-            rstats::RunStats runs;
-            for (int k = 0; k < 6; ++k)
-                runs.add(rstats::blockMeans(render(rgb, rstats::renderOptions(tr, 16, 75 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
-            const rstats::ZTestResult z = rstats::zTest(runs, std::vector<double>(16, 1.0));
+            const rstats::ZTestResult z = rstats::zTest(runs[size_t(c)], std::vector<double>(16, 1.0));
             INFO("rgbgrid, tracer " << int(tr) << " channel " << c << ": " << z.describe());
             CHECK(z.pass);
         }
+    }
     // bad input: a grid whose size disagrees with its values
     CHECK_THAT(errorOf("grid-bad2.pbrt",
                        "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\nMakeNamedMedium \"g\" \"string type\" \"rgbgrid\" "
@@ -541,44 +541,31 @@ TEST_CASE("media in Mitsuba files: an albedo gridvolume on sigma_t's grid", "[me
     struct Pair {
         const SceneDesc *a, *b;
     };
-    for (const Pair& pr : {Pair{&withGrid, &withConstant}, Pair{&oneChannel, &homogeneousGrid}})
-        for (int c = 0; c < 3; ++c) {
-            rstats::RunStats ra, rb;
-            for (int k = 0; k < 6; ++k) {
-                ra.add(
-                    rstats::blockMeans(render(*pr.a, rstats::renderOptions(TracerKind::PT, 16, 500 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
-                rb.add(
-                    rstats::blockMeans(render(*pr.b, rstats::renderOptions(TracerKind::PT, 16, 510 + uint64_t(k), 1, kMaxPathLength)).image, 2, c));
+    // In RGB, then spectral (docs/spectral.md): the albedo grid's voxels uplifted as
+    // reflectances, read at the wavelengths, and a constant albedo's reflectance spectrum times
+    // sigma_t's (as Mitsuba 3's scalar_spectral), so each grid renders what its constant
+    // renders spectrally too. (The constant's sigma_s uplifted as one unbounded spectrum, as
+    // until 2026-12-07, is too close for this scene to tell: test_spectral_tracers.cpp checks
+    // the spectra themselves.)
+    for (bool spectral : {false, true})
+        for (const Pair& pr : {Pair{&withGrid, &withConstant}, Pair{&oneChannel, &homogeneousGrid}}) {
+            auto runsOf = [&](const SceneDesc& d, uint64_t seed0) {
+                return rstats::channelRuns(6, 2, [&](int k) {
+                    RenderOptions o = rstats::renderOptions(TracerKind::PT, 16, seed0 + uint64_t(k), 1, kMaxPathLength);
+                    o.spectral = spectral;
+                    const RenderResult r = render(d, o);
+                    REQUIRE(r.stats.spectral == spectral);
+                    return r.image;
+                });
+            };
+            const auto ra = runsOf(*pr.a, spectral ? 520 : 500), rb = runsOf(*pr.b, spectral ? 530 : 510);
+            for (int c = 0; c < 3; ++c) {
+                double ratio = 0;
+                const rstats::ZTestResult z = rstats::compareRuns(ra[size_t(c)], rb[size_t(c)], 1e-4, &ratio);
+                INFO((spectral ? "spectral, " : "") << (pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid") << ", channel "
+                                                    << c << ": " << z.describe() << ", ratio " << ratio);
+                CHECK(z.pass);
             }
-            double ratio = 0;
-            const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
-            INFO((pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid")
-                 << ", channel " << c << ": " << z.describe() << ", ratio " << ratio);
-            CHECK(z.pass);
-        }
-    // Spectral (docs/spectral.md): the albedo grid's voxels uplifted as reflectances, read at
-    // the wavelengths, and a constant albedo's reflectance spectrum times sigma_t's (as
-    // Mitsuba 3's scalar_spectral), so each grid renders what its constant renders
-    // spectrally too. (The constant's sigma_s uplifted as one unbounded spectrum, as until
-    // 2026-12-07, is too close for this scene to tell: test_spectral_tracers.cpp checks the
-    // spectra themselves.)
-    for (const Pair& pr : {Pair{&withGrid, &withConstant}, Pair{&oneChannel, &homogeneousGrid}})
-        for (int c = 0; c < 3; ++c) {
-            rstats::RunStats ra, rb;
-            for (int k = 0; k < 6; ++k) {
-                RenderOptions oa = rstats::renderOptions(TracerKind::PT, 16, 520 + uint64_t(k), 1, kMaxPathLength), ob = oa;
-                oa.spectral = ob.spectral = true;
-                ob.seed = 530 + uint64_t(k);
-                const RenderResult a = render(*pr.a, oa), b = render(*pr.b, ob);
-                REQUIRE(a.stats.spectral);
-                ra.add(rstats::blockMeans(a.image, 2, c));
-                rb.add(rstats::blockMeans(b.image, 2, c));
-            }
-            double ratio = 0;
-            const rstats::ZTestResult z = rstats::compareRuns(ra, rb, 1e-4, &ratio);
-            INFO("spectral, " << (pr.a == &withGrid ? "three-channel albedo grid" : "one-channel albedo grid") << ", channel " << c << ": "
-                              << z.describe() << ", ratio " << ratio);
-            CHECK(z.pass);
         }
     CHECK_THAT(mitsubaError(scene(sigmaGrid, grid("albedo", "albedo-big.vol"))),
                Catch::Contains("bad.xml:2") && Catch::Contains("another grid than sigma_t's"));

@@ -588,6 +588,23 @@ Shape "trianglemesh" "point3 P" [ -20 -20 0  20 -20 0  20 20 0  -20 20 0 ] "inte
     checkUniform("rgbgrid Le", d, 1, 600, expected, rgb);
 }
 
+// A Mitsuba file of a plane (10 x 10 about the origin, facing +z) of BSDF `bsdf` under a
+// directional light along `direction` of the narrow-band irradiance `irradiance` (pairs),
+// seen straight down by a 16 x 16 orthographic camera; its spectra make it spectral.
+SceneDesc planeUnderBands(const std::string& direction, const std::string& irradiance, const std::string& bsdf, const std::string& name) {
+    return loadMitsubaFromString(R"(<scene version="3.0.0">
+  <sensor type="orthographic">
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
+  </sensor>
+  <emitter type="directional"><vector name="direction" value=")" +
+                                     direction + R"("/><spectrum name="irradiance" value=")" + irradiance + R"("/></emitter>
+  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
+    )" + bsdf + R"(</shape>
+</scene>)",
+                                 name, ".");
+}
+
 // A Mitsuba file's spectra (which make it render spectrally, as Mitsuba's scalar_spectral): a
 // diffuse plane of a narrow-band reflectance R under a directional light of a narrow-band
 // irradiance E, seen straight down by an orthographic camera: each pixel is
@@ -595,16 +612,9 @@ Shape "trianglemesh" "point3 P" [ -20 -20 0  20 -20 0  20 20 0  -20 20 0 ] "inte
 // The RGB render's product of the projections is far from it (checked).
 TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra against their closed form, in PT, BPT and MMLT",
           "[spectral][render][mitsuba][stat]") {
-    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
-  <sensor type="orthographic">
-    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
-  </sensor>
-  <emitter type="directional"><vector name="direction" value="0, 0, -1"/><spectrum name="irradiance" value="450:0, 500:3, 550:3, 600:0"/></emitter>
-  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
-    <bsdf type="diffuse"><spectrum name="reflectance" value="500:0.05, 530:0.9, 580:0.9, 620:0.05"/></bsdf></shape>
-</scene>)",
-                                              "bands.xml", ".");
+    const SceneDesc d =
+        planeUnderBands("0, 0, -1", "450:0, 500:3, 550:3, 600:0",
+                        R"(<bsdf type="diffuse"><spectrum name="reflectance" value="500:0.05, 530:0.9, 580:0.9, 620:0.05"/></bsdf>)", "bands.xml");
     REQUIRE(d.settings.spectral);
     const Vec3 expected = srgbOfSpectrum([&](double l) {
         return pairsAt(l, {{500, 0.05}, {530, 0.9}, {580, 0.9}, {620, 0.05}}) * pairsAt(l, {{450, 0}, {500, 3}, {550, 3}, {600, 0}}) / kPi;
@@ -621,17 +631,10 @@ TEST_CASE("spectral tracers: a Mitsuba file's reflectance and light spectra agai
 // checked against Mitsuba 3's closed form in test_bsdf_principled.cpp).
 TEST_CASE("spectral tracers: a Mitsuba principled material's tinted reflection against its closed form, in PT, BPT and MMLT",
           "[spectral][render][mitsuba][principled][stat]") {
-    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
-  <sensor type="orthographic">
-    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
-  </sensor>
-  <emitter type="directional"><vector name="direction" value="-0.8660254, 0, -0.5"/><spectrum name="irradiance" value="450:0, 500:3, 560:3, 620:0"/></emitter>
-  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
-    <bsdf type="principled"><spectrum name="base_color" value="500:0.05, 530:0.9, 580:0.9, 620:0.05"/>
-      <float name="spec_trans" value="1"/><float name="spec_tint" value="1"/><float name="roughness" value="0.4"/></bsdf></shape>
-</scene>)",
-                                              "principled.xml", ".");
+    const SceneDesc d = planeUnderBands("-0.8660254, 0, -0.5", "450:0, 500:3, 560:3, 620:0",
+                                        R"(<bsdf type="principled"><spectrum name="base_color" value="500:0.05, 530:0.9, 580:0.9, 620:0.05"/>
+      <float name="spec_trans" value="1"/><float name="spec_tint" value="1"/><float name="roughness" value="0.4"/></bsdf>)",
+                                        "principled.xml");
     REQUIRE(d.settings.spectral);
     REQUIRE(spectralUnsupported(d).empty());
     const std::unique_ptr<Scene> scene = Scene::build(d, 1);
@@ -695,18 +698,10 @@ Shape "trianglemesh" "point3 P" [ -20 0 -20  20 0 -20  20 0 20  -20 0 20 ] "inte
 // of the test above: each pixel is int ((1 - w) R_0 + w R_1) E / pi cmf / int ybar.
 TEST_CASE("spectral tracers: a spectral Mitsuba file's blendbsdf against its closed form, in PT, BPT and MMLT",
           "[spectral][render][mitsuba][blend][stat]") {
-    const SceneDesc d = loadMitsubaFromString(R"(<scene version="3.0.0">
-  <sensor type="orthographic">
-    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
-  </sensor>
-  <emitter type="directional"><vector name="direction" value="0, 0, -1"/><spectrum name="irradiance" value="450:0, 500:3, 550:3, 600:0"/></emitter>
-  <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
-    <bsdf type="blendbsdf"><float name="weight" value="0.3"/>
+    const SceneDesc d = planeUnderBands("0, 0, -1", "450:0, 500:3, 550:3, 600:0", R"(<bsdf type="blendbsdf"><float name="weight" value="0.3"/>
       <bsdf type="diffuse"><spectrum name="reflectance" value="450:0.02, 480:0.95, 500:0.95, 510:0.02"/></bsdf>
-      <bsdf type="diffuse"><spectrum name="reflectance" value="500:0.02, 540:0.95, 560:0.95, 580:0.02"/></bsdf></bsdf></shape>
-</scene>)",
-                                              "blend.xml", ".");
+      <bsdf type="diffuse"><spectrum name="reflectance" value="500:0.02, 540:0.95, 560:0.95, 580:0.02"/></bsdf></bsdf>)",
+                                        "blend.xml");
     REQUIRE(d.settings.spectral);
     REQUIRE(spectralUnsupported(d).empty());
     const MaterialDesc& blend = d.materials[size_t(d.shapes[0].material)];
