@@ -202,13 +202,13 @@ TEST_CASE("BPT MIS: a point light (x_0 a delta in position) leaves out s = 0 and
 
 // ---- 2. BPT = PT ------------------------------------------------------------------------
 
-TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render]") { compareWithPt(rstats::cornell64(5), 32, 8, 5, 1000); }
+TEST_CASE("BPT matches PT on the Cornell box", "[bpt][render][stat]") { compareWithPt(rstats::cornell64(5), 32, 8, 5, 1000); }
 
 TEST_CASE("BPT matches PT with glossy, glass and mirror (caustics)", "[bpt][render]") {
     compareWithPt(loadSceneFromString(rstats::causticXml(64, 6), "caustic.xml", "."), 32, 8, 6, 2000);
 }
 
-TEST_CASE("BPT matches PT with the balance heuristic (beta = 1) and MinPathLength 3", "[bpt][render]") {
+TEST_CASE("BPT matches PT with the balance heuristic (beta = 1) and MinPathLength 3", "[bpt][render][stat]") {
     compareWithPt(rstats::cornell64(5), 16, 8, 5, 4000, 1.0f, 3);
 }
 
