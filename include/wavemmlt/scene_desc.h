@@ -214,6 +214,11 @@ struct MaterialDesc {
         // Biased (f then integrates above the walk's albedo) and off; on, the coated gold
         // killeroo and the caustic glass render what pbrt-v4 renders (tests/test_pbrt_scenes.cpp).
         bool pbrtExitWeight = false;
+        // With pbrtExitWeight, f(wo, wi) is pbrt-v4's f(wi, wo) in TransportMode::Importance: that
+        // weighting makes f non-reciprocal, and pbrt evaluates a light subpath's vertex so (its
+        // walk starts on the light's side: BDPT's and light tracing's connections to the camera).
+        // Off; bench/bench_pbrt_blocks.cpp sets it for BPT's t = 1 strategies (docs/pbrt.md).
+        bool pbrtWalkFromLight = false;
     } coating;
 };
 

@@ -23,6 +23,9 @@
 // carry that bias: with pbrt's weights (MaterialDesc::Coating::pbrtExitWeight, off) the
 // coated gold killeroo and the caustic glass's floor render what pbrt-v4 renders; with
 // these, the killeroo's highlights are 4-8% darker and the caustic glass 1.9% (docs/pbrt.md).
+// pbrt's weights also make f non-reciprocal, and pbrt evaluates a light subpath's vertex from
+// the light's side: pbrtWalkFromLight plants that (f(wo, wi) = pbrt's f(wi, wo) in Importance
+// mode; bench/bench_pbrt_blocks.cpp renders the caustic glass as pbrt's BDPT does with it).
 // The interfaces are pbrt-v4's dielectric, diffuse and conductor BxDFs with its
 // reflection-only / transmission-only sampling restrictions; the bottom one is seen upside
 // down (pbrt's TopOrBottomBxDF).
@@ -268,7 +271,9 @@ struct Rng {
 
 Vec3 coatedF(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode) {
     const Layers L(m);
-    if (wo.z < 0) {  // two-sided
+    if (L.pbrtExitWeight && m.x->coating.pbrtWalkFromLight && mode == TransportMode::Radiance)
+        return coatedF(m, wi, wo, TransportMode::Importance);  // pbrt-v4 at a light subpath's vertex
+    if (wo.z < 0) {                                            // two-sided
         wo = -wo;
         wi = -wi;
     }
