@@ -107,7 +107,7 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
     }
     if (composite) std::filesystem::remove_all(strategies);
     std::vector<double> refSum;
-    double ours[3] = {0, 0, 0}, theirs[3] = {0, 0, 0};
+    double ours[3] = {0, 0, 0}, theirs[3] = {0, 0, 0}, var[3] = {0, 0, 0};  // var: of ours[c] - theirs[c]
     for (int c = 0; c < 3; ++c) {
         const std::vector<double> b = rstats::blockMeans(ref, cfg.block, c);
         refSum.resize(b.size(), 0.0);
@@ -115,6 +115,7 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
             refSum[i] += b[i];
             ours[c] += runs[c].mean(i);
             theirs[c] += b[i];
+            var[c] += runs[c].variance(i) * (1.0 / cfg.runs + cfg.spp / 1024.0);
         }
     }
     const int bw = (ref.width + cfg.block - 1) / cfg.block;
@@ -133,8 +134,9 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
         else std::printf(" %12s", "dark");
         if ((i + 1) % size_t(bw) == 0) std::printf("\n");
     }
-    std::printf("means ours / pbrt: %.4f %.4f %.4f; lit blocks %d, beyond 5 sigma %d, worst |z| %.1f\n\n", ours[0] / theirs[0], ours[1] / theirs[1],
-                ours[2] / theirs[2], lit, beyond5, worst);
+    std::printf("means ours / pbrt (z):");
+    for (int c = 0; c < 3; ++c) std::printf(" %.4f (%+.1f)", ours[c] / theirs[c], (ours[c] - theirs[c]) / std::sqrt(std::max(var[c], 1e-300)));
+    std::printf("; lit blocks %d, beyond 5 sigma %d, worst |z| %.1f\n\n", lit, beyond5, worst);
 }
 
 }  // namespace
