@@ -143,6 +143,12 @@ TEST_CASE("Coated: f is reciprocal; pbrt-v4's exit weighting makes it depend on 
             else CHECK(std::fabs(d.mean()) < 4.5 * d.se());
         }
     }
+    // The planted evaluation from the light's side (pbrtWalkFromLight) is that f turned round.
+    coat.x.coating.pbrtExitWeight = true;
+    const Vec3 wc = normalize(Vec3(-0.2f, 0.3f, 0.9f)), wl = normalize(Vec3(0.9f, 0.1f, 0.15f));
+    const Vec3 fromLight = coatedF(coat.m, wl, wc, TransportMode::Importance);
+    coat.x.coating.pbrtWalkFromLight = true;
+    CHECK(coatedF(coat.m, wc, wl).x == fromLight.x);
 }
 
 TEST_CASE("Coated: a lossless slab conserves energy", "[bsdf][coated]") {

@@ -271,9 +271,9 @@ struct Rng {
 
 Vec3 coatedF(const BsdfParams& m, Vec3 wo, Vec3 wi, TransportMode mode) {
     const Layers L(m);
-    if (L.pbrtExitWeight && m.x->coating.pbrtWalkFromLight && mode == TransportMode::Radiance)
-        return coatedF(m, wi, wo, TransportMode::Importance);  // pbrt-v4 at a light subpath's vertex
-    if (wo.z < 0) {                                            // two-sided
+    // pbrt-v4 at a light subpath's vertex (planted; off)
+    if (L.pbrtExitWeight && m.x->coating.pbrtWalkFromLight && mode == TransportMode::Radiance) return coatedF(m, wi, wo, TransportMode::Importance);
+    if (wo.z < 0) {  // two-sided
         wo = -wo;
         wi = -wi;
     }
