@@ -3,8 +3,7 @@
 // as z = (ours - pbrt) / sigma, sigma from the runs' spread (ours: var / K; pbrt's 1024 spp:
 // var * spp / 1024, the same estimator assumed), printed as a grid in the image's layout.
 //
-//   bench/pbrt_blocks.sh [FILE.pbrt REFERENCE.exr] [options]   (builds and runs
-//   build/wavemmlt_bench_pbrt_blocks, which the default build leaves out)
+//   build/wavemmlt_bench_pbrt_blocks [FILE.pbrt REFERENCE.exr] [options]
 //     --tracer pt|lt|bpt   [bpt]          --spp N     per run [32]
 //     --runs K             [16]           --block B   pixels [25]
 //     --coat ours|pbrt|pbrt-bdpt   the coated materials' weighting [ours]:
