@@ -108,7 +108,7 @@ TEST_CASE("Coated: pbrt-v4's exit weighting makes f integrate above the walk's a
     });
 }
 
-TEST_CASE("Coated: f is reciprocal; pbrt-v4's exit weighting makes it depend on which side the walk starts", "[bsdf][coated]") {
+TEST_CASE("Coated: f is reciprocal, and pbrt-v4's exit weighting makes it depend on which side the walk starts", "[bsdf][coated]") {
     // f(a, b) = f(b, a) for a dielectric coat (its 1 / eta^2 on the way in and out cancel).
     // pbrt-v4's weighting breaks that, and pbrt evaluates a light subpath's vertex from the
     // light's side (its f(wo = light side, wi = camera side)): light tracing onto a coat
