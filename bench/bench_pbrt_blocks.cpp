@@ -14,15 +14,15 @@
 //                  seed, once with f from the camera's side and once from the light's
 //                  (pbrtWalkFromLight), and adds the strategies' images: t = 1 (light
 //                  tracing) from the second, the others from the first. Exact where no
-//                  connection of s >= 2 and t >= 2 lights vertices joins two coated surfaces;
-//                  the MIS weights are the same in both renders (only f changes).
+//                  connection with s >= 2 and t >= 2 joins two coated vertices; the MIS
+//                  weights are the same in both renders (only f changes).
 //     --rgb                render in RGB [spectral, as pbrt-v4 files render by default]
 //
 // With no file: the caustic glass (../shared/scenes/pbrt-v4/caustic-glass, 175 x 250; says so
 // and exits 0 when it is missing) with BPT three times: wavemmlt's coat, pbrt's exit weighting,
 // and pbrt's as its BDPT evaluates it. Its only non-specular surface is the coated floor, a
-// plane, so every connection is t = 1 or s = 1 and pbrt-bdpt is exact there. docs/pbrt.md
-// has the figures.
+// plane, so every strategy that connects anything is t = 1 or s = 1 and pbrt-bdpt is exact
+// there. docs/pbrt.md has the figures.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
