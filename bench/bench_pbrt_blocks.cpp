@@ -30,8 +30,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "image/compare.h"
 #include "wavemmlt/image.h"
 #include "wavemmlt/render.h"
@@ -69,7 +67,6 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
     const char* tracerName = cfg.tracer == TracerKind::PT ? "pt" : cfg.tracer == TracerKind::LT ? "lt" : "bpt";
     std::printf("== %s: %s, %d runs of %d spp, %s, coat weighting %s (%d coated materials), blocks of %d pixels\n", file.c_str(), tracerName,
                 cfg.runs, cfg.spp, cfg.spectral ? "spectral" : "RGB", cfg.coat.c_str(), coated, cfg.block);
-    const std::string strategies = (std::filesystem::temp_directory_path() / ("wmlt-pbrt-blocks-" + std::to_string(getpid()))).string();
     auto renderRun = [&](uint64_t seed, bool fromLight) {
         for (MaterialDesc& m : d.materials) m.coating.pbrtWalkFromLight = fromLight;
         RenderOptions o;
@@ -79,7 +76,7 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
         o.seed = seed;
         o.maxPathLength = d.settings.maxPathLength;
         o.spectral = cfg.spectral;
-        if (composite) o.strategyImages = strategies;
+        if (composite) o.strategyImages = "(kept in memory)";  // render() returns them; only the CLI writes the folder
         return render(d, o);
     };
     rstats::RunStats runs[4];  // the three channels and their sum
@@ -92,8 +89,7 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
             for (const RenderResult* r : {&camera, &light})
                 for (const StrategyImage& st : r->strategyImages)
                     if ((st.t == 1) == (r == &light))
-                        for (int y = 0; y < im.height; ++y)
-                            for (int x = 0; x < im.width; ++x) im.set(x, y, im.at(x, y) + st.weighted.at(x, y));
+                        for (size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] += st.weighted.rgb[i];
         }
         std::vector<double> sum;
         for (int c = 0; c < 3; ++c) {
@@ -104,7 +100,6 @@ void compareBlocks(const std::string& file, const std::string& reference, const 
         }
         runs[3].add(sum);
     }
-    if (composite) std::filesystem::remove_all(strategies);
     std::vector<double> refSum;
     double ours[3] = {0, 0, 0}, theirs[3] = {0, 0, 0}, var[3] = {0, 0, 0};  // var: of ours[c] - theirs[c]
     for (int c = 0; c < 3; ++c) {
