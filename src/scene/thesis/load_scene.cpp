@@ -15,6 +15,7 @@
 #include "scene/filter_desc.h"
 #include "scene/number.h"
 #include "scene/read_file.h"
+#include "scene/thesis/load_thesis.h"
 #include "scene/transform.h"
 #include "scene/xml_nesting.h"
 #include "wavemmlt/error.h"
@@ -683,27 +684,8 @@ SceneDesc Loader::run() {
 
 }  // namespace
 
-SceneDesc loadSceneFromString(const std::string& xml, const std::string& name, const std::string& baseDir) {
-    if (isMitsubaXml(xml)) return loadMitsubaFromString(xml, name, baseDir);
+SceneDesc loadThesisFromString(const std::string& xml, const std::string& name, const std::string& baseDir) {
     return Loader(xml, name, baseDir).run();
-}
-
-SceneDesc loadScene(const std::string& path, const Defines& defines, const LoadOptions& options) {
-    auto endsWith = [&](const char* e) {
-        const std::string s(e);
-        return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
-    };
-    if (endsWith(".pbrt") || endsWith(".pbrt.gz")) {
-        if (!defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
-        return loadPbrt(path, options);
-    }
-    const std::string xml = readWholeFile(path, "the scene file");  // a regular file only
-    const std::string base = std::filesystem::path(path).parent_path().string();
-    const bool mitsuba = isMitsubaXml(xml);
-    if (!mitsuba && !defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
-    SceneDesc s = mitsuba ? loadMitsubaFromString(xml, path, base, defines, options) : Loader(xml, path, base).run();
-    s.path = path;
-    return s;
 }
 
 }  // namespace wmlt
