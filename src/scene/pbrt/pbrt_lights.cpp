@@ -40,8 +40,6 @@ void scaleImage(const Loc& at, Image& im, double scale, const std::string& what)
     }
 }
 
-float luminanceOf(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 // The area of a shape's triangles (world space), or its sphere's.
 double areaOf(const ShapeDesc& sh) {
     if (sh.kind == ShapeKind::Sphere) return 4 * M_PI * double(sh.radius) * sh.radius;
@@ -117,7 +115,7 @@ double upperIlluminance(const Image& map, Vec3 up) {
         for (int x = 0; x < map.width; ++x) {
             const Vec3 d = envDirection((float(x) + 0.5f) / float(map.width), (float(y) + 0.5f) / float(map.height));
             const double c = dot(d, up);
-            if (c > 0) e += luminanceOf(map.at(x, y)) * c * dOmega;
+            if (c > 0) e += luminance(map.at(x, y)) * c * dOmega;
         }
     }
     return e;
@@ -157,12 +155,12 @@ void Importer::areaLight(const Directive& directive, ShapeDesc& sh) {
     const double power = p.getFloat("power", -1);
     if (power > 0) {  // pbrt-v4: scale so that the light emits `power` watts (k_e = pi A L, twice from two faces;
                       // an image's: its pixels' mean luminance for L)
-        double lum = luminanceOf(L);
+        double lum = luminance(L);
         if (image >= 0) {
             const Image& im = s_.textures[size_t(image)].image;
             lum = 0;
             for (int y = 0; y < im.height; ++y)
-                for (int x = 0; x < im.width; ++x) lum += luminanceOf(im.at(x, y));
+                for (int x = 0; x < im.width; ++x) lum += luminance(im.at(x, y));
             lum /= std::max(1, im.width * im.height);
         }
         const double ke = (twoSided ? 2 : 1) * M_PI * areaOf(sh) * lum;
@@ -211,7 +209,7 @@ void Importer::lightSource(Directive& d) {
             ke = 2 * M_PI * ((1 - cosStart) + (cosStart - cosEnd) / 2);
         }
         const double power = p.getFloat("power", -1);
-        if (power > 0) scale *= power / (ke * luminanceOf(I));
+        if (power > 0) scale *= power / (ke * luminance(I));
         l.radiance = scaled(d.at, I, scale, power > 0 ? "I (normalised to its power)" : "I");
     } else if (type == "distant") {
         const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
@@ -220,7 +218,7 @@ void Importer::lightSource(Directive& d) {
         const Vec3 dir = g_.ctm.vector(to - from);  // the light travels from `from` to `to`
         if (!(length(dir) > 0)) fail(d.at, "distant: from equals to");
         const double E = p.getFloat("illuminance", -1);
-        if (E > 0) scale *= E / luminanceOf(L);  // pbrt-v4: the illuminance on a facing surface
+        if (E > 0) scale *= E / luminance(L);  // pbrt-v4: the illuminance on a facing surface
         l.kind = LightKind::Directional;
         l.direction = normalize(dir);
         l.radiance = scaled(d.at, L, scale, E > 0 ? "L (normalised to its illuminance)" : "L");
@@ -249,7 +247,7 @@ void Importer::lightSource(Directive& d) {
             return;
         }
         const Vec3 L = spectrum(p, "L", Vec3(1.0f), SpectrumUse::Illuminant);
-        if (E > 0) scale *= E / (M_PI * luminanceOf(L));  // a constant sky: E = pi L on an upward surface
+        if (E > 0) scale *= E / (M_PI * luminance(L));  // a constant sky: E = pi L on an upward surface
         const Vec3 c = scaled(d.at, L, scale, E > 0 ? "L (normalised to its illuminance)" : "L");
         s_.envMap = Image(2, 2);
         for (int y = 0; y < 2; ++y)

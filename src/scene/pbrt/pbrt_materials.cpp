@@ -53,8 +53,6 @@ const NamedRgb kAlbedoScale[] = {{"metal-Ag", {1.0004823f, 1.0007459f, 1.0007850
                                  {"metal-Au", {1.0395629f, 0.9782439f, 0.9715044f}},
                                  {"metal-Cu", {0.9875440f, 1.0074508f, 0.9967776f}}};
 
-float luminanceOf(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 }  // namespace
 
 bool namedSpectrumRgb(const std::string& name, Vec3& rgb) {
@@ -133,7 +131,7 @@ Vec3 Importer::spectrum(Params& p, const std::string& name, Vec3 def, SpectrumUs
     }
     // pbrt-v4 scales an emitter's spectrum to a luminance of 1 (times its scale)
     const Vec3 c = spectrumToRgb(s, false);
-    const float y = luminanceOf(c);
+    const float y = luminance(c);
     if (!(y > 0)) fail(q->at, decl + ": the spectrum has no luminance");
     lastSpectrum_ = keepSpectrum(s, 1.0f / y, source, kelvin);
     return c / y;
