@@ -39,7 +39,7 @@ sanitizers() {
   # time of -O2 -g, and ASan recommends -O1.
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG -DWMLT_DCHECKS" \
         -DWAVEMMLT_RGB_SIGMOID_TABLE="$table" \
-        -DWAVEMMLT_BENCH=OFF -DWAVEMMLT_PYTHON=OFF -DWAVEMMLT_TEST_SPEC="~[stat]~[walltime]" -DWAVEMMLT_TEST_SKIP_TAGS="stat;walltime" \
+        -DWAVEMMLT_BENCH=OFF -DWAVEMMLT_PYTHON=OFF -DWAVEMMLT_UNITY=ON -DWAVEMMLT_TEST_SPEC="~[stat]~[walltime]" -DWAVEMMLT_TEST_SKIP_TAGS="stat;walltime" \
         -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null &&
   cmake --build "$dir" -j"$jobs" &&
   ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:print_stacktrace=1 \
