@@ -21,14 +21,17 @@ SceneDesc loadScene(const std::string& path, const Defines& defines, const LoadO
         const std::string s(e);
         return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
     };
-    if (endsWith(".pbrt") || endsWith(".pbrt.gz")) {
+    auto noDefines = [&] {
         if (!defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
+    };
+    if (endsWith(".pbrt") || endsWith(".pbrt.gz")) {
+        noDefines();
         return loadPbrt(path, options);
     }
     const std::string xml = readWholeFile(path, "the scene file");  // a regular file only
     const std::string base = std::filesystem::path(path).parent_path().string();
     const bool mitsuba = isMitsubaXml(xml);
-    if (!mitsuba && !defines.empty()) throw InputError(path, 0, "-D " + defines[0].first + "=...: -D applies to Mitsuba scene files only");
+    if (!mitsuba) noDefines();
     SceneDesc s = mitsuba ? loadMitsubaFromString(xml, path, base, defines, options) : loadThesisFromString(xml, path, base);
     s.path = path;
     return s;
