@@ -66,6 +66,7 @@ levers=(
   "mmlt-delayed-rejection=on|--mmlt-delayed-rejection on"
   "mmlt-target-exponent=0.5|--mmlt-target-exponent 0.5"
   "mmlt-film-steps=off|--mmlt-film-steps off"
+  "mis-beta=2|--mis-beta 2"
 )
 
 old=6ee952b budgets="" seeds=3 only="" onlyLevers="" quick=0 out=build/bench-estimator

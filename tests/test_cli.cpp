@@ -453,9 +453,10 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
         CHECK(j.topKeys.count(key) == 1);
     CHECK(contains(text, "\"mmlt_replay_mismatches\": 0"));
     CHECK(contains(text, "\"mmlt_target\": \"luminance\""));
+    CHECK(contains(text, "\"mis_beta\": 1"));  // MMLT's own: the balance heuristic
     // The levers (docs/mmlt-levers.md): what they learned.
-    Run l = run(kSmall + " --spp 64 --threads 2 --mmlt-target relative --mmlt-steps learned --mmlt-film-steps always -o " + quote(out) + " --stats " +
-                    quote(stats),
+    Run l = run(kSmall + " --spp 64 --threads 2 --mmlt-target relative --mmlt-steps learned --mmlt-film-steps always --mis-beta 2 -o " + quote(out) +
+                    " --stats " + quote(stats),
                 dir);
     INFO("stderr: " << l.err);
     REQUIRE(l.status == 0);
@@ -467,6 +468,7 @@ TEST_CASE("cli: --stats writes JSON with the documented keys", "[cli]") {
         CHECK(jl.topKeys.count(key) == 1);
     CHECK(contains(learned, "\"mmlt_target\": \"relative\""));
     CHECK(contains(learned, "\"mmlt_film_steps\": \"always\""));
+    CHECK(contains(learned, "\"mis_beta\": 2"));
     CHECK(contains(text, "\"mmlt_film_steps\": \"learned\""));
 }
 

@@ -129,7 +129,7 @@ TEST_CASE("interactive session: refused settings keep the old ones, with the rea
         {"FOV 0", [](ViewSettings& v) { v.camera.fovDegrees = 0; }, "FOV"},
         {"the eye at LookAt", [](ViewSettings& v) { v.camera.position = v.camera.lookAt; }, "differ"},
         {"Up along the view", [](ViewSettings& v) { v.camera.up = v.camera.lookAt - v.camera.position; }, "Up"},
-        {"MIS beta 0", [](ViewSettings& v) { v.misBeta = 0; }, "MIS"},
+        {"MIS beta 0.25", [](ViewSettings& v) { v.misBeta = 0.25f; }, "MIS"},
         {"chains -1", [](ViewSettings& v) { v.chains = -1; }, "chains"},
     };
     for (const Case& c : cases) {
@@ -209,4 +209,8 @@ TEST_CASE("interactive: the printed command line gives back the session's camera
     s.camera.dof = false;
     const std::string pinhole = commandLineFor("", s, base, 40, 30, {});
     CHECK(pinhole.find("--f-stop 0 ") != std::string::npos);
+
+    // The tracer's own MIS exponent (0) is no option: the command line leaves it to the tracer.
+    s.misBeta = 0;
+    CHECK(commandLineFor("", s, base, 40, 30, {}).find("--mis-beta") == std::string::npos);
 }

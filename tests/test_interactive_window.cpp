@@ -317,7 +317,7 @@ TEST_CASE("interactive: each setting changed in the panel reaches the render, ba
     run.type("MaxPathLength ([ ])", "4");
     run.type("ProbLarge", "0.5");
     run.type("chains (0: auto)", "1024");
-    run.type("MIS beta", "1");
+    run.type("MIS beta (0: auto)", "1");
     run.type("exposure (+ -)", "1");
     run.type("FOV (degrees)", "50");
     CHECK(run.waitTitle("exposure +1.0", 10));
@@ -331,14 +331,14 @@ TEST_CASE("interactive: each setting changed in the panel reaches the render, ba
     run.type("ProbLarge", "1.5");
     run.type("MinPathLength (, .)", "5");
     run.type("aperture radius", "-1");
-    run.type("MIS beta", "abc");
+    run.type("MIS beta (0: auto)", "abc");
     const std::string after = run.commandLine();
     CHECK(after == cmd);
     const std::string err = run.err();
     CHECK(err.find("refused: ProbLarge must be in (0, 1]") != std::string::npos);
     CHECK(err.find("refused: MaxPathLength 4 is less than MinPathLength 5") != std::string::npos);
     CHECK(err.find("refused: aperture radius: must not be negative") != std::string::npos);
-    CHECK(err.find("refused: MIS beta: 'abc' is not a number") != std::string::npos);
+    CHECK(err.find("refused: MIS beta (0: auto): 'abc' is not a number") != std::string::npos);
     CHECK(run.process.running());
 
     // PSSMLT, the panel's last tracer: its chains and ProbLarge reach the command line.

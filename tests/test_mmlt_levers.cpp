@@ -1,8 +1,9 @@
 // MMLT's levers (issue 44; docs/mmlt-levers.md): the relative-error target
 // (RenderOptions::mmltTarget), learned step sizes (learnSteps), delayed rejection
-// (delayedRejection), the tempered target (mmltTargetExponent) and film steps (filmSteps, the
+// (delayedRejection), the tempered target (mmltTargetExponent), film steps (filmSteps, the
 // default since they won on the estimator suite; the others on the luminance target and
-// without film steps, where they were built and measured). Each changes only what
+// without film steps, where they were built and measured) and the power heuristic (misBeta 2,
+// the default until the balance heuristic won on the suite). Each changes only what
 // a pass holds fixed (delayed rejection and film steps: the kernel, by a second stage that
 // keeps it reversible, or by another symmetric proposal), so each must keep:
 //  1. the target map's kernel: a tile per film point, edges and NaN clamped, c = luminance
@@ -37,7 +38,7 @@ constexpr int K = 32;
 constexpr double kP = 1e-4;
 
 RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64_t seed = 0, int bootstrap = 0, bool delayed = false,
-                   float exponent = RenderOptions{}.mmltTargetExponent, FilmSteps film = FilmSteps::Off) {
+                   float exponent = RenderOptions{}.mmltTargetExponent, FilmSteps film = FilmSteps::Off, float misBeta = 0) {
     RenderOptions o = rstats::renderOptions(TracerKind::MMLT, spp, seed, 1, maxLength);
     o.chains = 1024;
     o.bootstrap = bootstrap;
@@ -46,6 +47,7 @@ RenderOptions mmlt(int spp, int maxLength, MmltTarget target, bool learn, uint64
     o.delayedRejection = delayed;
     o.mmltTargetExponent = exponent;
     o.filmSteps = film;
+    o.misBeta = misBeta;
     return o;
 }
 
@@ -68,12 +70,14 @@ struct Lever {
     bool delayed = false;
     float exponent = 1;  // (the levers were built, measured and are tested on the luminance target)
     FilmSteps cornellFilm = FilmSteps::Off, seedRoomFilm = FilmSteps::Off;
+    float misBeta = 0;  // 0: MMLT's own, the balance heuristic
 };
 const Lever kLevers[] = {{"relative target", MmltTarget::Relative, false, 2 * K},
                          {"learned steps", MmltTarget::Luminance, true, K},
                          {"delayed rejection", MmltTarget::Luminance, false, K, true},
                          {"tempered target", MmltTarget::Luminance, false, 2 * K, false, 0.5f},
-                         {"film steps", MmltTarget::Luminance, false, K, false, 1, FilmSteps::Always, FilmSteps::Learned}};
+                         {"film steps", MmltTarget::Luminance, false, K, false, 1, FilmSteps::Always, FilmSteps::Learned},
+                         {"power heuristic", MmltTarget::Luminance, false, K, false, 1, FilmSteps::Off, FilmSteps::Off, 2}};
 
 // desc rendered with o on `threads` workers (in an arena of that many).
 RenderResult renderWithThreads(const SceneDesc& desc, RenderOptions o, int threads) {
@@ -115,7 +119,8 @@ TEST_CASE("MMLT levers keep every length of the Cornell box unbiased against BPT
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 64, 0, 1, L), K, 10000, B)[0];
     for (const Lever& lever : kLevers) {
         const power::Runs m = power::tracerRuns(
-            desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16, lever.delayed, lever.exponent, lever.cornellFilm), lever.runs, 21000, B)[0];
+            desc, mmlt(256, L, lever.target, lever.learn, 0, 1 << 16, lever.delayed, lever.exponent, lever.cornellFilm, lever.misBeta), lever.runs,
+            21000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("Cornell box, ") + lever.name, kP, power::Claims{0.01, 0.01});
     }
 }
@@ -128,7 +133,8 @@ TEST_CASE("MMLT levers keep the seed room (its light above a drop ceiling) unbia
     const power::Runs ref = power::tracerRuns(desc, rstats::renderOptions(TracerKind::BPT, 256, 0, 1, L), K, 14000, B)[0];
     for (const Lever& lever : kLevers) {
         const power::Runs m = power::tracerRuns(
-            desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14, lever.delayed, lever.exponent, lever.seedRoomFilm), lever.runs, 22000, B)[0];
+            desc, mmlt(1024, L, lever.target, lever.learn, 0, 1 << 14, lever.delayed, lever.exponent, lever.seedRoomFilm, lever.misBeta), lever.runs,
+            22000, B)[0];
         power::compare(m, ref, "MMLT vs BPT", std::string("seed room, ") + lever.name, kP, power::Claims{0.05, 0});
     }
 }

@@ -81,7 +81,12 @@ struct RenderOptions {
     int threads = 0;        // 0: all hardware threads
     uint64_t seed = 0;
     int minPathLength = 1, maxPathLength = 10;
-    float misBeta = 2;  // BPT and MMLT: power-heuristic exponent (1: the balance heuristic)
+    // BPT, MMLT, PSSMLT: the MIS power heuristic's exponent (1: the balance heuristic); 0:
+    // the tracer's own (misBetaOf): 1 for MMLT, whose target is then the same F / sum_j p_j
+    // for every strategy of a path (on the estimator suite 0.82 to 1.06 of 2's relMSE,
+    // docs/mmlt-levers.md), 2 for BPT and PSSMLT (Veach's choice for a sample that sums
+    // every strategy).
+    float misBeta = 0;
     // MMLT (spp: mutations per pixel).
     int chains = 0;          // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt/mmlt.h)
     int bootstrap = 0;       // samples per path length in the first pass's pool; 0: automatic
@@ -137,6 +142,9 @@ struct RenderOptions {
     bool plantReplayMismatch = false;
 };
 
+// The MIS exponent a render with these options uses (RenderOptions::misBeta).
+inline float misBetaOf(const RenderOptions& o) { return o.misBeta > 0 ? o.misBeta : o.tracer == TracerKind::MMLT ? 1.0f : 2.0f; }
+
 struct RenderStats {
     std::string tracer;
     double seconds = 0;
@@ -148,6 +156,7 @@ struct RenderStats {
     // per-length split of the image's mean, which MMLT's b_k must reproduce.
     std::vector<double> lengthMeanLuminance;
     bool cancelled = false;
+    float misBeta = 0;  // BPT, MMLT, PSSMLT: the MIS exponent used (misBetaOf; 0: other tracers)
     // Whether the render was spectral (RenderOptions::spectral) and, when asked for (or the
     // format's default: spectralByDefault) and not done, why not.
     bool spectral = false;

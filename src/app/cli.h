@@ -15,7 +15,7 @@ struct CommandLine {
     std::optional<TracerKind> tracer;
     std::optional<int> spp, threads, width, height, maxLength, minLength;
     std::optional<double> timeBudget;
-    std::optional<float> misBeta;          // BPT's power-heuristic exponent
+    std::optional<float> misBeta;          // BPT's, MMLT's and PSSMLT's power-heuristic exponent
     std::optional<long long> chains;       // MMLT, 0: auto; checked against memory in main()
     std::optional<int> bootstrap;          // MMLT
     std::optional<int> passLength;         // MMLT

@@ -79,7 +79,7 @@ std::string checkViewSettings(const ViewSettings& s) {
         return "MaxPathLength " + std::to_string(s.maxPathLength) + " is less than MinPathLength " + std::to_string(s.minPathLength);
     if (!(s.probLarge > 0 && s.probLarge <= 1)) return "ProbLarge must be in (0, 1]";
     if (s.chains < 0) return "chains must be positive (0: auto)";
-    if (!(s.misBeta >= 0.5f && s.misBeta <= 16)) return "the MIS exponent must be in [0.5, 16]";
+    if (!(s.misBeta == 0 || (s.misBeta >= 0.5f && s.misBeta <= 16))) return "the MIS exponent must be in [0.5, 16] (0: the tracer's own)";
     if (!(s.exposure >= -64 && s.exposure <= 64)) return "exposure must be in [-64, 64] stops";
     return "";
 }
@@ -95,7 +95,7 @@ std::string commandLineFor(const std::string& scenePath, const ViewSettings& s, 
     cmd += " --min-length " + std::to_string(s.minPathLength) + " --max-length " + std::to_string(s.maxPathLength);
     const bool metropolis = s.tracer == TracerKind::MMLT || s.tracer == TracerKind::PSSMLT;
     if (metropolis) cmd += " --p-large " + number(s.probLarge) + " --chains " + (s.chains ? std::to_string(s.chains) : "auto");
-    if (metropolis || s.tracer == TracerKind::BPT) cmd += " --mis-beta " + number(s.misBeta);
+    if ((metropolis || s.tracer == TracerKind::BPT) && s.misBeta != 0) cmd += " --mis-beta " + number(s.misBeta);
     cmd += " --width " + std::to_string(width) + " --height " + std::to_string(height);
     cmd += base.timeBudget > 0 ? " --time " + number(base.timeBudget) : " --spp " + std::to_string(base.spp);
     cmd += " --seed " + std::to_string(base.seed);

@@ -27,7 +27,7 @@ struct ViewSettings {
     int minPathLength = 1, maxPathLength = 10;
     float probLarge = 0.3f;  // MMLT, (0, 1]
     int chains = 0;          // MMLT, 0: auto
-    float misBeta = 2;       // BPT and MMLT, [0.5, 16]
+    float misBeta = 0;       // BPT, MMLT and PSSMLT, [0.5, 16]; 0: the tracer's own (misBetaOf)
     float exposure = 0;      // the display's and the PNG's, in stops
 };
 

@@ -122,7 +122,9 @@ std::string statsJson(const RenderResult& r, const Settings& s) {
       << ",\n  \"rays_intersect\": " << st.raysIntersect << ",\n  \"rays_occluded\": " << st.raysOccluded
       << ",\n  \"mrays_per_second\": " << st.mraysPerSecond() << ",\n  \"samples_nonfinite_discarded\": " << st.samplesNonfiniteDiscarded
       << ",\n  \"cancelled\": " << (st.cancelled ? "true" : "false") << ",\n  \"spectral\": " << (st.spectral ? "true" : "false")
-      << ",\n  \"spectral_reason\": \"" << st.spectralReason << "\",\n  \"mean_luminance_by_length\": {";
+      << ",\n  \"spectral_reason\": \"" << st.spectralReason << "\"";
+    if (st.misBeta > 0) o << ",\n  \"mis_beta\": " << st.misBeta;
+    o << ",\n  \"mean_luminance_by_length\": {";
     // Path length k (segments) -> the image's mean luminance carried by length-k paths.
     for (int k = s.minPathLength; k <= s.maxPathLength && k < int(st.lengthMeanLuminance.size()); ++k)
         o << (k == s.minPathLength ? "" : ", ") << '"' << k << "\": " << st.lengthMeanLuminance[k];

@@ -339,7 +339,7 @@ void ViewControls::drawPanel(const std::string& progress) {
         wholeField("MinPathLength (, .)", &ViewSettings::minPathLength);
         realField("ProbLarge", [](ViewSettings& n) -> float& { return n.probLarge; });
         wholeField("chains (0: auto)", &ViewSettings::chains);
-        realField("MIS beta", [](ViewSettings& n) -> float& { return n.misBeta; });
+        realField("MIS beta (0: auto)", [](ViewSettings& n) -> float& { return n.misBeta; });
         realField("exposure (+ -)", [](ViewSettings& n) -> float& { return n.exposure; });
         ImGui::Separator();
         realField("FOV (degrees)", [](ViewSettings& n) -> float& { return n.camera.fovDegrees; });

@@ -56,6 +56,8 @@ std::vector<std::pair<std::string, uint64_t>> checkOptions(const RenderOptions& 
         throw InputError("path lengths must satisfy 1 <= min <= max <= " + std::to_string(kMaxPathLength));
     if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT) throw InputError("strategy images need the BPT tracer");
     const bool metropolis = opt.tracer == TracerKind::MMLT || opt.tracer == TracerKind::PSSMLT;
+    if (!(opt.misBeta == 0 || (opt.misBeta >= 0.5f && opt.misBeta <= 16)))
+        throw InputError("the MIS exponent must be in [0.5, 16] (0: the tracer's own)");
     if (metropolis && !(opt.probLarge > 0 && opt.probLarge <= 1)) throw InputError("ProbLarge must be in (0, 1]");
     if (opt.lengthImages && opt.tracer != TracerKind::BPT && opt.tracer != TracerKind::MMLT)
         throw InputError("length images need the BPT or MMLT tracer (PSSMLT's chains carry every length at once)");
@@ -75,8 +77,10 @@ int threadCount(const RenderOptions& opt) { return opt.threads > 0 ? opt.threads
 
 }  // namespace
 
-RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
-    const auto buffers = checkOptions(opt, scene.camera.width, scene.camera.height);
+RenderResult renderScene(Scene& scene, const RenderOptions& asked) {
+    const auto buffers = checkOptions(asked, scene.camera.width, scene.camera.height);
+    RenderOptions opt = asked;
+    opt.misBeta = misBetaOf(asked);  // the tracers read the exponent itself
     const int threads = threadCount(opt);
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     if (scene.features.emissiveMedia && opt.tracer == TracerKind::LT)
@@ -88,6 +92,7 @@ RenderResult renderScene(Scene& scene, const RenderOptions& opt) {
                      : opt.tracer == TracerKind::BPT    ? renderBidirectional(scene, opt)
                                                         : renderPathTracing(scene, opt);
     r.stats.threads = threads;
+    if (opt.tracer == TracerKind::BPT || opt.tracer == TracerKind::MMLT || opt.tracer == TracerKind::PSSMLT) r.stats.misBeta = opt.misBeta;
     r.stats.spectralByDefault = opt.spectralByDefault;
     for (const MaterialDesc& m : scene.desc.materials) r.stats.dispersionAsIndex |= !r.stats.spectral && m.etaSpectrum >= 0;
     if (opt.spectralByDefault && !r.stats.spectralReason.empty())
