@@ -83,9 +83,9 @@ struct RenderOptions {
     int minPathLength = 1, maxPathLength = 10;
     // BPT, MMLT, PSSMLT: the MIS power heuristic's exponent (1: the balance heuristic); 0:
     // the tracer's own (misBetaOf): 1 for MMLT, whose target is then the same F / sum_j p_j
-    // for every strategy of a path (on the estimator suite 0.82 to 1.06 of 2's relMSE,
-    // docs/mmlt-levers.md), 2 for BPT and PSSMLT (Veach's choice for a sample that sums
-    // every strategy).
+    // for every strategy of a path (on the estimator suite a few per cent better than 2,
+    // within the seeds' spread: docs/mmlt-levers.md), 2 for BPT and PSSMLT (Veach's choice
+    // for a sample that sums every strategy).
     float misBeta = 0;
     // MMLT (spp: mutations per pixel).
     int chains = 0;          // Markov chains in flight (any N >= 1); 0: auto (autoChains, stages/mmlt/mmlt.h)

@@ -97,9 +97,9 @@ bool MmltRender::tracePool(uint32_t from, const std::vector<uint32_t>& to, bool 
 // length at the same count. (A whole sized to fit that 5% at the probe's cost per sample
 // of each length, which gives the lit lengths more, was measured against it on the
 // estimator suite's scenes, 3 seeds at 2 and 6 s, 2026-12-07: relMSE 0.98 to 1.46 of it,
-// no gain on any scene, so not kept.) --bootstrap N: N samples of every length, in one step, the
-// first pool. Either way the first pool is two batches, its even and odd chunks of 256
-// samples (closeBootstrap).
+// no gain on any scene, so not kept.) --bootstrap N: N samples of every length, in one
+// step, the first pool. Either way the first pool is two batches, its even and odd chunks
+// of 256 samples (closeBootstrap).
 void MmltRender::bootstrap() {
     const int nLengths = hi_ - lo_ + 1;
     const double whole = timed() ? double(1 << 20) * nLengths : std::max(0.05 * targetMutations_, 2.0 * chains_);
