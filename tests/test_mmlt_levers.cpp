@@ -2,8 +2,9 @@
 // (RenderOptions::mmltTarget), learned step sizes (learnSteps), delayed rejection
 // (delayedRejection), the tempered target (mmltTargetExponent), film steps (filmSteps, the
 // default since they won on the estimator suite; the others on the luminance target and
-// without film steps, where they were built and measured) and the power heuristic (misBeta 2,
-// the default until the balance heuristic won on the suite). Each changes only what
+// without film steps, where they were built and measured under the power heuristic; they run
+// here under the balance heuristic, the default since 5f0e88f) and the power heuristic
+// (misBeta 2, the default until the balance heuristic won on the suite). Each changes only what
 // a pass holds fixed (delayed rejection and film steps: the kernel, by a second stage that
 // keeps it reversible, or by another symmetric proposal), so each must keep:
 //  1. the target map's kernel: a tile per film point, edges and NaN clamped, c = luminance

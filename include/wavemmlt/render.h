@@ -142,8 +142,11 @@ struct RenderOptions {
     bool plantReplayMismatch = false;
 };
 
-// The MIS exponent a render with these options uses (RenderOptions::misBeta).
+// The MIS exponent a render with these options uses (RenderOptions::misBeta), and which
+// values RenderOptions::misBeta may take (renderScene and the interactive panel check it).
 inline float misBetaOf(const RenderOptions& o) { return o.misBeta > 0 ? o.misBeta : o.tracer == TracerKind::MMLT ? 1.0f : 2.0f; }
+inline bool misBetaValid(float beta) { return beta == 0 || (beta >= 0.5f && beta <= 16); }
+constexpr const char* kMisBetaRange = "the MIS exponent must be in [0.5, 16] (0: the tracer's own)";
 
 struct RenderStats {
     std::string tracer;

@@ -79,7 +79,7 @@ std::string checkViewSettings(const ViewSettings& s) {
         return "MaxPathLength " + std::to_string(s.maxPathLength) + " is less than MinPathLength " + std::to_string(s.minPathLength);
     if (!(s.probLarge > 0 && s.probLarge <= 1)) return "ProbLarge must be in (0, 1]";
     if (s.chains < 0) return "chains must be positive (0: auto)";
-    if (!(s.misBeta == 0 || (s.misBeta >= 0.5f && s.misBeta <= 16))) return "the MIS exponent must be in [0.5, 16] (0: the tracer's own)";
+    if (!misBetaValid(s.misBeta)) return kMisBetaRange;
     if (!(s.exposure >= -64 && s.exposure <= 64)) return "exposure must be in [-64, 64] stops";
     return "";
 }

@@ -56,8 +56,7 @@ std::vector<std::pair<std::string, uint64_t>> checkOptions(const RenderOptions& 
         throw InputError("path lengths must satisfy 1 <= min <= max <= " + std::to_string(kMaxPathLength));
     if (!opt.strategyImages.empty() && opt.tracer != TracerKind::BPT) throw InputError("strategy images need the BPT tracer");
     const bool metropolis = opt.tracer == TracerKind::MMLT || opt.tracer == TracerKind::PSSMLT;
-    if (!(opt.misBeta == 0 || (opt.misBeta >= 0.5f && opt.misBeta <= 16)))
-        throw InputError("the MIS exponent must be in [0.5, 16] (0: the tracer's own)");
+    if (!misBetaValid(opt.misBeta)) throw InputError(kMisBetaRange);
     if (metropolis && !(opt.probLarge > 0 && opt.probLarge <= 1)) throw InputError("ProbLarge must be in (0, 1]");
     if (opt.lengthImages && opt.tracer != TracerKind::BPT && opt.tracer != TracerKind::MMLT)
         throw InputError("length images need the BPT or MMLT tracer (PSSMLT's chains carry every length at once)");
